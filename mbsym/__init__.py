@@ -1,0 +1,58 @@
+"""mbsym: multibody systems to CasADi equations of motion (Kane's method).
+
+Describe a system (:class:`System`, bodies, joints, loads), derive its
+:class:`EquationsOfMotion`, then simulate, linearize or optimize with the same
+CasADi Functions.
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .bodies import Ground, RigidBody
+from .equations import EomFunctions, EquationsOfMotion
+from .exceptions import (
+    BeamDataError,
+    DimensionError,
+    IntegrationError,
+    MbsymError,
+    ModelDefinitionError,
+    OpenFASTFormatError,
+    ParameterError,
+    SingularMassMatrixError,
+    SolverError,
+)
+from .joints import Fixed, Free, Joint, Prismatic, Revolute
+from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
+from .system import System
+
+try:
+    __version__ = version("mbsym")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0.0.0+unknown"
+
+__all__ = [
+    "System",
+    "RigidBody",
+    "Ground",
+    "Joint",
+    "Fixed",
+    "Revolute",
+    "Prismatic",
+    "Free",
+    "EquationsOfMotion",
+    "EomFunctions",
+    "rotation",
+    "rotation_about",
+    "rotation_sequence",
+    "small_rotation",
+    "skew",
+    "MbsymError",
+    "ModelDefinitionError",
+    "DimensionError",
+    "ParameterError",
+    "SingularMassMatrixError",
+    "BeamDataError",
+    "OpenFASTFormatError",
+    "IntegrationError",
+    "SolverError",
+    "__version__",
+]

@@ -1,0 +1,6 @@
+"""Bodies of a multibody system: the ground, rigid bodies and flexible bodies."""
+
+from .base import Body, Ground
+from .rigid import RigidBody
+
+__all__ = ["Body", "Ground", "RigidBody"]

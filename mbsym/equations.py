@@ -1,0 +1,303 @@
+"""EquationsOfMotion: the CasADi Functions every use of mbsym consumes.
+
+Built once from a :class:`~mbsym.kane.Derivation`; immutable afterwards. The
+CasADi Functions (``eom.functions``) take every argument as a vector:
+``q (n_q)``, ``qd (n_q)``, ``qdd (n_q)``, ``u (n_u)``, ``p (n_p)``, ``x = [q; qd]``.
+The numeric methods of the same names accept plain sequences, take parameters
+as a dict by name (defaults fill the gaps) and return numpy arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Mapping
+
+import casadi as ca
+import numpy as np
+
+from .exceptions import DimensionError, ParameterError, SingularMassMatrixError
+from .kane import Derivation
+from .symbols import check_finite_number
+
+__all__ = ["EquationsOfMotion", "EomFunctions"]
+
+#: Beyond this many coordinates the first-order rhs solves M qdd = F numerically.
+SYMBOLIC_SOLVE_MAX_DOF = 8
+
+
+@dataclass(frozen=True)
+class EomFunctions:
+    """The CasADi Functions of a model (all built with ``cse``).
+
+    Attributes
+    ----------
+    mass_matrix : (q, p) -> M
+    forcing : (q, qd, u, p) -> F
+    residual : (q, qd, qdd, u, p) -> e = F - M qdd
+    rhs : (x, u, p) -> xd = [qd; M^-1 F]
+    kinetic_energy : (q, qd, p) -> T [J]
+    potential_energy : (q, p) -> V [J] (gravity and springs)
+    power : (q, qd, u, p) -> power of the non-conservative loads [W]
+    """
+
+    mass_matrix: ca.Function
+    forcing: ca.Function
+    residual: ca.Function
+    rhs: ca.Function
+    kinetic_energy: ca.Function
+    potential_energy: ca.Function
+    power: ca.Function
+
+
+class EquationsOfMotion:
+    """Equations of motion ``M(q, p) qdd = F(q, qd, u, p)`` of a system.
+
+    Obtain one with :meth:`mbsym.System.equations`. Attributes ``n_q``,
+    ``n_u``, ``n_p``, ``n_x`` and the name lists ``coordinates``, ``speeds``,
+    ``inputs``, ``parameters``, ``states`` describe the vectors.
+
+    Examples
+    --------
+    >>> import mbsym as mb
+    >>> sys = mb.System(gravity=[0, 0, -9.81])
+    >>> th = sys.coordinates("th")
+    >>> sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b", 1.0, com=[0, 0, -1]),
+    ...                           axis=[0, 1, 0], coordinate=th))
+    >>> eom = sys.equations()
+    >>> eom.mass_matrix([0.0])
+    array([[1.]])
+    """
+
+    def __init__(self, d: Derivation, *, name: str = "mbsym") -> None:
+        self._name = name
+        self._coordinates = tuple(d.names["coordinate"])
+        self._inputs = tuple(d.names["input"])
+        self._parameters = tuple(d.names["parameter"])
+        self._defaults = MappingProxyType(dict(d.defaults))
+        self._derivation = d
+        self._functions = _build_functions(d, name)
+
+    # ------------------------------------------------------------ description
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def n_q(self) -> int:
+        """Number of generalized coordinates."""
+        return len(self._coordinates)
+
+    @property
+    def n_x(self) -> int:
+        """Number of first-order states, ``2 n_q``."""
+        return 2 * self.n_q
+
+    @property
+    def n_u(self) -> int:
+        """Number of inputs."""
+        return len(self._inputs)
+
+    @property
+    def n_p(self) -> int:
+        """Number of parameters."""
+        return len(self._parameters)
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return self._coordinates
+
+    @property
+    def speeds(self) -> tuple[str, ...]:
+        return tuple(f"{c}_d" for c in self._coordinates)
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        """Names of ``x = [q; qd]``."""
+        return self._coordinates + self.speeds
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return self._inputs
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        return self._parameters
+
+    @property
+    def defaults(self) -> Mapping[str, float]:
+        """Default parameter values (read-only)."""
+        return self._defaults
+
+    @property
+    def functions(self) -> EomFunctions:
+        """The CasADi Functions (vector arguments, see :class:`EomFunctions`)."""
+        return self._functions
+
+    @property
+    def symbolic(self) -> Derivation:
+        """The symbolic derivation (SX expressions of q, qd, qdd, u, p). Do not modify."""
+        return self._derivation
+
+    def __repr__(self) -> str:
+        return (f"EquationsOfMotion({self._name!r}, n_q={self.n_q}, n_u={self.n_u}, n_p={self.n_p}, "
+                f"coordinates={list(self._coordinates)})")
+
+    # ------------------------------------------------------------ numeric
+    def parameter_vector(self, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """Parameter values as a vector in the order of :attr:`parameters`.
+
+        Raises
+        ------
+        ParameterError
+            If a name is unknown, a value is missing (no default) or not finite.
+        """
+        p = {} if p is None else p
+        if not isinstance(p, Mapping):
+            raise ParameterError(
+                f"parameters must be a dict by name (e.g. {{'m1': 2.0}}); got {type(p).__name__}. "
+                f"Names: {list(self._parameters)}."
+            )
+        unknown = sorted(set(p) - set(self._parameters))
+        if unknown:
+            raise ParameterError(f"unknown parameters {unknown}; this model's parameters are {list(self._parameters)}.")
+        missing = [n for n in self._parameters if n not in p and n not in self._defaults]
+        if missing:
+            raise ParameterError(
+                f"missing values for parameters {missing} (they have no default); pass them in p, "
+                f"e.g. p={{{', '.join(repr(n) + ': ...' for n in missing)}}}."
+            )
+        return np.array([check_finite_number(p[n] if n in p else self._defaults[n], f"parameter {n!r}")
+                         for n in self._parameters], dtype=float)
+
+    def _vec(self, value, n: int, what: str, names) -> np.ndarray:
+        if isinstance(value, Mapping):
+            raise DimensionError(f"{what} must be an array of {n} numbers in order {list(names)}; got a dict.")
+        try:
+            arr = np.asarray(value, dtype=float).reshape(-1)
+        except (TypeError, ValueError) as exc:
+            raise DimensionError(f"{what} must be {n} numbers in order {list(names)}; got {value!r}.") from exc
+        if arr.size != n:
+            raise DimensionError(f"{what} has {arr.size} entries; expected {n} in order {list(names)}.")
+        if not np.all(np.isfinite(arr)):
+            bad = [names[i] for i in np.flatnonzero(~np.isfinite(arr))]
+            raise DimensionError(f"{what} has non-finite entries for {bad}; all entries must be finite.")
+        return arr
+
+    def _args(self, u, p):
+        """Resolve the optional (u, p) pair; a dict in the u slot means p when n_u == 0."""
+        if isinstance(u, Mapping) and p is None and self.n_u == 0:
+            u, p = None, u
+        if u is None:
+            if self.n_u:
+                raise DimensionError(f"this model has inputs {list(self._inputs)}; pass u (n_u={self.n_u} values).")
+            uu = np.zeros(0)
+        elif isinstance(u, Mapping):
+            unknown = sorted(set(u) - set(self._inputs))
+            missing = [n for n in self._inputs if n not in u]
+            if unknown or missing:
+                raise DimensionError(f"input dict: unknown {unknown}, missing {missing}; inputs are {list(self._inputs)}.")
+            uu = self._vec([u[n] for n in self._inputs], self.n_u, "u", self._inputs)
+        else:
+            uu = self._vec(u, self.n_u, "u", self._inputs)
+        return uu, self.parameter_vector(p)
+
+    def mass_matrix(self, q, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """Mass matrix ``M(q, p)`` [kg, kg m, kg m^2], shape (n_q, n_q)."""
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        return np.array(self._functions.mass_matrix(qq, self.parameter_vector(p)))
+
+    def forcing(self, q, qd, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """Forcing ``F(q, qd, u, p)`` [N, N m], shape (n_q,).
+
+        With no inputs declared, the third positional argument may be ``p``.
+        """
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        vv = self._vec(qd, self.n_q, "qd", self.speeds)
+        uu, pp = self._args(u, p)
+        return np.array(self._functions.forcing(qq, vv, uu, pp)).reshape(-1)
+
+    def residual(self, q, qd, qdd, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """Residual ``e = F - M qdd``, shape (n_q,)."""
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        vv = self._vec(qd, self.n_q, "qd", self.speeds)
+        aa = self._vec(qdd, self.n_q, "qdd", self._coordinates)
+        uu, pp = self._args(u, p)
+        return np.array(self._functions.residual(qq, vv, aa, uu, pp)).reshape(-1)
+
+    def accelerations(self, q, qd, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """``qdd = M^-1 F`` with a check that M is not singular.
+
+        Raises
+        ------
+        SingularMassMatrixError
+            Naming the coordinates in the null space of M.
+        """
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        vv = self._vec(qd, self.n_q, "qd", self.speeds)
+        uu, pp = self._args(u, p)
+        M = np.array(self._functions.mass_matrix(qq, pp))
+        check_nonsingular(M, self._coordinates)
+        F = np.array(self._functions.forcing(qq, vv, uu, pp)).reshape(-1)
+        return np.linalg.solve(M, F)
+
+    def rhs(self, x, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """First-order right-hand side ``xd = [qd; qdd]``, shape (n_x,)."""
+        xx = self._vec(x, self.n_x, "x", self.states)
+        uu, pp = self._args(u, p)
+        return np.array(self._functions.rhs(xx, uu, pp)).reshape(-1)
+
+    def kinetic_energy(self, q, qd, p: Mapping[str, float] | None = None) -> float:
+        """Kinetic energy [J]."""
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        vv = self._vec(qd, self.n_q, "qd", self.speeds)
+        return float(self._functions.kinetic_energy(qq, vv, self.parameter_vector(p)))
+
+    def potential_energy(self, q, p: Mapping[str, float] | None = None) -> float:
+        """Potential energy of gravity and springs [J]."""
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        return float(self._functions.potential_energy(qq, self.parameter_vector(p)))
+
+
+def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
+    """Raise SingularMassMatrixError naming the coordinates of M's null space."""
+    w, vecs = np.linalg.eigh(0.5 * (M + M.T))
+    scale = max(float(np.max(np.abs(w))), 1e-300)
+    bad = np.flatnonzero(w <= rtol * scale)
+    if bad.size:
+        comp = np.abs(vecs[:, bad]).max(axis=1)
+        suspects = [names[i] for i in np.flatnonzero(comp > 0.1)]
+        raise SingularMassMatrixError(
+            f"the mass matrix is singular at this state (smallest eigenvalue {w.min():.3g}); the null space "
+            f"involves coordinates {suspects}. Check that they move some mass or inertia (a massless body "
+            "or a zero parameter value?)."
+        )
+
+
+def _build_functions(d: Derivation, name: str) -> EomFunctions:
+    opts = {"cse": True}
+    q, qd, qdd, u, p = d.q, d.qd, d.qdd, d.u, d.p
+    e = d.F - d.M @ qdd
+    f_M = ca.Function(f"{name}_mass_matrix", [q, p], [d.M], ["q", "p"], ["M"], opts)
+    f_F = ca.Function(f"{name}_forcing", [q, qd, u, p], [d.F], ["q", "qd", "u", "p"], ["F"], opts)
+    f_e = ca.Function(f"{name}_residual", [q, qd, qdd, u, p], [e], ["q", "qd", "qdd", "u", "p"], ["e"], opts)
+    x = ca.vertcat(q, qd)
+    if q.numel() <= SYMBOLIC_SOLVE_MAX_DOF:
+        xd = ca.vertcat(qd, ca.solve(d.M, d.F))
+        f_rhs = ca.Function(f"{name}_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
+    else:
+        f_rhs = _numeric_rhs(f_M, f_F, q.numel(), u.numel(), p.numel(), name)
+    f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, p], [d.T], ["q", "qd", "p"], ["T"], opts)
+    f_V = ca.Function(f"{name}_potential_energy", [q, p], [d.V], ["q", "p"], ["V"], opts)
+    f_P = ca.Function(f"{name}_power", [q, qd, u, p], [d.power], ["q", "qd", "u", "p"], ["P"], opts)
+    return EomFunctions(f_M, f_F, f_e, f_rhs, f_T, f_V, f_P)
+
+
+def _numeric_rhs(f_M: ca.Function, f_F: ca.Function, n: int, nu: int, np_: int, name: str) -> ca.Function:
+    """MX glue: solve M qdd = F with a numeric linear solver (no symbolic inverse)."""
+    x = ca.MX.sym("x", 2 * n)
+    u = ca.MX.sym("u", nu)
+    p = ca.MX.sym("p", np_)
+    q, qd = x[:n], x[n:]
+    qdd = ca.solve(f_M(q, p), f_F(q, qd, u, p), "qr")
+    return ca.Function(f"{name}_rhs", [x, u, p], [ca.vertcat(qd, qdd)], ["x", "u", "p"], ["xd"])

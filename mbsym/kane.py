@@ -1,0 +1,224 @@
+"""Kinematics of the tree and Kane's method (paper Eqs. 4-10, 22).
+
+For every body we build, in ground axes, the origin position ``r``, the
+orientation ``R`` (body -> ground), the angular velocity ``w`` and the velocity
+``v``, recursively from the root. Velocities are linear in the speeds ``qd``,
+so the partial velocities are ``J = d[v; w]/d(qd)`` and the acceleration is
+``a = J qdd + a0`` with ``a0 = d[v; w]/dq . qd``. Each body then contributes
+
+``M += Bᵀ Mb B`` and ``F += Bᵀ (f_applied - Mb a0 - k_w)``,
+
+with ``B`` its partial velocities, ``Mb`` its 6x6 (rigid) or (6+n_e) (flexible)
+mass matrix and ``k_w`` its quadratic-velocity loads. This is the residual
+``e = F - M qdd`` of Eq. 22 with ``M = -de/dqdd`` assembled directly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+
+from .bodies.base import Body
+from .bodies.rigid import RigidBody
+from .exceptions import ModelDefinitionError, SingularMassMatrixError
+from .kinematics import vee
+from .loads import Damper, GeneralizedForce, PointForce, Spring, Torque
+
+__all__ = ["Frame", "Derivation", "derive"]
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Kinematics of a body frame, all in ground axes (SX)."""
+
+    r: ca.SX   # origin position [m] (3x1)
+    R: ca.SX   # orientation, body -> ground (3x3)
+    v: ca.SX   # origin velocity [m/s] (3x1)
+    w: ca.SX   # angular velocity [rad/s] (3x1)
+
+
+@dataclass
+class Derivation:
+    """Symbolic result of Kane's method, consumed by :class:`EquationsOfMotion`."""
+
+    q: ca.SX
+    qd: ca.SX
+    qdd: ca.SX
+    u: ca.SX
+    p: ca.SX
+    names: dict[str, list[str]]
+    defaults: dict[str, float]
+    M: ca.SX
+    F: ca.SX
+    T: ca.SX
+    V: ca.SX
+    power: ca.SX
+    frames: dict[str, Frame] = field(default_factory=dict)
+
+
+class _Kinematics:
+    """Recursive frame kinematics of a system's tree."""
+
+    def __init__(self, system, q: ca.SX, qd: ca.SX) -> None:
+        self.q, self.qd = q, qd
+        ground = system.ground
+        zero = ca.SX.zeros(3, 1)
+        self.frames: dict[int, Frame] = {id(ground): Frame(zero, ca.SX.eye(3), zero, zero)}
+        self.order: list[Body] = []
+        pending = list(system.joints)
+        while pending:
+            ready = [j for j in pending if id(j.parent) in self.frames]
+            for j in ready:
+                self.frames[id(j.child)] = self._child_frame(j)
+                self.order.append(j.child)
+            pending = [j for j in pending if id(j.child) not in self.frames]
+
+    def _dt(self, expr: ca.SX) -> ca.SX:
+        """Time derivative of an expression of q only."""
+        if expr.is_constant():
+            return ca.SX.zeros(expr.shape)
+        return ca.reshape(ca.jtimes(ca.vec(expr), self.q, self.qd), expr.shape)
+
+    def _rel_omega(self, R: ca.SX) -> ca.SX:
+        """Angular velocity of a q-dependent rotation, in its reference axes."""
+        if R.is_constant():
+            return ca.SX.zeros(3, 1)
+        return vee(self._dt(R) @ R.T)
+
+    def _child_frame(self, joint) -> Frame:
+        P = self.frames[id(joint.parent)]
+        pos, R_att = joint.parent.attachment(joint.offset)
+        s = P.R @ pos
+        R_J = P.R @ R_att @ joint.rotation
+        r_J = P.r + s
+        w_J = P.w + P.R @ self._rel_omega(R_att)
+        v_J = P.v + ca.cross(P.w, s) + P.R @ self._dt(pos)
+        d, R_rel = joint.relative()
+        dg = R_J @ d
+        return Frame(
+            r=r_J + dg,
+            R=R_J @ R_rel,
+            v=v_J + ca.cross(w_J, dg) + R_J @ self._dt(d),
+            w=w_J + R_J @ self._rel_omega(R_rel),
+        )
+
+    def frame(self, body: Body) -> Frame:
+        return self.frames[id(body)]
+
+    def point_velocity(self, body: Body, point: ca.SX) -> tuple[ca.SX, ca.SX]:
+        """Position and velocity of a body-fixed point (body coordinates) in ground axes."""
+        f = self.frame(body)
+        s = f.R @ point
+        return f.r + s, f.v + ca.cross(f.w, s)
+
+
+def derive(system) -> Derivation:
+    """Derive M(q, p) and F(q, qd, u, p) of a validated system by Kane's method."""
+    st = system.symbols
+    q = ca.vertcat(*st.symbols("coordinate"))
+    qd = ca.vertcat(*st.speeds())
+    qdd = ca.vertcat(*st.accelerations())
+    u = ca.vertcat(*st.symbols("input")) if st.names("input") else ca.SX(0, 1)
+    p = ca.vertcat(*st.symbols("parameter")) if st.names("parameter") else ca.SX(0, 1)
+    n = q.numel()
+    kin = _Kinematics(system, q, qd)
+    g = system.gravity
+
+    blocks, V_rows = [], []
+    for body in kin.order:
+        contrib = _body_velocities(body, kin)
+        blocks.append((body, contrib))
+        V_rows.append(contrib["V"])
+    Vall = ca.vertcat(*V_rows) if V_rows else ca.SX(0, 1)
+    J = ca.jacobian(Vall, qd)
+    A0 = ca.jtimes(Vall, q, qd)
+
+    M = ca.SX.zeros(n, n)
+    F = ca.SX.zeros(n, 1)
+    T = ca.SX(0)
+    Vpot = ca.SX(0)
+    row = 0
+    for body, c in blocks:
+        k = c["V"].numel()
+        B, a0 = J[row:row + k, :], A0[row:row + k]
+        row += k
+        Mb, f_net, t_kin, v_pot = c["terms"](a0, g)
+        M += B.T @ Mb @ B
+        F += B.T @ f_net
+        T += t_kin
+        Vpot += v_pot
+
+    F, Vpot, power = _apply_loads(system, kin, q, qd, F, Vpot)
+    M = ca.tril2symm(ca.tril(M))
+    _check_structural_mass(M, st.names("coordinate"))
+    frames = {b.name: kin.frame(b) for b in kin.order}
+    names = {k: st.names(k) for k in ("coordinate", "input", "parameter")}
+    return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames)
+
+
+def _body_velocities(body: Body, kin: _Kinematics) -> dict:
+    """Stacked velocities of a body's reference point and its Kane terms callback."""
+    if isinstance(body, RigidBody):
+        return _rigid(body, kin)
+    hook = getattr(body, "kane_terms", None)
+    if hook is None:
+        raise ModelDefinitionError(f"body {body.name!r} of type {type(body).__name__} has no Kane contribution.")
+    return hook(kin)
+
+
+def _rigid(body: RigidBody, kin: _Kinematics) -> dict:
+    """Rigid body about its centre of mass (paper Eqs. 6-9), ground axes."""
+    f = kin.frame(body)
+    s = f.R @ body.com
+    r_G = f.r + s
+    v_G = f.v + ca.cross(f.w, s)
+    m = body.mass
+    I_g = f.R @ body.inertia @ f.R.T
+
+    def terms(a0: ca.SX, g: ca.SX):
+        Mb = ca.diagcat(m * ca.SX.eye(3), I_g)
+        gyro = ca.cross(f.w, I_g @ f.w)
+        f_net = ca.vertcat(m * g - m * a0[:3], -I_g @ a0[3:] - gyro)
+        t_kin = 0.5 * (m * ca.dot(v_G, v_G) + ca.dot(f.w, I_g @ f.w))
+        v_pot = -m * ca.dot(g, r_G)
+        return Mb, f_net, t_kin, v_pot
+
+    return {"V": ca.vertcat(v_G, f.w), "terms": terms}
+
+
+def _apply_loads(system, kin: _Kinematics, q, qd, F, Vpot):
+    """Add point forces, torques, generalized forces, springs and dampers."""
+    power = ca.SX(0)
+    for load in system.loads:
+        if isinstance(load, PointForce):
+            fg = load.force if load.frame is None else kin.frame(load.frame).R @ load.force
+            _, vP = kin.point_velocity(load.body, load.point)
+            F += ca.jacobian(vP, qd).T @ fg
+            power += ca.dot(fg, vP)
+        elif isinstance(load, Torque):
+            tg = load.torque if load.frame is None else kin.frame(load.frame).R @ load.torque
+            w = kin.frame(load.body).w
+            F += ca.jacobian(w, qd).T @ tg
+            power += ca.dot(tg, w)
+        elif isinstance(load, GeneralizedForce):
+            F[load.index] += load.value
+            power += load.value * qd[load.index]
+        elif isinstance(load, Spring):
+            x = q[load.index] - load.rest
+            F[load.index] += -load.stiffness * x
+            Vpot += 0.5 * load.stiffness * x**2
+        elif isinstance(load, Damper):
+            F[load.index] += -load.damping * qd[load.index]
+            power += -load.damping * qd[load.index] ** 2
+    return F, Vpot, power
+
+
+def _check_structural_mass(M: ca.SX, names: list[str]) -> None:
+    """Name the coordinates whose mass-matrix column is identically zero."""
+    dead = [names[i] for i in range(M.shape[0]) if all(M[j, i].is_zero() for j in range(M.shape[0]))]
+    if dead:
+        raise SingularMassMatrixError(
+            f"coordinates {dead} move no mass (their mass-matrix columns are identically zero), so the "
+            "mass matrix is singular. Attach a body with mass or inertia to them, or remove them."
+        )

@@ -1,0 +1,314 @@
+"""The description layer: a :class:`System` of bodies, joints and loads.
+
+A System is what users write. It only records and checks; the equations are
+derived by :mod:`mbsym.kane` when :meth:`System.equations` is called. Every
+``add_*`` method validates its arguments completely before changing anything,
+so a failed call leaves the System unchanged.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import casadi as ca
+
+from .bodies.base import Body, Ground
+from .exceptions import ModelDefinitionError
+from .joints import Joint
+from .kinematics import _scalar, as_vector3
+from .loads import Damper, GeneralizedForce, PointForce, Spring, Torque
+from .symbols import SymbolTable, split_names
+
+__all__ = ["System"]
+
+
+class System:
+    """A multibody system: ground frame, gravity, named symbols, bodies, joints, loads.
+
+    Parameters
+    ----------
+    gravity : sequence of 3, optional
+        Gravitational acceleration in ground axes [m/s^2], default zero.
+        Entries may be numbers; use :meth:`set_gravity` for an expression of
+        parameters.
+
+    Examples
+    --------
+    >>> import mbsym as mb
+    >>> sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    >>> q1, q2 = sys.coordinates("q1 q2")
+    >>> m, l = sys.parameters("m l")
+    >>> b1 = mb.RigidBody("b1", mass=m, com=[0, 0, -l])
+    >>> sys.add_joint(mb.Revolute(sys.ground, b1, axis=[0, 1, 0], coordinate=q1))
+    """
+
+    def __init__(self, gravity: Sequence = (0.0, 0.0, 0.0)) -> None:
+        self._symbols = SymbolTable()
+        self._ground = Ground()
+        self._gravity = as_vector3(gravity, "gravity")
+        self._joints: list[Joint] = []
+        self._bodies: dict[str, Body] = {}
+        self._loads: list = []
+        self._owner: dict[str, str] = {}   # coordinate name -> joint/body name using it
+
+    # ------------------------------------------------------------------ symbols
+    @property
+    def ground(self) -> Ground:
+        """The inertial frame (parent of the root joints)."""
+        return self._ground
+
+    @property
+    def gravity(self) -> ca.SX:
+        """Gravity vector in ground axes [m/s^2] (3x1 SX)."""
+        return self._gravity
+
+    @property
+    def symbols(self) -> SymbolTable:
+        """The symbol table (coordinates, speeds, inputs, parameters)."""
+        return self._symbols
+
+    def set_gravity(self, gravity: Sequence) -> None:
+        """Set the gravity vector [m/s^2]; entries may be expressions of parameters."""
+        g = as_vector3(gravity, "gravity")
+        self._symbols.check_expression(g, "gravity", speeds=False, inputs=False)
+        self._gravity = g
+
+    def coordinates(self, names: str | Sequence[str]):
+        """Declare generalized coordinates; return one SX symbol or a tuple of them.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+            Space- or comma-separated names, e.g. ``"q1 q2"``.
+        """
+        return _one_or_tuple(self._symbols.declare(split_names(names, "coordinate"), "coordinate"))
+
+    def parameters(self, names: str | Sequence[str], *, values: Mapping[str, float] | Sequence[float] | None = None):
+        """Declare named parameters; return one SX symbol or a tuple of them.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+            Space- or comma-separated names.
+        values : dict or sequence, optional
+            Default values, by name or in the order of ``names``. Parameters
+            without a default must be given a value at every numeric call.
+        """
+        items = split_names(names, "parameter")
+        if values is not None and not isinstance(values, Mapping):
+            values = list(values)
+            if len(values) != len(items):
+                raise ModelDefinitionError(
+                    f"{len(values)} default values given for {len(items)} parameters {items}; "
+                    "give one per name or a dict by name."
+                )
+            values = dict(zip(items, values))
+        return _one_or_tuple(self._symbols.declare(items, "parameter", values))
+
+    def inputs(self, names: str | Sequence[str]):
+        """Declare named inputs (time-varying signals); return one SX or a tuple."""
+        return _one_or_tuple(self._symbols.declare(split_names(names, "input"), "input"))
+
+    def speed(self, coordinate) -> ca.SX:
+        """Time derivative symbol of a coordinate (for loads depending on speeds)."""
+        return self._symbols.speed_of(coordinate)
+
+    # ------------------------------------------------------------------ tree
+    @property
+    def joints(self) -> tuple[Joint, ...]:
+        """Joints in the order they were added."""
+        return tuple(self._joints)
+
+    @property
+    def bodies(self) -> tuple[Body, ...]:
+        """Bodies (children of joints) in the order they were added."""
+        return tuple(self._bodies.values())
+
+    def body(self, name: str) -> Body:
+        """The body called ``name``."""
+        if name not in self._bodies:
+            raise ModelDefinitionError(f"no body named {name!r}; bodies are {list(self._bodies)}.")
+        return self._bodies[name]
+
+    def add_joint(self, joint: Joint) -> None:
+        """Add a joint, and with it its child body, to the tree.
+
+        Raises
+        ------
+        ModelDefinitionError
+            If the child already has a joint, a body name is taken by another
+            body, a coordinate is unknown or already used, or an expression
+            contains undeclared symbols. The System is unchanged on error.
+        """
+        if not isinstance(joint, Joint):
+            raise ModelDefinitionError(f"add_joint expects a Joint (e.g. mb.Revolute); got {joint!r}.")
+        child, parent = joint.child, joint.parent
+        if child.name in self._bodies:
+            other = self._bodies[child.name]
+            what = "already has a joint" if other is child else "is the name of another body"
+            raise ModelDefinitionError(
+                f"body {child.name!r} {what}; each body has exactly one parent joint and a unique name."
+            )
+        if isinstance(parent, Ground) and parent is not self._ground:
+            raise ModelDefinitionError("the joint's parent is the ground of another System; use sys.ground.")
+        if not isinstance(parent, Ground) and parent.name in self._bodies and self._bodies[parent.name] is not parent:
+            raise ModelDefinitionError(f"parent {parent.name!r} has the name of another body in this system.")
+        claimed = self._check_new_coordinates(joint)
+        for expr, what in [(joint.offset, "joint offset"), (joint.rotation, "joint rotation"),
+                           *[(v, f"property of body {child.name!r}") for v in child.symbolic_values()]]:
+            self._symbols.check_expression(expr, f"{what} of {child.name!r}", speeds=False, inputs=False)
+        self._joints.append(joint)
+        self._bodies[child.name] = child
+        for name in claimed:
+            self._owner[name] = child.name
+
+    def _check_new_coordinates(self, joint: Joint) -> list[str]:
+        claimed = []
+        for c in (*joint.coordinates, *joint.child.elastic_coordinates):
+            entry = self._symbols.lookup(c)
+            if entry is None or entry.kind != "coordinate":
+                raise ModelDefinitionError(
+                    f"joint of {joint.child.name!r} uses {c!r}, which is not a coordinate of this system; "
+                    "pass a symbol returned by sys.coordinates(...)."
+                )
+            if entry.name in self._owner or entry.name in claimed:
+                user = self._owner.get(entry.name, joint.child.name)
+                raise ModelDefinitionError(
+                    f"coordinate {entry.name!r} already moves body {user!r}; each coordinate drives one joint. "
+                    "Declare another coordinate."
+                )
+            claimed.append(entry.name)
+        return claimed
+
+    # ------------------------------------------------------------------ loads
+    def add_force(self, body: Body, force: Sequence, *, point: Sequence | None = None,
+                  frame: Body | None = None) -> None:
+        """Apply a force [N] at a point of a body.
+
+        Parameters
+        ----------
+        body : Body
+            Body the force acts on (already joined to the system).
+        force : sequence of 3
+            Components, expressions of coordinates, speeds, inputs, parameters.
+        point : sequence of 3, optional
+            Point of application in body coordinates [m]; default the body origin.
+        frame : Body, optional
+            Body whose axes the components are given in; default ground axes.
+        """
+        self._check_body(body, "force")
+        self._check_frame(frame)
+        f = as_vector3(force, f"force on {body.name!r}")
+        pt = as_vector3((0.0, 0.0, 0.0) if point is None else point, f"point of the force on {body.name!r}")
+        self._symbols.check_expression(f, f"force on {body.name!r}")
+        self._symbols.check_expression(pt, f"point of the force on {body.name!r}", speeds=False, inputs=False)
+        self._loads.append(PointForce(body, f, pt, frame))
+
+    def add_torque(self, body: Body, torque: Sequence, *, frame: Body | None = None) -> None:
+        """Apply a torque [N m] to a body; components in ``frame`` axes (default ground)."""
+        self._check_body(body, "torque")
+        self._check_frame(frame)
+        t = as_vector3(torque, f"torque on {body.name!r}")
+        self._symbols.check_expression(t, f"torque on {body.name!r}")
+        self._loads.append(Torque(body, t, frame))
+
+    def add_generalized_force(self, coordinate, value) -> None:
+        """Add a generalized force [N or N m] to the equation of ``coordinate``."""
+        idx = self._coordinate_index(coordinate)
+        v = _scalar(value, "generalized force")
+        self._symbols.check_expression(v, "generalized force")
+        self._loads.append(GeneralizedForce(idx, v))
+
+    def add_spring(self, coordinate, stiffness, *, rest=0.0) -> None:
+        """Linear spring on a coordinate: ``Q = -stiffness (q - rest)`` [N/m or N m/rad]."""
+        idx = self._coordinate_index(coordinate)
+        k = _scalar(stiffness, "spring stiffness")
+        r = _scalar(rest, "spring rest position")
+        for e, what in [(k, "spring stiffness"), (r, "spring rest position")]:
+            self._symbols.check_expression(e, what, speeds=False, inputs=False)
+        self._loads.append(Spring(idx, k, r))
+
+    def add_damper(self, coordinate, damping) -> None:
+        """Linear damper on a coordinate: ``Q = -damping * qd`` [N s/m or N m s/rad]."""
+        idx = self._coordinate_index(coordinate)
+        c = _scalar(damping, "damping")
+        self._symbols.check_expression(c, "damping", speeds=False, inputs=False)
+        self._loads.append(Damper(idx, c))
+
+    @property
+    def loads(self) -> tuple:
+        """Load records in the order they were added."""
+        return tuple(self._loads)
+
+    def _check_body(self, body: Body, what: str) -> None:
+        if not isinstance(body, Body) or isinstance(body, Ground):
+            raise ModelDefinitionError(f"a {what} must act on a body of the system; got {body!r}.")
+        if self._bodies.get(body.name) is not body:
+            raise ModelDefinitionError(
+                f"body {body.name!r} is not in this system; add the joint that connects it before loading it."
+            )
+
+    def _check_frame(self, frame: Body | None) -> None:
+        if frame is None or frame is self._ground:
+            return
+        if not isinstance(frame, Body) or self._bodies.get(frame.name) is not frame:
+            raise ModelDefinitionError(
+                f"frame {frame!r} is not a body of this system; use None (ground axes) or a joined body."
+            )
+
+    def _coordinate_index(self, coordinate) -> int:
+        entry = self._symbols.lookup(coordinate)
+        if entry is None or entry.kind != "coordinate":
+            raise ModelDefinitionError(
+                f"{coordinate!r} is not a coordinate of this system; pass a symbol from sys.coordinates(...)."
+            )
+        return self._symbols.names("coordinate").index(entry.name)
+
+    # ------------------------------------------------------------------ build
+    def problems(self) -> list[str]:
+        """Every reason the system cannot be turned into equations (empty if none)."""
+        out = []
+        reach = {id(self._ground)}
+        changed = True
+        while changed:
+            changed = False
+            for j in self._joints:
+                if id(j.parent) in reach and id(j.child) not in reach:
+                    reach.add(id(j.child))
+                    changed = True
+        for j in self._joints:
+            if id(j.child) not in reach:
+                out.append(
+                    f"body {j.child.name!r} is not connected to the ground (its parent {j.parent.name!r} has no "
+                    "joint leading to sys.ground); add the missing joint."
+                )
+        unused = [n for n in self._symbols.names("coordinate") if n not in self._owner]
+        if unused:
+            out.append(f"coordinates {unused} are declared but no joint or flexible body uses them.")
+        if not self._symbols.names("coordinate"):
+            out.append("the system has no coordinates; declare them with sys.coordinates(...).")
+        return out
+
+    def validate(self) -> None:
+        """Raise ModelDefinitionError listing every problem found, if any."""
+        problems = self.problems()
+        if problems:
+            raise ModelDefinitionError("the system cannot be built:\n  - " + "\n  - ".join(problems))
+
+    def equations(self, *, name: str = "mbsym"):
+        """Derive the equations of motion (Kane's method).
+
+        Returns
+        -------
+        EquationsOfMotion
+            Immutable object holding CasADi Functions and names.
+        """
+        from .equations import EquationsOfMotion
+        from .kane import derive
+
+        self.validate()
+        return EquationsOfMotion(derive(self), name=name)
+
+
+def _one_or_tuple(items: list):
+    return items[0] if len(items) == 1 else tuple(items)
