@@ -28,7 +28,10 @@ SYMBOLIC_SOLVE_MAX_DOF = 8
 
 @dataclass(frozen=True)
 class EomFunctions:
-    """The CasADi Functions of a model (all built with ``cse``).
+    """The CasADi Functions of a model.
+
+    Their expressions come from one common-subexpression elimination
+    (``casadi.cse``) over M, F and the energies, done once per model.
 
     Attributes
     ----------
@@ -275,21 +278,23 @@ def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
 
 
 def _build_functions(d: Derivation, name: str) -> EomFunctions:
-    opts = {"cse": True}
+    # One common-subexpression elimination over all outputs (cheaper than one per Function).
+    opts: dict = {}
     q, qd, qdd, u, p = d.q, d.qd, d.qdd, d.u, d.p
-    e = d.F - d.M @ qdd
-    f_M = ca.Function(f"{name}_mass_matrix", [q, p], [d.M], ["q", "p"], ["M"], opts)
-    f_F = ca.Function(f"{name}_forcing", [q, qd, u, p], [d.F], ["q", "qd", "u", "p"], ["F"], opts)
+    M, F, T, V, P = ca.cse([d.M, d.F, d.T, d.V, d.power])
+    e = F - M @ qdd
+    f_M = ca.Function(f"{name}_mass_matrix", [q, p], [M], ["q", "p"], ["M"], opts)
+    f_F = ca.Function(f"{name}_forcing", [q, qd, u, p], [F], ["q", "qd", "u", "p"], ["F"], opts)
     f_e = ca.Function(f"{name}_residual", [q, qd, qdd, u, p], [e], ["q", "qd", "qdd", "u", "p"], ["e"], opts)
     x = ca.vertcat(q, qd)
     if q.numel() <= SYMBOLIC_SOLVE_MAX_DOF:
-        xd = ca.vertcat(qd, ca.solve(d.M, d.F))
-        f_rhs = ca.Function(f"{name}_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
+        xd = ca.vertcat(qd, ca.solve(M, F))
+        f_rhs = ca.Function(f"{name}_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], {"cse": True})
     else:
         f_rhs = _numeric_rhs(f_M, f_F, q.numel(), u.numel(), p.numel(), name)
-    f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, p], [d.T], ["q", "qd", "p"], ["T"], opts)
-    f_V = ca.Function(f"{name}_potential_energy", [q, p], [d.V], ["q", "p"], ["V"], opts)
-    f_P = ca.Function(f"{name}_power", [q, qd, u, p], [d.power], ["q", "qd", "u", "p"], ["P"], opts)
+    f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, p], [T], ["q", "qd", "p"], ["T"], opts)
+    f_V = ca.Function(f"{name}_potential_energy", [q, p], [V], ["q", "p"], ["V"], opts)
+    f_P = ca.Function(f"{name}_power", [q, qd, u, p], [P], ["q", "qd", "u", "p"], ["P"], opts)
     return EomFunctions(f_M, f_F, f_e, f_rhs, f_T, f_V, f_P)
 
 

@@ -62,6 +62,7 @@ class _Kinematics:
 
     def __init__(self, system, q: ca.SX, qd: ca.SX) -> None:
         self.q, self.qd = q, qd
+        self._index = {q[i].element_hash(): i for i in range(q.numel())}
         ground = system.ground
         zero = ca.SX.zeros(3, 1)
         self.frames: dict[int, Frame] = {id(ground): Frame(zero, ca.SX.eye(3), zero, zero)}
@@ -102,6 +103,10 @@ class _Kinematics:
             v=v_J + ca.cross(w_J, dg) + R_J @ self._dt(d),
             w=w_J + R_J @ self._rel_omega(R_rel),
         )
+
+    def q_index(self, coordinate: ca.SX) -> int:
+        """Index of a coordinate symbol in q."""
+        return self._index[coordinate.element_hash()]
 
     def frame(self, body: Body) -> Frame:
         return self.frames[id(body)]

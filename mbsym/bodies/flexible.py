@@ -1,0 +1,219 @@
+"""Flexible bodies in Wallrapp's standard-input-data (SID) form.
+
+A :class:`FlexibleBody` is described by the shape integrals of paper Appendix A
+(Branlard & Geisler 2022), held in a :class:`mbsym.beam.ShapeIntegrals`, each a
+Taylor expansion ``T0 + sum_j T1_j q_e,j`` (Appendix D3, order 0 or 1). Its
+elastic coordinates ``q_e`` are coordinates of the system owned by the body.
+
+Kane contribution (paper Eqs. 12-21), written in the body frame (primes) and
+rotated to ground axes by ``T = diag(R, R, I)``::
+
+    Mb' = [[m I,  Mxθ,  Ctᵀ],        k' = [2 ω̃ Ctᵀ q̇e + ω̃ ω̃ S,
+           [Mθx,  Mθθ,  Crᵀ],              ω̃ Mθθ ω + (Σ Gr_j q̇e_j) ω,
+           [Ct,   Cr,   Me ]]              [ωᵀ Oe_j ω]_j + (Σ Ge_j q̇e_j) ω + Ke qe + De q̇e + Kg qe]
+
+    f' = [m g', S̃ g', Ct g']        (gravity, A17-A19; S = ∫ s_P dm = -vee(Mxθ))
+
+Geometric stiffening ``Kg`` (Appendix C, C2) is evaluated with the gravity
+field (quasi-static unit-acceleration term ``-g'``, which includes the weight of
+a declared ``top_mass``) and the body's angular velocity (centrifugal term);
+both can be switched off. The terms in the body's own acceleration and angular
+acceleration are not included: they would put unsymmetric entries in M.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..exceptions import ModelDefinitionError
+from ..kinematics import _scalar, skew, small_rotation, vee
+from .base import Body
+
+__all__ = ["FlexibleBody"]
+
+
+def _dm(a) -> ca.SX:
+    """numpy array (any shape up to 2-D) or SX -> SX."""
+    if isinstance(a, (ca.SX, ca.MX)):
+        return ca.SX(a)
+    return ca.SX(ca.DM(np.asarray(a, dtype=float)))
+
+
+def _taylor(term, qe: ca.SX, order: int, shape2: tuple[int, int]) -> ca.SX:
+    """Evaluate a Taylor term (order0 of shape ``shape2``) symbolically."""
+    out = _dm(np.asarray(term.order0).reshape(shape2))
+    if order >= 1 and term.order1 is not None:
+        for j in range(qe.numel()):
+            out = out + _dm(np.asarray(term.order1[j]).reshape(shape2)) * qe[j]
+    return out
+
+
+class FlexibleBody(Body):
+    """A flexible body described by shape integrals.
+
+    Parameters
+    ----------
+    name : str
+        Unique body name.
+    sid : mbsym.beam.ShapeIntegrals
+        Shape integrals in the body frame about the body origin (see
+        :mod:`mbsym.beam`); the beam lies along body z from the origin.
+    coordinates : sequence of SX
+        One system coordinate per shape function (``q_e``) [m for shapes
+        normalized to unit tip deflection].
+    taylor_order : {0, 1}, optional
+        Keep only the undeflected shape integrals (0) or add the terms linear
+        in ``q_e`` (1, default).
+    gravity_stiffening : bool, optional
+        Geometric stiffness from the gravity field: self weight and the weight
+        of ``top_mass`` (default True).
+    centrifugal_stiffening : bool, optional
+        Geometric stiffness from the body's rotation ``ω'ᵀ Kgω ω'`` (default True).
+    top_mass : float or SX, optional
+        Mass [kg] carried at the body's end whose weight loads the body
+        axially (e.g. the rotor-nacelle assembly on a tower), default 0.
+    end_rotation_order : int or None, optional
+        Orientation of a child attached at the end: ``None`` exact rotation of
+        the slope vector, ``n`` its small-angle series to order n (default 1:
+        ``I + [θ~]``).
+    stiffness, damping : array or SX, optional
+        Override ``sid.ke`` / ``sid.de`` (n_e x n_e), e.g. with expressions of
+        parameters for design studies.
+
+    Examples
+    --------
+    See ``examples/paper_4_4_two_dof.py``.
+    """
+
+    def __init__(self, name: str, sid, coordinates: Sequence, *, taylor_order: int = 1,
+                 gravity_stiffening: bool = True, centrifugal_stiffening: bool = True,
+                 top_mass=0.0, end_rotation_order: int | None = 1, stiffness=None, damping=None) -> None:
+        super().__init__(name)
+        coordinates = tuple(coordinates)
+        if len(coordinates) != sid.n_e:
+            raise ModelDefinitionError(
+                f"flexible body {name!r} has {sid.n_e} shape functions but {len(coordinates)} coordinates; "
+                "give one coordinate per shape function."
+            )
+        if taylor_order not in (0, 1):
+            raise ModelDefinitionError(f"taylor_order of {name!r} must be 0 or 1; got {taylor_order!r}.")
+        self._sid = sid
+        self._qe = coordinates
+        self.taylor_order = taylor_order
+        self.gravity_stiffening = bool(gravity_stiffening)
+        self.centrifugal_stiffening = bool(centrifugal_stiffening)
+        self.end_rotation_order = end_rotation_order
+        self._top_mass = _scalar(top_mass, f"top_mass of {name!r}")
+        ne = sid.n_e
+        self._ke = self._square(stiffness, sid.ke, "stiffness", ne)
+        self._de = self._square(damping, sid.de, "damping", ne)
+
+    def _square(self, value, default, what: str, ne: int) -> ca.SX:
+        m = _dm(default if value is None else value)
+        if m.shape != (ne, ne):
+            raise ModelDefinitionError(f"{what} of {self.name!r} has shape {m.shape}; expected ({ne}, {ne}).")
+        return m
+
+    @property
+    def sid(self):
+        """The shape integrals (read-only)."""
+        return self._sid
+
+    @property
+    def elastic_coordinates(self) -> tuple:
+        return self._qe
+
+    @property
+    def n_e(self) -> int:
+        return self._sid.n_e
+
+    def symbolic_values(self) -> list:
+        return [self._top_mass, self._ke, self._de]
+
+    # ------------------------------------------------------------ attachment
+    def attachment(self, offset: ca.SX) -> tuple[ca.SX, ca.SX]:
+        """Root (origin) or end (deflected tip, rotated by its slope) of the body."""
+        off = np.array(ca.evalf(offset)).reshape(-1) if offset.is_constant() else None
+        end = np.asarray(self._sid.end_position, dtype=float).reshape(-1)
+        if off is not None and np.allclose(off, 0.0, atol=1e-12):
+            return offset, ca.SX.eye(3)
+        if off is not None and np.allclose(off, end, rtol=1e-9, atol=1e-9):
+            qe = ca.vertcat(*self._qe)
+            disp = _dm(self._sid.end_displacement) @ qe
+            theta = _dm(self._sid.end_rotation) @ qe
+            return offset + disp, small_rotation(theta, order=self.end_rotation_order)
+        raise ModelDefinitionError(
+            f"a joint on flexible body {self.name!r} must be placed at its root [0, 0, 0] or at its end "
+            f"{end.tolist()} (joint offset); got {off.tolist() if off is not None else offset}."
+        )
+
+    # ------------------------------------------------------------ Kane terms
+    def kane_terms(self, kin) -> dict:
+        """Stacked velocities ``[v_O; ω; q̇e]`` and the callback giving Mb, f_net, T, V."""
+        f = kin.frame(self)
+        qe = ca.vertcat(*self._qe)
+        idx = [kin.q_index(c) for c in self._qe]
+        qde = ca.vertcat(*[kin.qd[i] for i in idx])
+        V = ca.vertcat(f.v, f.w, qde)
+
+        def terms(a0: ca.SX, g: ca.SX):
+            return self._terms(f, qe, qde, a0, g)
+
+        return {"V": V, "terms": terms}
+
+    def _terms(self, f, qe, qde, a0, g):
+        sid, ne, o = self._sid, self.n_e, self.taylor_order
+        R = f.R
+        w = R.T @ f.w
+        gb = R.T @ g
+        m = _scalar(float(sid.mass), "mass")
+        Mxt = _taylor(sid.mxt, qe, o, (3, 3))
+        Mtt = _taylor(sid.mtt, qe, o, (3, 3))
+        Cr = _taylor(sid.cr, qe, o, (ne, 3))
+        Ct = _dm(sid.ct)
+        S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
+        Mb = ca.blockcat([[m * ca.SX.eye(3), Mxt, Ct.T], [Mxt.T, Mtt, Cr.T], [Ct, Cr, _dm(sid.me)]])
+        W = skew(w)
+        Gr = sum((_taylor(_slice(sid.gr, j), qe, o, (3, 3)) * qde[j] for j in range(ne)), ca.SX.zeros(3, 3))
+        Ge = sum((_dm(sid.ge[j]) * qde[j] for j in range(ne)), ca.SX.zeros(ne, 3))
+        Oe = [_taylor(_slice(sid.oe, j), qe, o, (3, 3)) for j in range(ne)]
+        k_x = 2 * W @ Ct.T @ qde + W @ W @ S
+        k_t = W @ Mtt @ w + Gr @ w
+        k_e = ca.vertcat(*[w.T @ Oe[j] @ w for j in range(ne)]) + Ge @ w
+        k_e += self._ke @ qe + self._de @ qde + self._geometric_stiffness(w, gb) @ qe
+        f_app = ca.vertcat(m * gb, ca.cross(S, gb), Ct @ gb)
+        Tm = ca.diagcat(R, R, ca.SX.eye(ne))
+        a0b = Tm.T @ a0
+        f_net = f_app - ca.vertcat(k_x, k_t, k_e) - Mb @ a0b
+        Vb = ca.vertcat(R.T @ f.v, w, qde)
+        t_kin = 0.5 * Vb.T @ Mb @ Vb
+        v_pot = -ca.dot(g, m * f.r + R @ S) + 0.5 * qe.T @ self._ke @ qe
+        return Tm @ Mb @ Tm.T, Tm @ f_net, t_kin, v_pot
+
+    def _geometric_stiffness(self, w: ca.SX, gb: ca.SX) -> ca.SX:
+        """Kg (n_e x n_e) from gravity (self weight + top mass) and centrifugal loads."""
+        sid, ne = self._sid, self.n_e
+        Kg = ca.SX.zeros(ne, ne)
+        if self.gravity_stiffening:
+            # C2 with the body acceleration left out: (a - g) -> -g; the top mass
+            # pushes on the tip with its weight F = top_mass * g.
+            for a in range(3):
+                Kg += -gb[a] * _dm(sid.kg_t[a]) + self._top_mass * gb[a] * _dm(sid.kg_tip[a])
+        if self.centrifugal_stiffening:
+            for a in range(3):
+                for b in range(3):
+                    kab = np.asarray(sid.kg_omega[a][b])
+                    if np.any(kab):
+                        Kg += w[a] * w[b] * _dm(kab)
+        return Kg
+
+
+def _slice(term, j: int):
+    """The j-th member of a stacked Taylor term (order0[j], order1[:, j])."""
+    o1 = None if term.order1 is None else np.asarray(term.order1)[:, j]
+    return dataclasses.replace(term, order0=np.asarray(term.order0)[j], order1=o1)
+

@@ -1,0 +1,54 @@
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``.
+
+Every sub-command exits with status 0 on success, and with status 2 and a
+one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Sequence
+
+__all__ = ["main", "build_parser"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``mbsym`` command."""
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="mbsym",
+        description="Multibody systems to CasADi equations of motion (Kane's method).",
+    )
+    parser.add_argument("--version", action="version", version=f"mbsym {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
+    demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``mbsym`` console script."""
+    from .exceptions import MbsymError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 0
+    try:
+        if args.command == "demo":
+            from .demo import run_demo
+
+            if not args.tmax > 0:
+                raise ValueError(f"--tmax must be positive; got {args.tmax}")
+            run_demo(tmax=args.tmax)
+    except (MbsymError, ValueError) as exc:
+        print(f"mbsym {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
