@@ -1,0 +1,58 @@
+"""Wind-turbine parameters: OpenFAST/ElastoDyn decks and the built-in NREL 5 MW.
+
+:func:`read_openfast` reads a deck into :class:`TurbineParameters` (SI units,
+descriptive names); :func:`nrel5mw` returns the NREL 5 MW onshore turbine from
+package data; :mod:`mbsym.wind.elastodyn_nodes` integrates the distributed tower
+and blade properties the way ElastoDyn does.
+"""
+
+from .elastodyn_nodes import (
+    BladeModalProperties,
+    BladeNodes,
+    RotorMassProperties,
+    TowerModalProperties,
+    TowerNodes,
+    blade_modal_properties,
+    blade_nodes,
+    mode_shape,
+    rotor_mass_properties,
+    tower_mass,
+    tower_modal_properties,
+    tower_nodes,
+    tower_top_mass,
+)
+from .nrel5mw import nrel5mw
+from .openfast import KEY_MAP, read_openfast
+from .parameters import (
+    DOF_NAMES,
+    BladeParameters,
+    InitialConditions,
+    SimulationSettings,
+    TowerParameters,
+    TurbineParameters,
+)
+
+__all__ = [
+    "read_openfast",
+    "nrel5mw",
+    "KEY_MAP",
+    "DOF_NAMES",
+    "TurbineParameters",
+    "SimulationSettings",
+    "InitialConditions",
+    "TowerParameters",
+    "BladeParameters",
+    "TowerNodes",
+    "BladeNodes",
+    "tower_nodes",
+    "blade_nodes",
+    "RotorMassProperties",
+    "rotor_mass_properties",
+    "tower_mass",
+    "tower_top_mass",
+    "TowerModalProperties",
+    "tower_modal_properties",
+    "BladeModalProperties",
+    "blade_modal_properties",
+    "mode_shape",
+]
