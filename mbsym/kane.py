@@ -112,10 +112,15 @@ class _Kinematics:
         return self.frames[id(body)]
 
     def point_velocity(self, body: Body, point: ca.SX) -> tuple[ca.SX, ca.SX]:
-        """Position and velocity of a body-fixed point (body coordinates) in ground axes."""
+        """Position and velocity of a material point of a body, in ground axes.
+
+        ``point`` is the undeflected position in body coordinates; flexible
+        bodies move it with their deflection (see ``Body.attachment``).
+        """
         f = self.frame(body)
-        s = f.R @ point
-        return f.r + s, f.v + ca.cross(f.w, s)
+        pos, _ = body.attachment(point)
+        s = f.R @ pos
+        return f.r + s, f.v + ca.cross(f.w, s) + f.R @ self._dt(pos)
 
 
 def derive(system) -> Derivation:

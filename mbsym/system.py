@@ -154,6 +154,7 @@ class System:
         if not isinstance(parent, Ground) and parent.name in self._bodies and self._bodies[parent.name] is not parent:
             raise ModelDefinitionError(f"parent {parent.name!r} has the name of another body in this system.")
         claimed = self._check_new_coordinates(joint)
+        parent.attachment(joint.offset)   # flexible parents accept children at their root or end only
         for expr, what in [(joint.offset, "joint offset"), (joint.rotation, "joint rotation"),
                            *[(v, f"property of body {child.name!r}") for v in child.symbolic_values()]]:
             self._symbols.check_expression(expr, f"{what} of {child.name!r}", speeds=False, inputs=False)
@@ -202,6 +203,7 @@ class System:
         pt = as_vector3((0.0, 0.0, 0.0) if point is None else point, f"point of the force on {body.name!r}")
         self._symbols.check_expression(f, f"force on {body.name!r}")
         self._symbols.check_expression(pt, f"point of the force on {body.name!r}", speeds=False, inputs=False)
+        body.attachment(pt)   # flexible bodies accept loads at their root or end only
         self._loads.append(PointForce(body, f, pt, frame))
 
     def add_torque(self, body: Body, torque: Sequence, *, frame: Body | None = None) -> None:

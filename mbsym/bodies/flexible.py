@@ -15,10 +15,12 @@ rotated to ground axes by ``T = diag(R, R, I)``::
     f' = [m g', S̃ g', Ct g']        (gravity, A17-A19; S = ∫ s_P dm = -vee(Mxθ))
 
 Geometric stiffening ``Kg`` (Appendix C, C2) is evaluated with the gravity
-field (quasi-static unit-acceleration term ``-g'``, which includes the weight of
-a declared ``top_mass``) and the body's angular velocity (centrifugal term);
-both can be switched off. The terms in the body's own acceleration and angular
-acceleration are not included: they would put unsymmetric entries in M.
+field and the velocity-dependent acceleration of the body origin (``a - g``,
+including the load of a declared ``top_mass`` on the end) and with the body's
+angular velocity (centrifugal term); both can be switched off. The parts of the
+accelerations proportional to q̈ are left out: they would put unsymmetric
+entries in M, and they multiply q_e, so they vanish in linearizations about
+undeflected states.
 """
 
 from __future__ import annotations
@@ -65,12 +67,15 @@ class FlexibleBody(Body):
     coordinates : sequence of SX
         One system coordinate per shape function (``q_e``) [m for shapes
         normalized to unit tip deflection].
-    taylor_order : {0, 1}, optional
-        Keep only the undeflected shape integrals (0) or add the terms linear
-        in ``q_e`` (1, default).
+    taylor_order : {0, 1, 2}, optional
+        Keep only the undeflected shape integrals (0), add the terms linear in
+        ``q_e`` (1, default, the paper's choice), or also the quadratic term of
+        ``Mθθ`` (2): with it, the equations of a linear displacement field are
+        exact and conserve energy.
     gravity_stiffening : bool, optional
-        Geometric stiffness from the gravity field: self weight and the weight
-        of ``top_mass`` (default True).
+        Geometric stiffness from gravity and the origin's acceleration: self
+        weight, the weight of ``top_mass``, and e.g. the centripetal
+        acceleration of a blade root away from the rotor axis (default True).
     centrifugal_stiffening : bool, optional
         Geometric stiffness from the body's rotation ``ω'ᵀ Kgω ω'`` (default True).
     top_mass : float or SX, optional
@@ -99,8 +104,13 @@ class FlexibleBody(Body):
                 f"flexible body {name!r} has {sid.n_e} shape functions but {len(coordinates)} coordinates; "
                 "give one coordinate per shape function."
             )
-        if taylor_order not in (0, 1):
-            raise ModelDefinitionError(f"taylor_order of {name!r} must be 0 or 1; got {taylor_order!r}.")
+        if taylor_order not in (0, 1, 2):
+            raise ModelDefinitionError(f"taylor_order of {name!r} must be 0, 1 or 2; got {taylor_order!r}.")
+        if taylor_order == 2 and getattr(sid, "mtt2", None) is None:
+            raise ModelDefinitionError(
+                f"taylor_order=2 for {name!r} needs the second-order inertia integrals sid.mtt2; "
+                "compute the shape integrals with mbsym.beam.shape_integrals or use taylor_order=1."
+            )
         self._sid = sid
         self._qe = coordinates
         self.taylor_order = taylor_order
@@ -147,8 +157,8 @@ class FlexibleBody(Body):
             theta = _dm(self._sid.end_rotation) @ qe
             return offset + disp, small_rotation(theta, order=self.end_rotation_order)
         raise ModelDefinitionError(
-            f"a joint on flexible body {self.name!r} must be placed at its root [0, 0, 0] or at its end "
-            f"{end.tolist()} (joint offset); got {off.tolist() if off is not None else offset}."
+            f"joints and point loads on flexible body {self.name!r} must be at its root [0, 0, 0] or at its "
+            f"end {end.tolist()} (body coordinates); got {off.tolist() if off is not None else offset}."
         )
 
     # ------------------------------------------------------------ Kane terms
@@ -173,6 +183,9 @@ class FlexibleBody(Body):
         m = _scalar(float(sid.mass), "mass")
         Mxt = _taylor(sid.mxt, qe, o, (3, 3))
         Mtt = _taylor(sid.mtt, qe, o, (3, 3))
+        if o == 2:
+            # -∫ ũ ũ dm = Σ_ij q_i q_j mtt2[i, j]
+            Mtt += sum((_dm(sid.mtt2[i][j]) * qe[i] * qe[j] for i in range(ne) for j in range(ne)), ca.SX.zeros(3, 3))
         Cr = _taylor(sid.cr, qe, o, (ne, 3))
         Ct = _dm(sid.ct)
         S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
@@ -184,25 +197,34 @@ class FlexibleBody(Body):
         k_x = 2 * W @ Ct.T @ qde + W @ W @ S
         k_t = W @ Mtt @ w + Gr @ w
         k_e = ca.vertcat(*[w.T @ Oe[j] @ w for j in range(ne)]) + Ge @ w
-        k_e += self._ke @ qe + self._de @ qde + self._geometric_stiffness(w, gb) @ qe
-        f_app = ca.vertcat(m * gb, ca.cross(S, gb), Ct @ gb)
         Tm = ca.diagcat(R, R, ca.SX.eye(ne))
         a0b = Tm.T @ a0
+        k_e += self._ke @ qe + self._de @ qde + self._geometric_stiffness(w, gb, a0b[:3], a0b[3:6]) @ qe
+        f_app = ca.vertcat(m * gb, ca.cross(S, gb), Ct @ gb)
         f_net = f_app - ca.vertcat(k_x, k_t, k_e) - Mb @ a0b
         Vb = ca.vertcat(R.T @ f.v, w, qde)
         t_kin = 0.5 * Vb.T @ Mb @ Vb
         v_pot = -ca.dot(g, m * f.r + R @ S) + 0.5 * qe.T @ self._ke @ qe
         return Tm @ Mb @ Tm.T, Tm @ f_net, t_kin, v_pot
 
-    def _geometric_stiffness(self, w: ca.SX, gb: ca.SX) -> ca.SX:
-        """Kg (n_e x n_e) from gravity (self weight + top mass) and centrifugal loads."""
+    def _geometric_stiffness(self, w: ca.SX, gb: ca.SX, acc: ca.SX, wdot: ca.SX) -> ca.SX:
+        """Kg (n_e x n_e) of paper Eq. C2, body axes.
+
+        ``acc`` and ``wdot`` are the velocity-dependent parts of the origin's
+        acceleration and of the angular acceleration (the parts proportional to
+        qdd are left out so that M stays symmetric).
+        """
         sid, ne = self._sid, self.n_e
         Kg = ca.SX.zeros(ne, ne)
         if self.gravity_stiffening:
-            # C2 with the body acceleration left out: (a - g) -> -g; the top mass
-            # pushes on the tip with its weight F = top_mass * g.
+            # (a - g) kg_t for the body's own mass; the top mass pushes on the tip
+            # with F = -top_mass (a - g).
             for a in range(3):
-                Kg += -gb[a] * _dm(sid.kg_t[a]) + self._top_mass * gb[a] * _dm(sid.kg_tip[a])
+                load = acc[a] - gb[a]
+                Kg += load * _dm(sid.kg_t[a]) - self._top_mass * load * _dm(sid.kg_tip[a])
+                kr = np.asarray(sid.kg_r[a])
+                if np.any(kr):
+                    Kg += wdot[a] * _dm(kr)
         if self.centrifugal_stiffening:
             for a in range(3):
                 for b in range(3):
