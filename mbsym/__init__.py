@@ -7,7 +7,7 @@ CasADi Functions.
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .bodies import Ground, RigidBody
+from .bodies import FlexibleBody, Ground, RigidBody
 from .equations import EomFunctions, EquationsOfMotion
 from .exceptions import (
     BeamDataError,
@@ -21,6 +21,7 @@ from .exceptions import (
     SolverError,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
+from .linear import LinearModel, linearize
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 
@@ -40,6 +41,9 @@ __all__ = [
     "Free",
     "EquationsOfMotion",
     "EomFunctions",
+    "linearize",
+    "LinearModel",
+    "FlexibleBody",
     "rotation",
     "rotation_about",
     "rotation_sequence",
