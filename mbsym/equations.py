@@ -16,7 +16,7 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
-from .exceptions import DimensionError, ParameterError, SingularMassMatrixError
+from .exceptions import DimensionError, ModelDefinitionError, ParameterError, SingularMassMatrixError
 from .kane import Derivation
 from .symbols import check_finite_number
 
@@ -146,6 +146,40 @@ class EquationsOfMotion:
     def __repr__(self) -> str:
         return (f"EquationsOfMotion({self._name!r}, n_q={self.n_q}, n_u={self.n_u}, n_p={self.n_p}, "
                 f"coordinates={list(self._coordinates)})")
+
+    def point_kinematics(self, body: str, point=(0.0, 0.0, 0.0)) -> ca.Function:
+        """Kinematics of a material point of a body, as a CasADi Function.
+
+        Parameters
+        ----------
+        body : str
+            Body name.
+        point : sequence of 3, optional
+            Undeflected position in body coordinates [m] (root or end for
+            flexible bodies); default the body origin.
+
+        Returns
+        -------
+        casadi.Function
+            ``(q, qd, qdd, p) -> (r, R, v, w, a, wd)``: position [m], orientation
+            (body -> ground), velocity [m/s], angular velocity [rad/s],
+            acceleration [m/s^2] and angular acceleration [rad/s^2], ground axes.
+        """
+        from .kinematics import as_vector3
+
+        d = self._derivation
+        if body not in d.bodies:
+            raise ModelDefinitionError(f"no body named {body!r}; bodies are {list(d.bodies)}.")
+        b = d.bodies[body]
+        pt = as_vector3(point, "point")
+        r, v = d.kinematics.point_velocity(b, pt)
+        frame = d.frames[body]
+        x, xd = ca.vertcat(d.q, d.qd), ca.vertcat(d.qd, d.qdd)
+        a = ca.jtimes(v, x, xd)
+        wd = ca.jtimes(frame.w, x, xd)
+        return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.p],
+                           [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "p"],
+                           ["r", "R", "v", "w", "a", "wd"], {"cse": True})
 
     # ------------------------------------------------------------ numeric
     def parameter_vector(self, p: Mapping[str, float] | None = None) -> np.ndarray:

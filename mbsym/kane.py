@@ -55,6 +55,8 @@ class Derivation:
     V: ca.SX
     power: ca.SX
     frames: dict[str, Frame] = field(default_factory=dict)
+    bodies: dict[str, Body] = field(default_factory=dict)
+    kinematics: "_Kinematics | None" = None
 
 
 class _Kinematics:
@@ -163,8 +165,9 @@ def derive(system) -> Derivation:
     M = ca.tril2symm(ca.tril(M))
     _check_structural_mass(M, st.names("coordinate"))
     frames = {b.name: kin.frame(b) for b in kin.order}
+    bodies = {b.name: b for b in kin.order}
     names = {k: st.names(k) for k in ("coordinate", "input", "parameter")}
-    return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames)
+    return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames, bodies, kin)
 
 
 def _body_velocities(body: Body, kin: _Kinematics) -> dict:
