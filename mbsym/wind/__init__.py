@@ -3,7 +3,8 @@
 :func:`read_openfast` reads a deck into :class:`TurbineParameters` (SI units,
 descriptive names); :func:`nrel5mw` returns the NREL 5 MW onshore turbine from
 package data; :mod:`mbsym.wind.elastodyn_nodes` integrates the distributed tower
-and blade properties the way ElastoDyn does.
+and blade properties the way ElastoDyn does, and :mod:`mbsym.wind.elastodyn_bodies`
+turns them into ElastoDyn-equivalent shape integrals for flexible bodies.
 """
 
 from .elastodyn_nodes import (
@@ -20,6 +21,16 @@ from .elastodyn_nodes import (
     tower_modal_properties,
     tower_nodes,
     tower_top_mass,
+)
+from .elastodyn_bodies import (
+    BLADE_DOFS,
+    TOWER_DOFS,
+    ElastoDynBladeData,
+    ElastoDynTowerData,
+    blade_elastodyn_data,
+    blade_shape_integrals,
+    tower_elastodyn_data,
+    tower_shape_integrals,
 )
 from .nrel5mw import nrel5mw
 from .openfast import KEY_MAP, read_openfast
@@ -55,4 +66,12 @@ __all__ = [
     "BladeModalProperties",
     "blade_modal_properties",
     "mode_shape",
+    "BLADE_DOFS",
+    "TOWER_DOFS",
+    "blade_shape_integrals",
+    "tower_shape_integrals",
+    "ElastoDynBladeData",
+    "ElastoDynTowerData",
+    "blade_elastodyn_data",
+    "tower_elastodyn_data",
 ]
