@@ -16,7 +16,7 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
-from .exceptions import DimensionError, ModelDefinitionError, ParameterError, SingularMassMatrixError
+from .exceptions import DimensionError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError
 from .kane import Derivation
 from .symbols import check_finite_number
 
@@ -283,7 +283,13 @@ class EquationsOfMotion:
         """First-order right-hand side ``xd = [qd; qdd]``, shape (n_x,)."""
         xx = self._vec(x, self.n_x, "x", self.states)
         uu, pp = self._args(u, p)
-        return np.array(self._functions.rhs(xx, uu, pp)).reshape(-1)
+        xd = np.array(self._functions.rhs(xx, uu, pp)).reshape(-1)
+        if not np.all(np.isfinite(xd)):
+            check_nonsingular(np.array(self._functions.mass_matrix(xx[: self.n_q], pp)), self._coordinates)
+            bad = [self.states[i] for i in np.flatnonzero(~np.isfinite(xd))]
+            raise SolverError(f"the right-hand side is not finite for {bad} at this state; check the "
+                                 "inputs and parameter values.")
+        return xd
 
     def kinetic_energy(self, q, qd, p: Mapping[str, float] | None = None) -> float:
         """Kinetic energy [J]."""

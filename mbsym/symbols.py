@@ -85,6 +85,15 @@ class SymbolTable:
             raise ModelDefinitionError(
                 f"{kind} names {taken} are already used in this system; choose different names."
             )
+        if kind == "coordinate":
+            # each coordinate also names its speed '<q>_d' and acceleration '<q>_dd'
+            derived = {f"{n}{suffix}": n for n in names for suffix in ("_d", "_dd")}
+            clash = sorted(d for d in derived if d in self._entries or d in names)
+            if clash:
+                raise ModelDefinitionError(
+                    f"coordinates {sorted({derived[d] for d in clash})} would create speed/acceleration "
+                    f"names {clash}, which are already used; rename the coordinate or the other symbol."
+                )
         defaults = dict(defaults or {})
         unknown = sorted(set(defaults) - set(names))
         if unknown:
@@ -144,10 +153,12 @@ class SymbolTable:
             keys |= {_key(self._entries[n].sym) for n in self._order["input"]}
         return keys
 
-    def check_expression(self, expr, what: str, *, speeds: bool = True, inputs: bool = True) -> None:
-        """Raise if ``expr`` contains symbols this system did not declare."""
+    def check_expression(self, expr, what: str, *, speeds: bool = True, inputs: bool = True,
+                         coordinates: bool = True) -> None:
+        """Raise if ``expr`` contains symbols this system did not declare, or of a kind not allowed."""
         allowed = self.allowed(speeds=speeds, inputs=inputs)
-        stray = [s.name() for s in free_symbols(expr) if _key(s) not in allowed]
+        syms = free_symbols(expr)
+        stray = [s.name() for s in syms if _key(s) not in allowed]
         if stray:
             kinds = "coordinates, speeds, inputs or parameters" if speeds and inputs else "coordinates or parameters"
             raise ModelDefinitionError(
@@ -155,6 +166,13 @@ class SymbolTable:
                 "Declare them with sys.parameters(...), sys.inputs(...) or sys.coordinates(...), "
                 "or use the symbols those calls return."
             )
+        if not coordinates:
+            moving = sorted({s.name() for s in syms if (e := self.lookup(s)) is not None and e.kind == "coordinate"})
+            if moving:
+                raise ModelDefinitionError(
+                    f"{what} depends on coordinates {moving}, but it must be constant (numbers or "
+                    "parameters only). Model the motion with a joint instead."
+                )
 
 
 def _key(sym: ca.SX) -> int:

@@ -46,6 +46,12 @@ class System:
         self._symbols = SymbolTable()
         self._ground = Ground()
         self._gravity = as_vector3(gravity, "gravity")
+        stray = sorted({v.name() for v in ca.symvar(self._gravity)})
+        if stray:
+            raise ModelDefinitionError(
+                f"gravity contains symbols {stray}, but the System has no parameters yet. Create the "
+                "System with a numeric gravity, declare the parameters, then call sys.set_gravity([...])."
+            )
         self._joints: list[Joint] = []
         self._bodies: dict[str, Body] = {}
         self._loads: list = []
@@ -70,7 +76,7 @@ class System:
     def set_gravity(self, gravity: Sequence) -> None:
         """Set the gravity vector [m/s^2]; entries may be expressions of parameters."""
         g = as_vector3(gravity, "gravity")
-        self._symbols.check_expression(g, "gravity", speeds=False, inputs=False)
+        self._symbols.check_expression(g, "gravity", speeds=False, inputs=False, coordinates=False)
         self._gravity = g
 
     def coordinates(self, names: str | Sequence[str]):
@@ -157,7 +163,8 @@ class System:
         parent.attachment(joint.offset)   # flexible parents accept children at their root or end only
         for expr, what in [(joint.offset, "joint offset"), (joint.rotation, "joint rotation"),
                            *[(v, f"property of body {child.name!r}") for v in child.symbolic_values()]]:
-            self._symbols.check_expression(expr, f"{what} of {child.name!r}", speeds=False, inputs=False)
+            self._symbols.check_expression(expr, f"{what} of {child.name!r}", speeds=False, inputs=False,
+                                           coordinates=False)
         self._joints.append(joint)
         self._bodies[child.name] = child
         for name in claimed:
@@ -202,7 +209,8 @@ class System:
         f = as_vector3(force, f"force on {body.name!r}")
         pt = as_vector3((0.0, 0.0, 0.0) if point is None else point, f"point of the force on {body.name!r}")
         self._symbols.check_expression(f, f"force on {body.name!r}")
-        self._symbols.check_expression(pt, f"point of the force on {body.name!r}", speeds=False, inputs=False)
+        self._symbols.check_expression(pt, f"point of the force on {body.name!r}", speeds=False, inputs=False,
+                                       coordinates=False)
         body.attachment(pt)   # flexible bodies accept loads at their root or end only
         self._loads.append(PointForce(body, f, pt, frame))
 
@@ -227,7 +235,7 @@ class System:
         k = _scalar(stiffness, "spring stiffness")
         r = _scalar(rest, "spring rest position")
         for e, what in [(k, "spring stiffness"), (r, "spring rest position")]:
-            self._symbols.check_expression(e, what, speeds=False, inputs=False)
+            self._symbols.check_expression(e, what, speeds=False, inputs=False, coordinates=False)
         self._loads.append(Spring(idx, k, r))
 
     def add_damper(self, coordinate, damping) -> None:

@@ -1,0 +1,1 @@
+"""Tests of the core engine (System, joints, Kane's method, EquationsOfMotion)."""
