@@ -18,12 +18,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import casadi as ca
+import numpy as np
 
 from .bodies.base import Body
 from .bodies.rigid import RigidBody
 from .exceptions import ModelDefinitionError, SingularMassMatrixError
 from .kinematics import vee
-from .loads import Damper, GeneralizedForce, PointForce, Spring, Torque
+from .loads import Damper, DistributedLoad, GeneralizedForce, PointForce, Spring, Torque
 
 __all__ = ["Frame", "Derivation", "derive"]
 
@@ -214,6 +215,8 @@ def _apply_loads(system, kin: _Kinematics, q, qd, F, Vpot):
             w = kin.frame(load.body).w
             F += ca.jacobian(w, qd).T @ tg
             power += ca.dot(tg, w)
+        elif isinstance(load, DistributedLoad):
+            F, power = _distributed(load, kin, qd, F, power)
         elif isinstance(load, GeneralizedForce):
             F[load.index] += load.value
             power += load.value * qd[load.index]
@@ -225,6 +228,25 @@ def _apply_loads(system, kin: _Kinematics, q, qd, F, Vpot):
             F[load.index] += -load.damping * qd[load.index]
             power += -load.damping * qd[load.index] ** 2
     return F, Vpot, power
+
+
+def _distributed(load, kin: _Kinematics, qd, F, power):
+    """Resultant, moment (about the deflected body) and elastic forces of a distributed load."""
+    f = kin.frame(load.body)
+    li, P = load.integrals, load.magnitude
+    qe = [kin.q[kin.q_index(c)] for c in load.body.elastic_coordinates]
+    idx = [kin.q_index(c) for c in load.body.elastic_coordinates]
+    moment = ca.DM(np.asarray(li.moment.order0, dtype=float))
+    for j, qj in enumerate(qe):
+        moment = moment + ca.DM(np.asarray(li.moment.order1[j], dtype=float)) * qj
+    fx = f.R @ ca.DM(np.asarray(li.force, dtype=float)) * P
+    ft = f.R @ moment * P
+    F += ca.jacobian(f.v, qd).T @ fx + ca.jacobian(f.w, qd).T @ ft
+    power += ca.dot(fx, f.v) + ca.dot(ft, f.w)
+    for j, i in enumerate(idx):
+        F[i] += float(li.generalized[j]) * P
+        power += float(li.generalized[j]) * P * qd[i]
+    return F, power
 
 
 def _check_structural_mass(M: ca.SX, names: list[str]) -> None:

@@ -12,7 +12,7 @@ import casadi as ca
 
 from .bodies.base import Body
 
-__all__ = ["PointForce", "Torque", "GeneralizedForce", "Spring", "Damper"]
+__all__ = ["PointForce", "Torque", "GeneralizedForce", "Spring", "Damper", "DistributedLoad"]
 
 
 @dataclass(frozen=True)
@@ -61,3 +61,16 @@ class Damper:
 
     index: int
     damping: ca.SX
+
+
+@dataclass(frozen=True)
+class DistributedLoad:
+    """Distributed force ``w(z) P d`` on a flexible body (paper A17-A19).
+
+    ``integrals`` holds the profile's shape integrals per unit magnitude
+    (:func:`mbsym.beam.distributed_load_integrals`); ``magnitude`` is ``P`` [N/m].
+    """
+
+    body: Body
+    integrals: object
+    magnitude: ca.SX

@@ -16,7 +16,7 @@ from .bodies.base import Body, Ground
 from .exceptions import ModelDefinitionError
 from .joints import Joint
 from .kinematics import _scalar, as_vector3
-from .loads import Damper, GeneralizedForce, PointForce, Spring, Torque
+from .loads import Damper, DistributedLoad, GeneralizedForce, PointForce, Spring, Torque
 from .symbols import SymbolTable, split_names
 
 __all__ = ["System"]
@@ -221,6 +221,36 @@ class System:
         t = as_vector3(torque, f"torque on {body.name!r}")
         self._symbols.check_expression(t, f"torque on {body.name!r}")
         self._loads.append(Torque(body, t, frame))
+
+    def add_distributed_load(self, body: Body, integrals, magnitude) -> None:
+        """Apply a distributed force per unit length to a flexible body.
+
+        Parameters
+        ----------
+        body : FlexibleBody
+            The loaded body (already joined to the system).
+        integrals : mbsym.beam.DistributedLoadIntegrals
+            Profile and direction of the load, integrated against the body's
+            shape functions (:func:`mbsym.beam.distributed_load_integrals`).
+        magnitude : float or SX
+            Load magnitude ``P`` [N/m]: an expression of coordinates, speeds,
+            inputs and parameters (e.g. an input for a wind or wave load).
+        """
+        self._check_body(body, "distributed load")
+        n_e = len(body.elastic_coordinates)
+        if n_e == 0 or not hasattr(integrals, "generalized"):
+            raise ModelDefinitionError(
+                f"a distributed load needs a flexible body and DistributedLoadIntegrals; got body {body.name!r} "
+                f"({type(body).__name__}) and {type(integrals).__name__}. Use mbsym.beam.distributed_load_integrals."
+            )
+        if integrals.n_e != n_e:
+            raise ModelDefinitionError(
+                f"distributed-load integrals were computed for {integrals.n_e} shape functions, but body "
+                f"{body.name!r} has {n_e}; integrate against the body's own shapes, in order."
+            )
+        P = _scalar(magnitude, "distributed load magnitude")
+        self._symbols.check_expression(P, f"distributed load magnitude on {body.name!r}")
+        self._loads.append(DistributedLoad(body, integrals, P))
 
     def add_generalized_force(self, coordinate, value) -> None:
         """Add a generalized force [N or N m] to the equation of ``coordinate``."""

@@ -11,6 +11,7 @@ for every field, its units and the sign of the geometric stiffness.
 
 from mbsym.beam.fem import BeamModes, cantilever_modes, fit_elastodyn_polynomial
 from mbsym.beam.integrals import quadrature_weights, shape_integrals
+from mbsym.beam.loads import DistributedLoadIntegrals, distributed_load_integrals
 from mbsym.beam.lumped import lumped_shape_integrals
 from mbsym.beam.shapes import CallableShape, HermiteShape, PolynomialShape, ShapeFunction
 from mbsym.beam.sid import ShapeIntegrals, Taylor, damping_matrix, skew
@@ -31,6 +32,8 @@ __all__ = [
     "BeamModes",
     "shape_integrals",
     "lumped_shape_integrals",
+    "distributed_load_integrals",
+    "DistributedLoadIntegrals",
     "quadrature_weights",
     "damping_matrix",
     "cantilever_modes",
