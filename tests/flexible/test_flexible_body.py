@@ -218,3 +218,22 @@ def test_distributed_load_errors():
     with pytest.raises(mb.BeamDataError, match="one per station"):
         distributed_load_integrals(Z, modes.shapes(), profile=np.ones(3))
     assert sys.loads == ()
+
+
+def test_symbolic_stiffness_parameter_gives_exact_gradient():
+    """FlexibleBody(stiffness=k_scale * Ke): K0 = k_scale Ke + Kg, so dK0/dk_scale = Ke exactly
+    (automatic differentiation through the parameter), and the gravity part does not move."""
+    sid = _beam_sid(n_modes=2)
+    sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    e1, e2 = sys.coordinates("e1 e2")
+    k_scale = sys.parameters("k_scale", values=[1.0])
+    beam = FlexibleBody("beam", sid, [e1, e2], stiffness=k_scale * sid.ke, top_mass=4.0)
+    sys.add_joint(mb.Fixed(sys.ground, beam))
+    eom = sys.equations()
+    assert eom.parameters == ("k_scale",)
+    d = eom.symbolic
+    dK = ca.Function("dK", [d.q, d.p], [ca.jacobian(ca.vec(-ca.jacobian(d.F, d.q)), d.p)])
+    np.testing.assert_allclose(np.array(dK(np.zeros(2), [1.7])).reshape(2, 2, order="F"), sid.ke, rtol=1e-12)
+    K1 = mb.linearize(eom, np.zeros(2), p={"k_scale": 1.0}).K
+    K2 = mb.linearize(eom, np.zeros(2), p={"k_scale": 2.0}).K
+    np.testing.assert_allclose(K2 - K1, sid.ke, rtol=1e-10)
