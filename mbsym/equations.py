@@ -35,12 +35,15 @@ class EomFunctions:
 
     Attributes
     ----------
-    mass_matrix : (q, p) -> M
+    mass_matrix : (q, p) -> M, or (q, u, p) -> M when the system has prescribed
+        coordinates (their values are inputs and may move mass)
     forcing : (q, qd, u, p) -> F
     residual : (q, qd, qdd, u, p) -> e = F - M qdd
     rhs : (x, u, p) -> xd = [qd; M^-1 F]
-    kinetic_energy : (q, qd, p) -> T [J]
-    potential_energy : (q, p) -> V [J] (gravity and springs)
+    kinetic_energy : (q, qd, u, p) -> T [J]
+    potential_energy : (q, u, p) -> V [J] (gravity and springs)
+
+    ``u`` enters the energies only through prescribed coordinates.
     power : (q, qd, u, p) -> power of the non-conservative loads [W]
     """
 
@@ -240,10 +243,23 @@ class EquationsOfMotion:
             uu = self._vec(u, self.n_u, "u", self._inputs)
         return uu, self.parameter_vector(p)
 
-    def mass_matrix(self, q, p: Mapping[str, float] | None = None) -> np.ndarray:
-        """Mass matrix ``M(q, p)`` [kg, kg m, kg m^2], shape (n_q, n_q)."""
+    @property
+    def prescribed(self) -> tuple[str, ...]:
+        """Names of the prescribed coordinates (their value, speed, acceleration are inputs)."""
+        return tuple(self._derivation.prescribed)
+
+    def mass_matrix(self, q, p: Mapping[str, float] | None = None, *, u=None) -> np.ndarray:
+        """Mass matrix ``M(q, p)`` [kg, kg m, kg m^2], shape (n_q, n_q).
+
+        ``u`` (keyword) is needed only when the system has prescribed coordinates.
+        """
         qq = self._vec(q, self.n_q, "q", self._coordinates)
-        return np.array(self._functions.mass_matrix(qq, self.parameter_vector(p)))
+        return self._mass(qq, self._energy_inputs(u), self.parameter_vector(p))
+
+    def _mass(self, q: np.ndarray, u: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Evaluate the mass-matrix Function whatever its signature."""
+        f = self._functions.mass_matrix
+        return np.array(f(q, u, p) if self._derivation.prescribed else f(q, p))
 
     def forcing(self, q, qd, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
         """Forcing ``F(q, qd, u, p)`` [N, N m], shape (n_q,).
@@ -274,7 +290,7 @@ class EquationsOfMotion:
         qq = self._vec(q, self.n_q, "q", self._coordinates)
         vv = self._vec(qd, self.n_q, "qd", self.speeds)
         uu, pp = self._args(u, p)
-        M = np.array(self._functions.mass_matrix(qq, pp))
+        M = self._mass(qq, uu, pp)
         check_nonsingular(M, self._coordinates)
         F = np.array(self._functions.forcing(qq, vv, uu, pp)).reshape(-1)
         return np.linalg.solve(M, F)
@@ -285,22 +301,29 @@ class EquationsOfMotion:
         uu, pp = self._args(u, p)
         xd = np.array(self._functions.rhs(xx, uu, pp)).reshape(-1)
         if not np.all(np.isfinite(xd)):
-            check_nonsingular(np.array(self._functions.mass_matrix(xx[: self.n_q], pp)), self._coordinates)
+            check_nonsingular(self._mass(xx[: self.n_q], uu, pp), self._coordinates)
             bad = [self.states[i] for i in np.flatnonzero(~np.isfinite(xd))]
             raise SolverError(f"the right-hand side is not finite for {bad} at this state; check the "
                                  "inputs and parameter values.")
         return xd
 
-    def kinetic_energy(self, q, qd, p: Mapping[str, float] | None = None) -> float:
-        """Kinetic energy [J]."""
+    def kinetic_energy(self, q, qd, p: Mapping[str, float] | None = None, *, u=None) -> float:
+        """Kinetic energy [J]. ``u`` (keyword) is needed only with prescribed coordinates."""
         qq = self._vec(q, self.n_q, "q", self._coordinates)
         vv = self._vec(qd, self.n_q, "qd", self.speeds)
-        return float(self._functions.kinetic_energy(qq, vv, self.parameter_vector(p)))
+        uu = self._energy_inputs(u)
+        return float(self._functions.kinetic_energy(qq, vv, uu, self.parameter_vector(p)))
 
-    def potential_energy(self, q, p: Mapping[str, float] | None = None) -> float:
-        """Potential energy of gravity and springs [J]."""
+    def potential_energy(self, q, p: Mapping[str, float] | None = None, *, u=None) -> float:
+        """Potential energy of gravity and springs [J]. ``u`` as for :meth:`kinetic_energy`."""
         qq = self._vec(q, self.n_q, "q", self._coordinates)
-        return float(self._functions.potential_energy(qq, self.parameter_vector(p)))
+        uu = self._energy_inputs(u)
+        return float(self._functions.potential_energy(qq, uu, self.parameter_vector(p)))
+
+    def _energy_inputs(self, u) -> np.ndarray:
+        if u is None:
+            return np.zeros(self.n_u)
+        return self._args(u, {})[0]
 
 
 def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
@@ -324,7 +347,10 @@ def _build_functions(d: Derivation, name: str) -> EomFunctions:
     q, qd, qdd, u, p = d.q, d.qd, d.qdd, d.u, d.p
     M, F, T, V, P = ca.cse([d.M, d.F, d.T, d.V, d.power])
     e = F - M @ qdd
-    f_M = ca.Function(f"{name}_mass_matrix", [q, p], [M], ["q", "p"], ["M"], opts)
+    if d.prescribed:
+        f_M = ca.Function(f"{name}_mass_matrix", [q, u, p], [M], ["q", "u", "p"], ["M"], opts)
+    else:
+        f_M = ca.Function(f"{name}_mass_matrix", [q, p], [M], ["q", "p"], ["M"], opts)
     f_F = ca.Function(f"{name}_forcing", [q, qd, u, p], [F], ["q", "qd", "u", "p"], ["F"], opts)
     f_e = ca.Function(f"{name}_residual", [q, qd, qdd, u, p], [e], ["q", "qd", "qdd", "u", "p"], ["e"], opts)
     x = ca.vertcat(q, qd)
@@ -333,8 +359,8 @@ def _build_functions(d: Derivation, name: str) -> EomFunctions:
         f_rhs = ca.Function(f"{name}_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], {"cse": True})
     else:
         f_rhs = _numeric_rhs(f_M, f_F, q.numel(), u.numel(), p.numel(), name)
-    f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, p], [T], ["q", "qd", "p"], ["T"], opts)
-    f_V = ca.Function(f"{name}_potential_energy", [q, p], [V], ["q", "p"], ["V"], opts)
+    f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, u, p], [T], ["q", "qd", "u", "p"], ["T"], opts)
+    f_V = ca.Function(f"{name}_potential_energy", [q, u, p], [V], ["q", "u", "p"], ["V"], opts)
     f_P = ca.Function(f"{name}_power", [q, qd, u, p], [P], ["q", "qd", "u", "p"], ["P"], opts)
     return EomFunctions(f_M, f_F, f_e, f_rhs, f_T, f_V, f_P)
 
@@ -345,5 +371,6 @@ def _numeric_rhs(f_M: ca.Function, f_F: ca.Function, n: int, nu: int, np_: int, 
     u = ca.MX.sym("u", nu)
     p = ca.MX.sym("p", np_)
     q, qd = x[:n], x[n:]
-    qdd = ca.solve(f_M(q, p), f_F(q, qd, u, p), "qr")
+    M = f_M(q, u, p) if f_M.n_in() == 3 else f_M(q, p)
+    qdd = ca.solve(M, f_F(q, qd, u, p), "qr")
     return ca.Function(f"{name}_rhs", [x, u, p], [ca.vertcat(qd, qdd)], ["x", "u", "p"], ["xd"])

@@ -55,6 +55,15 @@ class Joint:
         """Translation ``d`` (3x1, joint axes) [m] and rotation ``R_rel`` (3x3)."""
         return ca.SX.zeros(3, 1), ca.SX.eye(3)
 
+    def angular_velocity(self, speed) -> ca.SX | None:
+        """Angular velocity of the child relative to the joint frame, joint axes [rad/s].
+
+        ``speed(c)`` returns the speed symbol of coordinate ``c``. ``None`` (the
+        default) lets the kinematics use ``vee(Ṙ_rel R_relᵀ)``; joints whose
+        convention defines the angular velocity otherwise override this.
+        """
+        return None
+
     def __repr__(self) -> str:
         names = [c.name() for c in self.coordinates]
         return f"{type(self).__name__}({self.parent.name!r} -> {self.child.name!r}, coordinates={names})"
@@ -93,6 +102,10 @@ class Revolute(Joint):
     order : int or None, optional
         ``None`` for the exact rotation; ``n`` for cos/sin truncated at order n
         (small-angle form).
+    gear_ratio : float, optional
+        Turn by ``gear_ratio * coordinate`` (e.g. a generator geared to the
+        low-speed shaft). A geared joint may follow a coordinate that another
+        joint already uses.
 
     Examples
     --------
@@ -104,11 +117,18 @@ class Revolute(Joint):
     """
 
     def __init__(self, parent: Body, child: Body, *, axis, coordinate, offset=(0.0, 0.0, 0.0),
-                 rotation=None, order: int | None = None) -> None:
+                 rotation=None, order: int | None = None, gear_ratio: float | None = None) -> None:
         super().__init__(parent, child, offset=offset, rotation=rotation, coordinates=[coordinate])
         self.axis = _unit_axis(axis, child.name)
         self.order = order
-        self._R = rotation_about(self.axis, coordinate, order=order)
+        if gear_ratio is not None:
+            gear_ratio = float(gear_ratio)
+            if not np.isfinite(gear_ratio) or gear_ratio == 0.0:
+                raise ModelDefinitionError(f"gear_ratio of the joint of {child.name!r} must be a nonzero number; "
+                                           f"got {gear_ratio}.")
+        self.gear_ratio = gear_ratio
+        angle = coordinate if gear_ratio is None else gear_ratio * coordinate
+        self._R = rotation_about(self.axis, angle, order=order)
 
     def relative(self) -> tuple[ca.SX, ca.SX]:
         return ca.SX.zeros(3, 1), self._R

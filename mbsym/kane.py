@@ -58,14 +58,17 @@ class Derivation:
     frames: dict[str, Frame] = field(default_factory=dict)
     bodies: dict[str, Body] = field(default_factory=dict)
     kinematics: "_Kinematics | None" = None
+    prescribed: tuple[str, ...] = ()
 
 
 class _Kinematics:
     """Recursive frame kinematics of a system's tree."""
 
-    def __init__(self, system, q: ca.SX, qd: ca.SX) -> None:
+    def __init__(self, system, q: ca.SX, qd: ca.SX, qp: ca.SX, qdp: ca.SX) -> None:
         self.q, self.qd = q, qd
+        self.q_all, self.qd_all = ca.vertcat(q, qp), ca.vertcat(qd, qdp)
         self._index = {q[i].element_hash(): i for i in range(q.numel())}
+        self._speed = {self.q_all[i].element_hash(): self.qd_all[i] for i in range(self.q_all.numel())}
         ground = system.ground
         zero = ca.SX.zeros(3, 1)
         self.frames: dict[int, Frame] = {id(ground): Frame(zero, ca.SX.eye(3), zero, zero)}
@@ -82,7 +85,7 @@ class _Kinematics:
         """Time derivative of an expression of q only."""
         if expr.is_constant():
             return ca.SX.zeros(expr.shape)
-        return ca.reshape(ca.jtimes(ca.vec(expr), self.q, self.qd), expr.shape)
+        return ca.reshape(ca.jtimes(ca.vec(expr), self.q_all, self.qd_all), expr.shape)
 
     def _rel_omega(self, R: ca.SX) -> ca.SX:
         """Angular velocity of a q-dependent rotation, in its reference axes."""
@@ -100,11 +103,14 @@ class _Kinematics:
         v_J = P.v + ca.cross(P.w, s) + P.R @ self._dt(pos)
         d, R_rel = joint.relative()
         dg = R_J @ d
+        w_rel = joint.angular_velocity(lambda c: self._speed[c.element_hash()])
+        if w_rel is None:
+            w_rel = self._rel_omega(R_rel)
         return Frame(
             r=r_J + dg,
             R=R_J @ R_rel,
             v=v_J + ca.cross(w_J, dg) + R_J @ self._dt(d),
-            w=w_J + R_J @ self._rel_omega(R_rel),
+            w=w_J + R_J @ w_rel,
         )
 
     def q_index(self, coordinate: ca.SX) -> int:
@@ -135,7 +141,11 @@ def derive(system) -> Derivation:
     u = ca.vertcat(*st.symbols("input")) if st.names("input") else ca.SX(0, 1)
     p = ca.vertcat(*st.symbols("parameter")) if st.names("parameter") else ca.SX(0, 1)
     n = q.numel()
-    kin = _Kinematics(system, q, qd)
+    presc = st.prescribed()
+    qp = ca.vertcat(*[v[0] for v in presc.values()]) if presc else ca.SX(0, 1)
+    qdp = ca.vertcat(*[v[1] for v in presc.values()]) if presc else ca.SX(0, 1)
+    qddp = ca.vertcat(*[v[2] for v in presc.values()]) if presc else ca.SX(0, 1)
+    kin = _Kinematics(system, q, qd, qp, qdp)
     g = system.gravity
 
     blocks, V_rows = [], []
@@ -145,7 +155,10 @@ def derive(system) -> Derivation:
         V_rows.append(contrib["V"])
     Vall = ca.vertcat(*V_rows) if V_rows else ca.SX(0, 1)
     J = ca.jacobian(Vall, qd)
-    A0 = ca.jtimes(Vall, q, qd)
+    # velocity-dependent accelerations; prescribed coordinates add their accelerations
+    A0 = ca.jtimes(Vall, kin.q_all, kin.qd_all)
+    if presc:
+        A0 += ca.jtimes(Vall, qdp, qddp)
 
     M = ca.SX.zeros(n, n)
     F = ca.SX.zeros(n, 1)
@@ -168,7 +181,8 @@ def derive(system) -> Derivation:
     frames = {b.name: kin.frame(b) for b in kin.order}
     bodies = {b.name: b for b in kin.order}
     names = {k: st.names(k) for k in ("coordinate", "input", "parameter")}
-    return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames, bodies, kin)
+    return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames, bodies, kin,
+                      tuple(presc))
 
 
 def _body_velocities(body: Body, kin: _Kinematics) -> dict:

@@ -22,6 +22,7 @@ __all__ = [
     "rotation_about",
     "rotation_sequence",
     "small_rotation",
+    "elastodyn_rotation",
     "as_vector3",
     "as_matrix3",
 ]
@@ -219,3 +220,28 @@ def small_rotation(theta, *, order: int | None = 1) -> ca.SX:
         term = term @ k / n
         R = R + term
     return R
+
+
+def elastodyn_rotation(theta) -> ca.SX:
+    """ElastoDyn's small-rotation matrix (``SmllRotTrans``) for a rotation vector ``theta``.
+
+    The orthonormal matrix closest (Frobenius norm) to the first-order form
+    ``I + [θ~]``: an exact rotation about ``θ/|θ|`` by ``atan|θ|``. Written without
+    the axis so that it is smooth at θ = 0:
+    ``R = (I + [θ~]) / s + θ θᵀ / (s (s + 1))`` with ``s = sqrt(1 + |θ|²)``.
+
+    Returns
+    -------
+    SX
+        3x3 rotation mapping child to parent coordinates.
+
+    Examples
+    --------
+    >>> import casadi as ca, numpy as np
+    >>> R = np.array(ca.evalf(elastodyn_rotation([0.0, 0.0, 1.0])))
+    >>> bool(np.allclose(R[:2, :2], [[np.cos(np.pi/4), -np.sin(np.pi/4)], [np.sin(np.pi/4), np.cos(np.pi/4)]]))
+    True
+    """
+    theta = as_vector3(theta, "rotation vector")
+    s = ca.sqrt(1 + ca.dot(theta, theta))
+    return (ca.SX.eye(3) + skew(theta)) / s + (theta @ theta.T) / (s * (s + 1))

@@ -75,6 +75,7 @@ class SymbolTable:
         self._speed: dict[str, ca.SX] = {}
         self._accel: dict[str, ca.SX] = {}
         self._by_sym: dict[int, _Entry] = {}
+        self._prescribed: dict[str, tuple[ca.SX, ca.SX, ca.SX]] = {}
 
     # -- creation -------------------------------------------------------
     def declare(self, names: Iterable[str], kind: str, defaults: Mapping[str, float] | None = None) -> list[ca.SX]:
@@ -114,6 +115,27 @@ class SymbolTable:
     def _derived_names(self) -> set[str]:
         return {f"{n}_d" for n in self._speed} | {f"{n}_dd" for n in self._speed}
 
+    def declare_prescribed(self, names: Iterable[str]) -> list[ca.SX]:
+        """Declare prescribed coordinates: inputs ``n``, ``n_d``, ``n_dd`` (value, speed, acceleration)."""
+        names = list(names)
+        triples = [(n, f"{n}_d", f"{n}_dd") for n in names]
+        flat = [x for t in triples for x in t]
+        self.declare(flat, "input")         # all-or-nothing name checks happen here
+        out = []
+        for n, nd, ndd in triples:
+            syms = tuple(self._entries[k].sym for k in (n, nd, ndd))
+            self._prescribed[n] = syms
+            out.append(syms[0])
+        return out
+
+    def prescribed(self) -> dict[str, tuple[ca.SX, ca.SX, ca.SX]]:
+        """Prescribed coordinates by name: (value, speed, acceleration) input symbols."""
+        return dict(self._prescribed)
+
+    def is_prescribed(self, sym) -> bool:
+        entry = self.lookup(sym)
+        return entry is not None and entry.name in self._prescribed
+
     # -- queries --------------------------------------------------------
     def names(self, kind: str) -> list[str]:
         return list(self._order[kind])
@@ -138,6 +160,8 @@ class SymbolTable:
 
     def speed_of(self, coordinate) -> ca.SX:
         entry = self.lookup(coordinate)
+        if entry is not None and entry.name in self._prescribed:
+            return self._prescribed[entry.name][1]
         if entry is None or entry.kind != "coordinate":
             raise ModelDefinitionError(
                 f"{coordinate!r} is not a coordinate of this system; declare it with sys.coordinates(...)."

@@ -115,6 +115,16 @@ class System:
         """Declare named inputs (time-varying signals); return one SX or a tuple."""
         return _one_or_tuple(self._symbols.declare(split_names(names, "input"), "input"))
 
+    def prescribed(self, names: str | Sequence[str]):
+        """Declare prescribed (rheonomic) coordinates; return one SX symbol or a tuple.
+
+        A prescribed coordinate moves a joint like a coordinate, but its value,
+        speed and acceleration are *inputs* named ``n``, ``n_d`` and ``n_dd``
+        (e.g. a rotor spinning at a fixed speed: ``psi = psi0 + Ω t``,
+        ``psi_d = Ω``, ``psi_dd = 0``). It has no equation of motion.
+        """
+        return _one_or_tuple(self._symbols.declare_prescribed(split_names(names, "prescribed coordinate")))
+
     def speed(self, coordinate) -> ca.SX:
         """Time derivative symbol of a coordinate (for loads depending on speeds)."""
         return self._symbols.speed_of(coordinate)
@@ -168,12 +178,24 @@ class System:
         self._joints.append(joint)
         self._bodies[child.name] = child
         for name in claimed:
-            self._owner[name] = child.name
+            self._owner.setdefault(name, child.name)
 
     def _check_new_coordinates(self, joint: Joint) -> list[str]:
         claimed = []
+        geared = getattr(joint, "gear_ratio", None) is not None
         for c in (*joint.coordinates, *joint.child.elastic_coordinates):
             entry = self._symbols.lookup(c)
+            if entry is not None and entry.name in self._symbols.prescribed() and c in joint.coordinates:
+                key = f"prescribed:{entry.name}"
+                if key in self._owner and not geared:
+                    raise ModelDefinitionError(
+                        f"prescribed coordinate {entry.name!r} already moves body {self._owner[key]!r}; "
+                        "use gear_ratio= for a second, geared joint."
+                    )
+                claimed.append(key)
+                continue
+            if geared and entry is not None and entry.kind == "coordinate" and c in joint.coordinates:
+                continue    # a geared joint follows a coordinate that another joint owns
             if entry is None or entry.kind != "coordinate":
                 raise ModelDefinitionError(
                     f"joint of {joint.child.name!r} uses {c!r}, which is not a coordinate of this system; "

@@ -32,7 +32,7 @@ import casadi as ca
 import numpy as np
 
 from ..exceptions import ModelDefinitionError
-from ..kinematics import _scalar, skew, small_rotation, vee
+from ..kinematics import _scalar, elastodyn_rotation, skew, small_rotation, vee
 from .base import Body
 
 __all__ = ["FlexibleBody"]
@@ -81,10 +81,11 @@ class FlexibleBody(Body):
     top_mass : float or SX, optional
         Mass [kg] carried at the body's end whose weight loads the body
         axially (e.g. the rotor-nacelle assembly on a tower), default 0.
-    end_rotation_order : int or None, optional
+    end_rotation_order : int, None or "elastodyn", optional
         Orientation of a child attached at the end: ``None`` exact rotation of
         the slope vector, ``n`` its small-angle series to order n (default 1:
-        ``I + [θ~]``).
+        ``I + [θ~]``), ``"elastodyn"`` ElastoDyn's closest orthonormal matrix
+        (rotation by ``atan|θ|``, :func:`mbsym.kinematics.elastodyn_rotation`).
     stiffness, damping : array or SX, optional
         Override ``sid.ke`` / ``sid.de`` (n_e x n_e), e.g. with expressions of
         parameters for design studies.
@@ -155,6 +156,8 @@ class FlexibleBody(Body):
             qe = ca.vertcat(*self._qe)
             disp = _dm(self._sid.end_displacement) @ qe
             theta = _dm(self._sid.end_rotation) @ qe
+            if self.end_rotation_order == "elastodyn":
+                return offset + disp, elastodyn_rotation(theta)
             return offset + disp, small_rotation(theta, order=self.end_rotation_order)
         raise ModelDefinitionError(
             f"joints and point loads on flexible body {self.name!r} must be at its root [0, 0, 0] or at its "

@@ -172,11 +172,11 @@ def test_energy_gradients(eom):
     """dT/dq, dT/dqd (= M qd, exactly to 1e-12) and dV/dq vs central differences."""
     pt = _point(eom, 4)
     f = eom.functions
-    assert_jacobian(f.kinetic_energy, [pt["q"], pt["qd"], pt["p"]], 0)
-    J = assert_jacobian(f.kinetic_energy, [pt["q"], pt["qd"], pt["p"]], 1)
+    assert_jacobian(f.kinetic_energy, [pt["q"], pt["qd"], pt["u"], pt["p"]], 0)
+    J = assert_jacobian(f.kinetic_energy, [pt["q"], pt["qd"], pt["u"], pt["p"]], 1)
     Mqd = np.array(f.mass_matrix(pt["q"], pt["p"])) @ pt["qd"]
     np.testing.assert_allclose(J.reshape(-1), Mqd, rtol=1e-12, atol=1e-12)
-    assert_jacobian(f.potential_energy, [pt["q"], pt["p"]], 0)
+    assert_jacobian(f.potential_energy, [pt["q"], pt["u"], pt["p"]], 0)
 
 
 def test_function_jacobian_method_agrees(eom):

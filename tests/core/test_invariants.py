@@ -182,10 +182,12 @@ def test_energy_conserved_along_trajectory(n, seed):
 @lru_cache(maxsize=None)
 def _energy_rate(n: int, seed: int) -> ca.Function:
     """d(T+V)/dt = dE/dq qd + dE/dqd qdd, by CasADi AD of the engine's energy Functions."""
-    f = eom_for(n, seed, "nonconservative").functions
+    eom = eom_for(n, seed, "nonconservative")
+    f = eom.functions
     q, qd, qdd = (ca.SX.sym(s, n) for s in ("q", "qd", "qdd"))
     p = ca.SX.sym("p", n)
-    E = f.kinetic_energy(q, qd, p) + f.potential_energy(q, p)
+    u = ca.SX.zeros(eom.n_u)    # no prescribed coordinates: the energies do not depend on u
+    E = f.kinetic_energy(q, qd, u, p) + f.potential_energy(q, u, p)
     rate = ca.jacobian(E, q) @ qd + ca.jacobian(E, qd) @ qdd
     return ca.Function("Edot", [q, qd, qdd, p], [rate])
 
