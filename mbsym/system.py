@@ -187,7 +187,9 @@ class System:
             entry = self._symbols.lookup(c)
             if entry is not None and entry.name in self._symbols.prescribed() and c in joint.coordinates:
                 key = f"prescribed:{entry.name}"
-                if key in self._owner and not geared:
+                if geared:
+                    continue    # a geared joint follows the prescribed motion of another joint
+                if key in self._owner:
                     raise ModelDefinitionError(
                         f"prescribed coordinate {entry.name!r} already moves body {self._owner[key]!r}; "
                         "use gear_ratio= for a second, geared joint."

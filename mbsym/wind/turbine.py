@@ -1,0 +1,379 @@
+"""ElastoDyn-equivalent wind-turbine template: one System for any set of ElastoDyn DOFs.
+
+:class:`TurbineModel` builds the structural model ElastoDyn builds for the degrees of
+freedom a deck enables (or a list of ElastoDyn flag names), following ElastoDyn's
+kinematic chain (docs/elastodyn_notes.md §4) in IEC axes (x downwind, z up):
+
+ground → platform (Sg, Sw, Hv translations; R, P, Y rotation vector with ElastoDyn's
+small-rotation matrix and fixed-axis rates) → tower (flexible: TwFA/TwSS modes on
+ElastoDyn's nodes, or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
+generator (geared, GenDOF azimuth) and low-speed shaft → hub (DrTrDOF torsion) →
+blades (rigid point-mass blades; flexible blades in a later step).
+
+A disabled DOF keeps its initial value; a disabled GenDOF with a nonzero initial rotor
+speed spins the rotor through a prescribed azimuth (inputs ``GeAz``, ``GeAz_d``,
+``GeAz_dd``). Coordinates carry ElastoDyn's DOF names (``TFA1``, ``GeAz`` …) in
+ElastoDyn's state order; side-side coordinates are positive along +y (ElastoDyn's
+internal ``Q_TSS1`` is their negative, see :mod:`mbsym.wind.channels`).
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Sequence
+
+import casadi as ca
+import numpy as np
+
+from .. import FlexibleBody, RigidBody, System
+from ..bodies.base import Body
+from ..exceptions import ModelDefinitionError
+from ..joints import Fixed, Joint, Revolute
+from ..kinematics import elastodyn_rotation, rotation
+from .elastodyn_bodies import blade_elastodyn_data, tower_elastodyn_data, tower_shape_integrals
+from .parameters import DOF_NAMES, TurbineParameters
+
+__all__ = ["TurbineModel", "PlatformJoint", "SUPPORTED_DOFS", "STATE_ORDER"]
+
+#: ElastoDyn flag -> coordinate name, in ElastoDyn's state order (notes §7).
+STATE_ORDER = {
+    "PtfmSgDOF": "Sg", "PtfmSwDOF": "Sw", "PtfmHvDOF": "Hv", "PtfmRDOF": "R", "PtfmPDOF": "P",
+    "PtfmYDOF": "Y", "TwFADOF1": "TFA1", "TwSSDOF1": "TSS1", "TwFADOF2": "TFA2", "TwSSDOF2": "TSS2",
+    "YawDOF": "Yaw", "GenDOF": "GeAz", "DrTrDOF": "DrTr",
+}
+#: Flags this template models (blade flexibility comes with the flexible-blade step).
+SUPPORTED_DOFS = tuple(STATE_ORDER)
+_PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
+_TOWER = ("TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2")
+
+
+class PlatformJoint(Joint):
+    """ElastoDyn's platform: translations along ground axes, rotation vector (roll, pitch, yaw)
+    turned into a rotation by :func:`mbsym.kinematics.elastodyn_rotation`, and angular velocity
+    equal to the rotation-vector rates in ground axes (ElastoDyn's fixed-axis convention).
+
+    Parameters
+    ----------
+    values : sequence of 6
+        (surge, sway, heave [m], roll, pitch, yaw [rad]): a coordinate symbol for an enabled
+        DOF, a number (the fixed initial value) for a disabled one.
+    """
+
+    def __init__(self, parent: Body, child: Body, *, values: Sequence, offset=(0.0, 0.0, 0.0)) -> None:
+        coords = [v for v in values if isinstance(v, ca.SX)]
+        super().__init__(parent, child, offset=offset, coordinates=coords)
+        self.values = [v if isinstance(v, ca.SX) else ca.SX(float(v)) for v in values]
+
+    def relative(self) -> tuple[ca.SX, ca.SX]:
+        return ca.vertcat(*self.values[:3]), elastodyn_rotation(ca.vertcat(*self.values[3:]))
+
+    def angular_velocity(self, speed) -> ca.SX:
+        rates = [speed(v) if v.is_symbolic() else ca.SX(0) for v in self.values[3:]]
+        return ca.vertcat(*rates)
+
+
+class TurbineModel:
+    """ElastoDyn-equivalent structural model of a wind turbine.
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        From :func:`mbsym.wind.read_openfast` or :func:`mbsym.wind.nrel5mw`.
+    dofs : sequence of str, optional
+        ElastoDyn flag names to enable (e.g. ``["TwFADOF1", "GenDOF"]``); default: the
+        deck's own flags. Blade flags (FlapDOF1, FlapDOF2, EdgeDOF) are not modelled by
+        this template yet and raise an error when requested.
+    yaw_spring, yaw_damping : float, optional, keyword-only
+        Yaw-bearing spring [N m/rad] and damper [N m s/rad] about the neutral ``NacYaw``
+        (ServoDyn's YawSpr/YawDamp; ElastoDyn alone has none).
+
+    Attributes
+    ----------
+    system : System
+        The description (add loads to it before calling :attr:`eom` if needed).
+    dofs : tuple of str
+        Enabled ElastoDyn flags, in ElastoDyn's state order.
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> model = TurbineModel(nrel5mw(), dofs=["TwFADOF1", "GenDOF"])
+    >>> model.eom.coordinates
+    ('TFA1', 'GeAz')
+    """
+
+    def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0) -> None:
+        if not isinstance(turbine, TurbineParameters):
+            raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
+        self.turbine = turbine
+        self.dofs = _resolve_dofs(turbine, dofs)
+        self._yaw = (float(yaw_spring), float(yaw_damping))
+        self.system = System()
+        self.coords: dict[str, ca.SX] = {}
+        self.prescribed: dict[str, Callable[[float], float]] = {}
+        self.bodies: dict[str, Body] = {}
+        self._eom = None
+        self._build()
+
+    # ------------------------------------------------------------------ public
+    @property
+    def eom(self):
+        """EquationsOfMotion (derived on first use)."""
+        if self._eom is None:
+            self._eom = self.system.equations(name="turbine")
+        return self._eom
+
+    def initial_state(self) -> np.ndarray:
+        """x0 = [q0; qd0] from ElastoDyn's initial-condition keys (notes §5)."""
+        ic, eom = self.turbine.initial_conditions, self.eom
+        q0 = {"Sg": ic.platform_surge, "Sw": ic.platform_sway, "Hv": ic.platform_heave,
+              "R": ic.platform_roll, "P": ic.platform_pitch, "Y": ic.platform_yaw,
+              "Yaw": ic.nacelle_yaw, "GeAz": self.initial_generator_azimuth(), "DrTr": 0.0}
+        q0.update(self._tower_initial())
+        qd0 = {"GeAz": ic.rotor_speed}
+        x0 = [q0.get(n, 0.0) for n in eom.coordinates] + [qd0.get(n, 0.0) for n in eom.coordinates]
+        return np.array(x0, dtype=float)
+
+    def initial_generator_azimuth(self) -> float:
+        """ElastoDyn's q_GeAz = Azimuth - AzimB1Up - π/2, wrapped to [0, 2π) [rad]."""
+        t = self.turbine
+        return float(np.mod(t.initial_conditions.azimuth - t.azimuth_blade1_up - np.pi / 2, 2 * np.pi))
+
+    def _tower_initial(self) -> dict[str, float]:
+        """TTDspFA/TTDspSS go to mode 1, or to mode 2 when mode 1 is off (never split)."""
+        ic = self.turbine.initial_conditions
+        out = {}
+        for value, modes in ((ic.tower_top_fa_displacement, ("TFA1", "TFA2")),
+                             (ic.tower_top_ss_displacement, ("TSS1", "TSS2"))):
+            for m in modes:
+                if m in self.coords:
+                    out[m] = value     # SS coordinates are positive along +y, as TTDspSS
+                    break
+        return out
+
+    def input_defaults(self) -> dict[str, float | Callable[[float], float]]:
+        """Default value (number or function of time [s]) of every input of the model."""
+        out: dict = {name: 0.0 for name in self.eom.inputs}
+        out.update(self.prescribed)
+        return out
+
+    # ------------------------------------------------------------------ build
+    def _build(self) -> None:
+        t, sys = self.turbine, self.system
+        for flag, name in STATE_ORDER.items():
+            if self.dofs.get(flag):
+                self.coords[name] = sys.coordinates(name)
+        self.p = self._parameters()
+        sys.set_gravity([0.0, 0.0, -self.p["gravity"]])
+        platform = self._platform()
+        top = self._tower(platform)
+        nacelle = self._nacelle(top)
+        shaft = self._shaft(nacelle)
+        hub = self._drivetrain(shaft)
+        self._blades(hub)
+        self._inputs(platform, nacelle, shaft, hub)
+
+    def _parameters(self) -> dict[str, ca.SX]:
+        """Named parameters with the deck's values as defaults (design studies, gradients)."""
+        t = self.turbine
+        values = {
+            "gravity": t.simulation.gravity, "nacelle_mass": t.nacelle_mass,
+            "nacelle_yaw_inertia": t.nacelle_yaw_inertia, "yaw_bearing_mass": t.yaw_bearing_mass,
+            "hub_mass": t.hub_mass, "hub_inertia": t.hub_inertia, "generator_inertia": t.generator_inertia,
+            "tower_stiffness_scale": 1.0,
+        }
+        if self.dofs.get("DrTrDOF"):
+            values.update(drivetrain_stiffness=t.drivetrain_stiffness, drivetrain_damping=t.drivetrain_damping)
+        if any(self.dofs.get(f) for f in _PLATFORM):
+            values.update(platform_mass=t.platform_mass, platform_roll_inertia=t.platform_roll_inertia,
+                          platform_pitch_inertia=t.platform_pitch_inertia,
+                          platform_yaw_inertia=t.platform_yaw_inertia)
+        syms = self.system.parameters(list(values), values=values)
+        return dict(zip(values, syms if isinstance(syms, tuple) else (syms,)))
+
+    def _add(self, joint: Joint) -> Body:
+        self.system.add_joint(joint)
+        self.bodies[joint.child.name] = joint.child
+        return joint.child
+
+    def _platform(self) -> Body:
+        t, ic = self.turbine, self.turbine.initial_conditions
+        init = [ic.platform_surge, ic.platform_sway, ic.platform_heave,
+                ic.platform_roll, ic.platform_pitch, ic.platform_yaw]
+        values = [self.coords.get(STATE_ORDER[f], v) for f, v in zip(_PLATFORM, init)]
+        ref = np.asarray(t.platform_reference, dtype=float)
+        if any(isinstance(v, ca.SX) for v in values):
+            if any(abs(x) > 0 for x in (t.platform_xy_inertia, t.platform_yz_inertia, t.platform_xz_inertia)):
+                raise ModelDefinitionError("platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner) "
+                                           "are not supported yet; set them to 0 or disable the platform DOFs.")
+            p = self.p
+            body = RigidBody("platform", mass=p["platform_mass"], com=np.asarray(t.platform_cm) - ref,
+                             inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
+                                      p["platform_yaw_inertia"]])
+        else:
+            body = RigidBody("platform", mass=0.0)
+        return self._add(PlatformJoint(self.system.ground, body, values=values, offset=ref))
+
+    def _tower(self, platform: Body) -> tuple[Body, list[float]]:
+        """Tower on the platform; returns (tower body, top offset in tower axes)."""
+        t, p = self.turbine, self.p
+        base = [0.0, 0.0, t.tower_base_height - t.platform_reference[2]]
+        length = t.tower_height - t.tower_base_height
+        active = [f for f in _TOWER if self.dofs.get(f)]
+        if active:
+            sid = tower_shape_integrals(t, dofs=active)
+            top_mass = self._rotor_mass() + p["nacelle_mass"] + p["yaw_bearing_mass"]
+            tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
+                                 top_mass=top_mass, end_rotation_order="elastodyn",
+                                 stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
+        else:
+            data = tower_elastodyn_data(t)
+            m, h = np.asarray(data.element_mass), np.asarray(data.height)
+            zc = float(m @ h / m.sum())
+            i_xx = float(m @ (h - zc) ** 2)
+            tower = RigidBody("tower", mass=float(m.sum()), com=[0, 0, zc], inertia=[i_xx, i_xx, 0.0])
+        self._add(Fixed(platform, tower, offset=base))
+        top = [0.0, 0.0, length]
+        self._add(Fixed(tower, RigidBody("yaw_bearing", mass=p["yaw_bearing_mass"]), offset=top))
+        return tower, top
+
+    def _nacelle(self, tower_top) -> Body:
+        t, p = self.turbine, self.p
+        tower, top = tower_top
+        cm = np.asarray(t.nacelle_cm, dtype=float)
+        # ElastoDyn's only nacelle inertia: about the yaw axis through the CM (notes §4)
+        i_zz = p["nacelle_yaw_inertia"] - p["nacelle_mass"] * (cm[0] ** 2 + cm[1] ** 2)
+        nacelle = RigidBody("nacelle", mass=p["nacelle_mass"], com=cm, inertia=[0.0, 0.0, i_zz])
+        if "Yaw" in self.coords:
+            self._add(Revolute(tower, nacelle, axis=[0, 0, 1], coordinate=self.coords["Yaw"], offset=top))
+            k, c = self._yaw
+            if k:
+                self.system.add_spring(self.coords["Yaw"], k, rest=t.initial_conditions.nacelle_yaw)
+            if c:
+                self.system.add_damper(self.coords["Yaw"], c)
+        else:
+            self._add(Fixed(tower, nacelle, offset=top, rotation=rotation("z", t.initial_conditions.nacelle_yaw)))
+        return nacelle
+
+    def _shaft(self, nacelle: Body) -> Body:
+        """Massless shaft frame at the rotor apex: x along the shaft (c1), tilted by ShftTilt."""
+        t = self.turbine
+        tilt = t.shaft_tilt
+        c1 = np.array([np.cos(tilt), 0.0, np.sin(tilt)])
+        apex = np.array([0.0, 0.0, t.twr2shft]) + t.overhang * c1
+        shaft = RigidBody("shaft", mass=0.0)
+        return self._add(Fixed(nacelle, shaft, offset=apex, rotation=rotation("y", -tilt)))
+
+    def _azimuth(self) -> ca.SX | float:
+        """Generator azimuth: coordinate, prescribed input (spinning, GenDOF off) or constant."""
+        if "GeAz" in self.coords:
+            return self.coords["GeAz"]
+        q0, om = self.initial_generator_azimuth(), self.turbine.initial_conditions.rotor_speed
+        if om == 0.0:
+            return q0
+        psi = self.system.prescribed("GeAz")
+        self.prescribed.update({"GeAz": lambda s, q0=q0, om=om: q0 + om * s,
+                                "GeAz_d": lambda s, om=om: om, "GeAz_dd": lambda s: 0.0})
+        return psi
+
+    def _drivetrain(self, shaft: Body) -> Body:
+        t, p = self.turbine, self.p
+        psi = self._azimuth()
+        ratio = abs(t.gearbox_ratio)
+        gen = RigidBody("generator", mass=0.0, inertia=[p["generator_inertia"], 0.0, 0.0])
+        hub = RigidBody("hub", mass=p["hub_mass"], com=[t.hub_cm, 0.0, 0.0], inertia=[p["hub_inertia"], 0.0, 0.0])
+        if isinstance(psi, ca.SX):
+            self._add(Revolute(shaft, gen, axis=[1, 0, 0], coordinate=psi, gear_ratio=ratio))
+        else:
+            self._add(Fixed(shaft, gen, rotation=rotation("x", ratio * psi)))
+        lss = shaft
+        if "DrTr" in self.coords:
+            lss = RigidBody("lss", mass=0.0)
+            self._joint_about_x(shaft, lss, psi)
+            self._add(Revolute(lss, hub, axis=[1, 0, 0], coordinate=self.coords["DrTr"]))
+            self.system.add_spring(self.coords["DrTr"], p["drivetrain_stiffness"])
+            self.system.add_damper(self.coords["DrTr"], p["drivetrain_damping"])
+        else:
+            self._joint_about_x(lss, hub, psi)
+        return hub
+
+    def _joint_about_x(self, parent: Body, child: Body, angle) -> None:
+        if isinstance(angle, ca.SX):
+            self._add(Revolute(parent, child, axis=[1, 0, 0], coordinate=angle))
+        else:
+            self._add(Fixed(parent, child, rotation=rotation("x", angle)))
+
+    def _rotor_mass(self):
+        """Hub + blades [kg] (ElastoDyn's RotMass), hub mass as a parameter."""
+        t = self.turbine
+        blades = sum(float(np.sum(blade_elastodyn_data(t, k).element_mass)) + blade_elastodyn_data(t, k).tip_mass
+                     for k in range(t.number_of_blades))
+        return self.p["hub_mass"] + blades
+
+    def _blades(self, hub: Body) -> None:
+        """Rigid blades of ElastoDyn's lumped node masses, coned and pitched (notes §4)."""
+        t = self.turbine
+        n = t.number_of_blades
+        for k in range(n):
+            data = blade_elastodyn_data(t, k)
+            m = np.append(np.asarray(data.element_mass), data.tip_mass)
+            z = np.append(np.asarray(data.span), data.length)
+            mass = float(m.sum())
+            zc = float(m @ z / mass)
+            i_xx = float(m @ (z - zc) ** 2)
+            R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
+            blade = RigidBody(f"blade{k + 1}", mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
+            self._add(Fixed(hub, blade, offset=(t.hub_radius * R[:, 2]).tolist(), rotation=R.tolist()))
+
+    def _inputs(self, platform: Body, nacelle: Body, shaft: Body, hub: Body) -> None:
+        """Loads exposed as inputs, only where they can move an enabled DOF."""
+        sys = self.system
+        if "GeAz" in self.coords or "DrTr" in self.coords:
+            tq_gen, tq_aero = sys.inputs("GenTq RotTorq")
+            gen = self.bodies["generator"]
+            sys.add_torque(gen, [-tq_gen, 0.0, 0.0], frame=shaft)       # HSS torque on the generator
+            sys.add_torque(shaft, [tq_gen, 0.0, 0.0], frame=shaft)      # its reaction on the nacelle
+            sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
+        thrust = sys.inputs("RotThrust")
+        sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
+        if any(self.dofs.get(f) for f in _PLATFORM):
+            fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
+            sys.add_force(platform, [fx, fy, fz])
+            sys.add_torque(platform, [mx, my, mz])
+
+
+def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
+    """Blade frame (ElastoDyn's j1, j2, j3 as columns) in hub axes (IEC x, y, z).
+
+    Hub axes relate to ElastoDyn's g frame by g1 = x, g2 = z, g3 = -y; the blade is
+    rotated by ``gamma`` [rad] about x, coned by ``cone`` and pitched by ``pitch``
+    (notes §4). ``j3`` is the blade axis (radial).
+    """
+    g1, g2, g3 = np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), np.array([0, -1.0, 0])
+    g2p = np.cos(gamma) * g2 + np.sin(gamma) * g3
+    g3p = -np.sin(gamma) * g2 + np.cos(gamma) * g3
+    i1 = np.cos(cone) * g1 - np.sin(cone) * g3p
+    i2 = g2p
+    i3 = np.sin(cone) * g1 + np.cos(cone) * g3p
+    j1 = np.cos(pitch) * i1 - np.sin(pitch) * i2
+    j2 = np.sin(pitch) * i1 + np.cos(pitch) * i2
+    return np.column_stack([j1, j2, i3])
+
+
+def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> dict[str, bool]:
+    if dofs is None:
+        chosen = {f for f, on in turbine.dofs.items() if on}
+    else:
+        if isinstance(dofs, str):
+            raise TypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
+        chosen = set(dofs)
+        unknown = sorted(chosen - set(DOF_NAMES))
+        if unknown:
+            raise ModelDefinitionError(f"unknown ElastoDyn DOF flags {unknown}; valid flags are {list(DOF_NAMES)}.")
+    unsupported = sorted(chosen - set(SUPPORTED_DOFS))
+    if unsupported:
+        raise ModelDefinitionError(
+            f"DOFs {unsupported} are not modelled by this template yet (supported: {list(SUPPORTED_DOFS)}); "
+            "disable them (dofs=[...]) to build the rest."
+        )
+    return {f: (f in chosen) for f in SUPPORTED_DOFS}
