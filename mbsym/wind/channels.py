@@ -1,0 +1,133 @@
+"""OpenFAST output channels of a :class:`~mbsym.wind.turbine.TurbineModel`.
+
+Names, units and signs follow ElastoDyn (docs/elastodyn_notes.md §6): ``Q_*``,
+``QD_*``, ``QD2_*`` for every enabled DOF (``Q_TSS*`` is the negative of our
+side-side coordinate, ``Q_GeAz`` is wrapped to [0, 2π)), ``Azimuth`` [deg],
+``RotSpeed`` and ``GenSpeed`` [rpm], ``NacYaw`` [deg], tower-top displacements
+``TTDspFA``, ``TTDspSS`` (platform axes), ``TTDspAx`` (ElastoDyn's axial drop) and
+``YawBrTDxp``, ``YawBrTDyp`` (deflected tower-top axes), and the platform motions
+``PtfmSurge`` … ``PtfmYaw``.
+
+:func:`output_function` returns a CasADi Function ``(x, u, p) -> y`` (accelerations
+from the model's rhs) with the channel names and units alongside.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..kinematics import elastodyn_rotation
+from .elastodyn_bodies import TOWER_DOFS, tower_elastodyn_data
+
+__all__ = ["Channels", "output_function", "channel_units"]
+
+_TRANSLATIONS = {"Sg", "Sw", "Hv", "TFA1", "TSS1", "TFA2", "TSS2"}
+_TOWER_FLAG = {"TFA1": "TwFADOF1", "TFA2": "TwFADOF2", "TSS1": "TwSSDOF1", "TSS2": "TwSSDOF2"}
+_RPM = 30.0 / np.pi
+_DEG = 180.0 / np.pi
+
+
+@dataclass(frozen=True)
+class Channels:
+    """A CasADi output Function with OpenFAST channel names and units."""
+
+    function: ca.Function          # (x, u, p) -> y (n_y,)
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+
+    @property
+    def headers(self) -> tuple[str, ...]:
+        """``<channel>_[<unit>]`` as in OpenFAST's CSV output."""
+        return tuple(f"{n}_[{u}]" for n, u in zip(self.names, self.units))
+
+
+def channel_units(name: str) -> str:
+    """Unit of a DOF channel ``Q_<dof>``, ``QD_<dof>`` or ``QD2_<dof>``."""
+    prefix, dof = name.split("_", 1)
+    base = "m" if dof in _TRANSLATIONS else "rad"
+    return {"Q": base, "QD": f"{base}/s", "QD2": f"{base}/s^2"}[prefix]
+
+
+def output_function(model) -> Channels:
+    """Output channels of a TurbineModel as a CasADi Function of (x, u, p)."""
+    eom = model.eom
+    d = eom.symbolic
+    q, qd, qdd = d.q, d.qd, d.qdd
+    val = {n: q[i] for i, n in enumerate(eom.coordinates)}
+    vel = {n: qd[i] for i, n in enumerate(eom.coordinates)}
+    acc = {n: qdd[i] for i, n in enumerate(eom.coordinates)}
+    rows: list[tuple[str, str, ca.SX]] = []
+    for n in eom.coordinates:
+        sign = -1.0 if n.startswith("TSS") else 1.0       # ElastoDyn's internal SS DOF points along -y
+        value = ca.fmod(val[n], 2 * np.pi) if n == "GeAz" else sign * val[n]
+        for prefix, expr in (("Q", value), ("QD", sign * vel[n]), ("QD2", sign * acc[n])):
+            rows.append((f"{prefix}_{n}", channel_units(f"{prefix}_{n}"), expr))
+    rows += _rotor_rows(model, val, vel, d)
+    rows += _tower_rows(model, val)
+    rows += _platform_rows(model, val)
+    names, units, exprs = zip(*rows)
+    y = ca.vertcat(*exprs)
+    f_y = ca.Function("outputs_sx", [q, qd, qdd, d.u, d.p], [y])
+    x = ca.MX.sym("x", eom.n_x)
+    u = ca.MX.sym("u", eom.n_u)
+    p = ca.MX.sym("p", eom.n_p)
+    n = eom.n_q
+    xd = eom.functions.rhs(x, u, p)
+    f = ca.Function("outputs", [x, u, p], [f_y(x[:n], x[n:], xd[n:], u, p)], ["x", "u", "p"], ["y"])
+    return Channels(f, tuple(names), tuple(units))
+
+
+def _input(d, name: str):
+    names = d.names["input"]
+    return d.u[names.index(name)] if name in names else None
+
+
+def _rotor_rows(model, val, vel, d) -> list:
+    t = model.turbine
+    geaz = val.get("GeAz", _input(d, "GeAz"))
+    geaz_d = vel.get("GeAz", _input(d, "GeAz_d"))
+    if geaz is None:                    # rotor held at its initial azimuth
+        geaz, geaz_d = ca.SX(model.initial_generator_azimuth()), ca.SX(0.0)
+    rotor = geaz + val.get("DrTr", 0.0)
+    rotor_d = geaz_d + vel.get("DrTr", 0.0)
+    azimuth = ca.fmod(rotor + t.azimuth_blade1_up + np.pi / 2, 2 * np.pi)
+    azimuth = ca.if_else(azimuth < 0, azimuth + 2 * np.pi, azimuth)
+    yaw = val.get("Yaw", t.initial_conditions.nacelle_yaw)
+    return [("Azimuth", "deg", _DEG * azimuth), ("RotSpeed", "rpm", _RPM * rotor_d),
+            ("GenSpeed", "rpm", _RPM * abs(t.gearbox_ratio) * geaz_d), ("NacYaw", "deg", _DEG * ca.SX(yaw))]
+
+
+def _tower_rows(model, val) -> list:
+    """Tower-top displacements in platform axes and in the deflected tower-top axes."""
+    active = [n for n in ("TFA1", "TSS1", "TFA2", "TSS2") if n in val]
+    if not active:
+        zero = ca.SX(0.0)
+        return [("TTDspFA", "m", zero), ("TTDspSS", "m", zero), ("TTDspAx", "m", zero),
+                ("YawBrTDxp", "m", zero), ("YawBrTDyp", "m", zero)]
+    qe = ca.vertcat(*[val[n] for n in active])
+    data = tower_elastodyn_data(model.turbine)
+    idx = [TOWER_DOFS.index(_TOWER_FLAG[n]) for n in active]
+    ax = ca.DM(np.asarray(data.tip_axial_reduction)[np.ix_(idx, idx)])
+    fa = sum((val[n] for n in active if n.startswith("TFA")), ca.SX(0.0))
+    ss = sum((val[n] for n in active if n.startswith("TSS")), ca.SX(0.0))
+    drop = -0.5 * qe.T @ ax @ qe
+    theta = ca.DM(np.asarray(model.bodies["tower"].sid.end_rotation)) @ qe
+    R = elastodyn_rotation(theta)
+    r = ca.vertcat(fa, ss, drop)
+    return [("TTDspFA", "m", fa), ("TTDspSS", "m", ss), ("TTDspAx", "m", drop),
+            ("YawBrTDxp", "m", ca.dot(r, R[:, 0])), ("YawBrTDyp", "m", ca.dot(r, R[:, 1]))]
+
+
+def _platform_rows(model, val) -> list:
+    ic = model.turbine.initial_conditions
+    init = {"Sg": ic.platform_surge, "Sw": ic.platform_sway, "Hv": ic.platform_heave,
+            "R": ic.platform_roll, "P": ic.platform_pitch, "Y": ic.platform_yaw}
+    rows = []
+    for dof, name, scale, unit in (("Sg", "PtfmSurge", 1.0, "m"), ("Sw", "PtfmSway", 1.0, "m"),
+                                   ("Hv", "PtfmHeave", 1.0, "m"), ("R", "PtfmRoll", _DEG, "deg"),
+                                   ("P", "PtfmPitch", _DEG, "deg"), ("Y", "PtfmYaw", _DEG, "deg")):
+        rows.append((name, unit, scale * ca.SX(val.get(dof, init[dof]))))
+    return rows
