@@ -17,6 +17,7 @@ from .exceptions import (
     ModelDefinitionError,
     OpenFASTFormatError,
     ParameterError,
+    SimulationOptionError,
     SingularMassMatrixError,
     SolverError,
 )
@@ -24,6 +25,7 @@ from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .linear import LinearModel, linearize
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
+from .simulate import SimulationResult, simulate
 
 try:
     __version__ = version("mbsym")
@@ -42,6 +44,8 @@ __all__ = [
     "EquationsOfMotion",
     "EomFunctions",
     "linearize",
+    "simulate",
+    "SimulationResult",
     "LinearModel",
     "FlexibleBody",
     "rotation",
@@ -58,5 +62,6 @@ __all__ = [
     "OpenFASTFormatError",
     "IntegrationError",
     "SolverError",
+    "SimulationOptionError",
     "__version__",
 ]

@@ -17,6 +17,7 @@ __all__ = [
     "OpenFASTFormatError",
     "IntegrationError",
     "SolverError",
+    "SimulationOptionError",
 ]
 
 
@@ -54,3 +55,7 @@ class IntegrationError(MbsymError, RuntimeError):
 
 class SolverError(MbsymError, RuntimeError):
     """A root finder or optimizer failed to converge."""
+
+
+class SimulationOptionError(MbsymError, ValueError):
+    """An option of :func:`mbsym.simulate` (time span, step, tolerances, output times) is invalid."""

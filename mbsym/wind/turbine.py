@@ -113,6 +113,7 @@ class TurbineModel:
         self.prescribed: dict[str, Callable[[float], float]] = {}
         self.bodies: dict[str, Body] = {}
         self._eom = None
+        self._channels = None
         self._build()
 
     # ------------------------------------------------------------------ public
@@ -156,6 +157,28 @@ class TurbineModel:
         out: dict = {name: 0.0 for name in self.eom.inputs}
         out.update(self.prescribed)
         return out
+
+    # ------------------------------------------------------------------ simulation protocol
+    def default_state(self) -> np.ndarray:
+        """Initial state for :func:`mbsym.simulate` (same as :meth:`initial_state`)."""
+        return self.initial_state()
+
+    def default_inputs(self) -> dict[str, float | Callable[[float], float]]:
+        """Inputs for :func:`mbsym.simulate`: zero loads, prescribed motions as functions of time."""
+        return self.input_defaults()
+
+    def output_function(self):
+        """OpenFAST channels (:class:`mbsym.wind.channels.Channels`: ``function``, ``names``, ``units``)."""
+        if self._channels is None:
+            from .channels import output_function
+
+            self._channels = output_function(self)
+        return self._channels
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """OpenFAST channel names of :meth:`output_function`."""
+        return self.output_function().names
 
     # ------------------------------------------------------------------ build
     def _build(self) -> None:

@@ -1,0 +1,29 @@
+"""Time simulation of :class:`~mbsym.equations.EquationsOfMotion`.
+
+:func:`simulate` is the one call; :data:`METHODS` lists the integration
+methods (each a :class:`Method` subclass declaring ``order`` and ``kind``);
+:class:`SimulationResult` holds named time series and statistics. Modules:
+``api`` (simulate), ``inputs`` (u(t)), ``model`` (the protocol for model
+objects), ``checks`` (input checks, divergence), ``base`` (solver base class,
+cache), ``fixed`` (rk4), ``casadi_methods`` (cvodes), ``scipy_methods``
+(scipy-radau), ``result``.
+"""
+
+from .api import simulate
+from .base import Method, clear_cache
+from .checks import DIVERGENCE_LIMIT, SimulationOptionError
+from .methods import METHODS, get_method
+from .model import SimulationModel
+from .result import SimulationResult
+
+__all__ = [
+    "simulate",
+    "SimulationResult",
+    "METHODS",
+    "Method",
+    "get_method",
+    "SimulationModel",
+    "SimulationOptionError",
+    "DIVERGENCE_LIMIT",
+    "clear_cache",
+]

@@ -1,0 +1,47 @@
+"""The registry of integration methods: ``METHODS[name] -> Method subclass``.
+
+To add a method, subclass :class:`~mbsym.simulate.base.Method` (or
+:class:`~mbsym.simulate.fixed.FixedStepMethod` for an explicit one-step scheme:
+give ``nodes`` and ``_step``), declare ``name``, ``order``, ``kind`` and
+``implicit``, and add it below. Planned: ``erk``/``adams`` (CasADi), BDF via
+``idas``, Newmark/HHT-alpha and generalized-alpha (second-order form).
+"""
+
+from __future__ import annotations
+
+from types import MappingProxyType
+from typing import Mapping
+
+from .base import Method
+from .casadi_methods import Cvodes
+from .checks import SimulationOptionError
+from .fixed import RK4
+from .scipy_methods import ScipyRadau
+
+__all__ = ["METHODS", "get_method"]
+
+#: Integration methods by name (read-only).
+METHODS: Mapping[str, type[Method]] = MappingProxyType({m.name: m for m in (RK4, Cvodes, ScipyRadau)})
+
+
+def get_method(name) -> type[Method]:
+    """The method class registered under ``name``.
+
+    Raises
+    ------
+    SimulationOptionError
+        If no method has that name (the message lists them).
+
+    Examples
+    --------
+    >>> from mbsym.simulate import get_method
+    >>> m = get_method("rk4")
+    >>> m.order, m.kind
+    (4, 'fixed-step')
+    """
+    if not isinstance(name, str) or name not in METHODS:
+        raise SimulationOptionError(
+            f"unknown method {name!r}; choose one of "
+            + ", ".join(f"{n!r} ({m.kind}, order {m.order})" for n, m in METHODS.items()) + "."
+        )
+    return METHODS[name]

@@ -1,0 +1,118 @@
+"""The result of :func:`mbsym.simulate`: named time series and statistics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["SimulationResult"]
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationResult:
+    """Time series of a simulation (immutable; arrays are read-only).
+
+    Attributes
+    ----------
+    t : ndarray (N,)
+        Output times [s].
+    x : ndarray (N, n_x)
+        States ``[q; qd]`` [m, rad; m/s, rad/s] at ``t``.
+    states : tuple of str
+        Names of the columns of ``x`` (coordinates, then speeds ``<name>_d``).
+    u : ndarray (N, n_u)
+        Inputs at ``t``, as used by the integration.
+    inputs : tuple of str
+        Names of the columns of ``u``.
+    y : ndarray (N, n_y)
+        Model outputs at ``t`` (``n_y = 0`` if the model defines none).
+    output_names : tuple of str
+        Names of the columns of ``y``.
+    statistics : dict
+        ``method``, ``steps``, ``n_rhs`` (rhs evaluations), ``n_jac`` (Jacobian
+        evaluations), ``integration_wall_s`` (integration alone, inputs sampling
+        included), ``prepare_wall_s`` (building or fetching the CasADi
+        Functions), ``cache_hit``, ``dt`` (fixed step actually used [s]),
+        ``success``, ``message``, and per method extras (``rtol``, ``atol``,
+        ``n_lu``). Counters a method does not know are ``None``.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    states: tuple[str, ...]
+    u: np.ndarray
+    inputs: tuple[str, ...]
+    y: np.ndarray
+    output_names: tuple[str, ...]
+    statistics: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for name in ("t", "x", "u", "y"):
+            arr = np.array(getattr(self, name), dtype=float)   # a private copy, then read-only
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+
+    @property
+    def n_q(self) -> int:
+        return len(self.states) // 2
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return self.states[: self.n_q]
+
+    @property
+    def q(self) -> np.ndarray:
+        """Coordinates, shape (N, n_q) (a view of ``x``)."""
+        return self.x[:, : self.n_q]
+
+    @property
+    def qd(self) -> np.ndarray:
+        """Speeds, shape (N, n_q) (a view of ``x``)."""
+        return self.x[:, self.n_q:]
+
+    @property
+    def success(self) -> bool:
+        return bool(self.statistics.get("success", False))
+
+    @property
+    def message(self) -> str:
+        return str(self.statistics.get("message", ""))
+
+    def state(self, name: str) -> np.ndarray:
+        """Time series of one state (a coordinate ``q`` or a speed ``q_d``), shape (N,)."""
+        return self.x[:, _index(self.states, name, "state")]
+
+    def output(self, name: str) -> np.ndarray:
+        """Time series of one model output, shape (N,)."""
+        return self.y[:, _index(self.output_names, name, "output")]
+
+    def to_dict(self) -> dict[str, np.ndarray]:
+        """Columns by name: ``t``, then states, inputs and outputs (e.g. for ``pandas.DataFrame``).
+
+        Raises
+        ------
+        ValueError
+            If a name is used twice (say, an output named like a state).
+        """
+        cols: dict[str, np.ndarray] = {"t": self.t}
+        for names, arr in ((self.states, self.x), (self.inputs, self.u), (self.output_names, self.y)):
+            for j, name in enumerate(names):
+                if name in cols:
+                    raise ValueError(f"the name {name!r} appears twice among t, states, inputs and outputs; "
+                                     "use the arrays x, u, y instead.")
+                cols[name] = arr[:, j]
+        return cols
+
+    def __repr__(self) -> str:
+        s = self.statistics
+        return (f"SimulationResult(method={s.get('method')!r}, t=[{self.t[0]:g} .. {self.t[-1]:g}] s "
+                f"({self.t.size} points), states={list(self.states)}, inputs={list(self.inputs)}, "
+                f"outputs={len(self.output_names)}, steps={s.get('steps')})")
+
+
+def _index(names: tuple[str, ...], name: str, what: str) -> int:
+    try:
+        return names.index(name)
+    except ValueError:
+        raise KeyError(f"no {what} named {name!r}; the {what}s are {list(names)}.") from None

@@ -1,0 +1,59 @@
+"""Models shared by the simulation tests, each built once per session."""
+
+import casadi as ca
+import pytest
+
+import mbsym as mb
+
+#: Oscillator parameters [kg, N/m, N s/m]: omega_n = 5 rad/s, damping ratio 0.02.
+OSC = {"m": 2.0, "k": 50.0, "c": 0.4}
+
+
+def oscillator(stiffness: float = OSC["k"]):
+    """Mass-spring-damper on a prismatic joint, force input F [N] (README quick-start style)."""
+    sys = mb.System(gravity=[0.0, 0.0, 0.0])
+    x = sys.coordinates("x")
+    m, k, c = sys.parameters("m k c", values={"m": OSC["m"], "k": stiffness, "c": OSC["c"]})
+    F = sys.inputs("F")
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("mass", m), axis=[1, 0, 0], coordinate=x))
+    sys.add_spring(x, k)
+    sys.add_damper(x, c)
+    sys.add_generalized_force(x, F)
+    return sys.equations(name="oscillator")
+
+
+def pendulum():
+    """Undamped simple pendulum: point mass m [kg] at distance l [m], angle th [rad]."""
+    sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    th = sys.coordinates("th")
+    m, l = sys.parameters("m l", values={"m": 1.0, "l": 1.0})
+    sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("bob", m, com=[0, 0, -l]), axis=[0, 1, 0], coordinate=th))
+    return sys.equations(name="pendulum")
+
+
+def cubic_blowup():
+    """x'' = x^3 (unit mass): from x = 1 at rest it reaches infinity at t* = sqrt(2) K(1/2) = 1.8541 s."""
+    sys = mb.System()
+    x = sys.coordinates("x")
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("mass", 1.0), axis=[1, 0, 0], coordinate=x))
+    sys.add_generalized_force(x, x**3)
+    return sys.equations(name="blowup")
+
+
+def sqrt_spring():
+    """A spring force -sqrt(x): not defined (NaN) once x < 0, which the free swing reaches."""
+    sys = mb.System()
+    x = sys.coordinates("x")
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("mass", 1.0), axis=[1, 0, 0], coordinate=x))
+    sys.add_generalized_force(x, -ca.sqrt(x))
+    return sys.equations(name="sqrt_spring")
+
+
+@pytest.fixture(scope="session")
+def osc():
+    return oscillator()
+
+
+@pytest.fixture(scope="session")
+def pend():
+    return pendulum()

@@ -1,0 +1,107 @@
+"""Every method against closed-form solutions of the mass-spring-damper (tests/simulate/_reference.py).
+
+Model: m = 2 kg, k = 50 N/m, c = 0.4 N s/m (omega_n = 5 rad/s, damping ratio 0.02), force input F.
+Tolerances, with where they come from:
+
+- rk4, dt = 0.01 s: global error ~ t * omega * (omega dt)^4 / 120 = 2.6e-6 m over 10 s -> 5e-6 m
+  (velocity: times omega -> 2.5e-5 m/s).
+- cvodes / scipy-radau at rtol = 1e-9, atol = 1e-11: the measured global error of these adaptive
+  methods on this problem is below 100 * rtol (cvodes ~1e-7 m, Radau ~1e-10 m); bound 2e-6 m,
+  1e-5 m/s. The default tolerances (rtol 1e-6) are checked to 1e-4 m (0.1 % of the amplitude).
+"""
+
+import numpy as np
+import pytest
+
+from mbsym.simulate import METHODS, simulate
+
+from ._reference import ramp_hold_response, sdof_response
+from .conftest import OSC
+
+M, K, C = OSC["m"], OSC["k"], OSC["c"]
+TMAX = 10.0
+TIGHT = {"rk4": {}, "cvodes": {"rtol": 1e-9, "atol": 1e-11}, "scipy-radau": {"rtol": 1e-9, "atol": 1e-11}}
+TOL_X = {"rk4": 5e-6, "cvodes": 2e-6, "scipy-radau": 2e-6}     # [m]
+TOL_V = {"rk4": 2.5e-5, "cvodes": 1e-5, "scipy-radau": 1e-5}   # [m/s]
+
+
+def _check(res, x_ref, v_ref, method):
+    assert np.all(np.isfinite(res.x))
+    err_x = np.max(np.abs(res.state("x") - x_ref))
+    err_v = np.max(np.abs(res.state("x_d") - v_ref))
+    assert err_x < TOL_X[method], f"{method}: max |x - closed form| = {err_x:.3g} m"
+    assert err_v < TOL_V[method], f"{method}: max |v - closed form| = {err_v:.3g} m/s"
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_free_damped_response(osc, method):
+    res = simulate(osc, TMAX, x0=[0.1, -0.3], method=method, **TIGHT[method])
+    x_ref, v_ref = sdof_response(res.t, M, C, K, x0=0.1, v0=-0.3)
+    _check(res, x_ref, v_ref, method)
+    assert res.statistics["method"] == method and res.success
+
+
+@pytest.mark.parametrize("method", ["cvodes", "scipy-radau"])
+def test_default_tolerances(osc, method):
+    res = simulate(osc, TMAX, x0=[0.1, -0.3], method=method)
+    x_ref, _ = sdof_response(res.t, M, C, K, x0=0.1, v0=-0.3)
+    assert res.t.size == 200     # default output grid of adaptive methods
+    assert np.max(np.abs(res.state("x") - x_ref)) < 1e-4     # 0.1 % of the 0.1 m amplitude
+
+
+def test_rk4_default_output_grid_is_every_step(osc):
+    res = simulate(osc, 1.0, x0=[0.1, 0.0])
+    np.testing.assert_allclose(res.t, np.linspace(0.0, 1.0, 101), rtol=0, atol=1e-12)
+    assert res.statistics["steps"] == 100 and res.statistics["n_rhs"] == 400 and res.statistics["dt"] == 0.01
+
+
+def test_rk4_off_grid_outputs_use_hermite_interpolation(osc):
+    """Output times between steps (cubic Hermite, O(dt^4)) agree with the closed form as the steps do."""
+    t_out = np.sort(np.random.default_rng(0).uniform(0.0, TMAX, 50))
+    res = simulate(osc, TMAX, x0=[0.1, -0.3], t_out=t_out)
+    x_ref, v_ref = sdof_response(t_out, M, C, K, x0=0.1, v0=-0.3)
+    _check(res, x_ref, v_ref, "rk4")
+    np.testing.assert_array_equal(res.t, t_out)
+
+
+STEP_FORCE = 3.0      # [N]
+SLOPE = 5.0           # [N/s]
+FORCES = {
+    "constant dict": ({"F": STEP_FORCE}, {"a0": STEP_FORCE}),
+    "constant array": ([STEP_FORCE], {"a0": STEP_FORCE}),
+    "ramp on a shared grid": ({"t": [0.0, TMAX], "F": [0.0, SLOPE * TMAX]}, {"a1": SLOPE}),
+    "ramp as a (grid, values) pair": ({"F": (np.array([0.0, 4.0, TMAX]), SLOPE * np.array([0.0, 4.0, TMAX]))},
+                                      {"a1": SLOPE}),
+    "ramp as a vectorized callable": ({"F": lambda t: SLOPE * np.asarray(t)}, {"a1": SLOPE}),
+    "ramp as a scalar-only callable": ({"F": lambda t: SLOPE * t if t >= 0.0 else 0.0}, {"a1": SLOPE}),
+}
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+@pytest.mark.parametrize("form", list(FORCES))
+def test_forced_response(osc, method, form):
+    inputs, force = FORCES[form]
+    res = simulate(osc, TMAX, inputs=inputs, method=method, **TIGHT[method])
+    x_ref, v_ref = sdof_response(res.t, M, C, K, **force)
+    _check(res, x_ref, v_ref, method)
+    expected_u = force.get("a0", 0.0) + force.get("a1", 0.0) * res.t
+    np.testing.assert_allclose(res.u[:, 0], expected_u, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_ramp_then_hold_table(osc, method):
+    """A table with a kink at t1 = 2 s: closed form by superposition of two ramps."""
+    t1 = 2.0
+    inputs = {"t": [0.0, t1, TMAX], "F": [0.0, SLOPE * t1, SLOPE * t1]}
+    res = simulate(osc, TMAX, inputs=inputs, method=method, **TIGHT[method])
+    x_ref, v_ref = ramp_hold_response(res.t, M, C, K, SLOPE, t1)
+    _check(res, x_ref, v_ref, method)
+
+
+def test_rk4_samples_inputs_at_stage_times(osc):
+    """A ramp with a coarse step (omega dt = 0.25) keeps rk4's own error, ~ t omega (omega dt)^4 / 120
+    times the 0.02 m transient = 3e-5 m; holding u over each step would add ~ slope dt / (2 k)
+    = 2.5e-3 m. Bound 1e-4 m."""
+    res = simulate(osc, TMAX, inputs={"F": lambda t: SLOPE * np.asarray(t)}, dt=0.05)
+    x_ref, _ = sdof_response(res.t, M, C, K, a1=SLOPE)
+    assert np.max(np.abs(res.state("x") - x_ref)) < 1e-4
