@@ -1,4 +1,4 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -15,7 +15,7 @@ __all__ = ["main", "build_parser"]
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``mbsym`` command."""
-    from . import __version__
+    from .. import __version__
 
     parser = argparse.ArgumentParser(
         prog="mbsym",
@@ -25,12 +25,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
+    from .simulate import add_parser as add_simulate
+
+    add_simulate(sub)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``mbsym`` console script."""
-    from .exceptions import MbsymError
+    from ..exceptions import MbsymError
 
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -39,13 +42,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     try:
         if args.command == "demo":
-            from .demo import run_demo
+            from ..demo import run_demo
 
             if not args.tmax > 0:
                 raise ValueError(f"--tmax must be positive; got {args.tmax}")
             run_demo(tmax=args.tmax)
-    except (MbsymError, ValueError) as exc:
-        print(f"mbsym {args.command}: error: {exc}", file=sys.stderr)
+        elif args.command == "simulate":
+            from .simulate import run
+
+            return run(args)
+    except (MbsymError, ValueError, OSError) as exc:
+        message = " ".join(str(exc).split())
+        print(f"mbsym {args.command}: error: {message}", file=sys.stderr)
         return 2
     return 0
 

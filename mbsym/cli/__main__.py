@@ -1,0 +1,7 @@
+"""``python -m mbsym.cli``: same as the ``mbsym`` console script."""
+
+import sys
+
+from . import main
+
+sys.exit(main())

@@ -1,0 +1,149 @@
+"""Comparing time series with OpenFAST output: CSV files, error metrics, overlay plots.
+
+The error metrics are those of the paper (Sect. 4.5) and of our validation:
+
+- ``ε = mean|y − y_ref| / (max y_ref − min y_ref)``,
+- ``R² = 1 − Σ (y − y_ref)² / Σ (y_ref − mean y_ref)²``,
+
+evaluated on the reference's time grid (ours interpolated linearly). Angles that
+OpenFAST wraps (``Azimuth`` in deg, ``Q_GeAz`` in rad) are compared through the
+wrapped difference, so a sample on either side of a wrap does not count as a
+full-turn error.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import DimensionError, OpenFASTFormatError
+
+__all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "overlay_plot", "WRAPPED"]
+
+#: Channels OpenFAST wraps, with their period in their own unit.
+WRAPPED = {"Azimuth": 360.0, "Q_GeAz": 2 * np.pi}
+
+
+@dataclass(frozen=True)
+class TimeSeries:
+    """Channels on a time grid: ``time`` (N,) [s], ``data`` (N, n) with ``names`` and ``units``."""
+
+    time: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    data: np.ndarray
+
+    def channel(self, name: str) -> np.ndarray:
+        if name not in self.names:
+            raise DimensionError(f"no channel {name!r}; channels are {list(self.names)}.")
+        return self.data[:, self.names.index(name)]
+
+
+def read_csv(path: str | Path) -> TimeSeries:
+    """Read an OpenFAST-style CSV (``Time_[s]`` then ``<channel>_[<unit>]`` columns)."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"OpenFAST CSV not found: {path}")
+    with path.open(newline="") as fh:
+        header = next(csv.reader(fh), None)
+    if not header or not header[0].startswith("Time"):
+        raise OpenFASTFormatError(f"{path}, line 1: expected a header starting with 'Time_[s]'; got {header!r}.")
+    try:
+        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except ValueError as exc:
+        raise OpenFASTFormatError(f"{path}: not a numeric CSV table after the header ({exc}).") from exc
+    if data.shape[1] != len(header):
+        raise OpenFASTFormatError(f"{path}: {len(header)} header columns but {data.shape[1]} data columns.")
+    names, units = zip(*(_split_header(h) for h in header[1:])) if len(header) > 1 else ((), ())
+    return TimeSeries(data[:, 0], tuple(names), tuple(units), data[:, 1:])
+
+
+def _split_header(h: str) -> tuple[str, str]:
+    if h.endswith("]") and "_[" in h:
+        name, unit = h[:-1].rsplit("_[", 1)
+        return name, unit
+    return h, "-"
+
+
+def write_csv(path: str | Path, series: TimeSeries) -> None:
+    """Write ``Time_[s]`` and ``<channel>_[<unit>]`` columns as OpenFAST's CSV layout."""
+    header = ["Time_[s]"] + [f"{n}_[{u}]" for n, u in zip(series.names, series.units)]
+    with Path(path).open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for t, row in zip(series.time, series.data):
+            w.writerow([f"{t:.4f}"] + [f"{v:.12g}" for v in row])
+
+
+def error_metrics(t: np.ndarray, y: np.ndarray, t_ref: np.ndarray, y_ref: np.ndarray, *,
+                  period: float | None = None) -> tuple[float, float]:
+    """(ε, R²) of ``y(t)`` against ``y_ref(t_ref)`` on the reference grid.
+
+    ``period`` compares a wrapped angle through its wrapped difference. For a
+    constant reference (zero range) ε and R² are NaN.
+    """
+    t, y, t_ref, y_ref = (np.asarray(a, dtype=float) for a in (t, y, t_ref, y_ref))
+    lo, hi = t_ref >= t[0] - 1e-9, t_ref <= t[-1] + 1e-9
+    t_ref, y_ref = t_ref[lo & hi], y_ref[lo & hi]
+    if period is not None:
+        yi = np.interp(t_ref, t, np.unwrap(y, period=period))
+        diff = (yi - y_ref + period / 2) % period - period / 2
+    else:
+        diff = np.interp(t_ref, t, y) - y_ref
+    rng = float(np.ptp(y_ref)) if y_ref.size else 0.0
+    if rng <= 1e-12 * max(1.0, float(np.max(np.abs(y_ref))) if y_ref.size else 1.0):
+        return float("nan"), float("nan")
+    eps = float(np.mean(np.abs(diff)) / rng)
+    r2 = float(1.0 - np.sum(diff**2) / np.sum((y_ref - y_ref.mean()) ** 2))
+    return eps, r2
+
+
+def compare(ours: TimeSeries, ref: TimeSeries) -> list[dict]:
+    """Metrics for every channel present in both series (reference order)."""
+    rows = []
+    for name in ref.names:
+        if name not in ours.names:
+            continue
+        eps, r2 = error_metrics(ours.time, ours.channel(name), ref.time, ref.channel(name), period=WRAPPED.get(name))
+        rows.append({"channel": name, "unit": ref.units[ref.names.index(name)], "epsilon": eps, "r2": r2,
+                     "max_abs_diff": _max_abs_diff(ours, ref, name)})
+    return rows
+
+
+def _max_abs_diff(ours: TimeSeries, ref: TimeSeries, name: str) -> float:
+    period = WRAPPED.get(name)
+    y = ours.channel(name)
+    if period is not None:
+        d = (np.interp(ref.time, ours.time, np.unwrap(y, period=period)) - ref.channel(name) + period / 2) % period
+        return float(np.max(np.abs(d - period / 2)))
+    return float(np.max(np.abs(np.interp(ref.time, ours.time, y) - ref.channel(name))))
+
+
+def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = None, *,
+                 channels: list[str] | None = None, title: str = "") -> None:
+    """PNG of the chosen channels (default: all DOF channels Q_* and RotSpeed), ours vs OpenFAST."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if channels is None:
+        channels = [n for n in ours.names if n.startswith("Q_") or n in ("RotSpeed", "PtfmPitch")]
+        channels = [c for c in channels if ref is None or c in ref.names] or list(ours.names[:4])
+    fig, axes = plt.subplots(len(channels), 1, figsize=(8, 1.9 * len(channels) + 0.6), sharex=True, squeeze=False)
+    for ax, name in zip(axes[:, 0], channels):
+        if ref is not None and name in ref.names:
+            ax.plot(ref.time, ref.channel(name), "k-", lw=1.6, label="OpenFAST")
+        ax.plot(ours.time, ours.channel(name), "C1--", lw=1.2, label="mbsym")
+        ax.set_ylabel(f"{name}\n[{ours.units[ours.names.index(name)]}]", fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(loc="upper right", fontsize=8)
+    axes[-1, 0].set_xlabel("Time [s]")
+    if title:
+        axes[0, 0].set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
