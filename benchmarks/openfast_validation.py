@@ -1,0 +1,135 @@
+"""Accuracy and speed side by side: mbsym TurbineModel vs OpenFAST v5 ElastoDyn free decays.
+
+For the three shared cases (paper44_fa_gen, paper45_fa_ss_gen, paper46_floating) this
+builds the model from the deck, simulates 60 s with cvodes (rtol 1e-8) and with rk4
+(dt = 0.01 s, the deck's DT), and reports per channel ε = mean|y − y_OF| / range(y_OF) and
+R² (wrap-aware for Azimuth), plus model build time and integration wall time, against
+OpenFAST's 2.21 s wall for paper45 on this machine kind (quoted in issue 4; OpenFAST is not
+run here). Also: build time of the model with all 13 platform/tower/yaw/drivetrain DOFs.
+Writes overlay plots to benchmarks/figures/ and the tables into benchmarks/README.md
+between the ``openfast`` markers.
+
+Needs ../shared/openfast (the reference data). Run: ``python benchmarks/openfast_validation.py``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+import mbsym as mb
+from mbsym.wind import nrel5mw, read_openfast
+from mbsym.wind.compare import TimeSeries, compare, overlay_plot, read_csv
+from mbsym.wind.turbine import SUPPORTED_DOFS, TurbineModel
+
+HERE = Path(__file__).resolve().parent
+SHARED = HERE.parent.parent / "shared" / "openfast" / "cases"
+CASES = ["paper44_fa_gen", "paper45_fa_ss_gen", "paper46_floating"]
+OPENFAST_PAPER45_S = 2.21     # OpenFAST v5 (ElastoDyn only) wall time, paper45, quoted in issue 4
+
+
+def _series(result, model) -> TimeSeries:
+    ch = model.output_function()
+    units = dict(zip(ch.names, ch.units))
+    return TimeSeries(result.t, result.output_names, tuple(units[n] for n in result.output_names), result.y)
+
+
+def _median_time(fn, repeats=5):
+    out = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t0)
+    return statistics.median(out)
+
+
+def run_case(case: str):
+    fst, csv = SHARED / case / f"{case}.fst", SHARED / case / f"{case}.csv"
+    turbine, ref = read_openfast(fst), read_csv(csv)
+    t_build = _median_time(lambda: TurbineModel(turbine).eom)
+    model = TurbineModel(turbine)
+    runs = {}
+    for method, kw in (("cvodes", dict(rtol=1e-8, atol=1e-10, dt=0.02)), ("rk4", dict(dt=0.01))):
+        mb.simulate(model, 60.0, method=method, t_out=ref.time, **kw)           # warm the cache
+        r = mb.simulate(model, 60.0, method=method, t_out=ref.time, **kw)
+        runs[method] = (r, compare(_series(r, model), ref))
+    overlay_plot(HERE / "figures" / f"{case}.png", _series(runs["cvodes"][0], model), ref,
+                 title=f"{case}: mbsym (cvodes) vs OpenFAST v5")
+    return model, t_build, runs
+
+
+def all_dofs_build_time() -> tuple[float, float]:
+    t = dataclasses.replace(nrel5mw(), platform_mass=7.5e6, platform_roll_inertia=4.2e9,
+                            platform_pitch_inertia=4.2e9, platform_yaw_inertia=1.6e8,
+                            platform_cm=(0.0, 0.0, -90.0), platform_reference=(0.0, 0.0, 20.0),
+                            tower_base_height=20.0)
+    dofs = list(SUPPORTED_DOFS)
+    build = _median_time(lambda: TurbineModel(t, dofs=dofs).eom, repeats=3)
+    eom = TurbineModel(t, dofs=dofs).eom
+    x, u, p = np.zeros(eom.n_x), np.zeros(eom.n_u), eom.parameter_vector({})
+    f = eom.functions.rhs
+    t0 = time.perf_counter()
+    for _ in range(500):
+        f(x, u, p)
+    return build, (time.perf_counter() - t0) / 500
+
+
+def tables() -> str:
+    (HERE / "figures").mkdir(exist_ok=True)
+    acc = ["| case | channel | ε cvodes [%] | R² cvodes | ε rk4 [%] | R² rk4 |", "|---|---|---:|---:|---:|---:|"]
+    speed = ["| case | DOFs | build [ms] | cvodes 60 s [ms] (steps) | rk4 60 s [ms] (6000 steps) | "
+             "vs OpenFAST 2.21 s (paper45) |", "|---|---|---:|---:|---:|---:|"]
+    for case in CASES:
+        model, t_build, runs = run_case(case)
+        (rc, cc), (rr, cr) = runs["cvodes"], runs["rk4"]
+        by_name = {row["channel"]: row for row in cr}
+        for row in cc:
+            name = row["channel"]
+            if not (name.startswith("Q_") or name in ("Azimuth", "RotSpeed") or name.startswith("Ptfm")):
+                continue
+            other = by_name[name]
+            fmt = lambda v, pct=False: "const" if np.isnan(v) else (f"{100 * v:.3f}" if pct else f"{v:.6f}")
+            acc.append(f"| {case} | {name} | {fmt(row['epsilon'], True)} | {fmt(row['r2'])} | "
+                       f"{fmt(other['epsilon'], True)} | {fmt(other['r2'])} |")
+        tc, tr = rc.statistics["integration_wall_s"], rr.statistics["integration_wall_s"]
+        ratio = f"{OPENFAST_PAPER45_S / tc:.0f}× (cvodes), {OPENFAST_PAPER45_S / tr:.0f}× (rk4)" if "45" in case else "—"
+        speed.append(f"| {case} | {', '.join(model.eom.coordinates)} | {1e3 * t_build:.0f} | "
+                     f"{1e3 * tc:.1f} ({rc.statistics['steps']}) | {1e3 * tr:.1f} | {ratio} |")
+        print(speed[-1], flush=True)
+    build, rhs = all_dofs_build_time()
+    speed.append(f"| all 13 platform/tower/yaw/drivetrain DOFs | 13 | {1e3 * build:.0f} | "
+                 f"one rhs call {1e6 * rhs:.0f} µs | — | — |")
+    return "\n".join(speed) + "\n\n" + "\n".join(acc)
+
+
+def write_readme(table: str) -> None:
+    path = HERE / "README.md"
+    start, end = "<!-- openfast:start -->", "<!-- openfast:end -->"
+    text = path.read_text() if path.exists() else ""
+    block = f"{start}\n{table}\n{end}"
+    if start in text and end in text:
+        text = text[: text.index(start)] + block + text[text.index(end) + len(end):]
+    else:
+        text += f"\n{block}\n"
+    path.write_text(text)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--no-write", action="store_true", help="do not update benchmarks/README.md")
+    args = parser.parse_args()
+    if not SHARED.exists():
+        raise SystemExit(f"reference data not found at {SHARED}")
+    table = tables()
+    print("\n" + table)
+    if not args.no_write:
+        write_readme(table)
+
+
+if __name__ == "__main__":
+    main()
