@@ -22,8 +22,9 @@ import numpy as np
 
 from .bodies.base import Body
 from .bodies.rigid import RigidBody
+from .composite import MassProperties, composite_bodies
 from .exceptions import ModelDefinitionError, SingularMassMatrixError
-from .kinematics import vee
+from .kinematics import skew, vee
 from .loads import Damper, DistributedLoad, GeneralizedForce, PointForce, Spring, Torque
 
 __all__ = ["Frame", "Derivation", "derive"]
@@ -148,9 +149,12 @@ def derive(system) -> Derivation:
     kin = _Kinematics(system, q, qd, qp, qdp)
     g = system.gravity
 
+    composites, merged = composite_bodies(system.joints)
     blocks, V_rows = [], []
     for body in kin.order:
-        contrib = _body_velocities(body, kin)
+        if id(body) in merged:
+            continue        # welded to a rigid ancestor: counted in its composite
+        contrib = _body_velocities(body, kin, composites)
         blocks.append((body, contrib))
         V_rows.append(contrib["V"])
     Vall = ca.vertcat(*V_rows) if V_rows else ca.SX(0, 1)
@@ -185,34 +189,39 @@ def derive(system) -> Derivation:
                       tuple(presc))
 
 
-def _body_velocities(body: Body, kin: _Kinematics) -> dict:
+def _body_velocities(body: Body, kin: _Kinematics, composites: dict) -> dict:
     """Stacked velocities of a body's reference point and its Kane terms callback."""
     if isinstance(body, RigidBody):
-        return _rigid(body, kin)
+        return _rigid(body, kin, composites[id(body)])
     hook = getattr(body, "kane_terms", None)
     if hook is None:
         raise ModelDefinitionError(f"body {body.name!r} of type {type(body).__name__} has no Kane contribution.")
     return hook(kin)
 
 
-def _rigid(body: RigidBody, kin: _Kinematics) -> dict:
-    """Rigid body about its centre of mass (paper Eqs. 6-9), ground axes."""
+def _rigid(body: RigidBody, kin: _Kinematics, props: MassProperties) -> dict:
+    """Rigid (composite) body about its origin O (paper Eqs. 6-9 moved to O), ground axes.
+
+    With S = m c the first moment and I_O the inertia about O (ground axes), the inertial
+    force is -(m a_O + α × S + ω × (ω × S)) and the inertial torque about O is
+    -(S × a_O + I_O α + ω × I_O ω).
+    """
     f = kin.frame(body)
-    s = f.R @ body.com
-    r_G = f.r + s
-    v_G = f.v + ca.cross(f.w, s)
-    m = body.mass
-    I_g = f.R @ body.inertia @ f.R.T
+    m = props.mass
+    S = f.R @ props.first_moment
+    I_O = f.R @ props.inertia @ f.R.T
 
     def terms(a0: ca.SX, g: ca.SX):
-        Mb = ca.diagcat(m * ca.SX.eye(3), I_g)
-        gyro = ca.cross(f.w, I_g @ f.w)
-        f_net = ca.vertcat(m * g - m * a0[:3], -I_g @ a0[3:] - gyro)
-        t_kin = 0.5 * (m * ca.dot(v_G, v_G) + ca.dot(f.w, I_g @ f.w))
-        v_pot = -m * ca.dot(g, r_G)
-        return Mb, f_net, t_kin, v_pot
+        Sx = skew(S)
+        Mb = ca.blockcat([[m * ca.SX.eye(3), -Sx], [Sx, I_O]])
+        w = f.w
+        f_lin = m * g - m * a0[:3] - ca.cross(a0[3:], S) - ca.cross(w, ca.cross(w, S))
+        f_ang = ca.cross(S, g) - ca.cross(S, a0[:3]) - I_O @ a0[3:] - ca.cross(w, I_O @ w)
+        t_kin = 0.5 * (m * ca.dot(f.v, f.v) + 2 * ca.dot(f.v, ca.cross(w, S)) + ca.dot(w, I_O @ w))
+        v_pot = -ca.dot(g, m * f.r + S)
+        return Mb, ca.vertcat(f_lin, f_ang), t_kin, v_pot
 
-    return {"V": ca.vertcat(v_G, f.w), "terms": terms}
+    return {"V": ca.vertcat(f.v, f.w), "terms": terms}
 
 
 def _apply_loads(system, kin: _Kinematics, q, qd, F, Vpot):
