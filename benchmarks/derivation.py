@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _report import write_section
 
 AXES = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (0.6, 0.8, 0.0)]
 LINK = 1.0  # link length [m]
@@ -144,16 +145,6 @@ def run(sympy_timeout: float) -> str:
     return "\n".join(rows)
 
 
-def write_readme(table: str, path: Path) -> None:
-    """Replace the text between the derivation markers of benchmarks/README.md."""
-    start, end = "<!-- derivation:start -->", "<!-- derivation:end -->"
-    text = path.read_text() if path.exists() else ""
-    block = f"{start}\n{table}\n{end}"
-    if start in text and end in text:
-        text = text[: text.index(start)] + block + text[text.index(end) + len(end):]
-    else:
-        text += f"\n{block}\n"
-    path.write_text(text)
 
 
 def main() -> None:
@@ -165,7 +156,7 @@ def main() -> None:
     table = run(args.sympy_timeout)
     print("\n" + table)
     if not args.no_write:
-        write_readme(table, Path(__file__).with_name("README.md"))
+        write_section("derivation", table)
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _report import write_section
 
 import mbsym as mb
 from mbsym.beam import PolynomialShape, shape_integrals
@@ -98,15 +99,6 @@ def run() -> str:
     return "\n".join(rows)
 
 
-def write_readme(table: str, path: Path) -> None:
-    start, end = "<!-- flexible:start -->", "<!-- flexible:end -->"
-    text = path.read_text() if path.exists() else ""
-    block = f"{start}\n{table}\n{end}"
-    if start in text and end in text:
-        text = text[: text.index(start)] + block + text[text.index(end) + len(end):]
-    else:
-        text += f"\n{block}\n"
-    path.write_text(text)
 
 
 def main() -> None:
@@ -116,7 +108,7 @@ def main() -> None:
     table = run()
     print(table)
     if not args.no_write:
-        write_readme(table, HERE / "README.md")
+        write_section("flexible", table)
 
 
 if __name__ == "__main__":

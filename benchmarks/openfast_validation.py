@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _report import write_section
 
 import mbsym as mb
 from mbsym.wind import nrel5mw, read_openfast
@@ -107,16 +108,6 @@ def tables() -> str:
     return "\n".join(speed) + "\n\n" + "\n".join(acc)
 
 
-def write_readme(table: str) -> None:
-    path = HERE / "README.md"
-    start, end = "<!-- openfast:start -->", "<!-- openfast:end -->"
-    text = path.read_text() if path.exists() else ""
-    block = f"{start}\n{table}\n{end}"
-    if start in text and end in text:
-        text = text[: text.index(start)] + block + text[text.index(end) + len(end):]
-    else:
-        text += f"\n{block}\n"
-    path.write_text(text)
 
 
 def main() -> None:
@@ -128,7 +119,7 @@ def main() -> None:
     table = tables()
     print("\n" + table)
     if not args.no_write:
-        write_readme(table)
+        write_section("openfast", table)
 
 
 if __name__ == "__main__":
