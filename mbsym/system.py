@@ -183,9 +183,11 @@ class System:
     def _check_new_coordinates(self, joint: Joint) -> list[str]:
         claimed = []
         geared = getattr(joint, "gear_ratio", None) is not None
+        joint_keys = {c.element_hash() for c in joint.coordinates}
         for c in (*joint.coordinates, *joint.child.elastic_coordinates):
+            of_joint = c.element_hash() in joint_keys       # SX '==' builds an expression: compare identities
             entry = self._symbols.lookup(c)
-            if entry is not None and entry.name in self._symbols.prescribed() and c in joint.coordinates:
+            if entry is not None and entry.name in self._symbols.prescribed() and of_joint:
                 key = f"prescribed:{entry.name}"
                 if geared:
                     continue    # a geared joint follows the prescribed motion of another joint
@@ -196,7 +198,7 @@ class System:
                     )
                 claimed.append(key)
                 continue
-            if geared and entry is not None and entry.kind == "coordinate" and c in joint.coordinates:
+            if geared and entry is not None and entry.kind == "coordinate" and of_joint:
                 continue    # a geared joint follows a coordinate that another joint owns
             if entry is None or entry.kind != "coordinate":
                 raise ModelDefinitionError(

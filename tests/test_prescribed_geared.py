@@ -92,3 +92,16 @@ def test_elastodyn_rotation_is_atan_rotation(theta):
         np.testing.assert_allclose(R @ th, th, atol=1e-14)          # axis is θ
         angle = np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1))
         assert angle == pytest.approx(np.arctan(n), abs=1e-12)
+
+
+def test_geared_joint_carrying_a_flexible_body():
+    """A geared joint whose child owns elastic coordinates (regression: SX compared with ==)."""
+    from mbsym.beam import PolynomialShape, shape_integrals
+    sys = mb.System()
+    a, qe = sys.coordinates("a qe")
+    hub = mb.RigidBody("hub", 1.0, inertia=[1, 1, 1])
+    sys.add_joint(mb.Revolute(sys.ground, hub, axis=[1, 0, 0], coordinate=a))
+    sid = shape_integrals(np.linspace(0, 10, 11), 1.0, 1e4, 1e4, [PolynomialShape([1.0], 10.0)])
+    blade = mb.FlexibleBody("blade", sid, [qe])
+    sys.add_joint(mb.Revolute(hub, blade, axis=[0, 0, 1], coordinate=a, gear_ratio=1.0))
+    assert sys.equations().coordinates == ("a", "qe")

@@ -1,4 +1,4 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym campbell``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -25,9 +25,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
+    from .campbell import add_parser as add_campbell
     from .simulate import add_parser as add_simulate
 
     add_simulate(sub)
+    add_campbell(sub)
     return parser
 
 
@@ -51,6 +53,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .simulate import run
 
             return run(args)
+        elif args.command == "campbell":
+            from .campbell import run as run_campbell
+
+            return run_campbell(args)
     except (MbsymError, ValueError, OSError) as exc:
         message = " ".join(str(exc).split())
         print(f"mbsym {args.command}: error: {message}", file=sys.stderr)

@@ -32,6 +32,8 @@ from .elastodyn_bodies import (
     tower_elastodyn_data,
     tower_shape_integrals,
 )
+from .campbell import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
+from .mbc import coleman_matrices, mbc_second_order, mbc_transform
 from .nrel5mw import nrel5mw
 from .openfast import KEY_MAP, read_openfast
 from .parameters import (
@@ -74,4 +76,11 @@ __all__ = [
     "ElastoDynTowerData",
     "blade_elastodyn_data",
     "tower_elastodyn_data",
+    "campbell",
+    "CampbellDiagram",
+    "CampbellMode",
+    "fixed_frame_modes",
+    "coleman_matrices",
+    "mbc_transform",
+    "mbc_second_order",
 ]

@@ -5,8 +5,12 @@ Names, units and signs follow ElastoDyn (docs/elastodyn_notes.md §6): ``Q_*``,
 side-side coordinate, ``Q_GeAz`` is wrapped to [0, 2π)), ``Azimuth`` [deg],
 ``RotSpeed`` and ``GenSpeed`` [rpm], ``NacYaw`` [deg], tower-top displacements
 ``TTDspFA``, ``TTDspSS`` (platform axes), ``TTDspAx`` (ElastoDyn's axial drop) and
-``YawBrTDxp``, ``YawBrTDyp`` (deflected tower-top axes), and the platform motions
-``PtfmSurge`` … ``PtfmYaw``.
+``YawBrTDxp``, ``YawBrTDyp`` (deflected tower-top axes), the platform motions
+``PtfmSurge`` … ``PtfmYaw``, and per blade ``k``: ``BldPitch<k>`` [deg], the tip
+deflections relative to the undeflected tip in the coned frame ``i``, ``OoPDefl<k>``
+(= ``TipDxc<k>``, out of plane), ``IPDefl<k>`` (= ``TipDyc<k>``, in plane), ``TipDzc<k>``
+(axial), and in the pitched frame ``j``, ``TipDxb<k>``, ``TipDyb<k>`` [m]
+(notes §6: twisted tip shapes, then the pitch rotation; zero for rigid blades).
 
 :func:`output_function` returns a CasADi Function ``(x, u, p) -> y`` (accelerations
 from the model's rhs) with the channel names and units alongside.
@@ -14,18 +18,20 @@ from the model's rhs) with the channel names and units alongside.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
 from ..kinematics import elastodyn_rotation
-from .elastodyn_bodies import TOWER_DOFS, tower_elastodyn_data
+from .elastodyn_bodies import BLADE_DOFS, TOWER_DOFS, blade_elastodyn_data, tower_elastodyn_data
 
 __all__ = ["Channels", "output_function", "channel_units"]
 
 _TRANSLATIONS = {"Sg", "Sw", "Hv", "TFA1", "TSS1", "TFA2", "TSS2"}
 _TOWER_FLAG = {"TFA1": "TwFADOF1", "TFA2": "TwFADOF2", "TSS1": "TwSSDOF1", "TSS2": "TwSSDOF2"}
+_BLADE_DOF = re.compile(r"B\d+(F1|F2|E1)")
 _RPM = 30.0 / np.pi
 _DEG = 180.0 / np.pi
 
@@ -47,7 +53,7 @@ class Channels:
 def channel_units(name: str) -> str:
     """Unit of a DOF channel ``Q_<dof>``, ``QD_<dof>`` or ``QD2_<dof>``."""
     prefix, dof = name.split("_", 1)
-    base = "m" if dof in _TRANSLATIONS else "rad"
+    base = "m" if dof in _TRANSLATIONS or _BLADE_DOF.fullmatch(dof) else "rad"
     return {"Q": base, "QD": f"{base}/s", "QD2": f"{base}/s^2"}[prefix]
 
 
@@ -68,6 +74,7 @@ def output_function(model) -> Channels:
     rows += _rotor_rows(model, val, vel, d)
     rows += _tower_rows(model, val)
     rows += _platform_rows(model, val)
+    rows += _blade_rows(model, val, d)
     names, units, exprs = zip(*rows)
     y = ca.vertcat(*exprs)
     f_y = ca.Function("outputs_sx", [q, qd, qdd, d.u, d.p], [y])
@@ -130,4 +137,32 @@ def _platform_rows(model, val) -> list:
                                    ("Hv", "PtfmHeave", 1.0, "m"), ("R", "PtfmRoll", _DEG, "deg"),
                                    ("P", "PtfmPitch", _DEG, "deg"), ("Y", "PtfmYaw", _DEG, "deg")):
         rows.append((name, unit, scale * ca.SX(val.get(dof, init[dof]))))
+    return rows
+
+
+def _blade_rows(model, val, d) -> list:
+    """Pitch and tip deflections of every blade (notes §6), ElastoDyn's names and signs."""
+    from .turbine import blade_coordinate
+
+    t = model.turbine
+    pitch_input = _input(d, "BlPitch")
+    rows = []
+    for k in range(t.number_of_blades):
+        pitch = pitch_input if pitch_input is not None else ca.SX(float(t.initial_conditions.blade_pitch[k]))
+        flags = [f for f in BLADE_DOFS if blade_coordinate(k, f) in val]
+        if flags:
+            data = blade_elastodyn_data(t, k)
+            idx = [BLADE_DOFS.index(f) for f in flags]
+            qe = ca.vertcat(*[val[blade_coordinate(k, f)] for f in flags])
+            ut = ca.DM(np.asarray(data.tip_displacement)[idx])                   # (n, 2): j1, j2 per DOF
+            x, y = ca.dot(ut[:, 0], qe), ca.dot(ut[:, 1], qe)
+            z = -0.5 * qe.T @ ca.DM(np.asarray(data.tip_axial_reduction)[np.ix_(idx, idx)]) @ qe
+        else:
+            x = y = z = ca.SX(0.0)
+        c, s = ca.cos(pitch), ca.sin(pitch)
+        oop, ip = x * c + y * s, -x * s + y * c
+        n = k + 1
+        rows += [(f"BldPitch{n}", "deg", _DEG * pitch), (f"OoPDefl{n}", "m", oop), (f"IPDefl{n}", "m", ip),
+                 (f"TipDxc{n}", "m", oop), (f"TipDyc{n}", "m", ip), (f"TipDzc{n}", "m", z),
+                 (f"TipDxb{n}", "m", x), (f"TipDyb{n}", "m", y)]
     return rows

@@ -8,17 +8,28 @@ ground → platform (Sg, Sw, Hv translations; R, P, Y rotation vector with Elast
 small-rotation matrix and fixed-axis rates) → tower (flexible: TwFA/TwSS modes on
 ElastoDyn's nodes, or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
 generator (geared, GenDOF azimuth) and low-speed shaft → hub (DrTrDOF torsion) →
-blades (rigid point-mass blades; flexible blades in a later step).
+coned and pitched blades (ElastoDyn's frame ``j``; flexible with FlapDOF1, FlapDOF2 and
+EdgeDOF: lumped node masses with the twisted, curvature-integrated mode shapes of
+:func:`~mbsym.wind.elastodyn_bodies.blade_shape_integrals`, ElastoDyn's stiffness and
+damping; rigid point-mass blades otherwise).
 
 A disabled DOF keeps its initial value; a disabled GenDOF with a nonzero initial rotor
-speed spins the rotor through a prescribed azimuth (inputs ``GeAz``, ``GeAz_d``,
-``GeAz_dd``). Coordinates carry ElastoDyn's DOF names (``TFA1``, ``GeAz`` …) in
-ElastoDyn's state order; side-side coordinates are positive along +y (ElastoDyn's
-internal ``Q_TSS1`` is their negative, see :mod:`mbsym.wind.channels`).
+speed (or ``prescribed_azimuth=True``) spins the rotor through a prescribed azimuth
+(inputs ``GeAz``, ``GeAz_d``, ``GeAz_dd``). Blade pitch is the deck's BlPitch, or with
+``pitch_input=True`` a collective prescribed angle (inputs ``BlPitch``, ``BlPitch_d``,
+``BlPitch_dd``). Coordinates carry ElastoDyn's DOF names (``TFA1``, ``GeAz``,
+``B1F1`` …) in ElastoDyn's state order (notes §7: blade DOFs as B1F1, B2F1, B3F1, B1E1 …,
+B1F2 …); side-side coordinates are positive along +y (ElastoDyn's internal ``Q_TSS1`` is
+their negative, see :mod:`mbsym.wind.channels`).
+
+Centrifugal stiffening, spin softening, Coriolis and gravity loads on the blades are not
+added as matrices: they come out of Kane's method from the blades' axial shortening and
+the instantaneous rotor motion, as in ElastoDyn (notes §2.2).
 """
 
 from __future__ import annotations
 
+import warnings
 from typing import Callable, Sequence
 
 import casadi as ca
@@ -29,10 +40,17 @@ from ..bodies.base import Body
 from ..exceptions import ModelDefinitionError
 from ..joints import Fixed, Joint, Revolute
 from ..kinematics import elastodyn_rotation, rotation
-from .elastodyn_bodies import blade_elastodyn_data, tower_elastodyn_data, tower_shape_integrals
+from .elastodyn_bodies import (
+    BLADE_DOFS,
+    blade_elastodyn_data,
+    blade_shape_integrals,
+    tower_elastodyn_data,
+    tower_shape_integrals,
+)
 from .parameters import DOF_NAMES, TurbineParameters
 
-__all__ = ["TurbineModel", "PlatformJoint", "SUPPORTED_DOFS", "STATE_ORDER"]
+__all__ = ["TurbineModel", "PlatformJoint", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS", "STATE_ORDER",
+           "blade_rotation", "blade_coordinate", "initial_blade_deflection"]
 
 #: ElastoDyn flag -> coordinate name, in ElastoDyn's state order (notes §7).
 STATE_ORDER = {
@@ -40,8 +58,13 @@ STATE_ORDER = {
     "PtfmYDOF": "Y", "TwFADOF1": "TFA1", "TwSSDOF1": "TSS1", "TwFADOF2": "TFA2", "TwSSDOF2": "TSS2",
     "YawDOF": "Yaw", "GenDOF": "GeAz", "DrTrDOF": "DrTr",
 }
-#: Flags this template models (blade flexibility comes with the flexible-blade step).
+#: Platform, tower, yaw and drivetrain flags (the rotor-support set, state order).
 SUPPORTED_DOFS = tuple(STATE_ORDER)
+#: Blade flags in ElastoDyn's state order (all blades' F1, then E1, then F2) and the
+#: suffix of their coordinates (``B<k>F1`` …).
+BLADE_FLAGS = {"FlapDOF1": "F1", "EdgeDOF": "E1", "FlapDOF2": "F2"}
+#: Every flag the template models: 13 support/drivetrain flags + 3 blade flags (22 DOFs for 3 blades).
+MODELLED_DOFS = SUPPORTED_DOFS + tuple(BLADE_FLAGS)
 _PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
 _TOWER = ("TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2")
 
@@ -79,12 +102,21 @@ class TurbineModel:
     turbine : TurbineParameters
         From :func:`mbsym.wind.read_openfast` or :func:`mbsym.wind.nrel5mw`.
     dofs : sequence of str, optional
-        ElastoDyn flag names to enable (e.g. ``["TwFADOF1", "GenDOF"]``); default: the
-        deck's own flags. Blade flags (FlapDOF1, FlapDOF2, EdgeDOF) are not modelled by
-        this template yet and raise an error when requested.
+        ElastoDyn flag names to enable (e.g. ``["TwFADOF1", "GenDOF", "FlapDOF1"]``);
+        default: the deck's own flags. :data:`MODELLED_DOFS` lists the flags modelled
+        (PitchDOF and TeetDOF are not).
     yaw_spring, yaw_damping : float, optional, keyword-only
         Yaw-bearing spring [N m/rad] and damper [N m s/rad] about the neutral ``NacYaw``
         (ServoDyn's YawSpr/YawDamp; ElastoDyn alone has none).
+    pitch_input : bool, optional, keyword-only
+        ``False`` (default): each blade pitched at the deck's BlPitch. ``True``: collective
+        pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
+        ``BlPitch_dd``; default input the deck's pitch), turning every blade about its
+        ``j3`` axis as ElastoDyn's pitch does (the blades must share one initial pitch).
+    prescribed_azimuth : bool, optional, keyword-only
+        With GenDOF off, drive the rotor through the prescribed azimuth inputs (``GeAz``,
+        ``GeAz_d``, ``GeAz_dd``) even when the deck's RotSpeed is 0 (Campbell diagrams at
+        several speeds from one model). Default: only when RotSpeed is nonzero.
 
     Attributes
     ----------
@@ -99,15 +131,25 @@ class TurbineModel:
     >>> model = TurbineModel(nrel5mw(), dofs=["TwFADOF1", "GenDOF"])
     >>> model.eom.coordinates
     ('TFA1', 'GeAz')
+    >>> TurbineModel(nrel5mw(), dofs=["FlapDOF1", "EdgeDOF"]).eom.coordinates
+    ('B1F1', 'B2F1', 'B3F1', 'B1E1', 'B2E1', 'B3E1')
     """
 
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
-                 yaw_spring: float = 0.0, yaw_damping: float = 0.0) -> None:
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
+                 prescribed_azimuth: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
         self.dofs = _resolve_dofs(turbine, dofs)
         self._yaw = (float(yaw_spring), float(yaw_damping))
+        self.pitch_input = bool(pitch_input)
+        self.prescribed_azimuth = bool(prescribed_azimuth)
+        if self.pitch_input and len(set(turbine.initial_conditions.blade_pitch)) > 1:
+            raise ModelDefinitionError(
+                f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
+                f"({[float(np.rad2deg(b)) for b in turbine.initial_conditions.blade_pitch]} deg); "
+                "set equal BlPitch or use pitch_input=False.")
         self.system = System()
         self.coords: dict[str, ca.SX] = {}
         self.prescribed: dict[str, Callable[[float], float]] = {}
@@ -131,6 +173,7 @@ class TurbineModel:
               "R": ic.platform_roll, "P": ic.platform_pitch, "Y": ic.platform_yaw,
               "Yaw": ic.nacelle_yaw, "GeAz": self.initial_generator_azimuth(), "DrTr": 0.0}
         q0.update(self._tower_initial())
+        q0.update(self._blade_initial())
         qd0 = {"GeAz": ic.rotor_speed}
         x0 = [q0.get(n, 0.0) for n in eom.coordinates] + [qd0.get(n, 0.0) for n in eom.coordinates]
         return np.array(x0, dtype=float)
@@ -150,6 +193,20 @@ class TurbineModel:
                 if m in self.coords:
                     out[m] = value     # SS coordinates are positive along +y, as TTDspSS
                     break
+        return out
+
+    def _blade_initial(self) -> dict[str, float]:
+        """Blade DOFs from OoPDefl/IPDefl with ElastoDyn's rule (notes §5), per blade."""
+        t, out = self.turbine, {}
+        ic = t.initial_conditions
+        target = np.array([ic.blade_oop_tip_deflection, ic.blade_ip_tip_deflection], dtype=float)
+        flags = [f for f in BLADE_FLAGS if self.dofs.get(f)]
+        if not flags or not np.any(target):
+            return out
+        for k in range(t.number_of_blades):
+            values = initial_blade_deflection(blade_elastodyn_data(t, k).tip_displacement,
+                                              ic.blade_pitch[k], target, self.dofs, blade=k + 1)
+            out.update({blade_coordinate(k, f): v for f, v in values.items() if self.dofs.get(f)})
         return out
 
     def input_defaults(self) -> dict[str, float | Callable[[float], float]]:
@@ -186,6 +243,11 @@ class TurbineModel:
         for flag, name in STATE_ORDER.items():
             if self.dofs.get(flag):
                 self.coords[name] = sys.coordinates(name)
+        for flag in BLADE_FLAGS:              # B1F1, B2F1, B3F1, B1E1, ... (notes §7)
+            if self.dofs.get(flag):
+                for k in range(t.number_of_blades):
+                    name = blade_coordinate(k, flag)
+                    self.coords[name] = sys.coordinates(name)
         self.p = self._parameters()
         sys.set_gravity([0.0, 0.0, -self.p["gravity"]])
         platform = self._platform()
@@ -292,7 +354,7 @@ class TurbineModel:
         if "GeAz" in self.coords:
             return self.coords["GeAz"]
         q0, om = self.initial_generator_azimuth(), self.turbine.initial_conditions.rotor_speed
-        if om == 0.0:
+        if om == 0.0 and not self.prescribed_azimuth:
             return q0
         psi = self.system.prescribed("GeAz")
         self.prescribed.update({"GeAz": lambda s, q0=q0, om=om: q0 + om * s,
@@ -334,19 +396,44 @@ class TurbineModel:
         return self.p["hub_mass"] + blades
 
     def _blades(self, hub: Body) -> None:
-        """Rigid blades of ElastoDyn's lumped node masses, coned and pitched (notes §4)."""
+        """Coned and pitched blades of ElastoDyn's lumped node masses (notes §1.8, §4).
+
+        Flexible blades carry the enabled FlapDOF1/FlapDOF2/EdgeDOF shapes; with no blade
+        DOF each blade is one rigid body with the same mass distribution.
+        """
         t = self.turbine
         n = t.number_of_blades
+        flags = [f for f in BLADE_DOFS if self.dofs.get(f)]            # body order F1, F2, E1
+        pitch = self._pitch()
         for k in range(n):
-            data = blade_elastodyn_data(t, k)
-            m = np.append(np.asarray(data.element_mass), data.tip_mass)
-            z = np.append(np.asarray(data.span), data.length)
-            mass = float(m.sum())
-            zc = float(m @ z / mass)
-            i_xx = float(m @ (z - zc) ** 2)
-            R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
-            blade = RigidBody(f"blade{k + 1}", mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
-            self._add(Fixed(hub, blade, offset=(t.hub_radius * R[:, 2]).tolist(), rotation=R.tolist()))
+            name = f"blade{k + 1}"
+            if flags:
+                sid = blade_shape_integrals(t, k, dofs=flags)
+                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags])
+            else:
+                blade = _rigid_blade(t, k, name)
+            root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
+            if isinstance(pitch, ca.SX):
+                # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
+                # the one prescribed angle through a unit gear ratio.
+                bearing = RigidBody(f"pitch{k + 1}", mass=0.0)
+                R0 = blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)
+                self._add(Revolute(hub, bearing, axis=[0, 0, -1], coordinate=pitch, offset=root, rotation=R0.tolist(),
+                                   gear_ratio=None if k == 0 else 1.0))
+                self._add(Fixed(bearing, blade))
+            else:
+                R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
+                self._add(Fixed(hub, blade, offset=root, rotation=R.tolist()))
+
+    def _pitch(self) -> ca.SX | None:
+        """Collective pitch: a prescribed coordinate (``pitch_input``) or None (deck's BlPitch)."""
+        if not self.pitch_input:
+            return None
+        b0 = float(self.turbine.initial_conditions.blade_pitch[0])
+        pitch = self.system.prescribed("BlPitch")
+        self.prescribed.update({"BlPitch": lambda s, b0=b0: b0, "BlPitch_d": lambda s: 0.0,
+                                "BlPitch_dd": lambda s: 0.0})
+        return pitch
 
     def _inputs(self, platform: Body, nacelle: Body, shaft: Body, hub: Body) -> None:
         """Loads exposed as inputs, only where they can move an enabled DOF."""
@@ -383,6 +470,85 @@ def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
     return np.column_stack([j1, j2, i3])
 
 
+def blade_coordinate(blade: int, flag: str) -> str:
+    """Coordinate name of a blade DOF: ``blade_coordinate(0, "FlapDOF1") == "B1F1"`` (blade 0-based)."""
+    return f"B{blade + 1}{BLADE_FLAGS[flag]}"
+
+
+def initial_blade_deflection(tip_displacement, pitch: float, target, dofs: dict[str, bool], *,
+                             blade: int = 1) -> dict[str, float]:
+    """Blade DOF values giving the tip deflection ``target`` = (OoPDefl, IPDefl) [m] (notes §5).
+
+    ElastoDyn's rule (``InitBlDefl``): with a flap DOF (FlapDOF1, else FlapDOF2) solve the 2x2
+    system of its and the edge mode's coned-frame tip components; the other flap mode is 0.
+    Without a flap DOF, least squares on the edge mode. ElastoDyn solves the 2x2 system even
+    when EdgeDOF is off and freezes the edge mode at the solved value; a disabled DOF has no
+    coordinate here, so the flap mode is then fitted alone (least squares) and a warning says so.
+
+    Parameters
+    ----------
+    tip_displacement : array (3, 2)
+        Tip (j1, j2) components of a unit F1, F2, E1 DOF (``ElastoDynBladeData.tip_displacement``).
+    pitch : float
+        Blade pitch [rad].
+    target : sequence of 2
+        (OoPDefl, IPDefl) [m].
+    dofs : dict
+        ElastoDyn flags -> enabled.
+
+    Returns
+    -------
+    dict
+        ``{"FlapDOF1": q, "FlapDOF2": q, "EdgeDOF": q}`` [m]; disabled DOFs are 0.
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> from mbsym.wind.elastodyn_bodies import blade_elastodyn_data
+    >>> ut = blade_elastodyn_data(nrel5mw()).tip_displacement
+    >>> q = initial_blade_deflection(ut, 0.0, [1.0, 0.0], {"FlapDOF1": True, "EdgeDOF": True})
+    >>> {k: round(v, 4) for k, v in q.items()}
+    {'FlapDOF1': 0.9876, 'FlapDOF2': 0.0, 'EdgeDOF': 0.1268}
+    """
+    ut = np.asarray(tip_displacement, dtype=float)
+    c, s = np.cos(pitch), np.sin(pitch)
+    A = np.vstack([ut[:, 0] * c + ut[:, 1] * s, -ut[:, 0] * s + ut[:, 1] * c])    # (2, 3): OoP, IP per DOF
+    target = np.asarray(target, dtype=float)
+    out = {f: 0.0 for f in BLADE_DOFS}
+    flap = next((f for f in ("FlapDOF1", "FlapDOF2") if dofs.get(f)), None)
+    edge = BLADE_DOFS.index("EdgeDOF")
+    if flap is None:
+        if dofs.get("EdgeDOF"):
+            a = A[:, edge]
+            out["EdgeDOF"] = float(a @ target / (a @ a))
+        return out
+    i = BLADE_DOFS.index(flap)
+    pair = A[:, [i, edge]]
+    if dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
+        out[flap], out["EdgeDOF"] = (float(v) for v in np.linalg.solve(pair, target))
+        return out
+    a = A[:, i]
+    out[flap] = float(a @ target / (a @ a))
+    if not dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
+        frozen = np.linalg.solve(pair, target)
+        if abs(frozen[1]) > 1e-12:
+            warnings.warn(f"blade {blade}: ElastoDyn would freeze the disabled edge mode at q_E1 = {frozen[1]:.6g} m "
+                          f"to meet OoPDefl/IPDefl; mbsym keeps it at 0 and fits {flap} alone "
+                          f"(q = {out[flap]:.6g} m).", UserWarning, stacklevel=3)
+    return out
+
+
+def _rigid_blade(t: TurbineParameters, k: int, name: str) -> RigidBody:
+    """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
+    data = blade_elastodyn_data(t, k)
+    m = np.append(np.asarray(data.element_mass), data.tip_mass)
+    z = np.append(np.asarray(data.span), data.length)
+    mass = float(m.sum())
+    zc = float(m @ z / mass)
+    i_xx = float(m @ (z - zc) ** 2)
+    return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
+
+
 def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> dict[str, bool]:
     if dofs is None:
         chosen = {f for f, on in turbine.dofs.items() if on}
@@ -393,10 +559,10 @@ def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> dic
         unknown = sorted(chosen - set(DOF_NAMES))
         if unknown:
             raise ModelDefinitionError(f"unknown ElastoDyn DOF flags {unknown}; valid flags are {list(DOF_NAMES)}.")
-    unsupported = sorted(chosen - set(SUPPORTED_DOFS))
+    unsupported = sorted(chosen - set(MODELLED_DOFS))
     if unsupported:
         raise ModelDefinitionError(
-            f"DOFs {unsupported} are not modelled by this template yet (supported: {list(SUPPORTED_DOFS)}); "
+            f"DOFs {unsupported} are not modelled by this template yet (supported: {list(MODELLED_DOFS)}); "
             "disable them (dofs=[...]) to build the rest."
         )
-    return {f: (f in chosen) for f in SUPPORTED_DOFS}
+    return {f: (f in chosen) for f in MODELLED_DOFS}

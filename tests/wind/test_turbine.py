@@ -128,6 +128,6 @@ def test_bad_dof_requests():
     with pytest.raises(mb.ModelDefinitionError, match="unknown ElastoDyn DOF flags \\['TwFADOF3'\\]"):
         TurbineModel(t, dofs=["TwFADOF3"])
     with pytest.raises(mb.ModelDefinitionError, match="not modelled by this template yet"):
-        TurbineModel(t, dofs=["FlapDOF1"])
+        TurbineModel(t, dofs=["PitchDOF"])
     with pytest.raises(TypeError, match="list of ElastoDyn flag names"):
         TurbineModel(t, dofs="GenDOF")

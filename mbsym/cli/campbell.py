@@ -1,0 +1,93 @@
+"""``mbsym campbell``: Campbell diagram of an OpenFAST deck (fixed-frame modes vs rotor speed).
+
+Contract (kept for acceptance checks)::
+
+    mbsym campbell DECK.fst --rpm LIST [--json] [--plot FILE.png] [--azimuths N]
+
+LIST is comma-separated rotor speeds [rpm]. For each speed the turbine of the deck (its
+DOFs; a prescribed azimuth when GenDOF is off) is linearized at ElastoDyn's operating point
+(the deck's initial conditions, rotor spinning at that speed) at N azimuths, transformed to
+multi-blade coordinates and averaged; the modes are labelled ("1st flap collective",
+"1st edge backward whirl", "1st tower fore-aft" …). ``--json`` prints one JSON object
+``{"rpm": [...], "modes": [{"label", "freq_hz", "damping_ratio"}, ...]}`` (null where a
+mode is not oscillatory at a speed) and nothing else on stdout; ``--plot`` writes frequency
+vs rotor speed with the 1P, 3P and 6P lines.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+import time
+
+import numpy as np
+
+__all__ = ["add_parser", "run", "parse_rpm_list"]
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("campbell", help="Campbell diagram of an OpenFAST deck (multi-blade coordinates)",
+                       description=__doc__.split("\n\n")[0])
+    p.add_argument("deck", help="main OpenFAST input file (.fst)")
+    p.add_argument("--rpm", required=True, metavar="LIST", help="comma-separated rotor speeds [rpm], e.g. 0,3,6,9,12")
+    p.add_argument("--json", action="store_true", help="print the diagram as one JSON object (and nothing else)")
+    p.add_argument("--plot", metavar="FILE.png", help="write the Campbell diagram with the 1P, 3P, 6P lines")
+    p.add_argument("--azimuths", type=int, default=12, metavar="N",
+                   help="azimuths per revolution averaged in multi-blade coordinates (default 12)")
+
+
+def parse_rpm_list(text: str) -> list[float]:
+    """``"0, 3,6"`` -> ``[0.0, 3.0, 6.0]``; ValueError with the offending entry otherwise."""
+    out = []
+    for item in str(text).split(","):
+        item = item.strip()
+        try:
+            value = float(item)
+        except ValueError:
+            raise ValueError(f"--rpm must be comma-separated numbers, e.g. 0,3,6; got {item!r} in {text!r}") from None
+        if not np.isfinite(value) or value < 0:
+            raise ValueError(f"--rpm values must be finite and >= 0 [rpm]; got {item!r}")
+        out.append(value)
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..wind import read_openfast
+    from ..wind.campbell import campbell
+    from ..wind.turbine import TurbineModel
+
+    rpm = parse_rpm_list(args.rpm)
+    if args.azimuths < 1:
+        raise ValueError(f"--azimuths must be a positive integer; got {args.azimuths}")
+    t0 = time.perf_counter()
+    turbine = read_openfast(args.deck)
+    model = TurbineModel(turbine, prescribed_azimuth=True)
+    diagram = campbell(model, rpm, n_azimuth=args.azimuths)
+    wall = time.perf_counter() - t0
+    log = sys.stderr if args.json else sys.stdout
+    if args.json:
+        print(json.dumps(diagram.to_dict()))
+    else:
+        _table(args.deck, model, diagram, wall)
+    if args.plot:
+        diagram.plot(args.plot, title=f"Campbell diagram: {Path(args.deck).name}")
+        print(f"wrote {args.plot}", file=log)
+    return 0
+
+
+def _table(deck, model, diagram, wall: float) -> None:
+    dofs = ", ".join(f for f, on in model.dofs.items() if on)
+    print(f"mbsym campbell: {deck}")
+    print(f"DOFs: {dofs} ({model.eom.n_q} coordinates); fixed-frame modes (multi-blade coordinates), "
+          f"{wall:.2f} s\n")
+    head = "".join(f"{r:>9.2f}" for r in diagram.rpm)
+    for title, attr, fmt in (("frequency [Hz] at rotor speed [rpm]", "freq_hz", "{:9.4f}"),
+                             ("damping ratio [-] at rotor speed [rpm]", "damping_ratio", "{:9.5f}")):
+        print(title)
+        print(f"{'mode':<28}{head}")
+        for m in diagram.modes:
+            vals = getattr(m, attr)
+            print(f"{m.label:<28}" + "".join(fmt.format(v) if np.isfinite(v) else f"{'-':>9}" for v in vals))
+        print()
