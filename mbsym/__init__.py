@@ -22,7 +22,9 @@ from .exceptions import (
     SolverError,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
-from .linear import LinearModel, linearize
+from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
+from .modal import Mode, modal_analysis
+from .operating import AzimuthSweep, OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate
@@ -44,6 +46,17 @@ __all__ = [
     "EquationsOfMotion",
     "EomFunctions",
     "linearize",
+    "linearize_batch",
+    "sensitivities",
+    "LinearBatch",
+    "Sensitivity",
+    "Mode",
+    "modal_analysis",
+    "OperatingPoint",
+    "AzimuthSweep",
+    "static_equilibrium",
+    "steady_rotation",
+    "linearize_azimuths",
     "simulate",
     "SimulationResult",
     "LinearModel",

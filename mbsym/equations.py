@@ -150,6 +150,12 @@ class EquationsOfMotion:
         return (f"EquationsOfMotion({self._name!r}, n_q={self.n_q}, n_u={self.n_u}, n_p={self.n_p}, "
                 f"coordinates={list(self._coordinates)})")
 
+    def linearize(self, q0=None, qd0=None, u0=None, p=None, **options):
+        """Linearized model at an operating point: see :func:`mbsym.linearize`."""
+        from .linear import linearize
+
+        return linearize(self, q0, qd0, u0, p, **options)
+
     def point_kinematics(self, body: str, point=(0.0, 0.0, 0.0)) -> ca.Function:
         """Kinematics of a material point of a body, as a CasADi Function.
 

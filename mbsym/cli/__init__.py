@@ -1,4 +1,4 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym campbell``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -26,9 +26,11 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
     from .campbell import add_parser as add_campbell
+    from .linearize import add_parser as add_linearize
     from .simulate import add_parser as add_simulate
 
     add_simulate(sub)
+    add_linearize(sub)
     add_campbell(sub)
     return parser
 
@@ -53,6 +55,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .simulate import run
 
             return run(args)
+        elif args.command == "linearize":
+            from .linearize import run as run_linearize
+
+            return run_linearize(args)
         elif args.command == "campbell":
             from .campbell import run as run_campbell
 
