@@ -22,9 +22,10 @@ of OpenFAST's A; then ``A`` is *not* ``[[0, I], [-M0⁻¹K0, -M0⁻¹C0]]`` with
 ``K0`` at ``qdd0 = 0`` (pass ``qdd0="rhs"`` to get the consistent ``K0``).
 
 Options: outputs (``C``, ``D`` of OpenFAST-named channels), finite-difference
-Jacobians that reproduce OpenFAST (``method="elastodyn-fd"``), batches of
-operating points (:func:`linearize_batch`) and parameter sensitivities
-(:func:`sensitivities`).
+Jacobians that reproduce OpenFAST (``method="elastodyn-fd"``, steps in
+:mod:`mbsym._fd`), batches of operating points (:func:`linearize_batch`, in
+:mod:`mbsym.linear_batch`) and parameter sensitivities (:func:`sensitivities`, in
+:mod:`mbsym.sensitivity`); those names are re-exported here.
 """
 
 from __future__ import annotations
@@ -36,8 +37,9 @@ from typing import Any, Mapping, Sequence
 import casadi as ca
 import numpy as np
 
+from ._fd import _fd_function, _fd_rhs, elastodyn_steps
 from .equations import SYMBOLIC_SOLVE_MAX_DOF, EquationsOfMotion, check_nonsingular
-from .exceptions import DimensionError, ModelDefinitionError, SolverError
+from .exceptions import DimensionError, SolverError
 
 __all__ = ["LinearModel", "LinearBatch", "Sensitivity", "linearize", "linearize_batch", "sensitivities",
            "jacobian_function", "linear_function", "elastodyn_steps", "METHODS"]
@@ -203,73 +205,6 @@ def linear_function(eom: EquationsOfMotion) -> ca.Function:
                     ["M", "C", "K", "Q", "A", "B", "xd"], opts)
     eom._mbsym_linear_function = f
     return f
-
-
-def _fd_function(f: ca.Function, n_x: int, name: str) -> ca.Function:
-    """``(x, u, p, h) -> (∂f/∂x)`` by central differences with per-state steps ``h``, as a Function.
-
-    Differentiable in ``p`` (sensitivities of the finite-difference A) and mappable.
-    """
-    x, u, p, h = (ca.MX.sym(s, k) for s, k in (("x", n_x), ("u", f.size1_in(1)), ("p", f.size1_in(2)), ("h", n_x)))
-    H = ca.diag(h)
-    X = ca.horzcat(ca.repmat(x, 1, n_x) + H, ca.repmat(x, 1, n_x) - H)
-    Y = f.map(2 * n_x)(X, u, p)
-    J = (Y[:, :n_x] - Y[:, n_x:]) @ ca.diag(0.5 / h)
-    return ca.Function(name, [x, u, p, h], [ca.densify(J)], ["x", "u", "p", "h"], ["J"])
-
-
-def _fd_rhs(eom: EquationsOfMotion) -> ca.Function:
-    cached = getattr(eom, "_mbsym_fd_rhs", None)
-    if cached is None:
-        cached = _fd_function(eom.functions.rhs, eom.n_x, f"{eom.name}_rhs_fd")
-        eom._mbsym_fd_rhs = cached
-    return cached
-
-
-def elastodyn_steps(model) -> dict[str, float]:
-    """ElastoDyn's central-difference steps of its linearization, by coordinate name.
-
-    ``ED_Init_Jacobian_x`` (docs/elastodyn_notes.md §7): platform translations
-    0.2°·max(TowerHt, 1) [rad·m], platform rotations 2°, first tower modes
-    0.02°·TwrFlexL, second tower modes 0.002°·TwrFlexL, yaw / generator azimuth /
-    drivetrain 2°, blade first flap and edge modes 0.2°·BldFlexL, second flap
-    0.02°·BldFlexL, each at least √eps. ElastoDyn perturbs a speed by the same number
-    as its coordinate.
-
-    Parameters
-    ----------
-    model : TurbineModel
-        A wind-turbine model (attribute ``turbine``: TurbineParameters).
-
-    Raises
-    ------
-    ModelDefinitionError
-        If the model has no turbine data, or a coordinate has no ElastoDyn step.
-    """
-    t = getattr(model, "turbine", None)
-    if t is None or not hasattr(t, "tower_height"):
-        raise ModelDefinitionError(f"method='elastodyn-fd' needs a wind-turbine model (TurbineModel); got "
-                                   f"{type(model).__name__}. Use method='fd' with steps=... instead.")
-    deg = np.pi / 180.0
-    twr = t.tower_height - t.tower_base_height
-    bld = t.tip_radius - t.hub_radius
-    table = {"Sg": 0.2 * deg * max(t.tower_height, 1.0), "R": 2 * deg, "TFA1": 0.02 * deg * twr,
-             "TFA2": 0.002 * deg * twr, "Yaw": 2 * deg}
-    table.update(Sw=table["Sg"], Hv=table["Sg"], P=table["R"], Y=table["R"], TSS1=table["TFA1"],
-                 TSS2=table["TFA2"], GeAz=table["Yaw"], DrTr=table["Yaw"], RFrl=table["Yaw"], TFrl=table["Yaw"],
-                 Teet=table["Yaw"])
-    steps, missing = {}, []
-    for c in model.eom.coordinates:
-        blade = re.fullmatch(r"B\d+(F1|E1|F2)", c)
-        value = table.get(c) if blade is None else (0.02 if blade.group(1) == "F2" else 0.2) * deg * bld
-        if value is None:
-            missing.append(c)
-        else:
-            steps[c] = max(value, np.sqrt(np.finfo(float).eps))
-    if missing:
-        raise ModelDefinitionError(f"no ElastoDyn linearization step for coordinates {missing}; pass "
-                                   "method='fd' with steps={name: step} instead.")
-    return steps
 
 
 # --------------------------------------------------------------------------- model resolution
@@ -449,6 +384,17 @@ def _qdd(eom: EquationsOfMotion, qdd0, n_points: int | None = None):
     return _rows(qdd0, n_points, eom.n_q, "qdd0")
 
 
+def _rows(value, n_points: int, width: int, what: str) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim <= 1 and arr.size == width:
+        arr = np.broadcast_to(arr.reshape(1, width), (n_points, width))
+    if arr.shape != (n_points, width):
+        raise DimensionError(f"{what} must have shape ({n_points}, {width}) or ({width},); got {arr.shape}.")
+    if not np.all(np.isfinite(arr)):
+        raise DimensionError(f"{what} must be finite.")
+    return np.ascontiguousarray(arr)
+
+
 # --------------------------------------------------------------------------- linearize
 def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None = None, *, qdd0=None,
               outputs: Sequence[str] | str | None = None, method: str = "exact", steps=None) -> LinearModel:
@@ -556,351 +502,8 @@ def _check_finite(A: np.ndarray, what: str, eom: EquationsOfMotion) -> None:
                           "point, inputs and parameter values.")
 
 
-# --------------------------------------------------------------------------- batches
-@dataclass(frozen=True)
-class LinearBatch:
-    """Linear models at N operating points, stacked along the first axis.
-
-    Attributes
-    ----------
-    M, C, K : ndarray (N, n_q, n_q); Q : (N, n_q, n_u); A : (N, n_x, n_x); B : (N, n_x, n_u)
-    Cy : (N, n_y, n_x); Dy : (N, n_y, n_u)
-    x, u, p, y : ndarray (N, n_x), (N, n_u), (N, n_p), (N, n_y)
-        Operating points (states, inputs, parameter vectors in the order of
-        ``parameters``) and outputs there.
-    coordinates, states, inputs, parameters, outputs : tuple of str
-    method : str
-
-    ``batch[i]`` is the :class:`LinearModel` of point i; ``len(batch)`` is N.
-    """
-
-    M: np.ndarray
-    C: np.ndarray
-    K: np.ndarray
-    Q: np.ndarray
-    A: np.ndarray
-    B: np.ndarray
-    Cy: np.ndarray
-    Dy: np.ndarray
-    x: np.ndarray
-    u: np.ndarray
-    p: np.ndarray
-    y: np.ndarray
-    qdd: np.ndarray
-    coordinates: tuple[str, ...]
-    states: tuple[str, ...]
-    inputs: tuple[str, ...]
-    parameters: tuple[str, ...]
-    outputs: tuple[str, ...] = ()
-    output_units: tuple[str, ...] = ()
-    method: str = "exact"
-
-    def __len__(self) -> int:
-        return self.A.shape[0]
-
-    def __getitem__(self, i: int) -> LinearModel:
-        n = len(self.coordinates)
-        x = self.x[i]
-        op = {"q": x[:n], "qd": x[n:], "qdd": self.qdd[i], "u": self.u[i], "x": x, "y": self.y[i],
-              "p": dict(zip(self.parameters, self.p[i].tolist()))}
-        return LinearModel(self.M[i], self.C[i], self.K[i], self.Q[i], self.A[i], self.B[i], self.coordinates,
-                           self.states, self.inputs, op, self.outputs, self.Cy[i], self.Dy[i], self.output_units,
-                           self.method)
-
-    def frequencies(self) -> np.ndarray:
-        """|λ|/2π [Hz] of the eigenvalues of every A, sorted, one per pair, shape (N, n_q).
-
-        Complex-conjugate pairs and double zeros (rigid-body modes) give one entry
-        each; use ``batch[i].modes()`` for shapes, damping and names.
-        """
-        lam = np.linalg.eigvals(self.A)
-        return np.sort(np.abs(lam), axis=1)[:, ::2] / (2 * np.pi)
-
-
-def _rows(value, n_points: int, width: int, what: str) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if arr.ndim <= 1 and arr.size == width:
-        arr = np.broadcast_to(arr.reshape(1, width), (n_points, width))
-    if arr.shape != (n_points, width):
-        raise DimensionError(f"{what} must have shape ({n_points}, {width}) or ({width},); got {arr.shape}.")
-    if not np.all(np.isfinite(arr)):
-        raise DimensionError(f"{what} must be finite.")
-    return np.ascontiguousarray(arr)
-
-
-def _batch_parameters(target: _Target, p, n_points: int) -> np.ndarray:
-    """(N, n_p): a dict of numbers and/or length-N arrays (parameter sweeps)."""
-    eom = target.eom
-    p = dict(p or {})
-    arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in p.items() if np.ndim(v) > 0}
-    base = target.parameters({k: v for k, v in p.items() if k not in arrays})
-    P = np.tile(base, (n_points, 1))
-    for k, v in arrays.items():
-        if k not in eom.parameters:
-            raise DimensionError(f"unknown parameter {k!r}; this model's parameters are {list(eom.parameters)}.")
-        if v.size != n_points or not np.all(np.isfinite(v)):
-            raise DimensionError(f"parameter {k!r} has {v.size} values; expected {n_points} finite values "
-                                 "(one per point).")
-        P[:, eom.parameters.index(k)] = v
-    return P
-
-
-def linearize_batch(model, x0, u0=None, p: Mapping[str, Any] | None = None, *, qdd0=None,
-                    outputs: Sequence[str] | str | None = None, method: str = "exact", steps=None,
-                    parallel: str = "serial", compile: bool = False) -> LinearBatch:
-    """Linearize at N operating points in one call (a CasADi ``map`` over the linearization Functions).
-
-    Parameters
-    ----------
-    model : EquationsOfMotion or model object
-        As for :func:`linearize`.
-    x0 : array (N, n_x)
-        States ``[q; qd]``, one operating point per row.
-    u0 : array (N, n_u) or (n_u,) or dict by name, optional
-        Inputs (default: the model's default inputs at t = 0).
-    p : dict, optional
-        Parameter values by name: numbers (shared) or arrays of N values (sweeps).
-    qdd0, outputs, method, steps : optional, keyword-only
-        As for :func:`linearize`; ``qdd0`` may be ``"rhs"`` or an (N, n_q) array.
-    parallel : {"serial", "thread", "openmp"}, keyword-only
-        CasADi's map parallelization.
-    compile : bool, keyword-only
-        Evaluate the linearization Function as generated C, compiled once and cached
-        on disk (:func:`mbsym.codegen.compile_function`; about 1 s the first time for
-        the paper45 model, then ~10x faster than CasADi's virtual machine).
-
-    Returns
-    -------
-    LinearBatch
-
-    Examples
-    --------
-    >>> import numpy as np, mbsym as mb
-    >>> from mbsym.linear import linearize_batch
-    >>> sys = mb.System(gravity=[0, 0, -9.81])
-    >>> th = sys.coordinates("th")
-    >>> sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b", 1.0, com=[0, 0, -1.0]),
-    ...                           axis=[0, 1, 0], coordinate=th))
-    >>> batch = linearize_batch(sys.equations(), [[0.0, 0.0], [np.pi / 3, 0.0]])
-    >>> np.round(batch.K[:, 0, 0], 3)          # m g l cos(th)
-    array([9.81 , 4.905])
-    """
-    target = _Target(model)
-    eom, n = target.eom, target.eom.n_q
-    X = np.asarray(x0, dtype=float)
-    if X.ndim != 2 or X.shape[1] != eom.n_x:
-        raise DimensionError(f"x0 must have shape (N, {eom.n_x}) (states {list(eom.states)} in columns); "
-                             f"got {X.shape}.")
-    N = X.shape[0]
-    X = _rows(X, N, eom.n_x, "x0")
-    if isinstance(u0, Mapping) or u0 is None:
-        U = _rows(target.inputs(u0), N, eom.n_u, "u0")
-    else:
-        U = _rows(u0, N, eom.n_u, "u0")
-    P = _batch_parameters(target, p, N)
-    qdd_in = _qdd(eom, qdd0, N)
-    h = _steps(target, method, steps)
-    sel = _resolve_outputs(target, outputs)
-    f = linear_function(eom)
-    if compile:
-        f = compiled(f)
-    res = _mapped(f, N, parallel, X[:, :n], X[:, n:], U, P)
-    M, C, K, Q, A, B, xd = (_unstack(r, N) for r in res)
-    qdd = np.zeros((N, n))
-    if isinstance(qdd_in, str):
-        qdd = xd[:, n:, 0]
-        K, Q = -M @ A[:, n:, :n], M @ B[:, n:, :]
-    elif qdd_in is not None:
-        qdd = qdd_in
-        jac = _mapped(jacobian_function(eom), N, parallel, X[:, :n], X[:, n:], qdd, U, P)
-        K, Q = (_unstack(r, N) for r in jac[2:])
-    if h is not None:
-        A = _unstack(_mapped(_fd_rhs(eom), N, parallel, X, U, P, np.tile(h, (N, 1)))[0], N)
-    if not np.all(np.isfinite(A)):
-        bad = np.flatnonzero(~np.all(np.isfinite(A.reshape(N, -1)), axis=1))
-        raise SolverError(f"the linearization is not finite at {bad.size} points (first: {bad[:5].tolist()}); "
-                          "is the mass matrix singular there? Check those states, inputs and parameters.")
-    Y, Cy, Dy = _batch_outputs(target, sel, X, U, P, h, parallel)
-    return LinearBatch(M, C, K, Q, A, B, Cy, Dy, X, U, P, Y, qdd, eom.coordinates, eom.states, eom.inputs,
-                       eom.parameters, sel[0], sel[1], method)
-
-
-#: Points per CasADi map in a batch: building a map costs ~N² for large N (0.8 s at N = 10 000
-#: for the 16-DOF turbine), so batches run as maps of this size.
-MAP_CHUNK = 500
-
-
-def _mapped(f: ca.Function, N: int, parallel: str, *rows: np.ndarray) -> list[np.ndarray]:
-    """``f.map(N)`` on arguments given as (N, k) rows, outputs as numpy arrays (r, N c).
-
-    Evaluated in chunks of :data:`MAP_CHUNK` points through ``Function.buffer()``: CasADi
-    reads and writes numpy memory directly, without DM conversions (which cost more
-    than the evaluation for large batches).
-    """
-    rows = [np.ascontiguousarray(r, dtype=float) for r in rows]
-    maps: dict[int, ca.Function] = {}
-    parts = []
-    for start in range(0, N, MAP_CHUNK):
-        k = min(MAP_CHUNK, N - start)
-        if k not in maps:
-            maps[k] = f.map(k, parallel)
-        fm = maps[k]
-        buf, trigger = fm.buffer()
-        args = [r[start:start + k].reshape(-1) for r in rows]      # (k, m) C order = (m, k) F order
-        for i, a in enumerate(args):
-            buf.set_arg(i, memoryview(a))
-        outs = [np.empty(fm.numel_out(j)) for j in range(fm.n_out())]
-        for j, o in enumerate(outs):
-            buf.set_res(j, memoryview(o))
-        trigger()
-        parts.append([o.reshape(fm.size_out(j), order="F") for j, o in enumerate(outs)])
-    return [np.concatenate([p[j] for p in parts], axis=1) for j in range(f.n_out())]
-
-
-def _unstack(a: np.ndarray, N: int) -> np.ndarray:
-    """CasADi's horizontally stacked (r, N c) result as (N, r, c)."""
-    r = a.shape[0]
-    c = a.shape[1] // N
-    return a.reshape(r, c, N, order="F").transpose(2, 0, 1)
-
-
-def _batch_outputs(target, sel, X, U, P, h, parallel):
-    N, eom = X.shape[0], target.eom
-    names, _, f_out, picks = sel
-    Y, Cy, Dy = np.zeros((N, len(picks))), np.zeros((N, len(picks), eom.n_x)), np.zeros((N, len(picks), eom.n_u))
-    if f_out is not None and any(k == "y" for k, _ in picks):
-        jac, fd = _output_functions(eom, f_out)
-        y_all, cy_all, dy_all = _mapped(jac, N, parallel, X, U, P)
-        cy_all, dy_all = _unstack(cy_all, N), _unstack(dy_all, N)
-        if h is not None:
-            cy_all = _unstack(_mapped(fd, N, parallel, X, U, P, np.tile(h, (N, 1)))[0], N)
-    for r, (kind, i) in enumerate(picks):
-        if kind == "y":
-            Y[:, r], Cy[:, r], Dy[:, r] = y_all[i], cy_all[:, i], dy_all[:, i]
-        else:
-            Y[:, r], Cy[:, r, i] = X[:, i], 1.0
-    return Y, Cy, Dy
-
-
-def compiled(f: ca.Function) -> ca.Function:
-    """``f`` as compiled C through :func:`mbsym.codegen.compile_function` (disk cache, gcc -O1).
-
-    Falls back to ``f`` itself (with a ``CompilationWarning``) when no compiler works.
-    """
-    from .codegen import compile_function
-
-    return compile_function(f).function
-
-
-# --------------------------------------------------------------------------- sensitivities
-@dataclass(frozen=True)
-class Sensitivity:
-    """Derivatives of a linear model with respect to named parameters.
-
-    Attributes
-    ----------
-    parameters : tuple of str
-        The parameters, in the order of the first axis of every array.
-    linear : LinearModel
-        The model at the nominal parameters.
-    dM, dC, dK : ndarray (n_s, n_q, n_q); dQ : (n_s, n_q, n_u); dA : (n_s, n_x, n_x); dB : (n_s, n_x, n_u)
-    modes : list of Mode
-        The nominal modes (:meth:`LinearModel.modes`).
-    dfreq : ndarray (n_s, n_modes)
-        ∂(natural frequency [Hz]) / ∂parameter, per mode (0 for rigid-body modes).
-    dzeta : ndarray (n_s, n_modes)
-        ∂(damping ratio) / ∂parameter.
-    """
-
-    parameters: tuple[str, ...]
-    linear: LinearModel
-    dM: np.ndarray
-    dC: np.ndarray
-    dK: np.ndarray
-    dQ: np.ndarray
-    dA: np.ndarray
-    dB: np.ndarray
-    modes: list
-    dfreq: np.ndarray
-    dzeta: np.ndarray
-
-    def of(self, parameter: str) -> dict[str, np.ndarray]:
-        """All derivatives with respect to one parameter, by name (``"M"``, ``"A"``, ``"freq"`` …)."""
-        if parameter not in self.parameters:
-            raise KeyError(f"no sensitivity for {parameter!r}; computed for {list(self.parameters)}.")
-        i = self.parameters.index(parameter)
-        return {"M": self.dM[i], "C": self.dC[i], "K": self.dK[i], "Q": self.dQ[i], "A": self.dA[i],
-                "B": self.dB[i], "freq": self.dfreq[i], "zeta": self.dzeta[i]}
-
-
-def _sensitivity_function(eom: EquationsOfMotion, fd: bool) -> ca.Function:
-    """``(q, qd, qdd, u, p, h) -> ∂vec(M, C, K, Q)/∂p`` at qdd, ∂vec(A, B)/∂p (and ∂vec(A_fd)/∂p)."""
-    key = "_mbsym_sensitivity_fd" if fd else "_mbsym_sensitivity"
-    cached = getattr(eom, key, None)
-    if cached is not None:
-        return cached
-    n, nu = eom.n_q, eom.n_u
-    q, qd, qdd, u, p, h = (ca.MX.sym(s, k) for s, k in (("q", n), ("qd", n), ("qdd", n), ("u", nu),
-                                                          ("p", eom.n_p), ("h", 2 * n)))
-    mats = list(jacobian_function(eom)(q, qd, qdd, u, p)) + list(linear_function(eom)(q, qd, u, p)[4:6])
-    if fd:
-        mats.append(_fd_rhs(eom)(ca.vertcat(q, qd), u, p, h))
-    outs = [ca.densify(ca.jacobian(ca.vec(m), p)) for m in mats]
-    f = ca.Function(key.strip("_"), [q, qd, qdd, u, p, h], outs)
-    setattr(eom, key, f)
-    return f
-
-
-def sensitivities(model, parameters: Sequence[str] | str, q0=None, qd0=None, u0=None,
-                  p: Mapping[str, float] | None = None, *, qdd0=None, method: str = "exact",
-                  steps=None) -> Sensitivity:
-    """∂M, ∂C, ∂K, ∂Q, ∂A, ∂B and ∂(frequency), ∂(damping) with respect to named parameters.
-
-    By automatic differentiation of the same Functions :func:`linearize` uses (with
-    ``method="fd"``/``"elastodyn-fd"``: the exact derivative of the finite-difference A).
-    Arguments as for :func:`linearize`; ``parameters`` names model parameters, e.g.
-    ``["tower_stiffness_scale", "nacelle_mass"]``. Mode sensitivities use
-    ∂λ = wᴴ ∂A v / (wᴴ v) with the left and right eigenvectors of A.
-
-    Examples
-    --------
-    >>> import mbsym as mb
-    >>> from mbsym.linear import sensitivities
-    >>> sys = mb.System()
-    >>> x = sys.coordinates("x")
-    >>> m, k = sys.parameters("m k", values={"m": 2.0, "k": 8.0})
-    >>> sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("b", m), axis=[1, 0, 0], coordinate=x))
-    >>> sys.add_spring(x, k)
-    >>> s = sensitivities(sys.equations(), ["k"], [0.0])
-    >>> float(s.of("k")["K"][0, 0]), round(float(s.of("k")["freq"][-1]), 5)   # 1, 1/(4π sqrt(k m))
-    (1.0, 0.01989)
-    """
-    from .modal import mode_sensitivities
-
-    target = _Target(model)
-    eom, n = target.eom, target.eom.n_q
-    names = [parameters] if isinstance(parameters, str) else list(parameters)
-    unknown = [s for s in names if s not in eom.parameters]
-    if unknown or not names:
-        raise DimensionError(f"unknown parameters {unknown or '(none given)'}; this model's parameters are "
-                             f"{list(eom.parameters)}.")
-    lin = linearize(model, q0, qd0, u0, p, qdd0=qdd0, method=method, steps=steps)
-    op = lin.operating_point
-    pp = eom.parameter_vector(op["p"])
-    h = _steps(target, method, steps)
-    qdd = np.zeros(n) if qdd0 is None or isinstance(qdd0, str) else op["qdd"]
-    jac = [np.array(j) for j in _sensitivity_function(eom, h is not None)(op["q"], op["qd"], qdd, op["u"], pp,
-                                                                            np.ones(2 * n) if h is None else h)]
-    cols = [eom.parameters.index(s) for s in names]
-    shapes = [(n, n), (n, n), (n, n), (n, eom.n_u), (2 * n, 2 * n), (2 * n, eom.n_u), (2 * n, 2 * n)]
-    d = [np.stack([j[:, c].reshape(s, order="F") for c in cols]) for j, s in zip(jac, shapes)]
-    dM, dC, dK, dQ, dA, dB = d[:6]
-    if isinstance(qdd0, str):                 # exact K = -M A21, Q = M B2 (product rule)
-        A21 = -np.linalg.solve(lin.M, lin.K)
-        dK = -(dM @ A21 + lin.M @ dA[:, n:, :n])
-        dQ = dM @ lin.B[n:] + lin.M @ dB[:, n:]
-    if h is not None:
-        dA = d[6]                             # the derivative of the finite-difference A
-    modes = lin.modes()
-    dfreq, dzeta = mode_sensitivities(lin.A, dA, modes)
-    return Sensitivity(tuple(names), lin, dM, dC, dK, dQ, dA, dB, modes, dfreq, dzeta)
+# --------------------------------------------------------------------------- re-exports
+# Batches and sensitivities live in their own modules, which import the core above; importing them
+# last (the names above already exist) keeps ``from mbsym.linear import linearize_batch`` working.
+from .linear_batch import MAP_CHUNK, LinearBatch, compiled, linearize_batch  # noqa: E402, F401
+from .sensitivity import Sensitivity, sensitivities  # noqa: E402
