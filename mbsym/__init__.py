@@ -8,6 +8,7 @@ CasADi Functions.
 from importlib.metadata import PackageNotFoundError, version
 
 from .bodies import FlexibleBody, Ground, RigidBody
+from .codegen import CompilationWarning, compile_function
 from .equations import EomFunctions, EquationsOfMotion
 from .exceptions import (
     BeamDataError,
@@ -59,6 +60,8 @@ __all__ = [
     "linearize_azimuths",
     "simulate",
     "SimulationResult",
+    "compile_function",
+    "CompilationWarning",
     "LinearModel",
     "FlexibleBody",
     "rotation",

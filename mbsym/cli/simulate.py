@@ -4,7 +4,7 @@ Contract (kept for acceptance checks)::
 
     mbsym simulate [DECK.fst] [--tmax T] [--dt DT] [--out FILE.csv] [--plot FILE.png]
                    [--compare OPENFAST.csv] [--method M] [--rtol R] [--atol A]
-                   [--list-methods] [--stats]
+                   [--list-methods] [--stats] [--compile]
 
 No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.nrel5mw`) with its
 structural DOFs this template models, released from a tower-top displacement of
@@ -40,6 +40,7 @@ def add_parser(sub) -> None:
     p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance of adaptive methods (default 1e-10)")
     p.add_argument("--list-methods", action="store_true", help="print the integration methods, one per line, and exit")
     p.add_argument("--stats", action="store_true", help="print the run statistics as one JSON object on the last line")
+    p.add_argument("--compile", action="store_true", help="run the integration as generated C (gcc -O1, cached on disk)")
 
 
 #: NREL 5 MW baseline ServoDyn yaw spring [N m/rad] and damper [N m s/rad] (YawSpr, YawDamp of the
@@ -119,7 +120,7 @@ def _simulate(model, tmax, t_out, step, args):
     """One call, or chunks with a progress bar when stdout is a terminal."""
     from ..simulate import simulate
 
-    kw = dict(method=args.method, dt=step, rtol=args.rtol, atol=args.atol)
+    kw = dict(method=args.method, dt=step, rtol=args.rtol, atol=args.atol, compile=args.compile)
     if not sys.stdout.isatty():
         return simulate(model, tmax, t_out=t_out, **kw)
     return _chunked(model, tmax, t_out, kw)

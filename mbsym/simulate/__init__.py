@@ -5,8 +5,10 @@ methods (each a :class:`Method` subclass declaring ``order`` and ``kind``);
 :class:`SimulationResult` holds named time series and statistics. Modules:
 ``api`` (simulate), ``inputs`` (u(t)), ``model`` (the protocol for model
 objects), ``checks`` (input checks, divergence), ``base`` (solver base class,
-cache), ``fixed`` (rk4), ``casadi_methods`` (cvodes), ``scipy_methods``
-(scipy-radau), ``result``.
+cache, compiled evaluation switch), ``fixed`` (fixed-step loop in CasADi; rk4),
+``second_order`` (newmark, generalized-alpha), ``casadi_methods`` (adams,
+cvodes, idas), ``scipy_methods`` (scipy-radau, scipy-bdf), ``result``.
+``compile=True`` evaluates through :mod:`mbsym.codegen` (generated C, disk cache).
 """
 
 from .api import simulate

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
@@ -24,7 +25,8 @@ InputValue = Union[float, Sequence[float], tuple, Callable[[float], float]]
 def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] | None = None,
              inputs: Mapping[str, InputValue] | Sequence[float] | None = None,
              p: Mapping[str, float] | None = None, *, method: str = "rk4", dt: float | None = None,
-             rtol: float = 1e-6, atol: float = 1e-8, t_out: Sequence[float] | None = None) -> SimulationResult:
+             rtol: float = 1e-6, atol: float = 1e-8, t_out: Sequence[float] | None = None,
+             compile: bool = False) -> SimulationResult:
     """Integrate the equations of motion from t = 0 to ``tmax``.
 
     Parameters
@@ -50,9 +52,11 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     p : dict, optional
         Parameter values by name; the model's defaults fill the gaps.
     method : str, optional
-        A key of :data:`mbsym.simulate.METHODS`: ``"rk4"`` (fixed step, the
-        whole loop in CasADi), ``"cvodes"`` (SUNDIALS BDF, adaptive),
-        ``"scipy-radau"`` (scipy Radau with the CasADi Jacobian; a reference).
+        A key of :data:`mbsym.simulate.METHODS`: fixed step ``"rk4"`` (the
+        whole loop in CasADi), ``"newmark"``, ``"generalized-alpha"``
+        (implicit, second-order form with the exact residual Jacobians);
+        adaptive ``"adams"`` (explicit), ``"cvodes"``, ``"idas"`` (BDF),
+        ``"scipy-radau"``, ``"scipy-bdf"`` (scipy, exact Jacobian; references).
     dt : float, optional
         Fixed-step methods: step [s] (default 0.01; shortened if needed so
         that a whole number of steps ends at ``tmax``). Adaptive methods: the
@@ -95,6 +99,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     >>> round(float(res.state("x")[-1]), 4)
     1.0
     """
+    if not isinstance(compile, bool):
+        raise TypeError(f"compile must be True or False; got {compile!r}.")
     resolved = resolve_model(model)
     eom = resolved.eom
     tmax = check_tmax(tmax)
@@ -121,8 +127,11 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if resolved.default_u and (inputs is None or isinstance(inputs, Mapping)):
         inputs = {**resolved.default_u, **(inputs or {})}
     signal = input_signal(inputs, eom.inputs, tmax)
-    problem = Problem(eom, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol)
+    problem = Problem(eom, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
+                      compile=compile)
     X, stats = cls(problem).solve()
     U = signal(times)
-    Y = resolved.outputs(X, U, p_vec)
+    t0 = time.perf_counter()
+    Y = resolved.outputs(X, U, p_vec, compile=compile)
+    stats["outputs_wall_s"] = time.perf_counter() - t0
     return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats)

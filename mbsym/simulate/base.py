@@ -23,6 +23,7 @@ from typing import Any, Callable, ClassVar, Hashable
 import casadi as ca
 import numpy as np
 
+from ..codegen import compile_function
 from ..equations import EquationsOfMotion
 from .inputs import InputSignal
 
@@ -77,6 +78,8 @@ class Problem:
         Number of fixed steps.
     rtol, atol : float
         Tolerances of adaptive methods.
+    compile : bool
+        Evaluate the method's Functions as compiled C (:mod:`mbsym.codegen`).
     """
 
     eom: EquationsOfMotion
@@ -89,6 +92,7 @@ class Problem:
     n_steps: int | None = None
     rtol: float = 1e-6
     atol: float = 1e-8
+    compile: bool = False
 
 
 @dataclass
@@ -147,6 +151,7 @@ class Method:
             "integration_wall_s": t2 - t1,
             "prepare_wall_s": t1 - t0,
             "cache_hit": hit,
+            "compiled": False,
             "dt": self.problem.dt,
             "success": True,
             "message": "The end of the integration interval was reached.",
@@ -161,6 +166,17 @@ class Method:
 
     def _integrate(self, prep: Any) -> Trajectory:
         raise NotImplementedError
+
+
+def maybe_compile(f: ca.Function, enabled: bool, *, jacobian: bool = False) -> tuple[ca.Function, bool]:
+    """``(f compiled, True)`` when ``enabled`` and a compiler works, else ``(f, False)``.
+
+    ``jacobian``: the library also holds ``f.jacobian()`` (for CasADi's SUNDIALS interfaces).
+    """
+    if not enabled:
+        return f, False
+    c = compile_function(f, jacobian=jacobian)
+    return c.function, c.compiled
 
 
 def symbolic_rhs(eom: EquationsOfMotion) -> tuple[type, ca.Function]:

@@ -16,7 +16,8 @@ Accepted forms (``names`` are the model's input names, ``eom.inputs``):
   - an array of values on the shared grid given under the key ``"t"``
     (``{"t": grid, "F": values}``; not available if an input is named ``t``);
   - a callable ``f(t) -> float`` [t in s]. It is first called with an array
-    of times; if that raises or returns another shape, once per time.
+    of times (a single number back counts for every time, as from
+    ``lambda t: 2.0``); if that raises or returns another shape, once per time.
 
 Tables must cover ``[0, tmax]`` (values are never extrapolated). All values must
 be finite.
@@ -68,6 +69,8 @@ class _Function:
                 v = np.asarray(self.f(t), dtype=float)
         except Exception:   # noqa: BLE001 - any failure on an array means "not vectorized": call per time
             v = None
+        if v is not None and v.shape == () and t.shape != ():
+            v = np.full(t.shape, float(v))      # f ignores t (e.g. a constant speed): broadcast
         if v is None or v.shape != t.shape:
             v = np.array([self.at(ti) for ti in t.tolist()], dtype=float).reshape(t.shape)
         return self._finite(v, t)

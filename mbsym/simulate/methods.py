@@ -3,8 +3,20 @@
 To add a method, subclass :class:`~mbsym.simulate.base.Method` (or
 :class:`~mbsym.simulate.fixed.FixedStepMethod` for an explicit one-step scheme:
 give ``nodes`` and ``_step``), declare ``name``, ``order``, ``kind`` and
-``implicit``, and add it below. Planned: ``erk``/``adams`` (CasADi), BDF via
-``idas``, Newmark/HHT-alpha and generalized-alpha (second-order form).
+``implicit``, and add it below.
+
+=====================  ===========  =====  ========  =========================================
+name                   kind         order  implicit  what
+=====================  ===========  =====  ========  =========================================
+``rk4``                fixed-step   4      no        classical Runge-Kutta, loop in CasADi
+``newmark``            fixed-step   2      yes       average acceleration, residual form
+``generalized-alpha``  fixed-step   2      yes       Chung-Hulbert rho_inf = 0.8, residual form
+``adams``              adaptive     5      no        CVODES Adams-Moulton, functional iteration
+``cvodes``             adaptive     5      yes       CVODES BDF, exact Jacobian
+``idas``               adaptive     5      yes       IDAS BDF on the residual form
+``scipy-radau``        adaptive     5      yes       scipy Radau IIA, exact Jacobian
+``scipy-bdf``          adaptive     5      yes       scipy BDF, exact Jacobian
+=====================  ===========  =====  ========  =========================================
 """
 
 from __future__ import annotations
@@ -13,15 +25,17 @@ from types import MappingProxyType
 from typing import Mapping
 
 from .base import Method
-from .casadi_methods import Cvodes
+from .casadi_methods import Adams, Cvodes, Idas
 from .checks import SimulationOptionError
 from .fixed import RK4
-from .scipy_methods import ScipyRadau
+from .scipy_methods import ScipyBDF, ScipyRadau
+from .second_order import GeneralizedAlpha, Newmark
 
 __all__ = ["METHODS", "get_method"]
 
 #: Integration methods by name (read-only).
-METHODS: Mapping[str, type[Method]] = MappingProxyType({m.name: m for m in (RK4, Cvodes, ScipyRadau)})
+METHODS: Mapping[str, type[Method]] = MappingProxyType({m.name: m for m in (
+    RK4, Newmark, GeneralizedAlpha, Adams, Cvodes, Idas, ScipyRadau, ScipyBDF)})
 
 
 def get_method(name) -> type[Method]:

@@ -59,12 +59,20 @@ class ResolvedModel:
     output_function: ca.Function | None
     output_names: tuple[str, ...]
 
-    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y)."""
+    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool = False) -> np.ndarray:
+        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y); ``compile``: as generated C."""
         n = X.shape[0]
         if self.output_function is None:
             return np.zeros((n, 0))
-        res = self.output_function(X.T, U.T, p)
+        f = self.output_function
+        if compile:
+            from .base import maybe_compile, prepared
+
+            entry, _ = prepared(self.eom, ("outputs", id(f)), lambda: (f, maybe_compile(f, True)[0]))
+            if entry[0] is not f:           # an id reused by another Function: rebuild
+                entry = (f, maybe_compile(f, True)[0])
+            f = entry[1]
+        res = f(X.T, U.T, p)
         res = res if isinstance(res, (list, tuple)) else [res]
         return np.vstack([np.array(r).reshape(-1, n) for r in res]).T
 

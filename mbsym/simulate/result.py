@@ -33,9 +33,12 @@ class SimulationResult:
         ``method``, ``steps``, ``n_rhs`` (rhs evaluations), ``n_jac`` (Jacobian
         evaluations), ``integration_wall_s`` (integration alone, inputs sampling
         included), ``prepare_wall_s`` (building or fetching the CasADi
-        Functions), ``cache_hit``, ``dt`` (fixed step actually used [s]),
-        ``success``, ``message``, and per method extras (``rtol``, ``atol``,
-        ``n_lu``). Counters a method does not know are ``None``.
+        Functions, including code generation and compilation with
+        ``compile=True``), ``cache_hit``, ``compiled`` (whether the method ran
+        compiled C), ``outputs_wall_s`` (evaluating the model outputs), ``dt``
+        (fixed step actually used [s]), ``success``, ``message``, and per
+        method extras (``rtol``, ``atol``, ``n_lu``). Counters a method does
+        not know are ``None``.
     """
 
     t: np.ndarray

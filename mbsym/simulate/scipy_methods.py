@@ -1,10 +1,12 @@
 """Methods from ``scipy.integrate``: independent references for the CasADi-backed ones.
 
-``scipy-radau`` runs scipy's Radau IIA (order 5, implicit, adaptive) step by
-step, with the exact Jacobian of the rhs from CasADi and the inputs evaluated at
-every rhs call. Each accepted step is checked for finiteness; output times come
-from scipy's dense output. Its cost is dominated by the Python call per rhs
-evaluation (~20-30 us): use it as a reference, not for long runs.
+``scipy-radau`` (Radau IIA, order 5) and ``scipy-bdf`` (variable-order BDF,
+orders 1-5) run scipy's implicit adaptive solvers step by step, with the exact
+Jacobian of the rhs from CasADi and the inputs evaluated at every rhs call.
+Each accepted step is checked for finiteness; output times come from scipy's
+dense output. The rhs and Jacobian are called through ``Function.buffer()``
+(compiled C with ``compile=True``); the cost is still dominated by scipy's
+Python-side step logic: use them as references, not for long runs.
 """
 
 from __future__ import annotations
@@ -12,30 +14,34 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.integrate import Radau
+from scipy.integrate import BDF, OdeSolver, Radau
 
 from ..exceptions import IntegrationError
-from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, prepared
+from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, maybe_compile, prepared
 from .checks import divergence_message, first_bad_column
 
-__all__ = ["ScipyRadau"]
+__all__ = ["ScipyMethod", "ScipyRadau", "ScipyBDF"]
 
 
-class ScipyRadau(Method):
-    """scipy's ``Radau`` (implicit Runge-Kutta Radau IIA, order 5) with the CasADi Jacobian."""
+class ScipyMethod(Method):
+    """Base of the scipy solvers: ``solver`` is an ``OdeSolver`` subclass taking ``jac=``."""
 
-    name: ClassVar[str] = "scipy-radau"
-    order: ClassVar[int] = 5
     kind: ClassVar[str] = "adaptive"
     implicit: ClassVar[bool] = True
+    solver: ClassVar[type[OdeSolver]] = Radau
 
     def _prepare(self) -> tuple[Any, bool]:
-        eom = self.problem.eom
-        return prepared(eom, (self.name,), lambda: (dense_rhs(eom), jacobian_function(eom)))
+        eom, on = self.problem.eom, self.problem.compile
+
+        def build():
+            (rhs, c1), (jac, c2) = maybe_compile(dense_rhs(eom), on), maybe_compile(jacobian_function(eom), on)
+            return rhs, jac, c1 and c2
+
+        return prepared(eom, ("scipy", on), build)
 
     def _integrate(self, functions) -> Trajectory:
         pr, eom = self.problem, self.problem.eom
-        rhs, jac_fn = (BufferedFunction(f, pr.p) for f in functions)
+        rhs, jac_fn = (BufferedFunction(f, pr.p) for f in functions[:2])
         u_at = pr.inputs.at
 
         def fun(t, x):
@@ -48,11 +54,15 @@ class ScipyRadau(Method):
         X = np.empty((t_out.size, eom.n_x))
         done = np.searchsorted(t_out, 0.0, side="right")
         X[:done] = pr.x0
-        solver = Radau(fun, 0.0, pr.x0, t_out[-1], rtol=pr.rtol, atol=pr.atol, jac=jac) if t_out[-1] > 0 else None
+        solver = (self.solver(fun, 0.0, pr.x0, t_out[-1], rtol=pr.rtol, atol=pr.atol, jac=jac)
+                  if t_out[-1] > 0 else None)
         steps = 0
         while solver is not None and solver.status == "running":
             t_old = solver.t
-            message = solver.step()
+            try:
+                message = solver.step()
+            except ValueError as exc:           # scipy's LU refuses a non-finite Jacobian or state
+                self._raise_nonfinite(solver, t_old, exc)
             steps += 1
             self._check(solver, message, t_old)
             upto = np.searchsorted(t_out, solver.t, side="right")
@@ -62,9 +72,26 @@ class ScipyRadau(Method):
         if done < t_out.size:     # the last output time exactly at the end
             X[done:] = solver.y
         nfev, njev, nlu = (0, 0, 0) if solver is None else (solver.nfev, solver.njev, solver.nlu)
-        return Trajectory(X, steps=steps, n_rhs=nfev, n_jac=njev, extra={"n_lu": nlu})
+        return Trajectory(X, steps=steps, n_rhs=nfev, n_jac=njev, extra={"n_lu": nlu, "compiled": functions[2]})
 
-    def _check(self, solver: Radau, message: str | None, t_old: float) -> None:
+    def _raise_nonfinite(self, solver: OdeSolver, t_old: float, exc: ValueError) -> None:
+        pr, eom = self.problem, self.problem.eom
+        y = np.asarray(solver.y, dtype=float)
+        with np.errstate(all="ignore"):
+            f = np.asarray(solver.fun(solver.t, y), dtype=float)
+        if not np.all(np.isfinite(f)):
+            i = int(np.flatnonzero(~np.isfinite(f))[0])
+            what = f"the rhs is not finite (first non-finite derivative: state {eom.states[i]!r}: {f[i]})"
+        else:
+            what = f"scipy refused the step ({exc})"
+        step = getattr(solver, "h_abs", None)
+        step_txt = "unknown step size" if step is None else f"step size dt = {step:.6g} s"
+        j = int(np.argmax(np.abs(y) / (1.0 + np.abs(pr.x0))))
+        raise IntegrationError(f"method {self.name!r} failed at t = {solver.t:.6g} s ({step_txt}): {what}; "
+                               f"state {eom.states[j]!r} = {y[j]:.4g} (largest relative to x0). The rhs may be "
+                               "undefined (NaN) just beyond this state.") from exc
+
+    def _check(self, solver: OdeSolver, message: str | None, t_old: float) -> None:
         pr, eom = self.problem, self.problem.eom
         y = np.asarray(solver.y)
         if first_bad_column(y[:, None], pr.x0) is not None:
@@ -77,3 +104,19 @@ class ScipyRadau(Method):
                 f"State {eom.states[i]!r} = {y[i]:.4g} (largest relative to x0); the solution may grow without "
                 "bound, or the rhs may be undefined (NaN) just beyond this state."
             )
+
+
+class ScipyRadau(ScipyMethod):
+    """scipy's ``Radau`` (implicit Runge-Kutta Radau IIA, order 5) with the CasADi Jacobian."""
+
+    name: ClassVar[str] = "scipy-radau"
+    order: ClassVar[int] = 5
+    solver: ClassVar[type[OdeSolver]] = Radau
+
+
+class ScipyBDF(ScipyMethod):
+    """scipy's ``BDF`` (variable-order backward differentiation, orders 1-5) with the CasADi Jacobian."""
+
+    name: ClassVar[str] = "scipy-bdf"
+    order: ClassVar[int] = 5
+    solver: ClassVar[type[OdeSolver]] = BDF

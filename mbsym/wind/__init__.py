@@ -34,6 +34,7 @@ from .elastodyn_bodies import (
 )
 from .campbell import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
 from .mbc import coleman_matrices, mbc_second_order, mbc_transform
+from .fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
 from .nrel5mw import nrel5mw
 from .openfast import KEY_MAP, read_openfast
 from .parameters import (
@@ -83,4 +84,7 @@ __all__ = [
     "coleman_matrices",
     "mbc_transform",
     "mbc_second_order",
+    "fidelity_ladder",
+    "FidelityLadder",
+    "DEFAULT_LADDER",
 ]
