@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from _report import write_section
 
 import mbsym as mb
 from mbsym.exceptions import IntegrationError
@@ -425,15 +426,8 @@ def performance_section(runs, scene: Scene | None = None, ref=None) -> str:
 
 
 def write_readme(marker: str, text: str) -> None:
-    path = HERE / "README.md"
-    start, end = f"<!-- {marker}:start -->", f"<!-- {marker}:end -->"
-    body = path.read_text() if path.exists() else ""
-    block = f"{start}\n{text}\n{end}"
-    if start in body and end in body:
-        body = body[: body.index(start)] + block + body[body.index(end) + len(end):]
-    else:
-        body += f"\n{block}\n"
-    path.write_text(body)
+    """Rewrite one marked section of benchmarks/README.md (shared writer in _report.py)."""
+    write_section(marker, text)
 
 
 def main() -> None:
