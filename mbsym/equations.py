@@ -170,7 +170,7 @@ class EquationsOfMotion:
         Returns
         -------
         casadi.Function
-            ``(q, qd, qdd, p) -> (r, R, v, w, a, wd)``: position [m], orientation
+            ``(q, qd, qdd, u, p) -> (r, R, v, w, a, wd)``: position [m], orientation
             (body -> ground), velocity [m/s], angular velocity [rad/s],
             acceleration [m/s^2] and angular acceleration [rad/s^2], ground axes.
         """
@@ -181,13 +181,18 @@ class EquationsOfMotion:
             raise ModelDefinitionError(f"no body named {body!r}; bodies are {list(d.bodies)}.")
         b = d.bodies[body]
         pt = as_vector3(point, "point")
-        r, v = d.kinematics.point_velocity(b, pt)
+        kin = d.kinematics
+        r, v = kin.point_velocity(b, pt)
         frame = d.frames[body]
-        x, xd = ca.vertcat(d.q, d.qd), ca.vertcat(d.qd, d.qdd)
+        # time derivative along (q, qd) and the prescribed (value, speed, acceleration) inputs
+        presc = [self._derivation.u[self._inputs.index(f"{n}{sfx}")] for n in d.prescribed for sfx in ("_d", "_dd")]
+        qdd_p = ca.vertcat(*presc[1::2]) if presc else ca.SX(0, 1)
+        x = ca.vertcat(kin.q_all, kin.qd_all)
+        xd = ca.vertcat(kin.qd_all, d.qdd, qdd_p)
         a = ca.jtimes(v, x, xd)
         wd = ca.jtimes(frame.w, x, xd)
-        return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.p],
-                           [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "p"],
+        return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.u, d.p],
+                           [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "u", "p"],
                            ["r", "R", "v", "w", "a", "wd"], {"cse": True})
 
     # ------------------------------------------------------------ numeric
@@ -221,7 +226,7 @@ class EquationsOfMotion:
         if isinstance(value, Mapping):
             raise DimensionError(f"{what} must be an array of {n} numbers in order {list(names)}; got a dict.")
         try:
-            arr = np.asarray(value, dtype=float).reshape(-1)
+            arr = np.array(value, dtype=float).reshape(-1)      # a copy: never alias the caller's array
         except (TypeError, ValueError) as exc:
             raise DimensionError(f"{what} must be {n} numbers in order {list(names)}; got {value!r}.") from exc
         if arr.size != n:
@@ -235,19 +240,21 @@ class EquationsOfMotion:
         """Resolve the optional (u, p) pair; a dict in the u slot means p when n_u == 0."""
         if isinstance(u, Mapping) and p is None and self.n_u == 0:
             u, p = None, u
+        if u is None and self.n_u:
+            raise DimensionError(f"this model has inputs {list(self._inputs)}; pass u (n_u={self.n_u} values).")
+        return self._input_vector(u), self.parameter_vector(p)
+
+    def _input_vector(self, u) -> np.ndarray:
+        """Inputs as a vector: None (no inputs), a sequence, or a dict by name."""
         if u is None:
-            if self.n_u:
-                raise DimensionError(f"this model has inputs {list(self._inputs)}; pass u (n_u={self.n_u} values).")
-            uu = np.zeros(0)
-        elif isinstance(u, Mapping):
+            return np.zeros(self.n_u)
+        if isinstance(u, Mapping):
             unknown = sorted(set(u) - set(self._inputs))
             missing = [n for n in self._inputs if n not in u]
             if unknown or missing:
                 raise DimensionError(f"input dict: unknown {unknown}, missing {missing}; inputs are {list(self._inputs)}.")
-            uu = self._vec([u[n] for n in self._inputs], self.n_u, "u", self._inputs)
-        else:
-            uu = self._vec(u, self.n_u, "u", self._inputs)
-        return uu, self.parameter_vector(p)
+            return self._vec([u[n] for n in self._inputs], self.n_u, "u", self._inputs)
+        return self._vec(u, self.n_u, "u", self._inputs)
 
     @property
     def prescribed(self) -> tuple[str, ...]:
@@ -327,9 +334,13 @@ class EquationsOfMotion:
         return float(self._functions.potential_energy(qq, uu, self.parameter_vector(p)))
 
     def _energy_inputs(self, u) -> np.ndarray:
-        if u is None:
-            return np.zeros(self.n_u)
-        return self._args(u, {})[0]
+        """Inputs for M and the energies: needed (and required) only with prescribed coordinates."""
+        if u is None and self.prescribed:
+            raise DimensionError(
+                f"this model has prescribed coordinates {list(self.prescribed)}: pass u= with the inputs "
+                f"{list(self._inputs)} (their values, speeds and accelerations)."
+            )
+        return self._input_vector(u)
 
 
 def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:

@@ -42,8 +42,8 @@ class Joint:
         self.parent = parent
         self.child = child
         self.offset = as_vector3(offset, f"offset of the joint of {child.name!r}")
-        self.rotation = ca.SX.eye(3) if rotation is None else as_matrix3(
-            rotation, f"rotation of the joint of {child.name!r}")
+        self.rotation = ca.SX.eye(3) if rotation is None else _check_rotation(as_matrix3(
+            rotation, f"rotation of the joint of {child.name!r}"), child.name)
         self.coordinates = tuple(coordinates)
 
     @property
@@ -122,7 +122,11 @@ class Revolute(Joint):
         self.axis = _unit_axis(axis, child.name)
         self.order = order
         if gear_ratio is not None:
-            gear_ratio = float(gear_ratio)
+            try:
+                gear_ratio = float(gear_ratio)
+            except (TypeError, ValueError) as exc:
+                raise ModelDefinitionError(f"gear_ratio of the joint of {child.name!r} must be a number; "
+                                           f"got {gear_ratio!r}.") from exc
             if not np.isfinite(gear_ratio) or gear_ratio == 0.0:
                 raise ModelDefinitionError(f"gear_ratio of the joint of {child.name!r} must be a nonzero number; "
                                            f"got {gear_ratio}.")
@@ -204,3 +208,16 @@ def _unit_axis(axis, name: str) -> list[float]:
     if not np.isfinite(n) or n == 0.0:
         raise ModelDefinitionError(f"axis of the joint of {name!r} is {a.tolist()}; expected a nonzero, finite vector.")
     return (a / n).tolist()
+
+
+def _check_rotation(R: ca.SX, name: str) -> ca.SX:
+    """A constant joint rotation must be a proper rotation (orthonormal, det +1)."""
+    if not R.is_constant():
+        return R
+    m = np.array(ca.evalf(R))
+    if not np.allclose(m.T @ m, np.eye(3), atol=1e-9) or np.linalg.det(m) <= 0:
+        raise ModelDefinitionError(
+            f"rotation of the joint of {name!r} is not a proper rotation matrix (RᵀR = I, det R = +1): "
+            f"{np.round(m, 6).tolist()}. Build it with mb.rotation(...) or mb.rotation_sequence(...)."
+        )
+    return R

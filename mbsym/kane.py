@@ -168,18 +168,21 @@ def derive(system) -> Derivation:
     F = ca.SX.zeros(n, 1)
     T = ca.SX(0)
     Vpot = ca.SX(0)
+    p_body = ca.SX(0)   # power of body-internal non-conservative forces (elastic damping, ...)
     row = 0
     for body, c in blocks:
         k = c["V"].numel()
         B, a0 = J[row:row + k, :], A0[row:row + k]
         row += k
-        Mb, f_net, t_kin, v_pot = c["terms"](a0, g)
+        Mb, f_net, t_kin, v_pot, p_nc = c["terms"](a0, g)
         M += B.T @ Mb @ B
         F += B.T @ f_net
         T += t_kin
         Vpot += v_pot
+        p_body += p_nc
 
     F, Vpot, power = _apply_loads(system, kin, q, qd, F, Vpot)
+    power += p_body
     M = ca.tril2symm(ca.tril(M))
     _check_structural_mass(M, st.names("coordinate"))
     frames = {b.name: kin.frame(b) for b in kin.order}
@@ -219,7 +222,7 @@ def _rigid(body: RigidBody, kin: _Kinematics, props: MassProperties) -> dict:
         f_ang = ca.cross(S, g) - ca.cross(S, a0[:3]) - I_O @ a0[3:] - ca.cross(w, I_O @ w)
         t_kin = 0.5 * (m * ca.dot(f.v, f.v) + 2 * ca.dot(f.v, ca.cross(w, S)) + ca.dot(w, I_O @ w))
         v_pot = -ca.dot(g, m * f.r + S)
-        return Mb, ca.vertcat(f_lin, f_ang), t_kin, v_pot
+        return Mb, ca.vertcat(f_lin, f_ang), t_kin, v_pot, ca.SX(0)
 
     return {"V": ca.vertcat(f.v, f.w), "terms": terms}
 

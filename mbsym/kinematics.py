@@ -209,9 +209,15 @@ def small_rotation(theta, *, order: int | None = 1) -> ca.SX:
     theta = as_vector3(theta, "rotation vector")
     k = skew(theta)
     if order is None:
-        angle = ca.sqrt(ca.dot(theta, theta) + 1e-300)
-        kn = k / angle
-        return ca.SX.eye(3) + ca.sin(angle) * kn + (1 - ca.cos(angle)) * (kn @ kn)
+        # Rodrigues R = I + A K + B K^2, A = sin(a)/a, B = (1 - cos a)/a^2 with a = |θ|, written
+        # in s = a^2 with series near 0 so that values and derivatives stay finite at θ = 0.
+        s = ca.dot(theta, theta)
+        small = s < 1e-8
+        s_safe = ca.if_else(small, 1.0, s)
+        a = ca.sqrt(s_safe)
+        A = ca.if_else(small, 1 - s / 6 + s**2 / 120, ca.sin(a) / a)
+        B = ca.if_else(small, 0.5 - s / 24 + s**2 / 720, (1 - ca.cos(a)) / s_safe)
+        return ca.SX.eye(3) + A * k + B * (k @ k)
     if not isinstance(order, (int, np.integer)) or order < 1:
         raise ModelDefinitionError(f"small-angle order must be a positive integer or None; got {order!r}.")
     R = ca.SX.eye(3)

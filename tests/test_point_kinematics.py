@@ -22,7 +22,7 @@ def kin():
 
 def test_position_velocity_closed_form(kin):
     q, qd = np.array([0.3, -0.2]), np.array([0.1, 0.4])
-    r, R, v, w, a, wd = (np.array(x) for x in kin(q, qd, [0, 0], P))
+    r, R, v, w, a, wd = (np.array(x) for x in kin(q, qd, [0, 0], [], P))
     s1, s12, c1, c12 = np.sin(q[0]), np.sin(q.sum()), np.cos(q[0]), np.cos(q.sum())
     np.testing.assert_allclose(r.ravel(), [-(s1 + 0.5 * s12), 0.0, -(c1 + 0.5 * c12)], atol=1e-14)
     xd = -(c1 * qd[0] + 0.5 * c12 * qd.sum())
@@ -35,11 +35,11 @@ def test_position_velocity_closed_form(kin):
 def test_acceleration_is_derivative_of_velocity(kin):
     q, qd, qdd = np.array([0.3, -0.2]), np.array([0.1, 0.4]), np.array([-1.2, 0.7])
     h = 1e-6
-    vp = np.array(kin(q + h * qd, qd + h * qdd, qdd, P)[2])
-    vm = np.array(kin(q - h * qd, qd - h * qdd, qdd, P)[2])
-    a = np.array(kin(q, qd, qdd, P)[4])
+    vp = np.array(kin(q + h * qd, qd + h * qdd, qdd, [], P)[2])
+    vm = np.array(kin(q - h * qd, qd - h * qdd, qdd, [], P)[2])
+    a = np.array(kin(q, qd, qdd, [], P)[4])
     np.testing.assert_allclose(a, (vp - vm) / (2 * h), atol=1e-7)
-    wd = np.array(kin(q, qd, qdd, P)[5])
+    wd = np.array(kin(q, qd, qdd, [], P)[5])
     np.testing.assert_allclose(wd.ravel(), [0.0, qdd.sum(), 0.0], atol=1e-14)
 
 

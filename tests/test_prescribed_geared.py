@@ -105,3 +105,36 @@ def test_geared_joint_carrying_a_flexible_body():
     blade = mb.FlexibleBody("blade", sid, [qe])
     sys.add_joint(mb.Revolute(hub, blade, axis=[0, 0, 1], coordinate=a, gear_ratio=1.0))
     assert sys.equations().coordinates == ("a", "qe")
+
+
+def test_exact_small_rotation_is_smooth_at_zero():
+    """small_rotation(order=None) has finite derivatives at θ = 0 (a flexible end with an exact
+    end rotation can be linearized at rest) and agrees with its series to machine precision."""
+    from mbsym.kinematics import small_rotation
+    th = ca.SX.sym("th", 3)
+    R = small_rotation(th, order=None)
+    J = ca.Function("J", [th], [ca.jacobian(ca.vec(R), th), ca.jacobian(ca.jacobian(ca.vec(R), th)[:, 0], th)])
+    for t in ([0.0, 0.0, 0.0], [1e-9, 0.0, 0.0], [0.3, -0.2, 0.1]):
+        d1, d2 = (np.array(m) for m in J(t))
+        assert np.all(np.isfinite(d1)) and np.all(np.isfinite(d2))
+    Rn = np.array(ca.Function("R", [th], [R])([1e-5, 2e-5, -1e-5]))
+    Rs = np.array(ca.evalf(small_rotation([1e-5, 2e-5, -1e-5], order=6)))
+    np.testing.assert_allclose(Rn, Rs, atol=1e-15)
+
+
+def test_joint_rotation_must_be_a_rotation():
+    sys = mb.System()
+    th = sys.coordinates("th")
+    with pytest.raises(mb.ModelDefinitionError, match="not a proper rotation matrix"):
+        mb.Revolute(sys.ground, mb.RigidBody("b", 1.0, inertia=[1, 1, 1]), axis=[1, 0, 0], coordinate=th,
+                    rotation=2 * np.eye(3))
+    with pytest.raises(mb.ModelDefinitionError, match="gear_ratio .* must be a number"):
+        mb.Revolute(sys.ground, mb.RigidBody("b", 1.0), axis=[1, 0, 0], coordinate=th, gear_ratio="abc")
+
+
+def test_energy_inputs_required_with_prescribed_coordinates():
+    presc = _arm(True)
+    with pytest.raises(mb.DimensionError, match="prescribed coordinates \\['psi'\\]"):
+        presc.mass_matrix([0.1])
+    T = presc.kinetic_energy([0.1], [0.2], {}, u=[0.0, 1.0, 0.0])
+    assert T > 0

@@ -202,13 +202,15 @@ class FlexibleBody(Body):
         k_e = ca.vertcat(*[w.T @ Oe[j] @ w for j in range(ne)]) + Ge @ w
         Tm = ca.diagcat(R, R, ca.SX.eye(ne))
         a0b = Tm.T @ a0
-        k_e += self._ke @ qe + self._de @ qde + self._geometric_stiffness(w, gb, a0b[:3], a0b[3:6]) @ qe
+        f_nc = -self._de @ qde - self._geometric_stiffness(w, gb, a0b[:3], a0b[3:6]) @ qe
+        k_e += self._ke @ qe - f_nc
         f_app = ca.vertcat(m * gb, ca.cross(S, gb), Ct @ gb)
         f_net = f_app - ca.vertcat(k_x, k_t, k_e) - Mb @ a0b
         Vb = ca.vertcat(R.T @ f.v, w, qde)
         t_kin = 0.5 * Vb.T @ Mb @ Vb
         v_pot = -ca.dot(g, m * f.r + R @ S) + 0.5 * qe.T @ self._ke @ qe
-        return Tm @ Mb @ Tm.T, Tm @ f_net, t_kin, v_pot
+        p_nc = ca.dot(f_nc, qde)    # power of elastic damping and geometric stiffening (not in V)
+        return Tm @ Mb @ Tm.T, Tm @ f_net, t_kin, v_pot, p_nc
 
     def _geometric_stiffness(self, w: ca.SX, gb: ca.SX, acc: ca.SX, wdot: ca.SX) -> ca.SX:
         """Kg (n_e x n_e) of paper Eq. C2, body axes.

@@ -237,3 +237,22 @@ def test_symbolic_stiffness_parameter_gives_exact_gradient():
     K1 = mb.linearize(eom, np.zeros(2), p={"k_scale": 1.0}).K
     K2 = mb.linearize(eom, np.zeros(2), p={"k_scale": 2.0}).K
     np.testing.assert_allclose(K2 - K1, sid.ke, rtol=1e-10, atol=1e-12 * np.abs(sid.ke).max())
+
+
+def test_power_balance_with_elastic_damping_and_stiffening():
+    """d(T+V)/dt = power of the non-conservative forces, including elastic damping and geometric
+    stiffening of a flexible body (AD of the energy Functions, 1e-9 relative)."""
+    sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    th, e1, e2 = sys.coordinates("th e1 e2")
+    beam = FlexibleBody("beam", _beam_sid(n_modes=2), [e1, e2], damping=5.0 * np.eye(2), taylor_order=2)
+    sys.add_joint(mb.Revolute(sys.ground, beam, axis=[0, 1, 0], coordinate=th, rotation=mb.rotation("x", np.pi)))
+    eom = sys.equations()
+    d = eom.symbolic
+    E = d.T + d.V
+    Edot = ca.jacobian(E, d.q) @ d.qd + ca.jacobian(E, d.qd) @ d.qdd
+    f = ca.Function("f", [d.q, d.qd, d.qdd, d.u, d.p], [Edot, d.power])
+    q, qd = np.array([0.4, 0.05, -0.02]), np.array([0.7, 0.3, -0.4])
+    qdd = eom.accelerations(q, qd)
+    edot, power = (float(v) for v in f(q, qd, qdd, [], []))
+    assert edot == pytest.approx(power, rel=1e-9)
+    assert power < 0

@@ -243,8 +243,9 @@ def test_tip_deflection_channels_match_the_engine_kinematics():
         q0 = q.copy()
         q0[[eom.coordinates.index(f"B{k}{s}") for s in ("F1", "E1", "F2")]] = 0.0
         z = np.zeros(eom.n_q)
-        r, R = (np.array(v) for v in f(q, z, z, p)[:2])
-        r0 = np.array(f(q0, z, z, p)[0])
+        u = np.zeros(eom.n_u)
+        r, R = (np.array(v) for v in f(q, z, z, u, p)[:2])
+        r0 = np.array(f(q0, z, z, u, p)[0])
         d = (r - r0).ravel()
         i1 = np.cos(beta) * R[:, 0] + np.sin(beta) * R[:, 1]
         i2 = -np.sin(beta) * R[:, 0] + np.cos(beta) * R[:, 1]

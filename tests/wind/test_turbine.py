@@ -83,7 +83,7 @@ def test_dof_combinations_build_and_rest(dofs):
     u0 = np.zeros(eom.n_u)
     xd = eom.rhs(x0, u0, {"gravity": 0.0})
     np.testing.assert_allclose(xd, 0.0, atol=1e-12)
-    M = eom.mass_matrix(x0[:eom.n_q])
+    M = eom.mass_matrix(x0[:eom.n_q], u=u0)
     np.testing.assert_allclose(M, M.T, rtol=0, atol=0)
     assert np.all(np.linalg.eigvalsh(M) > 0)
 
