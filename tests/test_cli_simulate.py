@@ -15,7 +15,7 @@ SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "openfast" / "c
 def test_builtin_default_runs(capsys):
     assert main(["simulate", "--tmax", "1.0"]) == 0
     out = capsys.readouterr().out
-    assert "NREL 5 MW onshore (built-in)" in out and "Q_TFA1" in out
+    assert "NREL 5 MW onshore (built-in" in out and "Q_TFA1" in out
 
 
 def test_deck_out_csv_has_openfast_channels(tmp_path, capsys):
@@ -72,3 +72,24 @@ def test_bad_input_exits_nonzero_with_one_line(argv, message, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and message in err
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--out", "/no/such/dir/x.csv"], "does not exist"),
+    (["--plot", "x.notanimage"], "unsupported image type"),
+    (["--compare", "no_such.csv"], "no_such.csv"),
+    (["--tmax", "abc"], "invalid float value"),
+])
+def test_file_and_usage_errors_before_any_work(extra, message, capsys):
+    """Bad destinations, references and usage fail at once: nothing on stdout, one line on stderr."""
+    assert main(["simulate", "--tmax", "0.1", *extra]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert len(captured.err.strip().splitlines()) == 1 and message in captured.err
+
+
+def test_compare_without_time_overlap_is_an_error(tmp_path, capsys):
+    ref = tmp_path / "ref.csv"
+    ref.write_text("Time_[s],Q_TFA1_[m]\n100,0.1\n101,0.2\n")
+    assert main(["simulate", "--tmax", "0.2", "--compare", str(ref)]) == 2
+    assert "no overlap" in capsys.readouterr().err

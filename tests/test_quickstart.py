@@ -48,10 +48,10 @@ def test_example_script_last_line_is_json():
 
 
 def test_cli_version_and_help(capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["--version"])
-    assert exc.value.code == 0
+    assert main(["--version"]) == 0
     assert capsys.readouterr().out.startswith("mbsym ")
+    assert main(["--no-such-flag"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert main([]) == 0
     assert "demo" in capsys.readouterr().out
 

@@ -13,16 +13,24 @@ from typing import Sequence
 __all__ = ["main", "build_parser"]
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the one-line error contract: ``mbsym <command>: error: <message>``, exit 2."""
+
+    def error(self, message: str):  # noqa: D102 - argparse hook
+        print(f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)", file=sys.stderr)
+        raise SystemExit(2)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``mbsym`` command."""
     from .. import __version__
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="mbsym",
         description="Multibody systems to CasADi equations of motion (Kane's method).",
     )
     parser.add_argument("--version", action="version", version=f"mbsym {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
     from .campbell import add_parser as add_campbell
@@ -40,7 +48,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ..exceptions import MbsymError
 
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:       # --help/--version (0) or a usage error already printed (2)
+        return int(exc.code or 0)
     if args.command is None:
         parser.print_help()
         return 0
@@ -63,6 +74,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .campbell import run as run_campbell
 
             return run_campbell(args)
+    except BrokenPipeError:         # e.g. `mbsym simulate --stats | head`: not an error of ours
+        sys.stderr.close()
+        return 0
     except (MbsymError, ValueError, OSError) as exc:
         message = " ".join(str(exc).split())
         print(f"mbsym {args.command}: error: {message}", file=sys.stderr)

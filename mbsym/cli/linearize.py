@@ -51,8 +51,8 @@ def undeflected(turbine, rpm: float | None = None):
                    platform_sway=0.0, platform_heave=0.0, platform_roll=0.0, platform_pitch=0.0, platform_yaw=0.0,
                    blade_oop_tip_deflection=0.0, blade_ip_tip_deflection=0.0, teeter_angle=0.0)
     if rpm is not None:
-        if not np.isfinite(rpm):
-            raise ValueError(f"--rpm must be a finite number; got {rpm}")
+        if not (np.isfinite(rpm) and rpm >= 0):
+            raise ValueError(f"--rpm must be a finite rotor speed >= 0 [rpm]; got {rpm}")
         changes["rotor_speed"] = rpm * np.pi / 30.0
     return dataclasses.replace(turbine, initial_conditions=dataclasses.replace(ic, **changes))
 

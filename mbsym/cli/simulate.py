@@ -63,6 +63,9 @@ def run(args: argparse.Namespace) -> int:
     if args.list_methods:
         print("\n".join(METHODS))
         return 0
+    if args.method not in METHODS:
+        raise ValueError(f"unknown --method {args.method!r}; choose one of {', '.join(METHODS)} (--list-methods)")
+    ref = _check_files(args)        # fail before any expensive work
     model, label = _model(args.deck)
     sim = model.turbine.simulation
     tmax = args.tmax if args.tmax is not None else sim.total_time
@@ -73,20 +76,20 @@ def run(args: argparse.Namespace) -> int:
     t_out = np.round(np.arange(0.0, tmax + 0.5 * dt_out, dt_out), 10)
     t_out = t_out[t_out <= tmax + 1e-9]
     t0 = time.perf_counter()
-    eom = model.eom
-    channels = model.output_function()
+    channels = model.output_function()          # derives the equations and the output Function
     prepare = time.perf_counter() - t0
-    result = _simulate(model, tmax, t_out, step, args)
+    result = _simulate(model, tmax, t_out, step, args, METHODS[args.method].kind == "fixed-step")
     series = _series(result, channels)
     stats = dict(result.statistics)
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
     _summary(label, model, series, stats)
-    ref = None
-    if args.compare:
-        from ..wind.compare import compare, read_csv
+    if ref is not None:
+        from ..wind.compare import compare, not_compared
 
-        ref = read_csv(args.compare)
         _print_comparison(compare(series, ref))
+        missing = not_compared(series, ref)
+        if missing:
+            print(f"not compared (not produced by this model): {', '.join(missing)}")
     if args.out:
         from ..wind.compare import write_csv
 
@@ -99,8 +102,29 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {args.plot}")
     if args.stats:
         print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
-    del eom
     return 0
+
+
+def _check_files(args):
+    """Read --compare and check --out/--plot destinations before simulating."""
+    from pathlib import Path
+
+    ref = None
+    if args.compare:
+        from ..wind.compare import read_csv
+
+        ref = read_csv(args.compare)
+    for flag, path in (("--out", args.out), ("--plot", args.plot)):
+        if path and not Path(path).resolve().parent.is_dir():
+            raise ValueError(f"{flag} {path}: the directory {Path(path).resolve().parent} does not exist")
+    if args.plot:
+        from matplotlib.figure import Figure
+
+        kinds = Figure().canvas.get_supported_filetypes()
+        suffix = Path(args.plot).suffix.lstrip(".").lower()
+        if suffix not in kinds:
+            raise ValueError(f"--plot {args.plot}: unsupported image type {suffix!r}; use one of {', '.join(sorted(kinds))}")
+    return ref
 
 
 def _model(deck):
@@ -111,29 +135,36 @@ def _model(deck):
         turbine = builtin_turbine()
         dofs = [f for f in SUPPORTED_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
-        return model, "NREL 5 MW onshore (built-in), tower top released from 0.5 m fore-aft"
+        return model, "NREL 5 MW onshore (built-in, rigid blades), tower top released from 0.5 m fore-aft"
     turbine = read_openfast(deck)
     return TurbineModel(turbine), str(deck)
 
 
-def _simulate(model, tmax, t_out, step, args):
-    """One call, or chunks with a progress bar when stdout is a terminal."""
+def _simulate(model, tmax, t_out, step, args, fixed_step: bool):
+    """One call; on a terminal a progress bar. Only fixed-step runs are cut into chunks for it
+    (at multiples of the step, so the result is the same): adaptive methods would restart."""
     from ..simulate import simulate
 
     kw = dict(method=args.method, dt=step, rtol=args.rtol, atol=args.atol, compile=args.compile)
     if not sys.stdout.isatty():
         return simulate(model, tmax, t_out=t_out, **kw)
-    return _chunked(model, tmax, t_out, kw)
+    if not fixed_step:
+        print(f"[{'.' * 30}]    0.00 / {tmax:.2f} s", end="", flush=True)
+        result = simulate(model, tmax, t_out=t_out, **kw)
+        print(f"\r[{'#' * 30}] {tmax:7.2f} / {tmax:.2f} s")
+        return result
+    return _chunked(model, tmax, t_out, step, kw)
 
 
-def _chunked(model, tmax, t_out, kw):
+def _chunked(model, tmax, t_out, step, kw):
     from ..simulate import simulate
 
-    edges = np.linspace(0.0, tmax, 21)
+    n_steps = int(round(tmax / step))
+    edges = np.unique(np.round(np.linspace(0, n_steps, 21)).astype(int)) * step
+    edges[-1] = tmax
     x0, inputs = model.default_state(), model.default_inputs()
     parts, stats = [], None
-    for i in range(20):
-        a, b = edges[i], edges[i + 1]
+    for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         grid = t_out[(t_out >= a - 1e-9) & (t_out <= b + 1e-9)] - a
         grid = np.unique(np.concatenate([[0.0], grid, [b - a]]))
         shifted = {k: (lambda s, f=v, a=a: f(s + a)) if callable(v) else v for k, v in inputs.items()}
@@ -141,7 +172,7 @@ def _chunked(model, tmax, t_out, kw):
         parts.append((r.t + a, r))
         x0 = r.x[-1]
         stats = _merge(stats, r.statistics)
-        done = int(30 * (i + 1) / 20)
+        done = int(30 * (i + 1) / (len(edges) - 1))
         print(f"\r[{'#' * done}{'.' * (30 - done)}] {b:7.2f} / {tmax:.2f} s", end="", flush=True)
     print()
     return _Joined(parts, t_out, stats)

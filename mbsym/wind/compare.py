@@ -21,7 +21,7 @@ import numpy as np
 
 from ..exceptions import DimensionError, OpenFASTFormatError
 
-__all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "overlay_plot", "WRAPPED"]
+__all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "not_compared", "overlay_plot", "WRAPPED"]
 
 #: Channels OpenFAST wraps, with their period in their own unit.
 WRAPPED = {"Azimuth": 360.0, "Q_GeAz": 2 * np.pi}
@@ -80,46 +80,64 @@ def write_csv(path: str | Path, series: TimeSeries) -> None:
 
 def error_metrics(t: np.ndarray, y: np.ndarray, t_ref: np.ndarray, y_ref: np.ndarray, *,
                   period: float | None = None) -> tuple[float, float]:
-    """(ε, R²) of ``y(t)`` against ``y_ref(t_ref)`` on the reference grid.
+    """(ε, R²) of ``y(t)`` against ``y_ref(t_ref)`` on the overlapping reference grid.
 
     ``period`` compares a wrapped angle through its wrapped difference. For a
     constant reference (zero range) ε and R² are NaN.
+
+    Raises
+    ------
+    DimensionError
+        If the two time ranges do not overlap.
     """
+    return _metrics(t, y, t_ref, y_ref, period)[:2]
+
+
+def _metrics(t, y, t_ref, y_ref, period) -> tuple[float, float, float]:
+    """(ε, R², max |Δ|), all on the same overlapping grid and wrapped difference."""
     t, y, t_ref, y_ref = (np.asarray(a, dtype=float) for a in (t, y, t_ref, y_ref))
-    lo, hi = t_ref >= t[0] - 1e-9, t_ref <= t[-1] + 1e-9
-    t_ref, y_ref = t_ref[lo & hi], y_ref[lo & hi]
+    keep = (t_ref >= t[0] - 1e-9) & (t_ref <= t[-1] + 1e-9)
+    if not np.any(keep):
+        raise DimensionError(f"no overlap between the simulated time [{t[0]:g}, {t[-1]:g}] s and the "
+                             f"reference [{t_ref[0]:g}, {t_ref[-1]:g}] s.")
+    t_ref, y_ref = t_ref[keep], y_ref[keep]
     if period is not None:
         yi = np.interp(t_ref, t, np.unwrap(y, period=period))
         diff = (yi - y_ref + period / 2) % period - period / 2
     else:
         diff = np.interp(t_ref, t, y) - y_ref
-    rng = float(np.ptp(y_ref)) if y_ref.size else 0.0
-    if rng <= 1e-12 * max(1.0, float(np.max(np.abs(y_ref))) if y_ref.size else 1.0):
-        return float("nan"), float("nan")
+    max_diff = float(np.max(np.abs(diff)))
+    rng = float(np.ptp(y_ref))
+    if rng <= 1e-12 * max(1.0, float(np.max(np.abs(y_ref)))):
+        return float("nan"), float("nan"), max_diff
     eps = float(np.mean(np.abs(diff)) / rng)
     r2 = float(1.0 - np.sum(diff**2) / np.sum((y_ref - y_ref.mean()) ** 2))
-    return eps, r2
+    return eps, r2, max_diff
 
 
 def compare(ours: TimeSeries, ref: TimeSeries) -> list[dict]:
-    """Metrics for every channel present in both series (reference order)."""
+    """Metrics for every channel present in both series (reference order).
+
+    Raises
+    ------
+    DimensionError
+        If no channel is common to both, or the time ranges do not overlap.
+    """
+    common = [n for n in ref.names if n in ours.names]
+    if not common:
+        raise DimensionError(f"no channel in common between the simulation ({list(ours.names)[:6]}...) and the "
+                             f"reference ({list(ref.names)[:6]}...); compare with OpenFAST output of the same DOFs.")
     rows = []
-    for name in ref.names:
-        if name not in ours.names:
-            continue
-        eps, r2 = error_metrics(ours.time, ours.channel(name), ref.time, ref.channel(name), period=WRAPPED.get(name))
+    for name in common:
+        eps, r2, max_diff = _metrics(ours.time, ours.channel(name), ref.time, ref.channel(name), WRAPPED.get(name))
         rows.append({"channel": name, "unit": ref.units[ref.names.index(name)], "epsilon": eps, "r2": r2,
-                     "max_abs_diff": _max_abs_diff(ours, ref, name)})
+                     "max_abs_diff": max_diff})
     return rows
 
 
-def _max_abs_diff(ours: TimeSeries, ref: TimeSeries, name: str) -> float:
-    period = WRAPPED.get(name)
-    y = ours.channel(name)
-    if period is not None:
-        d = (np.interp(ref.time, ours.time, np.unwrap(y, period=period)) - ref.channel(name) + period / 2) % period
-        return float(np.max(np.abs(d - period / 2)))
-    return float(np.max(np.abs(np.interp(ref.time, ours.time, y) - ref.channel(name))))
+def not_compared(ours: TimeSeries, ref: TimeSeries) -> list[str]:
+    """Reference channels the simulation does not produce (listed, never silently dropped)."""
+    return [n for n in ref.names if n not in ours.names]
 
 
 def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = None, *,
