@@ -20,7 +20,7 @@ from typing import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mbsym.beam.integrals import quadrature_weights
+from mbsym.beam.integrals import _as_shapes, _common_length, check_stations, quadrature_weights
 from mbsym.beam.shapes import ShapeFunction
 from mbsym.beam.sid import Taylor
 from mbsym.exceptions import BeamDataError
@@ -52,7 +52,7 @@ class DistributedLoadIntegrals:
         return int(self.generalized.shape[0])
 
 
-def distributed_load_integrals(z: ArrayLike, shapes: Sequence[ShapeFunction],
+def distributed_load_integrals(z: ArrayLike, shapes: ShapeFunction | Sequence[ShapeFunction],
                                profile: ArrayLike | Callable[[np.ndarray], ArrayLike] = 1.0, *,
                                direction: str | ArrayLike = "x",
                                quadrature: str = "simpson") -> DistributedLoadIntegrals:
@@ -62,7 +62,7 @@ def distributed_load_integrals(z: ArrayLike, shapes: Sequence[ShapeFunction],
     ----------
     z : array_like (n,)
         Strictly increasing stations [m] spanning the loaded part of the beam.
-    shapes : sequence of ShapeFunction
+    shapes : ShapeFunction or sequence of them
         The body's shape functions, in the order of its elastic coordinates.
     profile : float, array_like (n,) or callable, optional
         Dimensionless profile ``w(z)`` (default 1: uniform).
@@ -88,7 +88,12 @@ def distributed_load_integrals(z: ArrayLike, shapes: Sequence[ShapeFunction],
     >>> round(float(li.generalized[0]), 6)          # ∫ (z/L)^2 dz = L/3
     3.333333
     """
-    zz = np.asarray(z, dtype=float).reshape(-1)
+    shapes = _as_shapes(shapes)
+    length = _common_length(shapes)
+    zz = check_stations(z)
+    if zz[0] < -1e-9 * length or zz[-1] > length * (1 + 1e-9):
+        raise BeamDataError(f"load stations span [{zz[0]:g}, {zz[-1]:g}] m, outside the beam [0, {length:g}] m; "
+                            "give stations on the beam.")
     wq = quadrature_weights(zz, quadrature)
     w = np.asarray(profile(zz) if callable(profile) else profile, dtype=float)
     if w.ndim == 0:
@@ -109,6 +114,7 @@ def distributed_load_integrals(z: ArrayLike, shapes: Sequence[ShapeFunction],
 def _direction(direction) -> np.ndarray:
     if isinstance(direction, str):
         axes = {"x": [1.0, 0, 0], "y": [0, 1.0, 0], "z": [0, 0, 1.0]}
+        direction = direction.lower()
         if direction not in axes:
             raise BeamDataError(f"direction must be 'x', 'y', 'z' or 3 numbers; got {direction!r}.")
         return np.array(axes[direction])

@@ -256,3 +256,12 @@ def test_power_balance_with_elastic_damping_and_stiffening():
     edot, power = (float(v) for v in f(q, qd, qdd, [], []))
     assert edot == pytest.approx(power, rel=1e-9)
     assert power < 0
+
+
+def test_distributed_load_stations_must_lie_on_the_beam():
+    from mbsym.beam import distributed_load_integrals
+    modes = cantilever_modes(Z, MU_L, EI, n_modes=1)
+    with pytest.raises(mb.BeamDataError, match="outside the beam"):
+        distributed_load_integrals(np.linspace(0, 3 * L, 31), modes.shapes())
+    one = distributed_load_integrals(Z, modes.shape(0), direction="X")      # one shape, any case
+    assert one.n_e == 1
