@@ -30,7 +30,7 @@ import numpy as np
 from _report import README, write_section
 
 from mbsym.wind import nrel5mw, read_openfast
-from mbsym.wind.campbell import campbell
+from mbsym.wind.campbell_diagram import campbell
 from mbsym.wind.turbine import MODELLED_DOFS, SUPPORTED_DOFS, TurbineModel
 
 HERE = Path(__file__).resolve().parent

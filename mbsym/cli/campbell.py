@@ -3,12 +3,17 @@
 Contract (kept for acceptance checks)::
 
     mbsym campbell DECK.fst --rpm LIST [--json] [--plot FILE.png] [--azimuths N]
+                   [--method {elastodyn-fd,exact}]
 
 LIST is comma-separated rotor speeds [rpm]. For each speed the turbine of the deck (its
-DOFs; a prescribed azimuth when GenDOF is off) is linearized at ElastoDyn's operating point
-(the deck's initial conditions, rotor spinning at that speed) at N azimuths, transformed to
-multi-blade coordinates and averaged; the modes are labelled ("1st flap collective",
-"1st edge backward whirl", "1st tower fore-aft" …). ``--json`` prints one JSON object
+DOFs; a prescribed azimuth when GenDOF is off) is linearized at OpenFAST's operating point
+of an undeflected deck (tower and platform displacements zero, the blades at the deck's tip
+deflections, rotor spinning at that speed; :mod:`mbsym.wind.campbell_diagram`) at N
+azimuths, transformed to multi-blade coordinates and averaged; the modes are labelled by
+their kinetic energy ("1st flap collective", "1st edge backward whirl", "1st tower
+fore-aft" …). ``--method elastodyn-fd`` (default, as ``mbsym linearize`` and OpenFAST)
+takes A by ElastoDyn's central differences, ``--method exact`` by automatic
+differentiation. ``--json`` prints one JSON object
 ``{"rpm": [...], "modes": [{"label", "freq_hz", "damping_ratio"}, ...]}`` (null where a
 mode is not oscillatory at a speed) and nothing else on stdout; ``--plot`` writes frequency
 vs rotor speed with the 1P, 3P and 6P lines.
@@ -36,6 +41,8 @@ def add_parser(sub) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="write the Campbell diagram with the 1P, 3P, 6P lines")
     p.add_argument("--azimuths", type=int, default=12, metavar="N",
                    help="azimuths per revolution averaged in multi-blade coordinates (default 12)")
+    p.add_argument("--method", choices=("elastodyn-fd", "exact"), default="elastodyn-fd",
+                   help="A by ElastoDyn's central differences (default, as OpenFAST) or exact derivatives")
 
 
 def parse_rpm_list(text: str) -> list[float]:
@@ -55,33 +62,32 @@ def parse_rpm_list(text: str) -> list[float]:
 
 def run(args: argparse.Namespace) -> int:
     from ..wind import read_openfast
-    from ..wind.campbell import campbell
-    from ..wind.turbine import TurbineModel
+    from ..wind.campbell_diagram import campbell, campbell_model
 
     rpm = parse_rpm_list(args.rpm)
     if args.azimuths < 1:
         raise ValueError(f"--azimuths must be a positive integer; got {args.azimuths}")
     t0 = time.perf_counter()
     turbine = read_openfast(args.deck)
-    model = TurbineModel(turbine, prescribed_azimuth=True)
-    diagram = campbell(model, rpm, n_azimuth=args.azimuths)
+    model = campbell_model(turbine)
+    diagram = campbell(model, rpm, n_azimuth=args.azimuths, method=args.method)
     wall = time.perf_counter() - t0
     log = sys.stderr if args.json else sys.stdout
     if args.json:
         print(json.dumps(diagram.to_dict()))
     else:
-        _table(args.deck, model, diagram, wall)
+        _table(args.deck, model, diagram, wall, args.method)
     if args.plot:
         diagram.plot(args.plot, title=f"Campbell diagram: {Path(args.deck).name}")
         print(f"wrote {args.plot}", file=log)
     return 0
 
 
-def _table(deck, model, diagram, wall: float) -> None:
+def _table(deck, model, diagram, wall: float, method: str) -> None:
     dofs = ", ".join(f for f, on in model.dofs.items() if on)
     print(f"mbsym campbell: {deck}")
     print(f"DOFs: {dofs} ({model.eom.n_q} coordinates); fixed-frame modes (multi-blade coordinates), "
-          f"{wall:.2f} s\n")
+          f"method {method}, {wall:.2f} s\n")
     head = "".join(f"{r:>9.2f}" for r in diagram.rpm)
     for title, attr, fmt in (("frequency [Hz] at rotor speed [rpm]", "freq_hz", "{:9.4f}"),
                              ("damping ratio [-] at rotor speed [rpm]", "damping_ratio", "{:9.5f}")):

@@ -59,12 +59,12 @@ def undeflected(turbine, rpm: float | None = None):
 
 def _model(deck, rpm):
     from ..wind import nrel5mw, read_openfast
-    from ..wind.turbine import SUPPORTED_DOFS, TurbineModel
+    from ..wind.turbine import NON_BLADE_DOFS, TurbineModel
     from .simulate import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING
 
     if deck is None:
         turbine = undeflected(nrel5mw(), rpm)
-        dofs = [f for f in SUPPORTED_DOFS if turbine.dofs.get(f)]
+        dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
         return model, "NREL 5 MW onshore (built-in)"
     return TurbineModel(undeflected(read_openfast(deck), rpm)), str(deck)

@@ -129,11 +129,11 @@ def _check_files(args):
 
 def _model(deck):
     from ..wind import read_openfast
-    from ..wind.turbine import SUPPORTED_DOFS, TurbineModel
+    from ..wind.turbine import NON_BLADE_DOFS, TurbineModel
 
     if deck is None:
         turbine = builtin_turbine()
-        dofs = [f for f in SUPPORTED_DOFS if turbine.dofs.get(f)]
+        dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
         return model, "NREL 5 MW onshore (built-in, rigid blades), tower top released from 0.5 m fore-aft"
     turbine = read_openfast(deck)
@@ -145,7 +145,9 @@ def _simulate(model, tmax, t_out, step, args, fixed_step: bool):
     (at multiples of the step, so the result is the same): adaptive methods would restart."""
     from ..simulate import simulate
 
-    kw = dict(method=args.method, dt=step, rtol=args.rtol, atol=args.atol, compile=args.compile)
+    kw = dict(method=args.method, compile=args.compile)
+    # each method gets only what it uses: the step for fixed-step methods, tolerances otherwise
+    kw.update(dict(dt=step) if fixed_step else dict(rtol=args.rtol, atol=args.atol))
     if not sys.stdout.isatty():
         return simulate(model, tmax, t_out=t_out, **kw)
     if not fixed_step:

@@ -32,7 +32,7 @@ from .elastodyn_bodies import (
     tower_elastodyn_data,
     tower_shape_integrals,
 )
-from .campbell import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
+from .campbell_diagram import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
 from .mbc import coleman_matrices, mbc_second_order, mbc_transform
 from .fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
 from .nrel5mw import nrel5mw

@@ -18,20 +18,18 @@ from the model's rhs) with the channel names and units alongside.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
+from ..bodies.flexible import FlexibleBody
 from ..kinematics import elastodyn_rotation
-from .elastodyn_bodies import BLADE_DOFS, TOWER_DOFS, blade_elastodyn_data, tower_elastodyn_data
+from .mbc import blade1_azimuth, blade_dof
 
 __all__ = ["Channels", "output_function", "channel_units"]
 
 _TRANSLATIONS = {"Sg", "Sw", "Hv", "TFA1", "TSS1", "TFA2", "TSS2"}
-_TOWER_FLAG = {"TFA1": "TwFADOF1", "TFA2": "TwFADOF2", "TSS1": "TwSSDOF1", "TSS2": "TwSSDOF2"}
-_BLADE_DOF = re.compile(r"B\d+(F1|F2|E1)")
 _RPM = 30.0 / np.pi
 _DEG = 180.0 / np.pi
 
@@ -53,7 +51,7 @@ class Channels:
 def channel_units(name: str) -> str:
     """Unit of a DOF channel ``Q_<dof>``, ``QD_<dof>`` or ``QD2_<dof>``."""
     prefix, dof = name.split("_", 1)
-    base = "m" if dof in _TRANSLATIONS or _BLADE_DOF.fullmatch(dof) else "rad"
+    base = "m" if dof in _TRANSLATIONS or blade_dof(dof) else "rad"
     return {"Q": base, "QD": f"{base}/s", "QD2": f"{base}/s^2"}[prefix]
 
 
@@ -100,29 +98,36 @@ def _rotor_rows(model, val, vel, d) -> list:
         geaz, geaz_d = ca.SX(model.initial_generator_azimuth()), ca.SX(0.0)
     rotor = geaz + val.get("DrTr", 0.0)
     rotor_d = geaz_d + vel.get("DrTr", 0.0)
-    azimuth = ca.fmod(rotor + t.azimuth_blade1_up + np.pi / 2, 2 * np.pi)
+    azimuth = ca.fmod(blade1_azimuth(rotor, t.azimuth_blade1_up), 2 * np.pi)
     azimuth = ca.if_else(azimuth < 0, azimuth + 2 * np.pi, azimuth)
     yaw = val.get("Yaw", t.initial_conditions.nacelle_yaw)
     return [("Azimuth", "deg", _DEG * azimuth), ("RotSpeed", "rpm", _RPM * rotor_d),
             ("GenSpeed", "rpm", _RPM * abs(t.gearbox_ratio) * geaz_d), ("NacYaw", "deg", _DEG * ca.SX(yaw))]
 
 
+def _tip(body, val):
+    """Tip displacement (x, y, z) of a flexible body in its own axes, from its shape integrals.
+
+    ``end_displacement`` per coordinate, and the axial shortening ``-1/2 qᵀ Ax_tip q`` with
+    ``Ax_tip = kg_tip[z]`` (:func:`mbsym.beam.lumped.lumped_shape_integrals`); the body's
+    coordinates are looked up by name in ``val``.
+    """
+    sid = body.sid
+    qe = ca.vertcat(*[val[c.name()] for c in body.elastic_coordinates])
+    xy = ca.DM(np.asarray(sid.end_displacement, dtype=float)) @ qe
+    drop = -0.5 * qe.T @ ca.DM(np.asarray(sid.kg_tip[2], dtype=float)) @ qe
+    return xy[0], xy[1], drop, qe
+
+
 def _tower_rows(model, val) -> list:
     """Tower-top displacements in platform axes and in the deflected tower-top axes."""
-    active = [n for n in ("TFA1", "TSS1", "TFA2", "TSS2") if n in val]
-    if not active:
+    tower = model.bodies["tower"]
+    if not isinstance(tower, FlexibleBody):     # rigid tower
         zero = ca.SX(0.0)
         return [("TTDspFA", "m", zero), ("TTDspSS", "m", zero), ("TTDspAx", "m", zero),
                 ("YawBrTDxp", "m", zero), ("YawBrTDyp", "m", zero)]
-    qe = ca.vertcat(*[val[n] for n in active])
-    data = tower_elastodyn_data(model.turbine)
-    idx = [TOWER_DOFS.index(_TOWER_FLAG[n]) for n in active]
-    ax = ca.DM(np.asarray(data.tip_axial_reduction)[np.ix_(idx, idx)])
-    fa = sum((val[n] for n in active if n.startswith("TFA")), ca.SX(0.0))
-    ss = sum((val[n] for n in active if n.startswith("TSS")), ca.SX(0.0))
-    drop = -0.5 * qe.T @ ax @ qe
-    theta = ca.DM(np.asarray(model.bodies["tower"].sid.end_rotation)) @ qe
-    R = elastodyn_rotation(theta)
+    fa, ss, drop, qe = _tip(tower, val)
+    R = elastodyn_rotation(ca.DM(np.asarray(tower.sid.end_rotation)) @ qe)
     r = ca.vertcat(fa, ss, drop)
     return [("TTDspFA", "m", fa), ("TTDspSS", "m", ss), ("TTDspAx", "m", drop),
             ("YawBrTDxp", "m", ca.dot(r, R[:, 0])), ("YawBrTDyp", "m", ca.dot(r, R[:, 1]))]
@@ -141,23 +146,20 @@ def _platform_rows(model, val) -> list:
 
 
 def _blade_rows(model, val, d) -> list:
-    """Pitch and tip deflections of every blade (notes §6), ElastoDyn's names and signs."""
-    from .turbine import blade_coordinate
+    """Pitch and tip deflections of every blade (notes §6), ElastoDyn's names and signs.
 
+    The tip (j1, j2, j3) displacements are those of the blade bodies' shape integrals
+    (ElastoDyn's twisted tip shapes and ``AxRedBld`` at the tip).
+    """
     t = model.turbine
     pitch_input = _input(d, "BlPitch")
     rows = []
     for k in range(t.number_of_blades):
         pitch = pitch_input if pitch_input is not None else ca.SX(float(t.initial_conditions.blade_pitch[k]))
-        flags = [f for f in BLADE_DOFS if blade_coordinate(k, f) in val]
-        if flags:
-            data = blade_elastodyn_data(t, k)
-            idx = [BLADE_DOFS.index(f) for f in flags]
-            qe = ca.vertcat(*[val[blade_coordinate(k, f)] for f in flags])
-            ut = ca.DM(np.asarray(data.tip_displacement)[idx])                   # (n, 2): j1, j2 per DOF
-            x, y = ca.dot(ut[:, 0], qe), ca.dot(ut[:, 1], qe)
-            z = -0.5 * qe.T @ ca.DM(np.asarray(data.tip_axial_reduction)[np.ix_(idx, idx)]) @ qe
-        else:
+        blade = model.bodies[f"blade{k + 1}"]
+        if isinstance(blade, FlexibleBody):
+            x, y, z, _ = _tip(blade, val)
+        else:                                       # rigid blade
             x = y = z = ca.SX(0.0)
         c, s = ca.cos(pitch), ca.sin(pitch)
         oop, ip = x * c + y * s, -x * s + y * c

@@ -42,15 +42,17 @@ from ..joints import Fixed, Joint, Revolute
 from ..kinematics import elastodyn_rotation, rotation
 from .elastodyn_bodies import (
     BLADE_DOFS,
+    ElastoDynBladeData,
     blade_elastodyn_data,
     blade_shape_integrals,
     tower_elastodyn_data,
     tower_shape_integrals,
 )
+from .elastodyn_nodes import rotor_mass_properties
 from .parameters import DOF_NAMES, TurbineParameters
 
-__all__ = ["TurbineModel", "PlatformJoint", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS", "STATE_ORDER",
-           "blade_rotation", "blade_coordinate", "initial_blade_deflection"]
+__all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+           "STATE_ORDER", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
 
 #: ElastoDyn flag -> coordinate name, in ElastoDyn's state order (notes §7).
 STATE_ORDER = {
@@ -58,13 +60,17 @@ STATE_ORDER = {
     "PtfmYDOF": "Y", "TwFADOF1": "TFA1", "TwSSDOF1": "TSS1", "TwFADOF2": "TFA2", "TwSSDOF2": "TSS2",
     "YawDOF": "Yaw", "GenDOF": "GeAz", "DrTrDOF": "DrTr",
 }
-#: Platform, tower, yaw and drivetrain flags (the rotor-support set, state order).
-SUPPORTED_DOFS = tuple(STATE_ORDER)
+#: Platform, tower, yaw and drivetrain flags (the 13 non-blade flags, state order): with only
+#: these the blades are rigid.
+NON_BLADE_DOFS = tuple(STATE_ORDER)
+#: Former name of :data:`NON_BLADE_DOFS`, kept for compatibility (it is *not* every flag the
+#: template models: see :data:`MODELLED_DOFS`).
+SUPPORTED_DOFS = NON_BLADE_DOFS
 #: Blade flags in ElastoDyn's state order (all blades' F1, then E1, then F2) and the
 #: suffix of their coordinates (``B<k>F1`` …).
 BLADE_FLAGS = {"FlapDOF1": "F1", "EdgeDOF": "E1", "FlapDOF2": "F2"}
-#: Every flag the template models: 13 support/drivetrain flags + 3 blade flags (22 DOFs for 3 blades).
-MODELLED_DOFS = SUPPORTED_DOFS + tuple(BLADE_FLAGS)
+#: Every flag the template models: 13 non-blade flags + 3 blade flags (22 DOFs for 3 blades).
+MODELLED_DOFS = NON_BLADE_DOFS + tuple(BLADE_FLAGS)
 _PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
 _TOWER = ("TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2")
 
@@ -118,6 +124,13 @@ class TurbineModel:
         ``GeAz_d``, ``GeAz_dd``) even when the deck's RotSpeed is 0 (Campbell diagrams at
         several speeds from one model). Default: only when RotSpeed is nonzero.
 
+    Raises
+    ------
+    ModelDefinitionError
+        Listing at once every deck feature that would change the dynamics of the enabled
+        DOFs but that the template does not model (:func:`unsupported_features`), and
+        unknown or unmodelled DOF flags.
+
     Attributes
     ----------
     system : System
@@ -141,7 +154,13 @@ class TurbineModel:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
-        self.dofs = _resolve_dofs(turbine, dofs)
+        self.dofs, problems = _resolve_dofs(turbine, dofs)
+        problems += unsupported_features(turbine, self.dofs)
+        if problems:
+            raise ModelDefinitionError(
+                f"the template cannot model this turbine as it stands ({len(problems)} problem"
+                f"{'s' if len(problems) > 1 else ''}):\n" + "\n".join(f"  - {m}" for m in problems))
+        self._blade_data: dict[int, ElastoDynBladeData] = {}
         self._yaw = (float(yaw_spring), float(yaw_damping))
         self.pitch_input = bool(pitch_input)
         self.prescribed_azimuth = bool(prescribed_azimuth)
@@ -204,10 +223,16 @@ class TurbineModel:
         if not flags or not np.any(target):
             return out
         for k in range(t.number_of_blades):
-            values = initial_blade_deflection(blade_elastodyn_data(t, k).tip_displacement,
+            values = initial_blade_deflection(self.blade_data(k).tip_displacement,
                                               ic.blade_pitch[k], target, self.dofs, blade=k + 1)
             out.update({blade_coordinate(k, f): v for f, v in values.items() if self.dofs.get(f)})
         return out
+
+    def blade_data(self, blade: int) -> ElastoDynBladeData:
+        """ElastoDyn's nodes, shapes and matrices of blade ``blade`` (0-based), computed once per model."""
+        if blade not in self._blade_data:
+            self._blade_data[blade] = blade_elastodyn_data(self.turbine, blade)
+        return self._blade_data[blade]
 
     def input_defaults(self) -> dict[str, float | Callable[[float], float]]:
         """Default value (number or function of time [s]) of every input of the model."""
@@ -288,9 +313,6 @@ class TurbineModel:
         values = [self.coords.get(STATE_ORDER[f], v) for f, v in zip(_PLATFORM, init)]
         ref = np.asarray(t.platform_reference, dtype=float)
         if any(isinstance(v, ca.SX) for v in values):
-            if any(abs(x) > 0 for x in (t.platform_xy_inertia, t.platform_yz_inertia, t.platform_xz_inertia)):
-                raise ModelDefinitionError("platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner) "
-                                           "are not supported yet; set them to 0 or disable the platform DOFs.")
             p = self.p
             body = RigidBody("platform", mass=p["platform_mass"], com=np.asarray(t.platform_cm) - ref,
                              inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
@@ -390,10 +412,7 @@ class TurbineModel:
 
     def _rotor_mass(self):
         """Hub + blades [kg] (ElastoDyn's RotMass), hub mass as a parameter."""
-        t = self.turbine
-        blades = sum(float(np.sum(blade_elastodyn_data(t, k).element_mass)) + blade_elastodyn_data(t, k).tip_mass
-                     for k in range(t.number_of_blades))
-        return self.p["hub_mass"] + blades
+        return self.p["hub_mass"] + sum(rotor_mass_properties(self.turbine).blade_mass)
 
     def _blades(self, hub: Body) -> None:
         """Coned and pitched blades of ElastoDyn's lumped node masses (notes §1.8, §4).
@@ -411,7 +430,7 @@ class TurbineModel:
                 sid = blade_shape_integrals(t, k, dofs=flags)
                 blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags])
             else:
-                blade = _rigid_blade(t, k, name)
+                blade = _rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
             if isinstance(pitch, ca.SX):
                 # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
@@ -538,9 +557,8 @@ def initial_blade_deflection(tip_displacement, pitch: float, target, dofs: dict[
     return out
 
 
-def _rigid_blade(t: TurbineParameters, k: int, name: str) -> RigidBody:
+def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
     """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
-    data = blade_elastodyn_data(t, k)
     m = np.append(np.asarray(data.element_mass), data.tip_mass)
     z = np.append(np.asarray(data.span), data.length)
     mass = float(m.sum())
@@ -549,7 +567,77 @@ def _rigid_blade(t: TurbineParameters, k: int, name: str) -> RigidBody:
     return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
 
 
-def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> dict[str, bool]:
+def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
+    """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
+
+    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs),
+    platform products of inertia (with platform DOFs), gearbox losses (GBoxEff < 100 %,
+    with GenDOF: ElastoDyn's friction terms in the generator equation) and, for two-bladed
+    rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
+    inertia (``Hubg1Iner = Hubg2Iner = (HubIner - HubMass (UndSling - HubCM)²) / cos² Delta3``
+    about the shaft and the teeter axis; the template has HubIner about the shaft only).
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+    dofs : dict
+        ElastoDyn flag -> enabled.
+
+    Returns
+    -------
+    list of str
+        One message per unsupported feature (empty if none), saying what to change.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from mbsym.wind import nrel5mw
+    >>> t = dataclasses.replace(nrel5mw(), gearbox_efficiency=0.95)
+    >>> unsupported_features(t, {"GenDOF": True})
+    ['GBoxEff = 95 % (gearbox friction in the generator-azimuth equation): set GBoxEff = 100 or disable GenDOF']
+    """
+    out = []
+    on = {f for f, v in dofs.items() if v}
+    platform, tower = on & set(_PLATFORM), on & set(_TOWER)
+    cmass = np.asarray(turbine.tower.point_mass, dtype=float)
+    if (platform or tower) and np.any(cmass != 0):
+        out.append(f"tower concentrated masses (NTwCMass = {cmass.size}: TwCMass {cmass.tolist()} kg at "
+                   f"TwCMassHtFract {np.asarray(turbine.tower.point_mass_fraction).tolist()}): set NTwCMass = 0 "
+                   "or disable the tower and platform DOFs")
+    products = (turbine.platform_xy_inertia, turbine.platform_yz_inertia, turbine.platform_xz_inertia)
+    if platform and any(abs(x) > 0 for x in products):
+        out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "
+                   "set them to 0 or disable the platform DOFs")
+    if "GenDOF" in on and turbine.gearbox_efficiency < 1.0:
+        out.append(f"GBoxEff = {100 * turbine.gearbox_efficiency:.6g} % (gearbox friction in the generator-azimuth "
+                   "equation): set GBoxEff = 100 or disable GenDOF")
+    if turbine.number_of_blades == 2:
+        out += _two_blade_features(turbine, bool(platform or tower or "YawDOF" in on))
+    return out
+
+
+def _two_blade_features(t: TurbineParameters, support_moves: bool) -> list[str]:
+    """Teetering-hub data of a two-bladed deck that the template (hub at the apex, no teeter) ignores."""
+    out = []
+    if t.undersling != 0:
+        out.append(f"UndSling = {t.undersling:.6g} m (2-bladed rotor off the teeter pin): set UndSling = 0")
+    if t.delta3 != 0:
+        out.append(f"Delta3 = {np.rad2deg(t.delta3):.6g} deg (teeter axis; divides the hub inertia by cos^2 Delta3): "
+                   "set Delta3 = 0")
+    if t.initial_conditions.teeter_angle != 0:
+        out.append(f"TeetDefl = {np.rad2deg(t.initial_conditions.teeter_angle):.6g} deg (a fixed teeter angle): "
+                   "set TeetDefl = 0")
+    g1 = (t.hub_inertia - t.hub_mass * (t.undersling - t.hub_cm) ** 2) / np.cos(t.delta3) ** 2
+    if not np.isclose(g1, t.hub_inertia, rtol=1e-12, atol=0.0) or (support_moves and g1 != 0):
+        out.append(f"2-bladed hub inertia: ElastoDyn's Hubg1Iner = Hubg2Iner = {g1:.6g} kg m^2 about the shaft and "
+                   f"the teeter axis; the template has HubIner = {t.hub_inertia:.6g} kg m^2 about the shaft only "
+                   "(set HubIner = 0, or disable the tower, platform and yaw DOFs and make "
+                   "HubMass (UndSling - HubCM)^2 = 0)")
+    return out
+
+
+def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> tuple[dict[str, bool], list[str]]:
+    """Enabled flags (every modelled flag -> bool) and a message for requested flags that are not modelled."""
     if dofs is None:
         chosen = {f for f, on in turbine.dofs.items() if on}
     else:
@@ -560,9 +648,8 @@ def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> dic
         if unknown:
             raise ModelDefinitionError(f"unknown ElastoDyn DOF flags {unknown}; valid flags are {list(DOF_NAMES)}.")
     unsupported = sorted(chosen - set(MODELLED_DOFS))
+    problems = []
     if unsupported:
-        raise ModelDefinitionError(
-            f"DOFs {unsupported} are not modelled by this template yet (supported: {list(MODELLED_DOFS)}); "
-            "disable them (dofs=[...]) to build the rest."
-        )
-    return {f: (f in chosen) for f in MODELLED_DOFS}
+        problems.append(f"DOFs {unsupported} are not modelled by this template yet (supported: {list(MODELLED_DOFS)}); "
+                        "disable them (dofs=[...]) to build the rest")
+    return {f: (f in chosen) for f in MODELLED_DOFS}, problems

@@ -226,7 +226,8 @@ def test_tip_deflection_channels_match_elastodyn_tip_components():
 def test_tip_deflection_channels_match_the_engine_kinematics():
     """With pitch 0.3 rad (input), precone and tilt, at a random blade deflection: OoPDefl/IPDefl equal
     the engine's deflected-tip displacement projected on the coned axes i1 = cos β j1 + sin β j2,
-    i2 = -sin β j1 + cos β j2 (j = the blade body axes), 1e-12; TipDxb/TipDyb on j1, j2."""
+    i2 = -sin β j1 + cos β j2 (j = the blade body axes), 1e-12; TipDxb/TipDyb on j1, j2; TipDzc is
+    ElastoDyn's -1/2 qᵀ AxRedBld(tip) q (notes §6) from blade_elastodyn_data, 1e-12 relative."""
     t = nrel5mw()
     beta = 0.3
     ic = dataclasses.replace(t.initial_conditions, blade_pitch=(beta,) * 3)
@@ -252,7 +253,33 @@ def test_tip_deflection_channels_match_the_engine_kinematics():
         assert y[f"OoPDefl{k}"] == pytest.approx(d @ i1, abs=1e-12)
         assert y[f"IPDefl{k}"] == pytest.approx(d @ i2, abs=1e-12)
         assert y[f"TipDxb{k}"] == pytest.approx(d @ R[:, 0], abs=1e-12)
+        qb = q[[eom.coordinates.index(f"B{k}{s}") for s in ("F1", "F2", "E1")]]     # BLADE_DOFS order
+        ax = blade_elastodyn_data(t, k - 1).tip_axial_reduction                      # notes §1.7, §6
+        assert y[f"TipDzc{k}"] == pytest.approx(-0.5 * qb @ ax @ qb, rel=1e-12)
         assert y[f"BldPitch{k}"] == pytest.approx(np.rad2deg(beta), rel=1e-14)
+
+
+def test_blade_data_computed_once_per_blade(monkeypatch):
+    """TurbineModel computes ElastoDyn's blade data once per blade and the output channels reuse the
+    bodies' shape integrals (no recomputation of blade or tower data in channels.py)."""
+    import mbsym.wind.turbine as turbine_module
+
+    calls = []
+    original = turbine_module.blade_elastodyn_data
+    monkeypatch.setattr(turbine_module, "blade_elastodyn_data",
+                        lambda t, k, **kw: calls.append(k) or original(t, k, **kw))
+    t = nrel5mw()
+    ic = dataclasses.replace(t.initial_conditions, blade_oop_tip_deflection=1.0)
+    model = TurbineModel(dataclasses.replace(t, initial_conditions=ic),
+                         dofs=["TwFADOF1", "GenDOF", "FlapDOF1", "EdgeDOF"])
+    model.initial_state()
+    model.output_function()
+    rigid = TurbineModel(t, dofs=["TwFADOF1", "GenDOF"])
+    assert sorted(calls) == [0, 0, 1, 1, 2, 2]          # 3 flexible + 3 rigid blades, once each
+    assert model.blade_data(1) is model.blade_data(1)
+    import mbsym.wind.channels as channels_module
+    assert not hasattr(channels_module, "blade_elastodyn_data") and not hasattr(channels_module, "tower_elastodyn_data")
+    assert rigid.eom.n_q == 2
 
 
 def test_blade_frame_is_elastodyn_j_frame():

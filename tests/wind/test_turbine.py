@@ -9,6 +9,10 @@ References
 - First CSV row (t = 0): initial conditions and outputs, e.g. YawBrTDxp 0.999912460534, to 1e-6.
 - Gravity off, zero displacements and speeds is an equilibrium for any DOF set: the accelerations
   are zero (1e-12) and a short simulation stays at rest.
+- ElastoDyn.f90 (SetOtherParameters, FillAugMat): two-bladed hubs have Hubg1Iner = Hubg2Iner =
+  (HubIner - HubMass (UndSling - HubCM)^2) / cos^2 Delta3; GBoxEff < 100 % adds friction terms to
+  the generator equation; tower concentrated masses (TwCMass) load the tower. The template has none
+  of these, so such decks must be refused with every problem listed at once (STYLE.md).
 """
 
 import itertools
@@ -20,7 +24,7 @@ import pytest
 import mbsym as mb
 from mbsym.wind import nrel5mw, read_openfast
 from mbsym.wind.compare import compare, read_csv
-from mbsym.wind.turbine import SUPPORTED_DOFS, TurbineModel
+from mbsym.wind.turbine import BLADE_FLAGS, NON_BLADE_DOFS, SUPPORTED_DOFS, TurbineModel, unsupported_features
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "openfast"
 CASES = ["paper44_fa_gen", "paper45_fa_ss_gen", "paper46_floating"]
@@ -43,7 +47,7 @@ def _series(result, model):
 def test_free_decay_matches_openfast(case):
     turbine, ref = _case(case)
     model = TurbineModel(turbine)
-    r = mb.simulate(model, 60.0, method="cvodes", dt=0.02, rtol=1e-8, atol=1e-10, t_out=ref.time)
+    r = mb.simulate(model, 60.0, method="cvodes", rtol=1e-8, atol=1e-10, t_out=ref.time)
     rows = {row["channel"]: row for row in compare(_series(r, model), ref)}
     checked = [n for n in ref.names if n.startswith("Q_") or n in ("Azimuth", "RotSpeed") or n.startswith("Ptfm")]
     assert checked and set(checked) <= set(rows)
@@ -103,7 +107,7 @@ def test_all_supported_dofs_at_once_build():
                             platform_pitch_inertia=4.2e9, platform_yaw_inertia=1.6e8,
                             platform_cm=(0.0, 0.0, -90.0), platform_reference=(0.0, 0.0, 20.0),
                             tower_base_height=20.0)
-    model = TurbineModel(t, dofs=list(SUPPORTED_DOFS))
+    model = TurbineModel(t, dofs=list(NON_BLADE_DOFS))
     assert model.eom.coordinates == ("Sg", "Sw", "Hv", "R", "P", "Y", "TFA1", "TSS1", "TFA2", "TSS2",
                                      "Yaw", "GeAz", "DrTr")
     M = model.eom.mass_matrix(np.zeros(13))
@@ -131,3 +135,55 @@ def test_bad_dof_requests():
         TurbineModel(t, dofs=["PitchDOF"])
     with pytest.raises(TypeError, match="list of ElastoDyn flag names"):
         TurbineModel(t, dofs="GenDOF")
+
+
+def test_non_blade_dofs_and_compatibility_alias():
+    assert SUPPORTED_DOFS is NON_BLADE_DOFS and len(NON_BLADE_DOFS) == 13
+    assert not set(NON_BLADE_DOFS) & set(BLADE_FLAGS)
+
+
+def _with_unsupported_features():
+    import dataclasses
+    t = nrel5mw()
+    tower = dataclasses.replace(t.tower, point_mass_fraction=[0.5], point_mass=[2000.0])
+    return dataclasses.replace(t, tower=tower, gearbox_efficiency=0.944, platform_xy_inertia=1.0e6,
+                               platform_mass=7.5e6, platform_roll_inertia=4.2e9, platform_pitch_inertia=4.2e9,
+                               platform_yaw_inertia=1.6e8)
+
+
+def test_unsupported_deck_features_are_listed_in_one_error():
+    """Tower point mass, gearbox losses, platform products of inertia and an unmodelled DOF: one
+    ModelDefinitionError naming all four, each with its deck key."""
+    t = _with_unsupported_features()
+    with pytest.raises(mb.ModelDefinitionError) as err:
+        TurbineModel(t, dofs=["PtfmPDOF", "TwFADOF1", "GenDOF", "PitchDOF"])
+    msg = str(err.value)
+    assert "4 problems" in msg
+    for part in ("NTwCMass = 1", "TwCMass [2000.0] kg", "GBoxEff = 94.4 %", "PtfmXYIner",
+                 "['PitchDOF'] are not modelled by this template yet"):
+        assert part in msg, part
+    # features that cannot move an enabled DOF are not reported
+    assert unsupported_features(t, {"YawDOF": True}) == []
+    TurbineModel(t, dofs=["YawDOF"])
+
+
+def test_two_bladed_hub_features():
+    """NumBl = 2: UndSling, Delta3, TeetDefl and ElastoDyn's hub inertia about g1 and g2."""
+    import dataclasses
+    t = nrel5mw()
+    ic = dataclasses.replace(t.initial_conditions, blade_pitch=t.initial_conditions.blade_pitch[:2],
+                             teeter_angle=np.deg2rad(1.0))
+    two = dataclasses.replace(t, number_of_blades=2, blades=t.blades[:2], precone=t.precone[:2],
+                              tip_mass=t.tip_mass[:2], pitch_bearing_inertia=t.pitch_bearing_inertia[:2],
+                              blade_pitch_inertia=t.blade_pitch_inertia[:2], initial_conditions=ic,
+                              undersling=0.5, delta3=np.deg2rad(10.0))
+    msgs = unsupported_features(two, {"GenDOF": True})
+    g1 = (t.hub_inertia - t.hub_mass * (0.5 - t.hub_cm) ** 2) / np.cos(np.deg2rad(10.0)) ** 2
+    assert len(msgs) == 4 and msgs[0].startswith("UndSling = 0.5 m") and msgs[1].startswith("Delta3 = 10 deg")
+    assert msgs[2].startswith("TeetDefl = 1 deg") and f"Hubg2Iner = {g1:.6g} kg m^2" in msgs[3]
+    plain = dataclasses.replace(two, undersling=0.0, delta3=0.0, hub_cm=0.0,
+                                initial_conditions=dataclasses.replace(ic, teeter_angle=0.0))
+    assert unsupported_features(plain, {"GenDOF": True}) == []          # Hubg1Iner = HubIner: modelled
+    assert len(unsupported_features(plain, {"TwSSDOF1": True})) == 1    # inertia about g2 is not
+    with pytest.raises(mb.ModelDefinitionError, match="Hubg1Iner = Hubg2Iner"):
+        TurbineModel(plain, dofs=["TwSSDOF1"])
