@@ -3,16 +3,20 @@
 :func:`compile_function` turns a CasADi ``Function`` into a shared library
 (CasADi's ``CodeGenerator``, then the system C compiler, ``-O1`` by default) and
 loads it back with ``casadi.external``. Libraries are cached on disk under a key
-derived from the serialized Function, the compiler (path and version), the
-flags and the CasADi version, so a second preparation of the same Function, in
-this process or a later one, skips the compiler. Without a working compiler the
+derived from the serialized Function, the compiler command (every word, the
+first resolved to its path, and its version line), the flags, the CasADi
+version and the platform (``platform.machine()``, ``sys.platform``), so a second
+preparation of the same Function, in this process or a later one, skips the
+compiler. A cached library that exists but does not load (truncated, built for
+another ABI) is deleted and rebuilt once. Without a working compiler the
 original Function is returned (CasADi's virtual machine) with a
 :class:`CompilationWarning`; results are the same, only slower.
 
 Cache directory: ``$MBSYM_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbsym``, else
 ``~/.cache/mbsym``. Compiler: ``compiler=``, else ``$MBSYM_CC``, else ``$CC``,
-else ``gcc`` or ``cc`` on the ``PATH``. ``MBSYM_NO_COMPILE=1`` turns compilation
-off (fallback without a warning).
+else ``gcc`` or ``cc`` on the ``PATH``; a command of several words (``"ccache
+gcc"``, ``"gcc -march=native"``) is used whole. ``MBSYM_NO_COMPILE=1`` turns
+compilation off (fallback without a warning, checked before any other work).
 
 Measured on the CI machine kind (paper45 turbine, 3 DOFs): the RK4 step of
 ~6000 SX instructions compiles in ~0.8 s at ``-O1`` and runs 600 steps in
@@ -24,9 +28,11 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import platform
 import shlex
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 import warnings
@@ -42,6 +48,7 @@ __all__ = [
     "DEFAULT_FLAGS",
     "cache_dir",
     "find_compiler",
+    "compiler_command",
     "function_key",
     "compile_function",
     "clear_disk_cache",
@@ -51,6 +58,7 @@ __all__ = [
 DEFAULT_FLAGS: tuple[str, ...] = ("-O1",)
 #: Seconds after which a compilation is abandoned (then: the virtual machine, with a warning).
 COMPILE_TIMEOUT_S = 600.0
+_TEMP_PREFIX = "mbsym_cg_"
 
 
 class CompilationWarning(UserWarning):
@@ -71,7 +79,7 @@ class CompiledFunction:
     cache_hit : bool
         Whether the library came from the disk cache (no compiler run).
     key : str
-        Cache key (hex digest).
+        Cache key (hex digest); empty when nothing was compiled or loaded.
     library : Path or None
         The shared library.
     wall_s : float
@@ -98,39 +106,56 @@ def cache_dir() -> Path:
     return (Path(xdg).expanduser() if xdg else Path.home() / ".cache") / "mbsym"
 
 
-def find_compiler(compiler: str | None = None) -> str | None:
-    """Absolute path of the C compiler to use, or None if there is none.
+def compiler_command(compiler: str | None = None) -> tuple[str, ...] | None:
+    """The C compiler command to use, as words with the first resolved to an absolute path; None if absent.
 
     A compiler named explicitly (argument, ``$MBSYM_CC``, ``$CC``) is used or
-    nothing: it is never silently replaced by another one.
+    nothing: it is never silently replaced by another one. Every word is kept
+    (``"ccache gcc"`` runs ``ccache gcc ...``).
+
+    Examples
+    --------
+    >>> cmd = compiler_command("env cc -DEXAMPLE")
+    >>> cmd is None or cmd[1:] == ("cc", "-DEXAMPLE")
+    True
     """
     named = compiler or os.environ.get("MBSYM_CC") or os.environ.get("CC")
     if named:
         words = shlex.split(named)
-        return shutil.which(words[0]) if words else None
-    return shutil.which("gcc") or shutil.which("cc")
+        path = shutil.which(words[0]) if words else None
+        return (path, *words[1:]) if path else None
+    path = shutil.which("gcc") or shutil.which("cc")
+    return (path,) if path else None
+
+
+def find_compiler(compiler: str | None = None) -> str | None:
+    """Absolute path of the first word of :func:`compiler_command` (the program run), or None."""
+    cmd = compiler_command(compiler)
+    return cmd[0] if cmd else None
 
 
 @functools.lru_cache(maxsize=8)
-def _compiler_version(path: str) -> str:
+def _compiler_version(command: tuple[str, ...]) -> str:
     try:
-        out = subprocess.run([path, "--version"], capture_output=True, text=True, timeout=30)
+        out = subprocess.run([*command, "--version"], capture_output=True, text=True, timeout=30)
         return out.stdout.splitlines()[0] if out.stdout else out.stderr.strip()
     except (OSError, subprocess.SubprocessError):
         return "unknown"
 
 
-def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | None = None, *,
-                 jacobian: bool = False) -> str:
+def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | Sequence[str] | None = None,
+                 *, jacobian: bool = False) -> str:
     """Cache key of ``f`` compiled with ``flags`` by ``compiler``: SHA-256 over all of them.
 
-    Includes the serialized Function (its whole graph and name), the compiler's
-    path and version line, the flags, whether the Jacobian is included and the
-    CasADi version.
+    ``compiler`` is a command (a string split like a shell does, or words).
+    Includes the serialized Function (its whole graph and name), every word of
+    the compiler command and its version line, the flags, whether the Jacobian
+    is included, the CasADi version and the platform (machine, OS).
     """
+    words = tuple(shlex.split(compiler) if isinstance(compiler, str) else (compiler or ()))
     h = hashlib.sha256()
-    for part in (f.serialize(), compiler or "", _compiler_version(compiler) if compiler else "",
-                 "\0".join(flags), "jacobian" if jacobian else "", ca.__version__):
+    for part in (f.serialize(), "\0".join(words), _compiler_version(words) if words else "",
+                 "\0".join(flags), "jacobian" if jacobian else "", ca.__version__, platform.machine(), sys.platform):
         h.update(part.encode())
         h.update(b"\0")
     return h.hexdigest()
@@ -183,34 +208,38 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
     9.0
     """
     t0 = time.perf_counter()
-    flags = tuple(str(s) for s in flags)
-    cc = find_compiler(compiler)
-    key = function_key(f, flags, cc, jacobian=jacobian)
     if f.class_name() == "External":
-        return CompiledFunction(f, True, True, key, None, time.perf_counter() - t0)
-    if os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0"):
-        return _fallback(f, key, t0, "MBSYM_NO_COMPILE is set.", warn=False)
+        return CompiledFunction(f, True, True, "", None, time.perf_counter() - t0)
+    if os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0"):     # before serializing f (costly)
+        return _fallback(f, "", t0, "MBSYM_NO_COMPILE is set.", warn=False)
+    cc = compiler_command(compiler)
     if cc is None:
-        return _fallback(f, key, t0, "No C compiler found (set MBSYM_CC or CC, or install gcc).", warn=True)
+        return _fallback(f, "", t0, "No C compiler found (set MBSYM_CC or CC, or install gcc).", warn=True)
+    flags = tuple(str(s) for s in flags)
+    key = function_key(f, flags, cc, jacobian=jacobian)
     folder = Path(directory).expanduser() if directory is not None else cache_dir()
     library = folder / f"{f.name()}_{key[:20]}.so"
-    hit = library.exists()
-    if not hit:
+    if library.exists():
         try:
-            _build(f, cc, flags, library, jacobian)
-        except (OSError, subprocess.SubprocessError, RuntimeError) as exc:
-            return _fallback(f, key, t0, f"Compiling {f.name()!r} with {cc} failed: {_tail(exc)}", warn=True)
+            return CompiledFunction(ca.external(f.name(), str(library)), True, True, key, library,
+                                    time.perf_counter() - t0)
+        except RuntimeError:
+            library.unlink(missing_ok=True)        # exists but does not load (truncated, other ABI): rebuild once
+    try:
+        _build(f, cc, flags, library, jacobian)
+    except (OSError, subprocess.SubprocessError, RuntimeError) as exc:
+        return _fallback(f, key, t0, f"Compiling {f.name()!r} with {shlex.join(cc)} failed: {_tail(exc)}", warn=True)
     try:
         g = ca.external(f.name(), str(library))
     except RuntimeError as exc:
         return _fallback(f, key, t0, f"Loading {library} failed: {_tail(exc)}", warn=True)
-    return CompiledFunction(g, True, hit, key, library, time.perf_counter() - t0)
+    return CompiledFunction(g, True, False, key, library, time.perf_counter() - t0)
 
 
-def _build(f: ca.Function, cc: str, flags: tuple[str, ...], library: Path, jacobian: bool) -> None:
+def _build(f: ca.Function, cc: tuple[str, ...], flags: tuple[str, ...], library: Path, jacobian: bool) -> None:
     """Generate C in a private temporary directory, compile, move the library into place atomically."""
     library.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="mbsym_cg_", dir=library.parent) as tmp:
+    with tempfile.TemporaryDirectory(prefix=_TEMP_PREFIX, dir=library.parent) as tmp:
         source = Path(tmp) / f"{f.name()}.c"
         cg = ca.CodeGenerator(source.name, {"with_header": False})
         cg.add(f)
@@ -218,7 +247,7 @@ def _build(f: ca.Function, cc: str, flags: tuple[str, ...], library: Path, jacob
             cg.add(f.jacobian())
         cg.generate(tmp + os.sep)
         out = Path(tmp) / library.name
-        cmd = [cc, *flags, "-shared", "-fPIC", "-o", str(out), str(source), "-lm"]
+        cmd = [*cc, *flags, "-shared", "-fPIC", "-o", str(out), str(source), "-lm"]
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S)
         if proc.returncode != 0:
             raise RuntimeError(f"exit code {proc.returncode}: {proc.stderr.strip()}")
@@ -231,10 +260,25 @@ def _tail(exc: BaseException, n: int = 300) -> str:
 
 
 def clear_disk_cache(directory: str | os.PathLike | None = None) -> int:
-    """Delete the cached libraries (``*.so``) in ``directory`` (default :func:`cache_dir`); return how many."""
+    """Delete the cached libraries (``*.so``) in ``directory`` (default :func:`cache_dir`); return how many.
+
+    Also deletes the stale build directories (``mbsym_cg_*``, left by an interrupted
+    compilation): those older than :data:`COMPILE_TIMEOUT_S`, so that a build running
+    in another process is left alone.
+    """
     folder = Path(directory).expanduser() if directory is not None else cache_dir()
+    if not folder.is_dir():
+        return 0
     count = 0
-    for lib in folder.glob("*.so") if folder.is_dir() else ():
+    for lib in folder.glob("*.so"):
         lib.unlink(missing_ok=True)
         count += 1
+    now = time.time()
+    for tmp in folder.glob(f"{_TEMP_PREFIX}*"):
+        try:
+            stale = tmp.is_dir() and now - tmp.stat().st_mtime > COMPILE_TIMEOUT_S
+        except OSError:                       # removed meanwhile
+            continue
+        if stale:
+            shutil.rmtree(tmp, ignore_errors=True)
     return count

@@ -13,7 +13,7 @@ cvodes, idas), ``scipy_methods`` (scipy-radau, scipy-bdf), ``result``.
 
 from .api import simulate
 from .base import Method, clear_cache
-from .checks import DIVERGENCE_LIMIT, SimulationOptionError
+from .checks import DIVERGENCE_LIMIT, SimulationOptionError, SimulationOptionWarning
 from .methods import METHODS, get_method
 from .model import SimulationModel
 from .result import SimulationResult
@@ -26,6 +26,7 @@ __all__ = [
     "get_method",
     "SimulationModel",
     "SimulationOptionError",
+    "SimulationOptionWarning",
     "DIVERGENCE_LIMIT",
     "clear_cache",
 ]

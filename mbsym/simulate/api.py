@@ -3,21 +3,24 @@
 from __future__ import annotations
 
 import time
+import warnings
 from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
 
 from .base import Problem
-from .checks import check_step, check_t_out, check_tmax, check_tolerances, initial_state
+from .checks import SimulationOptionWarning, check_step, check_t_out, check_tmax, check_tolerances, initial_state
 from .inputs import input_signal
 from .methods import get_method
 from .model import resolve_model
 from .result import SimulationResult
 
-__all__ = ["simulate", "DEFAULT_OUTPUT_POINTS"]
+__all__ = ["simulate", "DEFAULT_OUTPUT_POINTS", "DEFAULT_RTOL", "DEFAULT_ATOL"]
 
 #: Number of output times of adaptive methods when neither ``t_out`` nor ``dt`` is given.
 DEFAULT_OUTPUT_POINTS = 200
+#: Tolerances of adaptive methods when ``rtol``/``atol`` are not given [-], [state units].
+DEFAULT_RTOL, DEFAULT_ATOL = 1e-6, 1e-8
 
 InputValue = Union[float, Sequence[float], tuple, Callable[[float], float]]
 
@@ -25,7 +28,7 @@ InputValue = Union[float, Sequence[float], tuple, Callable[[float], float]]
 def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] | None = None,
              inputs: Mapping[str, InputValue] | Sequence[float] | None = None,
              p: Mapping[str, float] | None = None, *, method: str = "rk4", dt: float | None = None,
-             rtol: float = 1e-6, atol: float = 1e-8, t_out: Sequence[float] | None = None,
+             rtol: float | None = None, atol: float | None = None, t_out: Sequence[float] | None = None,
              compile: bool = False) -> SimulationResult:
     """Integrate the equations of motion from t = 0 to ``tmax``.
 
@@ -60,9 +63,12 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     dt : float, optional
         Fixed-step methods: step [s] (default 0.01; shortened if needed so
         that a whole number of steps ends at ``tmax``). Adaptive methods: the
-        output spacing when ``t_out`` is not given.
+        output spacing when ``t_out`` is not given (given together with
+        ``t_out``, it is ignored with a :class:`SimulationOptionWarning`).
     rtol, atol : float, optional
-        Relative and absolute tolerances of adaptive methods.
+        Relative and absolute tolerances of adaptive methods (default 1e-6
+        and 1e-8). Given to a fixed-step method, they are ignored with a
+        :class:`SimulationOptionWarning`.
     t_out : array, optional
         Output times [s] in ``[0, tmax]``, strictly increasing. Default: every
         step (fixed step), every ``dt`` if given, else 200 points.
@@ -72,6 +78,13 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     SimulationResult
         ``t``, ``x`` (with ``q``/``qd`` views and ``state(name)``), ``u``,
         ``y``/``output_names`` and ``statistics``.
+
+    Warns
+    -----
+    SimulationOptionWarning
+        An option given explicitly that the method does not use (``rtol`` or
+        ``atol`` with a fixed-step method; ``dt`` with an adaptive method and
+        ``t_out``).
 
     Raises
     ------
@@ -105,7 +118,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     eom = resolved.eom
     tmax = check_tmax(tmax)
     cls = get_method(method)
-    rtol, atol = check_tolerances(rtol, atol)
+    _warn_ignored(cls, dt, rtol, atol, t_out)
+    rtol, atol = check_tolerances(DEFAULT_RTOL if rtol is None else rtol, DEFAULT_ATOL if atol is None else atol)
     h, n_steps = None, None
     if cls.kind == "fixed-step":
         h, n_steps = check_step(cls.default_dt if dt is None else dt, tmax)
@@ -135,3 +149,16 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     Y = resolved.outputs(X, U, p_vec, compile=compile)
     stats["outputs_wall_s"] = time.perf_counter() - t0
     return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats)
+
+
+def _warn_ignored(cls, dt, rtol, atol, t_out) -> None:
+    """Warn about options given explicitly that the method ``cls`` does not use."""
+    if cls.kind == "fixed-step":
+        given = [f"{name} = {value!r}" for name, value in (("rtol", rtol), ("atol", atol)) if value is not None]
+        if given:
+            warnings.warn(f"{' and '.join(given)} ignored: method {cls.name!r} has a fixed step (set dt); "
+                          "tolerances apply to adaptive methods only.", SimulationOptionWarning, stacklevel=3)
+    elif dt is not None and t_out is not None:
+        warnings.warn(f"dt = {dt!r} ignored: method {cls.name!r} is adaptive (its step follows rtol and atol) and "
+                      "t_out gives the output times; dt only spaces the outputs when t_out is not given.",
+                      SimulationOptionWarning, stacklevel=3)

@@ -17,36 +17,45 @@ from __future__ import annotations
 
 import time
 import weakref
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Any, Callable, ClassVar, Hashable
 
 import casadi as ca
 import numpy as np
 
-from ..codegen import compile_function
+from ..codegen import compile_function, compiler_command
 from ..equations import EquationsOfMotion
 from .inputs import InputSignal
 
-__all__ = ["Problem", "Trajectory", "Method", "prepared", "clear_cache"]
+__all__ = ["Problem", "Trajectory", "Method", "prepared", "clear_cache", "compile_key"]
 
-#: Prepared entries kept per model (oldest dropped first).
+#: Prepared entries kept per model (the least recently used is dropped first).
 CACHE_SIZE = 16
-_CACHE: "weakref.WeakKeyDictionary[EquationsOfMotion, dict[Hashable, Any]]" = weakref.WeakKeyDictionary()
+_CACHE: "weakref.WeakKeyDictionary[EquationsOfMotion, OrderedDict[Hashable, Any]]" = weakref.WeakKeyDictionary()
 
 
 def prepared(eom: EquationsOfMotion, key: Hashable, build: Callable[[], Any]) -> tuple[Any, bool]:
     """The object built by ``build()`` for ``(eom, key)``, cached; returns ``(object, cache_hit)``.
 
-    The cache holds weak references to the models: entries vanish with them.
+    Least recently used entries are dropped beyond :data:`CACHE_SIZE` per model. The cache holds
+    weak references to the models: entries vanish with them. ``key`` must hold everything that
+    changes the built object (see :meth:`Method.cache_key`).
     """
-    entries = _CACHE.setdefault(eom, {})
+    entries = _CACHE.setdefault(eom, OrderedDict())
     if key in entries:
+        entries.move_to_end(key)
         return entries[key], True
     value = build()
-    if len(entries) >= CACHE_SIZE:
-        entries.pop(next(iter(entries)))
     entries[key] = value
+    while len(entries) > CACHE_SIZE:
+        entries.popitem(last=False)
     return value, False
+
+
+def compile_key(enabled: bool) -> tuple[str, ...] | None:
+    """What identifies compiled code in a cache key: the compiler command when ``enabled``, else None."""
+    return compiler_command() if enabled else None
 
 
 def clear_cache() -> None:
@@ -100,6 +109,8 @@ class Trajectory:
     """What a method's ``_integrate`` returns: states on ``t_out`` and counters."""
 
     x: np.ndarray                      # (len(t_out), n_x)
+    success: bool                      # the integrator reached the last output time
+    message: str
     steps: int | None = None
     n_rhs: int | None = None
     n_jac: int | None = None
@@ -135,6 +146,25 @@ class Method:
 
     def __init__(self, problem: Problem) -> None:
         self.problem = problem
+        self._compiler = compile_key(problem.compile)
+        #: Whether the libraries compiled for this preparation came from the disk cache (None: none loaded).
+        self.disk_cache_hit: bool | None = None
+
+    @classmethod
+    def settings(cls) -> tuple:
+        """The class settings that change results (coefficients, Newton or solver options), hashable."""
+        return ()
+
+    def cache_key(self, *parts: Hashable) -> tuple:
+        """Key of a prepared Function: method class, its settings, compilation and compiler, then ``parts``."""
+        return (type(self), self.settings(), self.problem.compile, self._compiler, *parts)
+
+    def _compile(self, f: ca.Function, *, jacobian: bool = False) -> tuple[ca.Function, bool]:
+        """:func:`maybe_compile` of ``f`` as the problem asks, recording :attr:`disk_cache_hit`."""
+        g, on, hit = maybe_compile(f, self.problem.compile, jacobian=jacobian, with_hit=True)
+        if on:
+            self.disk_cache_hit = hit and self.disk_cache_hit is not False
+        return g, on
 
     def solve(self) -> tuple[np.ndarray, dict]:
         """Prepare, integrate and time; return the states on ``t_out`` and the statistics."""
@@ -151,10 +181,11 @@ class Method:
             "integration_wall_s": t2 - t1,
             "prepare_wall_s": t1 - t0,
             "cache_hit": hit,
+            "disk_cache_hit": self.disk_cache_hit,
             "compiled": False,
             "dt": self.problem.dt,
-            "success": True,
-            "message": "The end of the integration interval was reached.",
+            "success": bool(traj.success),
+            "message": traj.message,
         }
         if self.kind == "adaptive":
             stats.update(rtol=self.problem.rtol, atol=self.problem.atol)
@@ -168,15 +199,16 @@ class Method:
         raise NotImplementedError
 
 
-def maybe_compile(f: ca.Function, enabled: bool, *, jacobian: bool = False) -> tuple[ca.Function, bool]:
+def maybe_compile(f: ca.Function, enabled: bool, *, jacobian: bool = False, with_hit: bool = False) -> tuple:
     """``(f compiled, True)`` when ``enabled`` and a compiler works, else ``(f, False)``.
 
     ``jacobian``: the library also holds ``f.jacobian()`` (for CasADi's SUNDIALS interfaces).
+    ``with_hit``: append whether the library came from the disk cache.
     """
     if not enabled:
-        return f, False
+        return (f, False, False) if with_hit else (f, False)
     c = compile_function(f, jacobian=jacobian)
-    return c.function, c.compiled
+    return (c.function, c.compiled, c.cache_hit) if with_hit else (c.function, c.compiled)
 
 
 def symbolic_rhs(eom: EquationsOfMotion) -> tuple[type, ca.Function]:

@@ -15,6 +15,7 @@ from ..exceptions import DimensionError, IntegrationError, SimulationOptionError
 
 __all__ = [
     "SimulationOptionError",
+    "SimulationOptionWarning",
     "DIVERGENCE_LIMIT",
     "check_tmax",
     "check_step",
@@ -30,6 +31,9 @@ __all__ = [
 #: No physical state in SI units (m, rad, m/s, rad/s) of a multibody model gets there.
 DIVERGENCE_LIMIT = 1e10
 
+
+class SimulationOptionWarning(UserWarning):
+    """An option of :func:`mbsym.simulate` was given explicitly but the chosen method does not use it."""
 
 
 def _positive_number(value, what: str, unit: str) -> float:

@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from .base import Method, Trajectory, maybe_compile, prepared, stability_hint, symbolic_rhs
+from .base import Method, Trajectory, prepared, stability_hint, symbolic_rhs
 from .checks import first_bad_column, raise_diverged
 
 __all__ = ["FixedStepMethod", "RK4", "PreparedLoop"]
@@ -78,6 +78,10 @@ class FixedStepMethod(Method):
     #: Stability limit ``|lambda| h`` of the method (imaginary and negative real axes) [-]; inf: A-stable.
     stability_radius: ClassVar[float] = 2.0
 
+    @classmethod
+    def settings(cls) -> tuple:
+        return (cls.nodes,)
+
     # ------------------------------------------------------------------ hooks
     def _state_size(self) -> int:
         return self.problem.eom.n_x
@@ -123,9 +127,8 @@ class FixedStepMethod(Method):
     # ------------------------------------------------------------------ machinery
     def _prepare(self) -> tuple[Any, bool]:
         pr = self.problem
-        step, _ = prepared(pr.eom, (self.name, "step", pr.compile), self._build_step)
-        return prepared(pr.eom, (self.name, "loop", pr.compile, pr.n_steps),
-                        lambda: PreparedLoop(step[0], pr.n_steps, step[1]))
+        step, _ = prepared(pr.eom, self.cache_key("step"), self._build_step)
+        return prepared(pr.eom, self.cache_key("loop", pr.n_steps), lambda: PreparedLoop(step[0], pr.n_steps, step[1]))
 
     def _build_step(self) -> tuple[ca.Function, bool]:
         eom = self.problem.eom
@@ -138,7 +141,7 @@ class FixedStepMethod(Method):
         opts = {"cse": True} if sym is ca.SX else {}
         step = ca.Function(f"{eom.name}_{self.name.replace('-', '_')}_step", [z, U, p, h], [z_next, aux],
                            ["z", "U", "p", "h"], ["z_next", "aux"], opts)
-        return maybe_compile(step, self.problem.compile)
+        return self._compile(step)
 
     def _integrate(self, prep: PreparedLoop) -> Trajectory:
         pr, eom = self.problem, self.problem.eom
@@ -161,7 +164,10 @@ class FixedStepMethod(Method):
                            where=f"step {bad + 1} of {n}", hint=hint)
         x_out, n_extra = self._output(Zr, A.T, t_grid)
         n_rhs, n_jac = self._counts(A)
-        return Trajectory(x_out, steps=n, n_rhs=n_rhs + n_extra, n_jac=n_jac, extra={"compiled": prep.compiled})
+        success = Zn.shape[1] == n               # every step taken, all states finite (checked above)
+        return Trajectory(x_out, success, f"{Zn.shape[1]} of {n} steps of dt = {h:.6g} s taken up to t = "
+                          f"{t_grid[Zn.shape[1]]:g} s.", steps=n, n_rhs=n_rhs + n_extra, n_jac=n_jac,
+                          extra={"compiled": prep.compiled})
 
     def _output(self, Zr: np.ndarray, Ar: np.ndarray, t_grid: np.ndarray) -> tuple[np.ndarray, int]:
         """States at ``t_out`` (rows): exact on the step grid, cubic Hermite in between."""

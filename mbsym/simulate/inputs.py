@@ -120,6 +120,11 @@ class InputSignal:
         """Whether every input is constant in time."""
         return all(isinstance(ch, _Constant) for ch in self._channels)
 
+    @property
+    def callables(self) -> tuple[int, ...]:
+        """Indices of the inputs given as callables ``f(t)`` (known only through samples)."""
+        return tuple(j for j, ch in enumerate(self._channels) if isinstance(ch, _Function))
+
     def __call__(self, t) -> np.ndarray:
         """Inputs at the times ``t`` [s] (1-D), shape ``(len(t), n_u)``."""
         t = np.asarray(t, dtype=float).reshape(-1)

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..equations import EquationsOfMotion
 from ..exceptions import DimensionError
+from .base import compile_key, maybe_compile, prepared
 from .checks import initial_state
 
 __all__ = ["SimulationModel", "ResolvedModel", "resolve_model"]
@@ -60,21 +61,42 @@ class ResolvedModel:
     output_names: tuple[str, ...]
 
     def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool = False) -> np.ndarray:
-        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y); ``compile``: as generated C."""
+        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y); ``compile``: as generated C.
+
+        The output Function mapped over the N rows is built once per (model, N, compile) and kept in the
+        cache of prepared Functions (:func:`mbsym.simulate.base.prepared`; the entry holds ``f`` itself,
+        so its ``id`` stays unique); it is called through ``Function.buffer()`` on numpy arrays.
+        """
         n = X.shape[0]
         if self.output_function is None:
             return np.zeros((n, 0))
         f = self.output_function
-        if compile:
-            from .base import maybe_compile, prepared
+        mapped, _ = prepared(self.eom, ("outputs", id(f), n, compile, compile_key(compile)),
+                              lambda: (f, _MappedOutputs(f, n, compile)))
+        return mapped[1](X, U, p)
 
-            entry, _ = prepared(self.eom, ("outputs", id(f)), lambda: (f, maybe_compile(f, True)[0]))
-            if entry[0] is not f:           # an id reused by another Function: rebuild
-                entry = (f, maybe_compile(f, True)[0])
-            f = entry[1]
-        res = f(X.T, U.T, p)
-        res = res if isinstance(res, (list, tuple)) else [res]
-        return np.vstack([np.array(r).reshape(-1, n) for r in res]).T
+
+class _MappedOutputs:
+    """``(X (N, n_x), U (N, n_u), p) -> Y (N, n_y)``: ``f`` mapped over N columns, called through a buffer."""
+
+    def __init__(self, f: ca.Function, n: int, compile: bool) -> None:
+        g = maybe_compile(f, True)[0] if compile else f
+        serial = g.map(f"{f.name()}_map{n}", "serial", n, [2], [])       # p (input 2) shared by all columns
+        X, U, P = (ca.MX.sym(s, g.size1_in(i), n if i < 2 else 1) for i, s in enumerate(("X", "U", "p")))
+        Y = ca.vertcat(*[ca.reshape(ca.densify(r), -1, n) for r in serial.call([X, U, P])])
+        self.n, self.n_y = n, Y.size1()
+        self.function = ca.Function(f"{f.name()}_outputs{n}", [X, U, P], [Y])
+
+    def __call__(self, X: np.ndarray, U: np.ndarray, p: np.ndarray) -> np.ndarray:
+        # row-major (N, n) equals column-major (n, N): the layout CasADi reads and writes
+        args = [np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (X, U, p)]
+        Y = np.empty((self.n, self.n_y))
+        buf, trigger = self.function.buffer()
+        for i, a in enumerate(args):
+            buf.set_arg(i, memoryview(a))
+        buf.set_res(0, memoryview(Y.reshape(-1)))
+        trigger()
+        return Y
 
 
 def resolve_model(model: Any) -> ResolvedModel:

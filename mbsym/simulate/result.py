@@ -34,11 +34,16 @@ class SimulationResult:
         evaluations), ``integration_wall_s`` (integration alone, inputs sampling
         included), ``prepare_wall_s`` (building or fetching the CasADi
         Functions, including code generation and compilation with
-        ``compile=True``), ``cache_hit``, ``compiled`` (whether the method ran
-        compiled C), ``outputs_wall_s`` (evaluating the model outputs), ``dt``
-        (fixed step actually used [s]), ``success``, ``message``, and per
-        method extras (``rtol``, ``atol``, ``n_lu``). Counters a method does
-        not know are ``None``.
+        ``compile=True``), ``cache_hit`` (the prepared Functions came from the
+        in-process cache), ``disk_cache_hit`` (with ``compile=True``, whether
+        the libraries loaded by this preparation came from the disk cache; None
+        when none was loaded), ``compiled`` (whether the method ran compiled C),
+        ``outputs_wall_s`` (evaluating the model outputs), ``dt`` (fixed step
+        actually used [s]), ``success`` (the integrator reached the last output
+        time; failures raise IntegrationError), ``message``, and per method
+        extras (``rtol``, ``atol``, ``n_lu``; ``input_samples`` of the SUNDIALS
+        methods: samples per callable input). Counters a method does not know
+        are ``None``.
     """
 
     t: np.ndarray

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.integrate import BDF, OdeSolver, Radau
 
 from ..exceptions import IntegrationError
-from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, maybe_compile, prepared
+from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, prepared
 from .checks import divergence_message, first_bad_column
 
 __all__ = ["ScipyMethod", "ScipyRadau", "ScipyBDF"]
@@ -34,10 +34,10 @@ class ScipyMethod(Method):
         eom, on = self.problem.eom, self.problem.compile
 
         def build():
-            (rhs, c1), (jac, c2) = maybe_compile(dense_rhs(eom), on), maybe_compile(jacobian_function(eom), on)
+            (rhs, c1), (jac, c2) = self._compile(dense_rhs(eom)), self._compile(jacobian_function(eom))
             return rhs, jac, c1 and c2
 
-        return prepared(eom, ("scipy", on), build)
+        return prepared(eom, ("scipy", on, self._compiler), build)
 
     def _integrate(self, functions) -> Trajectory:
         pr, eom = self.problem, self.problem.eom
@@ -72,7 +72,11 @@ class ScipyMethod(Method):
         if done < t_out.size:     # the last output time exactly at the end
             X[done:] = solver.y
         nfev, njev, nlu = (0, 0, 0) if solver is None else (solver.nfev, solver.njev, solver.nlu)
-        return Trajectory(X, steps=steps, n_rhs=nfev, n_jac=njev, extra={"n_lu": nlu, "compiled": functions[2]})
+        success = solver is None or solver.status == "finished"
+        message = (f"scipy {self.solver.__name__} reached the last output time t = {t_out[-1]:g} s." if success
+                   else f"scipy {self.solver.__name__} stopped ({solver.status}) at t = {solver.t:g} s.")
+        return Trajectory(X, success, message, steps=steps, n_rhs=nfev, n_jac=njev,
+                          extra={"n_lu": nlu, "compiled": functions[2]})
 
     def _raise_nonfinite(self, solver: OdeSolver, t_old: float, exc: ValueError) -> None:
         pr, eom = self.problem, self.problem.eom

@@ -80,6 +80,10 @@ class GeneralizedAlpha(FixedStepMethod):
     newton_tol: ClassVar[float] = 1e-6
 
     @classmethod
+    def settings(cls) -> tuple:
+        return cls.coefficients(), cls.max_newton_iterations, cls.newton_stop, cls.newton_tol
+
+    @classmethod
     def coefficients(cls) -> tuple[float, float, float, float]:
         """``(alpha_m, alpha_f, gamma, beta)``."""
         r = cls.rho_inf

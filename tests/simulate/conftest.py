@@ -22,6 +22,19 @@ def oscillator(stiffness: float = OSC["k"]):
     return sys.equations(name="oscillator")
 
 
+def two_force_oscillator():
+    """The oscillator with two force inputs F and G [N] on the same coordinate."""
+    sys = mb.System(gravity=[0.0, 0.0, 0.0])
+    x = sys.coordinates("x")
+    m, k, c = sys.parameters("m k c", values=OSC)
+    F, G = sys.inputs("F G")
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("mass", m), axis=[1, 0, 0], coordinate=x))
+    sys.add_spring(x, k)
+    sys.add_damper(x, c)
+    sys.add_generalized_force(x, F + G)
+    return sys.equations(name="two_force_oscillator")
+
+
 def pendulum():
     """Undamped simple pendulum: point mass m [kg] at distance l [m], angle th [rad]."""
     sys = mb.System(gravity=[0.0, 0.0, -9.81])

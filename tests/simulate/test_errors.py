@@ -1,10 +1,12 @@
 """Bad input raises a typed error that says what is wrong (python-control style: every path tested)."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 import mbsym as mb
-from mbsym.simulate import METHODS, SimulationOptionError, simulate
+from mbsym.simulate import METHODS, SimulationOptionError, SimulationOptionWarning, simulate
 
 
 def test_unknown_keyword_argument(osc):
@@ -111,3 +113,32 @@ def test_every_method_declares_order_and_kind():
         assert cls.name == name
         assert isinstance(cls.order, int) and cls.order >= 1
         assert cls.kind in ("fixed-step", "adaptive")
+
+
+@pytest.mark.parametrize("method, kwargs, match", [
+    ("rk4", {"rtol": 1e-9}, "rtol = 1e-09 ignored: method 'rk4' has a fixed step"),
+    ("newmark", {"atol": 1e-9, "dt": 0.01}, "atol = 1e-09 ignored"),
+    ("generalized-alpha", {"rtol": 1e-3, "atol": 1e-5}, "rtol = 0.001 and atol = 1e-05 ignored"),
+    ("cvodes", {"dt": 0.02, "t_out": [0.0, 0.5, 1.0]}, "dt = 0.02 ignored: method 'cvodes' is adaptive"),
+    ("scipy-radau", {"dt": 0.02, "t_out": [0.0, 1.0]}, "dt = 0.02 ignored"),
+])
+def test_options_the_method_ignores_warn(osc, method, kwargs, match):
+    with pytest.warns(SimulationOptionWarning, match=match):
+        simulate(osc, 1.0, method=method, **kwargs)
+
+
+@pytest.mark.parametrize("method, kwargs", [
+    ("rk4", {"dt": 0.01, "t_out": [0.0, 0.5, 1.0]}),
+    ("rk4", {}),
+    ("cvodes", {"rtol": 1e-8, "atol": 1e-10, "t_out": [0.0, 1.0]}),
+    ("cvodes", {"dt": 0.1}),                       # dt spaces the outputs: used
+    ("cvodes", {}),
+])
+def test_options_the_method_uses_do_not_warn(osc, method, kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        simulate(osc, 1.0, method=method, **kwargs)
+
+
+def test_option_warning_is_a_user_warning():
+    assert issubclass(SimulationOptionWarning, UserWarning)

@@ -167,3 +167,71 @@ def test_step_shortened_to_end_at_tmax(osc):
     res = simulate(osc, 1.0, x0=[0.1, 0.0], dt=0.3)      # 4 steps of 0.25 s
     assert res.statistics["steps"] == 4 and res.statistics["dt"] == 0.25
     assert res.t[-1] == 1.0
+
+
+def test_cache_drops_the_least_recently_used_entry(monkeypatch):
+    """With room for 3 entries, re-using 'a' before inserting 'd' evicts 'b' (the LRU), not 'a' (the oldest)."""
+    monkeypatch.setattr(sim_base, "CACHE_SIZE", 3)
+    eom = oscillator()
+    for key in "abc":
+        sim_base.prepared(eom, key, lambda k=key: k)
+    assert sim_base.prepared(eom, "a", lambda: "rebuilt") == ("a", True)
+    sim_base.prepared(eom, "d", lambda: "d")
+    assert list(sim_base._CACHE[eom]) == ["c", "a", "d"]
+    assert sim_base.prepared(eom, "b", lambda: "rebuilt") == ("rebuilt", False)
+
+
+def test_fixed_step_loop_keeps_its_step_function(monkeypatch):
+    """Four step counts with room for 3 entries: the step Function, inserted first but used by every
+    loop, is built once (dropping the oldest entry instead rebuilt it for the fourth loop)."""
+    from mbsym.simulate.fixed import RK4
+
+    builds = []
+    original = RK4._build_step
+    monkeypatch.setattr(RK4, "_build_step", lambda self: builds.append(1) or original(self))
+    monkeypatch.setattr(sim_base, "CACHE_SIZE", 3)
+    eom = oscillator()
+    for n in (10, 20, 30, 40):
+        simulate(eom, 1.0, x0=[0.1, 0.0], dt=1.0 / n)
+    assert len(builds) == 1
+
+
+@pytest.mark.parametrize("setting, value", [("rho_inf", 0.5), ("newton_stop", 1e-3), ("max_newton_iterations", 1)])
+def test_cache_key_holds_method_settings(monkeypatch, setting, value):
+    """A changed class setting of generalized-alpha builds a new step instead of hitting the cached one:
+    rho_inf changes the result; a loose Newton stop (1e-3 > newton_tol 1e-6) or a single Newton iteration
+    (first correction 0.028) makes the step fail. Restored, the first entry is hit again."""
+    from mbsym.exceptions import IntegrationError
+    from mbsym.simulate.second_order import GeneralizedAlpha
+
+    eom = oscillator()
+    kw = dict(x0=[0.1, 0.0], inputs={"F": 1.0}, method="generalized-alpha", dt=0.05)
+    first = simulate(eom, 2.0, **kw)
+    with monkeypatch.context() as m:
+        m.setattr(GeneralizedAlpha, setting, value)
+        if setting == "rho_inf":
+            changed = simulate(eom, 2.0, **kw)
+            assert not changed.statistics["cache_hit"] and np.max(np.abs(changed.x - first.x)) > 1e-6
+        else:
+            with pytest.raises(IntegrationError, match="Newton iteration did not converge"):
+                simulate(eom, 2.0, **kw)
+    again = simulate(eom, 2.0, **kw)
+    assert again.statistics["cache_hit"]
+    np.testing.assert_array_equal(again.x, first.x)
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_success_and_message_come_from_the_integrator(osc, method):
+    res = simulate(osc, 1.0, x0=[0.1, 0.0], method=method, t_out=[0.0, 0.5, 1.0])
+    assert res.statistics["success"] is True and res.success
+    assert ("steps of dt" in res.message) if METHODS[method].kind == "fixed-step" else ("t = 1 s" in res.message)
+
+
+def test_outputs_on_grids_of_different_sizes(osc):
+    """The mapped output Function is built per number of output times; each size gets its own."""
+    model = Wrapped(osc)
+    for n in (3, 7, 3, 12):
+        res = simulate(model, 1.0, method="cvodes", t_out=np.linspace(0.0, 1.0, n))
+        assert res.y.shape == (n, 2)
+        np.testing.assert_allclose(res.output("spring_force_[N]"), -200.0 * res.state("x"), rtol=1e-12)
+        np.testing.assert_allclose(res.output("F_[N]"), 1.5, rtol=0, atol=0)
