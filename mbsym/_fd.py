@@ -32,11 +32,10 @@ def _fd_function(f: ca.Function, n_x: int, name: str) -> ca.Function:
 
 
 def _fd_rhs(eom: EquationsOfMotion) -> ca.Function:
-    cached = getattr(eom, "_mbsym_fd_rhs", None)
-    if cached is None:
-        cached = _fd_function(eom.functions.rhs, eom.n_x, f"{eom.name}_rhs_fd")
-        eom._mbsym_fd_rhs = cached
-    return cached
+    """``(x, u, p, h) -> ∂rhs/∂x`` by central differences, built once per model."""
+    from .linear import _cached      # linear imports this module: the cache helper is imported on use
+
+    return _cached(eom, "fd_rhs", lambda: _fd_function(eom.functions.rhs, eom.n_x, f"{eom.name}_rhs_fd"))
 
 
 def elastodyn_steps(model) -> dict[str, float]:

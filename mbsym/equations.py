@@ -83,7 +83,6 @@ class EquationsOfMotion:
         self._defaults = MappingProxyType(dict(d.defaults))
         self._derivation = d
         self._functions = _build_functions(d, name)
-        self._jacobian_function = None   # built on first use by mbsym.linear
 
     # ------------------------------------------------------------ description
     @property

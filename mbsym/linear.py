@@ -104,12 +104,8 @@ class LinearModel:
         frequency; rigid-body (zero) eigenvalues give frequency 0. See
         :meth:`modes` for one entry per mode with its shape.
         """
-        lam = np.linalg.eigvals(self.A)
-        lam = lam[np.imag(lam) >= 0]
-        wn = np.abs(lam)
-        zeta = np.where(wn > 0, -np.real(lam) / np.where(wn > 0, wn, 1.0), 1.0)
-        order = np.argsort(wn)
-        return wn[order] / (2 * np.pi), zeta[order]
+        freq, zeta = _natural_frequencies(self.A[np.newaxis])
+        return freq[0], zeta[0]
 
     def modes(self, *, rigid_tol: float = 1e-4) -> list:
         """Modes of A (:func:`mbsym.modal.modal_analysis`): frequency, damping, shape, dominant DOF."""
@@ -150,20 +146,68 @@ class LinearModel:
         return ss
 
 
+def _natural_frequencies(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies [Hz] and damping ratios of a stack of state matrices (N, n_x, n_x).
+
+    The rule of :meth:`LinearModel.frequencies`: the eigenvalues with Im λ ≥ 0 (one per
+    complex-conjugate pair, every real one), ``|λ|/2π`` sorted ascending with
+    ``ζ = -Re λ/|λ|`` (1 at λ = 0). Points with fewer such eigenvalues than the most
+    (real eigenvalues count once each) are padded with NaN at the end: shape (N, n_max).
+    """
+    lam = np.linalg.eigvals(A)
+    keep = np.imag(lam) >= 0
+    wn = np.where(keep, np.abs(lam), np.inf)
+    order = np.argsort(wn, axis=1, kind="stable")
+    lam, wn, keep = (np.take_along_axis(v, order, axis=1) for v in (lam, wn, keep))
+    n_max = int(keep.sum(axis=1).max(initial=0))
+    lam, wn, keep = lam[:, :n_max], wn[:, :n_max], keep[:, :n_max]
+    zeta = np.where(wn > 0, -np.real(lam) / np.where(wn > 0, wn, 1.0), 1.0)
+    return np.where(keep, wn / (2 * np.pi), np.nan), np.where(keep, zeta, np.nan)
+
+
 # --------------------------------------------------------------------------- CasADi Functions
+def _cached(eom: EquationsOfMotion, key, build):
+    """``build()`` once per model and ``key``, kept in the model's one private cache dict.
+
+    Every derived Function of the linearization modules (``linear``, ``linear_batch``,
+    ``sensitivity``, ``_fd``, ``operating``) is cached here; the model stays otherwise
+    unchanged.
+    """
+    cache = eom.__dict__.setdefault("_mbsym_cache", {})
+    if key not in cache:
+        cache[key] = build()
+    return cache[key]
+
+
+def _residual_parts(eom: EquationsOfMotion) -> dict[str, ca.Function]:
+    """The residual's Jacobians from one ``casadi.cse`` pass, the only derivation the linearization pays.
+
+    ``"parts"``: ``(q, qd, u, p) -> (M, C0, K0, Q0, F)`` at zero acceleration;
+    ``"inertia"``: ``(q, u, p, a) -> (∂(M a)/∂q, ∂(M a)/∂u)``; ``"jacobians"``:
+    ``(q, qd, qdd, u, p) -> (M, C, K, Q)`` at any acceleration, ``K = K0 + ∂(M qdd)/∂q``,
+    ``Q = Q0 - ∂(M qdd)/∂u`` (the Jacobians of ``e = F - M qdd``).
+    """
+    def build():
+        d = eom.symbolic
+        a = ca.SX.sym("qdd", eom.n_q)
+        Ma = d.M @ a
+        M, C, K, Q, F, Hq, Hu = ca.cse([ca.densify(v) for v in (
+            d.M, -ca.jacobian(d.F, d.qd), -ca.jacobian(d.F, d.q), ca.jacobian(d.F, d.u), d.F,
+            ca.jacobian(Ma, d.q), ca.jacobian(Ma, d.u))])
+        return {"parts": ca.Function(f"{eom.name}_residual_parts", [d.q, d.qd, d.u, d.p], [M, C, K, Q, F],
+                                     ["q", "qd", "u", "p"], ["M", "C", "K", "Q", "F"]),
+                "inertia": ca.Function(f"{eom.name}_inertia_gradient", [d.q, d.u, d.p, a], [Hq, Hu],
+                                       ["q", "u", "p", "a"], ["Hq", "Hu"]),
+                "jacobians": ca.Function(f"{eom.name}_linearization", [d.q, d.qd, a, d.u, d.p],
+                                         [M, C, K + Hq, Q - Hu], ["q", "qd", "qdd", "u", "p"],
+                                         ["M", "C", "K", "Q"])}
+
+    return _cached(eom, "residual_parts", build)
+
+
 def jacobian_function(eom: EquationsOfMotion) -> ca.Function:
     """``(q, qd, qdd, u, p) -> (M0, C0, K0, Q0)``: the residual's Jacobians, built once per model."""
-    cached = getattr(eom, "_jacobian_function", None)
-    if cached is not None:
-        return cached
-    d = eom.symbolic
-    e = d.F - d.M @ d.qdd
-    outs = [-ca.jacobian(e, d.qdd), -ca.jacobian(e, d.qd), -ca.jacobian(e, d.q), ca.jacobian(e, d.u)]
-    outs = ca.cse([ca.densify(v) for v in outs])
-    f = ca.Function(f"{eom.name}_linearization", [d.q, d.qd, d.qdd, d.u, d.p], outs,
-                    ["q", "qd", "qdd", "u", "p"], ["M", "C", "K", "Q"])
-    eom._jacobian_function = f     # private cache: the model itself stays unchanged
-    return f
+    return _residual_parts(eom)["jacobians"]
 
 
 def linear_function(eom: EquationsOfMotion) -> ca.Function:
@@ -175,25 +219,22 @@ def linear_function(eom: EquationsOfMotion) -> ca.Function:
     ``xd = [qd; q̈_op]``. SX with a symbolic solve of the small M up to 8 DOF, MX
     with a numeric QR beyond.
     """
-    cached = getattr(eom, "_mbsym_linear_function", None)
-    if cached is not None:
-        return cached
-    d, n, nu = eom.symbolic, eom.n_q, eom.n_u
-    a = ca.SX.sym("a", n)              # K(a) - K(0) = ∂(M a)/∂q, Q(a) - Q(0) = -∂(M a)/∂u
-    Ma = d.M @ a
-    parts = ca.cse([ca.densify(v) for v in (d.M, -ca.jacobian(d.F, d.qd), -ca.jacobian(d.F, d.q),
-                                            ca.jacobian(d.F, d.u), d.F, ca.jacobian(Ma, d.q), ca.jacobian(Ma, d.u))])
-    if n <= SYMBOLIC_SOLVE_MAX_DOF:
-        args = [d.q, d.qd, d.u, d.p]
-        M, C, K, Q, F, Hq, Hu = parts
+    return _cached(eom, "linear_function", lambda: _build_linear_function(eom))
+
+
+def _build_linear_function(eom: EquationsOfMotion) -> ca.Function:
+    n, nu = eom.n_q, eom.n_u
+    built = _residual_parts(eom)
+    first, second = built["parts"], built["inertia"]
+    sym = ca.SX.sym if n <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX.sym
+    args = [sym(s, k) for s, k in (("q", n), ("qd", n), ("u", nu), ("p", eom.n_p))]
+    M, C, K, Q, F = first(*args)
+    if n <= SYMBOLIC_SOLVE_MAX_DOF:                # symbolic QR of the small M
         qdd_op = ca.solve(M, F)
-        sol = ca.solve(M, ca.horzcat(K + ca.substitute(Hq, a, qdd_op), C, Q - ca.substitute(Hu, a, qdd_op)))
+        Hq, Hu = second(args[0], args[2], args[3], qdd_op)
+        sol = ca.solve(M, ca.horzcat(K + Hq, C, Q - Hu))
         opts = {"cse": True}
     else:
-        first = ca.Function("parts", [d.q, d.qd, d.u, d.p], parts[:5])
-        second = ca.Function("inertia_gradient", [d.q, d.u, d.p, a], parts[5:])
-        args = [ca.MX.sym(s, k) for s, k in (("q", n), ("qd", n), ("u", nu), ("p", eom.n_p))]
-        M, C, K, Q, F = first(*args)
         qdd_op = ca.solve(M, F, "qr")
         Hq, Hu = second(args[0], args[2], args[3], qdd_op)
         sol = ca.solve(M, ca.horzcat(K + Hq, C, Q - Hu), "qr")
@@ -201,10 +242,8 @@ def linear_function(eom: EquationsOfMotion) -> ca.Function:
     A = ca.vertcat(ca.horzcat(ca.DM.zeros(n, n), ca.DM.eye(n)), -sol[:, : 2 * n])
     B = ca.vertcat(ca.DM.zeros(n, nu), sol[:, 2 * n:])
     outs = [ca.densify(v) for v in (M, C, K, Q, A, B, ca.vertcat(args[1], qdd_op))]
-    f = ca.Function(f"{eom.name}_linear", args, outs, ["q", "qd", "u", "p"],
-                    ["M", "C", "K", "Q", "A", "B", "xd"], opts)
-    eom._mbsym_linear_function = f
-    return f
+    return ca.Function(f"{eom.name}_linear", args, outs, ["q", "qd", "u", "p"],
+                       ["M", "C", "K", "Q", "A", "B", "xd"], opts)
 
 
 # --------------------------------------------------------------------------- model resolution
@@ -315,16 +354,16 @@ def _resolve_outputs(target: _Target, outputs) -> tuple[tuple[str, ...], tuple[s
 
 def _output_functions(eom: EquationsOfMotion, f_out: ca.Function) -> tuple[ca.Function, ca.Function]:
     """``(x, u, p) -> (y, ∂y/∂x, ∂y/∂u)`` and the central-difference ``∂y/∂x``, cached per Function."""
-    cache = eom.__dict__.setdefault("_mbsym_output_jacobians", {})
-    hit = cache.get(id(f_out))
-    if hit is not None and hit[0] is f_out:
-        return hit[1], hit[2]
-    x, u, p = (ca.MX.sym(s, f_out.size1_in(i)) for i, s in enumerate("xup"))
-    y = ca.densify(ca.vertcat(*[ca.vec(v) for v in f_out.call([x, u, p])]))      # one or several outputs
-    stacked = ca.Function("outputs", [x, u, p], [y])
-    jac = ca.Function("outputs_linear", [x, u, p], [y, ca.densify(ca.jacobian(y, x)), ca.densify(ca.jacobian(y, u))])
-    fd = _fd_function(stacked, eom.n_x, "outputs_fd")
-    cache[id(f_out)] = (f_out, jac, fd)
+    def build():
+        x, u, p = (ca.MX.sym(s, f_out.size1_in(i)) for i, s in enumerate("xup"))
+        y = ca.densify(ca.vertcat(*[ca.vec(v) for v in f_out.call([x, u, p])]))      # one or several outputs
+        stacked = ca.Function("outputs", [x, u, p], [y])
+        jac = ca.Function("outputs_linear", [x, u, p],
+                          [y, ca.densify(ca.jacobian(y, x)), ca.densify(ca.jacobian(y, u))])
+        return f_out, jac, _fd_function(stacked, eom.n_x, "outputs_fd")
+
+    # keyed by id: the entry holds f_out itself, so that id cannot be reused by another object
+    _, jac, fd = _cached(eom, ("output_jacobians", id(f_out)), build)
     return jac, fd
 
 
@@ -364,13 +403,33 @@ def _steps(target: _Target, method: str, steps) -> np.ndarray | None:
     if steps is None:
         raise TypeError("method='fd' needs steps=: a dict by coordinate (speeds use the same step) or n_x numbers.")
     if isinstance(steps, Mapping):
-        h = _named(steps, eom.coordinates, np.full(eom.n_q, np.nan), "steps", eom)
-        return np.concatenate([h, h])
+        return _step_dict(steps, eom)
     h = np.asarray(steps, dtype=float).reshape(-1)
     h = np.concatenate([h, h]) if h.size == eom.n_q else h
     if h.size != eom.n_x or not np.all(np.isfinite(h) & (h > 0)):
         raise DimensionError(f"steps must be {eom.n_q} or {eom.n_x} positive finite numbers; got {h.tolist()}.")
     return h
+
+
+def _step_dict(steps: Mapping, eom: EquationsOfMotion) -> np.ndarray:
+    """Steps by coordinate name (the speed uses the same one): every coordinate, each finite and > 0."""
+    unknown = sorted(set(steps) - set(eom.coordinates))
+    missing = [c for c in eom.coordinates if c not in steps]
+    if unknown or missing:
+        raise DimensionError(f"steps must name every coordinate once; unknown {unknown}, missing {missing} "
+                             f"(coordinates: {list(eom.coordinates)}).")
+    bad = {}
+    for c in eom.coordinates:
+        try:
+            value = float(steps[c])
+        except (TypeError, ValueError):
+            value = steps[c]
+        if not (isinstance(value, float) and np.isfinite(value) and value > 0):
+            bad[c] = value
+    if bad:
+        raise DimensionError(f"steps must be positive finite numbers [m or rad]; got {bad}.")
+    h = np.array([float(steps[c]) for c in eom.coordinates])
+    return np.concatenate([h, h])
 
 
 def _qdd(eom: EquationsOfMotion, qdd0, n_points: int | None = None):

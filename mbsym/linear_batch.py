@@ -14,9 +14,9 @@ import casadi as ca
 import numpy as np
 
 from ._fd import _fd_rhs
-from .exceptions import DimensionError, SolverError
-from .linear import (LinearModel, _output_functions, _qdd, _resolve_outputs, _rows, _steps, _Target,
-                     jacobian_function, linear_function)
+from .exceptions import DimensionError, ParameterError, SolverError
+from .linear import (LinearModel, _natural_frequencies, _output_functions, _qdd, _resolve_outputs, _rows, _steps,
+                     _Target, jacobian_function, linear_function)
 
 __all__ = ["LinearBatch", "linearize_batch", "compiled", "MAP_CHUNK"]
 
@@ -32,6 +32,10 @@ class LinearBatch:
     x, u, p, y : ndarray (N, n_x), (N, n_u), (N, n_p), (N, n_y)
         Operating points (states, inputs, parameter vectors in the order of
         ``parameters``) and outputs there.
+    qdd : ndarray (N, n_q)
+        The accelerations at which M, C, K, Q were evaluated.
+    xd : ndarray (N, n_x)
+        The rhs ``[qd; q̈_op]`` at each point.
     coordinates, states, inputs, parameters, outputs : tuple of str
     method : str
 
@@ -51,6 +55,7 @@ class LinearBatch:
     p: np.ndarray
     y: np.ndarray
     qdd: np.ndarray
+    xd: np.ndarray
     coordinates: tuple[str, ...]
     states: tuple[str, ...]
     inputs: tuple[str, ...]
@@ -65,35 +70,42 @@ class LinearBatch:
     def __getitem__(self, i: int) -> LinearModel:
         n = len(self.coordinates)
         x = self.x[i]
-        op = {"q": x[:n], "qd": x[n:], "qdd": self.qdd[i], "u": self.u[i], "x": x, "y": self.y[i],
-              "p": dict(zip(self.parameters, self.p[i].tolist()))}
+        op = {"q": x[:n], "qd": x[n:], "qdd": self.qdd[i], "u": self.u[i], "x": x, "xd": self.xd[i],
+              "y": self.y[i], "p": dict(zip(self.parameters, self.p[i].tolist()))}
         return LinearModel(self.M[i], self.C[i], self.K[i], self.Q[i], self.A[i], self.B[i], self.coordinates,
                            self.states, self.inputs, op, self.outputs, self.Cy[i], self.Dy[i], self.output_units,
                            self.method)
 
     def frequencies(self) -> np.ndarray:
-        """|λ|/2π [Hz] of the eigenvalues of every A, sorted, one per pair, shape (N, n_q).
+        """|λ|/2π [Hz] of the eigenvalues of every A, sorted, shape (N, n_max).
 
-        Complex-conjugate pairs and double zeros (rigid-body modes) give one entry
-        each; use ``batch[i].modes()`` for shapes, damping and names.
+        Row i equals ``batch[i].frequencies()[0]`` (:meth:`LinearModel.frequencies`:
+        the eigenvalues with Im λ ≥ 0, one per complex-conjugate pair and one per real
+        eigenvalue); rows with fewer entries than the longest (fewer real eigenvalues)
+        end in NaN. Use ``batch[i].modes()`` for shapes, damping and names.
         """
-        lam = np.linalg.eigvals(self.A)
-        return np.sort(np.abs(lam), axis=1)[:, ::2] / (2 * np.pi)
+        return _natural_frequencies(self.A)[0]
 
 
 def _batch_parameters(target: _Target, p, n_points: int) -> np.ndarray:
-    """(N, n_p): a dict of numbers and/or length-N arrays (parameter sweeps)."""
+    """(N, n_p): a dict of numbers and/or length-N arrays (parameter sweeps).
+
+    Names, missing values and finiteness are checked once, by the model's own
+    resolution (ParameterError), with each swept array's first value standing in for it.
+    """
     eom = target.eom
+    if p is not None and not isinstance(p, Mapping):
+        return np.tile(target.parameters(p), (n_points, 1))          # raises the ParameterError for a non-dict
     p = dict(p or {})
     arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in p.items() if np.ndim(v) > 0}
-    base = target.parameters({k: v for k, v in p.items() if k not in arrays})
-    P = np.tile(base, (n_points, 1))
+    first = {k: (v[0] if v.size else 0.0) for k, v in arrays.items()}
+    P = np.tile(target.parameters({**p, **first}), (n_points, 1))
     for k, v in arrays.items():
-        if k not in eom.parameters:
-            raise DimensionError(f"unknown parameter {k!r}; this model's parameters are {list(eom.parameters)}.")
-        if v.size != n_points or not np.all(np.isfinite(v)):
-            raise DimensionError(f"parameter {k!r} has {v.size} values; expected {n_points} finite values "
-                                 "(one per point).")
+        if v.size != n_points:
+            raise DimensionError(f"parameter {k!r} has {v.size} values; expected {n_points} (one per point).")
+        if not np.all(np.isfinite(v)):
+            raise ParameterError(f"parameter {k!r} has non-finite values at points "
+                                 f"{np.flatnonzero(~np.isfinite(v))[:5].tolist()}; all must be finite.")
         P[:, eom.parameters.index(k)] = v
     return P
 
@@ -174,8 +186,8 @@ def linearize_batch(model, x0, u0=None, p: Mapping[str, Any] | None = None, *, q
         raise SolverError(f"the linearization is not finite at {bad.size} points (first: {bad[:5].tolist()}); "
                           "is the mass matrix singular there? Check those states, inputs and parameters.")
     Y, Cy, Dy = _batch_outputs(target, sel, X, U, P, h, parallel)
-    return LinearBatch(M, C, K, Q, A, B, Cy, Dy, X, U, P, Y, qdd, eom.coordinates, eom.states, eom.inputs,
-                       eom.parameters, sel[0], sel[1], method)
+    return LinearBatch(M, C, K, Q, A, B, Cy, Dy, X, U, P, Y, qdd, xd[:, :, 0], eom.coordinates, eom.states,
+                       eom.inputs, eom.parameters, sel[0], sel[1], method)
 
 
 #: Points per CasADi map in a batch: building a map costs ~N² for large N (0.8 s at N = 10 000

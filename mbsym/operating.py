@@ -27,7 +27,7 @@ import casadi as ca
 import numpy as np
 
 from .exceptions import DimensionError, ModelDefinitionError
-from .linear import LinearBatch, LinearModel, _Target, jacobian_function, linearize_batch
+from .linear import LinearBatch, LinearModel, _cached, _Target, jacobian_function, linearize_batch
 
 __all__ = ["OperatingPoint", "static_equilibrium", "steady_rotation", "AzimuthSweep", "linearize_azimuths"]
 
@@ -103,7 +103,7 @@ def _solve(target: _Target, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: n
     Q = ca.SX(ca.DM(Qs.T))
     for k, i in enumerate(free):
         Q[i, :] = ca.repmat(z[k], 1, n_s)
-    Fs = eom.functions.forcing.map(n_s)(Q, ca.repmat(ca.DM(qd), 1, n_s), ca.DM(U), ca.DM(pp))
+    Fs = _forcing_map(eom, n_s)(Q, ca.repmat(ca.DM(qd), 1, n_s), ca.DM(U), ca.DM(pp))
     F = ca.sum2(Fs) / n_s
     scale = max(1.0, float(np.max(np.abs(_mean_force(eom, Qs, qd, U, pp)), initial=0.0)))
     Q_sol = Qs.copy()
@@ -121,10 +121,14 @@ def _solve(target: _Target, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: n
     return Q_sol[0], residual, True, ""
 
 
+def _forcing_map(eom, n_s: int) -> ca.Function:
+    """``forcing.map(n_s)``, built once per model and number of samples."""
+    return _cached(eom, ("forcing_map", n_s), lambda: eom.functions.forcing.map(n_s))
+
+
 def _mean_force(eom, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: np.ndarray) -> np.ndarray:
     """Mean over the samples (rows of Qs, columns of U) of the generalized forces F(q, qd, u, p)."""
-    n_s = U.shape[1]
-    return np.array(eom.functions.forcing.map(n_s)(Qs.T, qd, U, pp)).mean(axis=1)
+    return np.array(_forcing_map(eom, U.shape[1])(Qs.T, qd, U, pp)).mean(axis=1)
 
 
 def _newton_failure(target, Qs, qd, U, pp, free) -> str:
@@ -170,7 +174,9 @@ def static_equilibrium(model, u0=None, p: Mapping[str, float] | None = None, *, 
     hold : sequence of str, optional, keyword-only
         Coordinates to keep at ``q0``; default: those with no stiffness at ``q0``.
     tol : float, keyword-only
-        Tolerance on the generalized forces, relative to their size at ``q0``.
+        Tolerance on the generalized forces, relative to their size at ``q0`` (at
+        least 1e-9 N or N m): for Newton's method and for the net force a held
+        coordinate may carry.
     max_iter : int, keyword-only
 
     Returns
@@ -204,7 +210,7 @@ def static_equilibrium(model, u0=None, p: Mapping[str, float] | None = None, *, 
     scale = max(1.0, float(np.max(np.abs(_mean_force(eom, Qs, qd, U, pp)), initial=0.0)))
     q, residual, ok, msg = _solve(target, Qs, qd, U, pp, held, tol, max_iter)
     if ok:
-        msg = _held_message(eom, residual, held, scale, 1e-8)
+        msg = _held_message(eom, residual, held, scale, tol)
         ok = not msg
     if ok:
         msg = "static equilibrium" + (f"; held without stiffness: {held}" if held else "")
@@ -294,7 +300,7 @@ def steady_rotation(model, speed: float, *, coordinate: str | None = None, u0=No
     scale = max(1.0, float(np.max(np.abs(_mean_force(eom, Qs, qd, U.T, pp)), initial=0.0)))
     q, residual, ok, msg = _solve(target, Qs, qd, U.T, pp, held_all, tol, max_iter)
     if ok:
-        msg = _held_message(eom, residual, held, scale, 1e-8)
+        msg = _held_message(eom, residual, held, scale, tol)
         ok = not msg
     if ok:
         msg = f"steady rotation of {name} at {speed:.6g} rad/s" + (f"; held without stiffness: {held}" if held else "")

@@ -16,7 +16,7 @@ import numpy as np
 from ._fd import _fd_rhs
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError
-from .linear import LinearModel, _steps, _Target, jacobian_function, linear_function, linearize
+from .linear import LinearModel, _cached, _steps, _Target, jacobian_function, linear_function, linearize
 
 __all__ = ["Sensitivity", "sensitivities"]
 
@@ -63,10 +63,11 @@ class Sensitivity:
 
 def _sensitivity_function(eom: EquationsOfMotion, fd: bool) -> ca.Function:
     """``(q, qd, qdd, u, p, h) -> ∂vec(M, C, K, Q)/∂p`` at qdd, ∂vec(A, B)/∂p (and ∂vec(A_fd)/∂p)."""
-    key = "_mbsym_sensitivity_fd" if fd else "_mbsym_sensitivity"
-    cached = getattr(eom, key, None)
-    if cached is not None:
-        return cached
+    key = "sensitivity_fd" if fd else "sensitivity"
+    return _cached(eom, key, lambda: _build_sensitivity_function(eom, fd, key))
+
+
+def _build_sensitivity_function(eom: EquationsOfMotion, fd: bool, name: str) -> ca.Function:
     n, nu = eom.n_q, eom.n_u
     q, qd, qdd, u, p, h = (ca.MX.sym(s, k) for s, k in (("q", n), ("qd", n), ("qdd", n), ("u", nu),
                                                           ("p", eom.n_p), ("h", 2 * n)))
@@ -74,9 +75,7 @@ def _sensitivity_function(eom: EquationsOfMotion, fd: bool) -> ca.Function:
     if fd:
         mats.append(_fd_rhs(eom)(ca.vertcat(q, qd), u, p, h))
     outs = [ca.densify(ca.jacobian(ca.vec(m), p)) for m in mats]
-    f = ca.Function(key.strip("_"), [q, qd, qdd, u, p, h], outs)
-    setattr(eom, key, f)
-    return f
+    return ca.Function(f"{eom.name}_{name}", [q, qd, qdd, u, p, h], outs)
 
 
 def sensitivities(model, parameters: Sequence[str] | str, q0=None, qd0=None, u0=None,

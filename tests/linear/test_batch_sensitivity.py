@@ -155,3 +155,63 @@ def test_batch_with_given_accelerations_and_no_inputs():
         np.testing.assert_allclose(batch.K[i], lin.K, rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(batch.A[i], lin.A, rtol=1e-12, atol=1e-12)
     assert batch.B.shape == (4, 4, 0) and batch.u.shape == (4, 0)
+
+
+def _oscillator():
+    """x: m x'' + c x' + k x = 0, parameters m, c, k without defaults."""
+    sys = mb.System()
+    x = sys.coordinates("x")
+    m, c, k = sys.parameters("m c k")
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("b", m), axis=[1, 0, 0], coordinate=x))
+    sys.add_spring(x, k)
+    sys.add_damper(x, c)
+    return sys.equations(name="oscillator")
+
+
+def test_batch_sweep_of_parameters_without_default():
+    """Sweeping m (no default) works; closed form A = [[0, 1], [-k/m, -c/m]] to 1e-14."""
+    from mbsym.exceptions import ParameterError
+
+    eom = _oscillator()
+    m = np.array([1.0, 2.0, 4.0])
+    batch = linearize_batch(eom, np.zeros((3, 2)), p={"m": m, "c": 0.5, "k": 4.0})
+    np.testing.assert_allclose(batch.A[:, 1, 0], -4.0 / m, rtol=1e-14)
+    np.testing.assert_allclose(batch.A[:, 1, 1], -0.5 / m, rtol=1e-14)
+    np.testing.assert_array_equal(batch.p[:, eom.parameters.index("m")], m)
+    for p in ({"m": m, "c": 0.5, "k": 4.0, "mass": [1.0, 2.0, 3.0]}, {"m": m, "c": 0.5, "k": 4.0, "mass": 1.0}):
+        with pytest.raises(ParameterError, match=r"unknown parameters \['mass'\]"):
+            linearize_batch(eom, np.zeros((3, 2)), p=p)
+    with pytest.raises(ParameterError, match=r"missing values for parameters \['k'\]"):
+        linearize_batch(eom, np.zeros((3, 2)), p={"m": m, "c": 0.5})
+    with pytest.raises(ParameterError, match=r"'m' has non-finite values at points \[1\]"):
+        linearize_batch(eom, np.zeros((3, 2)), p={"m": [1.0, np.nan, 2.0], "c": 0.5, "k": 4.0})
+    with pytest.raises(DimensionError, match="'m' has 2 values; expected 3"):
+        linearize_batch(eom, np.zeros((3, 2)), p={"m": [1.0, 2.0], "c": 0.5, "k": 4.0})
+
+
+def test_batch_frequencies_follow_the_single_model_rule():
+    """Underdamped (c = 0.5) and overdamped (c = 5) points, m = k = 1.
+
+    Closed form: λ = (-c ± sqrt(c² - 4))/2: one pair |λ| = 1 at c = 0.5; two real
+    |λ| = (5 ∓ sqrt(21))/2 at c = 5 (then the row has two entries, the other NaN). To 1e-12.
+    """
+    batch = linearize_batch(_oscillator(), np.zeros((2, 2)), p={"m": 1.0, "c": [0.5, 5.0], "k": 1.0})
+    f = batch.frequencies()
+    expected = np.array([[1.0, np.nan], [(5 - np.sqrt(21)) / 2, (5 + np.sqrt(21)) / 2]]) / (2 * np.pi)
+    np.testing.assert_allclose(f, expected, rtol=1e-12)
+    for i in range(2):
+        single = batch[i].frequencies()[0]
+        np.testing.assert_array_equal(f[i, :single.size], single)
+        assert np.all(np.isnan(f[i, single.size:]))
+
+
+def test_batch_item_keeps_the_rhs(pendulum_eom):
+    """batch[i].operating_point['xd'] is linearize's [qd; M⁻¹F] (same Function), to 1e-12."""
+    rng = np.random.default_rng(8)
+    X, U = rng.normal(size=(3, 4)), rng.normal(size=(3, 1))
+    batch = linearize_batch(pendulum_eom, X, U)
+    for i in range(3):
+        lin = mb.linearize(pendulum_eom, X[i, :2], X[i, 2:], U[i])
+        np.testing.assert_allclose(batch[i].operating_point["xd"], lin.operating_point["xd"], rtol=1e-12,
+                                   atol=1e-12)
+        assert set(batch[i].operating_point) == set(lin.operating_point)

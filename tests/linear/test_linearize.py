@@ -217,3 +217,85 @@ def test_nonlinear_simulation_vs_linear_response(paper45):
     err2, amp2 = _response_error(paper45, op, lin, ss, delta / 2, t)
     assert err1 < 1e-2 * amp1
     assert 3.0 < err1 / err2 < 5.0
+
+
+@pytest.mark.parametrize("steps, match", [
+    ({"q1": 0.0, "q2": 1e-6}, r"positive finite.*'q1': 0\.0"),
+    ({"q1": 1e-6, "q2": -1e-6}, r"positive finite.*'q2': -1e-06"),
+    ({"q1": np.nan, "q2": 1e-6}, r"positive finite.*'q1': nan"),
+    ({"q1": 1e-6}, r"missing \['q2'\]"),
+    ({"q1": 1e-6, "q2": 1e-6, "q3": 1e-6}, r"unknown \['q3'\]"),
+])
+def test_step_dict_is_validated(pendulum_eom, steps, match):
+    """Finite-difference steps by name: every coordinate, finite and > 0, bad ones named."""
+    with pytest.raises(DimensionError, match=match):
+        mb.linearize(pendulum_eom, [0.1, 0.2], method="fd", steps=steps)
+    lin = mb.linearize(pendulum_eom, [0.1, 0.2], method="fd", steps={"q1": 1e-6, "q2": 1e-6})
+    _close(lin.A, mb.linearize(pendulum_eom, [0.1, 0.2]).A)          # central differences, h = 1e-6
+
+
+def _cache_exercise(eom):
+    from mbsym.linear import linearize_batch, sensitivities
+    from mbsym.operating import static_equilibrium
+
+    mb.linearize(eom, [0.1, 0.2], outputs=["q1"])
+    mb.linearize(eom, [0.1, 0.2], qdd0=[0.3, -0.2])
+    mb.linearize(eom, [0.1, 0.2], method="fd", steps=[1e-6, 1e-6])
+    sensitivities(eom, ["m1"], [0.1, 0.2])
+    sensitivities(eom, ["m1"], [0.1, 0.2], method="fd", steps=[1e-6, 1e-6])
+    linearize_batch(eom, np.zeros((2, 4)), qdd0=np.ones((2, 2)))
+    static_equilibrium(eom, [0.0])
+
+
+def test_derived_functions_live_in_one_private_cache():
+    """Linearizing leaves the model unchanged except one private dict; a second use builds nothing."""
+    from mbsym.linear import jacobian_function, linear_function
+
+    from .conftest import double_pendulum
+
+    eom = double_pendulum()
+    before = dict(vars(eom))
+    _cache_exercise(eom)
+    after = vars(eom)
+    assert set(after) - set(before) == {"_mbsym_cache"}
+    assert all(after[k] is v for k, v in before.items())
+    cache = after["_mbsym_cache"]
+    size = len(cache)
+    assert jacobian_function(eom) is jacobian_function(eom) and linear_function(eom) is linear_function(eom)
+    _cache_exercise(eom)
+    assert len(cache) == size
+
+
+def test_jacobian_function_is_the_residual_jacobian(pendulum_eom):
+    """Against an independent derivation: CasADi's jacobian of e = F - M qdd (M depends on q), 1e-12."""
+    import casadi as ca
+
+    from mbsym.linear import jacobian_function
+
+    d = pendulum_eom.symbolic
+    e = d.F - d.M @ d.qdd
+    ref = ca.Function("ref", [d.q, d.qd, d.qdd, d.u, d.p],
+                      [-ca.jacobian(e, d.qdd), -ca.jacobian(e, d.qd), -ca.jacobian(e, d.q), ca.jacobian(e, d.u)])
+    rng = np.random.default_rng(4)
+    pp = pendulum_eom.parameter_vector()
+    for _ in range(3):
+        args = [rng.normal(size=2), rng.normal(size=2), rng.normal(size=2), rng.normal(size=1), pp]
+        for got, want in zip(jacobian_function(pendulum_eom)(*args), ref(*args)):
+            _close(np.array(got), np.array(ca.densify(want)), rtol=1e-12)
+
+
+def test_one_symbolic_derivation_for_both_linearization_functions(monkeypatch):
+    """jacobian_function and linear_function share one common-subexpression pass per model."""
+    import casadi as ca
+
+    from mbsym.linear import jacobian_function, linear_function
+
+    from .conftest import double_pendulum
+
+    eom = double_pendulum()
+    calls = []
+    cse = ca.cse
+    monkeypatch.setattr(ca, "cse", lambda *a, **k: calls.append(1) or cse(*a, **k))
+    linear_function(eom)
+    jacobian_function(eom)
+    assert len(calls) == 1

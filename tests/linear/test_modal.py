@@ -94,3 +94,93 @@ def test_bad_state_matrix():
         modal_analysis(np.zeros((3, 3)), ["a", "b"])
     with pytest.raises(DimensionError, match="finite"):
         modal_analysis(np.full((2, 2), np.nan), ["a"])
+
+
+# --------------------------------------------------------------------------- repeated eigenvalues
+def _identical_oscillators(damping: float):
+    """Two uncoupled oscillators m = 1, k1 = k2 = 100 (x along x, y along y): ω = 10 rad/s, twice."""
+    import mbsym as mb
+
+    sys = mb.System()
+    x, y = sys.coordinates("x y")
+    k1, k2 = sys.parameters("k1 k2", values=[100.0, 100.0])
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("a", 1.0), axis=[1, 0, 0], coordinate=x))
+    sys.add_joint(mb.Prismatic(sys.ground, mb.RigidBody("b", 1.0), axis=[0, 1, 0], coordinate=y))
+    sys.add_spring(x, k1)
+    sys.add_spring(y, k2)
+    if damping:
+        sys.add_damper(x, damping)
+        sys.add_damper(y, damping)
+    return sys.equations(name="twins")
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.4])
+def test_repeated_eigenvalue_of_identical_oscillators(damping):
+    """Each mode moves with its own spring only: ∂f/∂k is diagonal.
+
+    Closed form for m x'' + c x' + k x = 0: f = sqrt(k/m)/2π, ζ = c/(2 sqrt(k m)), so
+    ∂f/∂k = 1/(4π sqrt(k m)) = 0.0079577 and ∂ζ/∂k = -ζ/(2k); to 1e-10 relative.
+    """
+    from mbsym.linear import sensitivities
+
+    m, k = 1.0, 100.0
+    s = sensitivities(_identical_oscillators(damping), ["k1", "k2"], [0.0, 0.0])
+    assert [mode.dominant_dof for mode in s.modes] in (["x", "y"], ["y", "x"])
+    assert s.modes[0].freq_hz == s.modes[1].freq_hz                  # exactly repeated
+    own = np.array([[1.0 if mode.dominant_dof == dof else 0.0 for mode in s.modes] for dof in ("x", "y")])
+    zeta = damping / (2 * np.sqrt(k * m))
+    np.testing.assert_allclose(s.dfreq, own / (4 * np.pi * np.sqrt(k * m)), rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(s.dzeta, -own * zeta / (2 * k), rtol=1e-10, atol=1e-14)
+
+
+def test_repeated_eigenvalue_of_three_identical_blades():
+    """Three identical blades (m, k) on a hub on a spring: the cyclic pair is a double ω² = k/m.
+
+    Degenerate perturbation theory (closed form): on the cyclic subspace Σ y_i = 0 (the hub
+    at rest), a change δk of blade 1's spring moves ω² by δk y_1²/(m Σ y_i²), whose extremes
+    over the subspace are 2/3 (y = (2, -1, -1)) and 0 (y = (0, 1, -1)): ∂f/∂k1 ∈
+    {1/(6π m ω), 0}. Blade 2 and 3 give the same pair; to 1e-10 relative.
+    """
+    import mbsym as mb
+    from mbsym.linear import sensitivities
+
+    m, k = 1.0, 100.0
+    sys = mb.System()
+    x = sys.coordinates("x")
+    ys = sys.coordinates("y1 y2 y3")
+    ks = sys.parameters("k1 k2 k3", values=[k, k, k])
+    hub = mb.RigidBody("hub", 5.0)
+    sys.add_joint(mb.Prismatic(sys.ground, hub, axis=[1, 0, 0], coordinate=x))
+    sys.add_spring(x, 700.0)
+    for i, (y, kb) in enumerate(zip(ys, ks)):
+        sys.add_joint(mb.Prismatic(hub, mb.RigidBody(f"blade{i}", m), axis=[1, 0, 0], coordinate=y))
+        sys.add_spring(y, kb)
+    s = sensitivities(sys.equations(name="rotor"), ["k1", "k2", "k3"], np.zeros(4))
+    f = np.array([mode.freq_hz for mode in s.modes])
+    pair = np.flatnonzero(np.abs(f - np.sqrt(k / m) / (2 * np.pi)) < 1e-9)
+    assert pair.size == 2
+    expected = [0.0, 1.0 / (6 * np.pi * m * np.sqrt(k / m))]
+    for j in range(3):
+        np.testing.assert_allclose(np.sort(s.dfreq[j, pair]), expected, rtol=1e-10, atol=1e-13)
+
+
+def test_defective_repeated_eigenvalue_is_reported():
+    """Critically damped x'' + 2x' + x = 0: λ = -1 is a Jordan block, ∂λ does not exist."""
+    from mbsym.exceptions import SolverError
+
+    A = np.array([[0.0, 1.0], [-1.0, -2.0]])
+    modes = modal_analysis(A, ["x"])
+    with pytest.raises(SolverError, match=r"dominant DOF x\) is repeated 2 times and defective"):
+        mode_sensitivities(A, np.ones((1, 2, 2)), modes)
+
+
+def test_modes_keep_their_eigenvector_index():
+    """mode.eigen_index points at the mode's own eigenvalue of scipy.linalg.eig(A) (exact)."""
+    import scipy.linalg
+
+    A = _state_matrix(np.diag([1.0, 1.0]), np.zeros((2, 2)), np.diag([100.0, 100.0]))
+    lam = scipy.linalg.eig(A, left=True, right=True)[0]
+    modes = modal_analysis(A, ["x", "y"])
+    assert len({m.eigen_index for m in modes}) == 2
+    for m in modes:
+        assert lam[m.eigen_index] == m.eigenvalue

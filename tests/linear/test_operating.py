@@ -201,3 +201,60 @@ def test_batch_of_azimuths_matches_linearize_batch(paper45):
     X = np.tile(op.x, (2, 1))
     X[:, 2] = [0.0, 1.0]
     np.testing.assert_array_equal(sweep.batch.A, linearize_batch(paper45, X, op.u, op.p).A)
+
+
+class _CountingForcing:
+    """Wraps the model's forcing Function and counts ``map`` (each builds a new CasADi Function)."""
+
+    def __init__(self, f):
+        self.f, self.maps = f, 0
+
+    def map(self, *args):
+        self.maps += 1
+        return self.f.map(*args)
+
+    def __getattr__(self, name):
+        return getattr(self.f, name)
+
+
+def test_forcing_map_built_once_per_solve():
+    """static_equilibrium and steady_rotation build the sample map of F at most once each."""
+    import dataclasses
+
+    sys = mb.System(gravity=[0, 0, -G])
+    z, psi = sys.coordinates("z psi")
+    hub = mb.RigidBody("hub", 2.0)
+    sys.add_joint(mb.Prismatic(sys.ground, hub, axis=[0, 0, 1], coordinate=z))
+    sys.add_joint(mb.Revolute(hub, mb.RigidBody("rotor", 1.0, inertia=(1.0, 1.0, 1.0)), axis=[1, 0, 0],
+                              coordinate=psi))
+    sys.add_spring(z, 300.0)
+    eom = sys.equations()
+    counter = _CountingForcing(eom.functions.forcing)
+    eom._functions = dataclasses.replace(eom.functions, forcing=counter)
+    op = static_equilibrium(eom)
+    assert op.success, op.message
+    assert op.q[0] == pytest.approx(-3.0 * G / 300.0, rel=1e-12)          # -(m_hub + m_rotor) g / k
+    assert counter.maps <= 1
+    maps = counter.maps
+    op = steady_rotation(eom, 2.0, coordinate="psi", n_azimuth=6)
+    assert op.success, op.message
+    assert counter.maps - maps <= 1
+
+
+def test_held_coordinate_check_uses_tol():
+    """A free x carrying F = 1e-8 N while z carries m g = 29 N: no equilibrium at tol = 1e-10
+    (1e-8 > 1e-10 * 29 and > 1e-9), an equilibrium at tol = 1e-6."""
+    sys = mb.System(gravity=[0, 0, -G])
+    x, z = sys.coordinates("x z")
+    F = sys.inputs("F")
+    b = mb.RigidBody("b", 1.0)
+    sys.add_joint(mb.Prismatic(sys.ground, b, axis=[1, 0, 0], coordinate=x))
+    sys.add_joint(mb.Prismatic(b, mb.RigidBody("c", 3.0), axis=[0, 0, 1], coordinate=z))
+    sys.add_spring(z, 50.0)
+    sys.add_generalized_force(x, F)
+    eom = sys.equations()
+    strict = static_equilibrium(eom, [1e-8], tol=1e-10)
+    assert not strict.success and "x (1e-08)" in strict.message
+    loose = static_equilibrium(eom, [1e-8], tol=1e-6)
+    assert loose.success, loose.message
+    assert loose.q[1] == pytest.approx(-3.0 * G / 50.0, rel=1e-9)
