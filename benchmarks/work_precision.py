@@ -430,7 +430,7 @@ def performance_section(runs, scene: Scene | None = None, ref=None) -> str:
              "output channels at the 3001 output times (outputs_wall_s "
              f"{1e3 * best.stats.get('outputs_wall_s', float('nan')):.2f} ms in the last run). OpenFAST's "
              f"{OPENFAST_PAPER45_S} s is its whole run, so the whole-call ratio is the like-for-like comparison; the "
-             "integration-only ratio is the target metric of issue 4."]
+             "integration-only ratio is the target metric of issue 7."]
     if scene is not None and ref is not None:
         t_out = ref.t
         res = simulate(scene.model, scene.tmax, scene.x0, method=best.method, t_out=t_out, **best.kwargs)
