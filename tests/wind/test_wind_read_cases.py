@@ -30,6 +30,12 @@ EXPECTED = {  # case → (enabled DOFs, initial conditions, TMax of the time-dom
                          {"platform_surge": 0.0, "platform_pitch": 2 * DEG,
                           "tower_top_fa_displacement": 1.0, "rotor_speed": 0.0}, 60.0),
     "blade_campbell": ({"FlapDOF1", "FlapDOF2", "EdgeDOF"}, {}, None),
+    "platform_rpy_gen": ({"PtfmRDOF", "PtfmPDOF", "PtfmYDOF", "TwFADOF1", "TwSSDOF1", "GenDOF"},
+                         {"platform_roll": -2 * DEG, "platform_pitch": 1.5 * DEG, "platform_yaw": -4 * DEG,
+                          "tower_top_ss_displacement": 0.4, "rotor_speed": 8 * RPM}, 30.0),
+    "blades_large_deflection": ({"FlapDOF1", "EdgeDOF", "GenDOF"},
+                                {"blade_oop_tip_deflection": 3.0, "blade_ip_tip_deflection": -0.8,
+                                 "rotor_speed": 9 * RPM}, 30.0),
 }
 
 
