@@ -1,6 +1,6 @@
 """Build and evaluation speed of turbine models with flexible blades; Campbell diagram wall time.
 
-Models (NREL 5 MW data, ``mbsym.wind.nrel5mw``; deck already read):
+Models (NREL 5 MW data, ``mbsym.wind.deck.nrel5mw``; deck already read):
 
 - 22 DOFs: ElastoDyn's whole set, platform 6 (paper46 spar values), tower 4, yaw, generator,
   drivetrain, 3 x 3 blade DOFs (FlapDOF1, EdgeDOF, FlapDOF2);
@@ -30,8 +30,8 @@ import numpy as np
 from _report import README, write_section
 
 from mbsym.wind import nrel5mw, read_openfast
-from mbsym.wind.campbell_diagram import campbell
-from mbsym.wind.turbine import MODELLED_DOFS, SUPPORTED_DOFS, TurbineModel
+from mbsym.wind.analysis.campbell_diagram import campbell
+from mbsym.wind.structure.turbine import MODELLED_DOFS, SUPPORTED_DOFS, TurbineModel
 
 HERE = Path(__file__).resolve().parent
 DECK = HERE.parent.parent / "shared" / "openfast" / "cases" / "blade_campbell" / "blade_campbell_rpm00.fst"

@@ -1,7 +1,7 @@
 """Model no more than a scene needs: a fidelity ladder on the paper45 scene, vs the richest model and OpenFAST.
 
 Scene: the paper45 deck (NREL 5 MW, TTDspFA = TTDspSS = 1 m, 5 rpm, 60 s, gravity, no aero).
-Ladder (ElastoDyn flags, ``mbsym.wind.fidelity.fidelity_ladder``): FA1 -> + SS1 -> + GenDOF ->
+Ladder (ElastoDyn flags, ``mbsym.wind.analysis.fidelity.fidelity_ladder``): FA1 -> + SS1 -> + GenDOF ->
 + DrTrDOF -> + EdgeDOF -> + FlapDOF1 -> + FlapDOF2 (the richest, 13 DOFs). A rung without
 GenDOF spins the rotor at the deck's constant 5 rpm (prescribed azimuth). Outputs: TTDspFA,
 TTDspSS, RotSpeed. Errors: ε = mean|y - y_ref| / range(y_ref) per channel against the richest
@@ -19,8 +19,8 @@ from __future__ import annotations
 import argparse
 
 from mbsym.wind import read_openfast
-from mbsym.wind.compare import read_csv
-from mbsym.wind.fidelity import fidelity_ladder
+from mbsym.wind.analysis.compare import read_csv
+from mbsym.wind.analysis.fidelity import fidelity_ladder
 
 from work_precision import HERE, SHARED, write_readme
 

@@ -37,7 +37,7 @@ from mbsym.cli.simulate import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING
 from mbsym.exceptions import ModelDefinitionError
 from mbsym.linear import linear_function, linearize, linearize_batch
 from mbsym.wind import nrel5mw
-from mbsym.wind.turbine import TurbineModel
+from mbsym.wind.structure.turbine import TurbineModel
 
 ONSHORE_7 = ["TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2", "YawDOF", "GenDOF", "DrTrDOF"]
 BLADES = ["FlapDOF1", "EdgeDOF", "FlapDOF2"]

@@ -27,8 +27,8 @@ from _report import write_section
 
 import mbsym as mb
 from mbsym.wind import nrel5mw, read_openfast
-from mbsym.wind.compare import TimeSeries, compare, overlay_plot, read_csv
-from mbsym.wind.turbine import SUPPORTED_DOFS, TurbineModel
+from mbsym.wind.analysis.compare import TimeSeries, compare, overlay_plot, read_csv
+from mbsym.wind.structure.turbine import SUPPORTED_DOFS, TurbineModel
 
 HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared" / "openfast" / "cases"

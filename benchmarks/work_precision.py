@@ -84,7 +84,7 @@ class RotorModel:
 
 def deck_scene(case: str, label: str) -> Scene:
     from mbsym.wind import read_openfast
-    from mbsym.wind.turbine import TurbineModel
+    from mbsym.wind.structure.turbine import TurbineModel
 
     model = TurbineModel(read_openfast(SHARED / case / f"{case}.fst"))
     return Scene(case.split("_")[0], model, 60.0, label)
@@ -93,7 +93,7 @@ def deck_scene(case: str, label: str) -> Scene:
 def stiff_rotor_eom(turbine=None):
     """Hub + drivetrain + three edgewise-flexible blades (see the module docstring)."""
     from mbsym.wind import blade_shape_integrals, nrel5mw
-    from mbsym.wind.turbine import blade_rotation
+    from mbsym.wind.structure.turbine import blade_rotation
 
     t = turbine or nrel5mw()
     sys = mb.System(gravity=[0.0, 0.0, -t.simulation.gravity])
@@ -364,7 +364,7 @@ def plain_c_loop(scene: Scene, dt: float, repeat: int = 20) -> tuple[float, floa
 
 def output_epsilon(res, ref) -> tuple[float, str]:
     """Largest ε over the OpenFAST output channels (wrap-aware; constant channels skipped) and its channel."""
-    from mbsym.wind.compare import WRAPPED, error_metrics
+    from mbsym.wind.analysis.compare import WRAPPED, error_metrics
 
     worst = (0.0, "")
     for j, name in enumerate(ref.output_names):

@@ -13,7 +13,7 @@ rotor plane), without structural twist, and the blade rotating about its root
 table gives the ElastoDyn-equivalent blade (twisted shapes, three shapes coupled,
 root 1.5 m off the axis as in the turbine) against OpenFAST.
 
-Blade data: built-in NREL 5 MW (``mbsym.wind.nrel5mw()``); runs without ../shared.
+Blade data: built-in NREL 5 MW (``mbsym.wind.deck.nrel5mw()``); runs without ../shared.
 The last printed line is one JSON object.
 
 Run: ``python examples/paper_4_3_rotating_blade.py``
@@ -25,7 +25,7 @@ import numpy as np
 
 import mbsym as mb
 from mbsym.wind import nrel5mw
-from mbsym.wind.elastodyn_bodies import blade_shape_integrals
+from mbsym.wind.structure.elastodyn_bodies import blade_shape_integrals
 
 MODES = ("FlapDOF1", "EdgeDOF", "FlapDOF2")   # the paper's order: 1st flap, 1st edge, 2nd flap
 LABELS = ("1st flap", "1st edge", "2nd flap")

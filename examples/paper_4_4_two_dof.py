@@ -3,7 +3,7 @@
 Branlard & Geisler, Wind Energ. Sci. 7 (2022), Sect. 4.4 and Eqs. (37)-(47): a
 flexible tower with one fore-aft shape function (Eq. 47), a rigid nacelle on the
 tower top (rotated by the top slope ν_y), and a rigid rotor on a tilted shaft.
-Tower distributed properties: the built-in NREL 5 MW data (``mbsym.wind.nrel5mw()``,
+Tower distributed properties: the built-in NREL 5 MW data (``mbsym.wind.deck.nrel5mw()``,
 from the NREL 5 MW ElastoDyn tower file). Rigid-body numbers: as printed in the
 paper. Runs without ../shared. The last printed line is one JSON object.
 

@@ -462,7 +462,7 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
     Parameters
     ----------
     model : EquationsOfMotion or model object
-        An object with ``eom`` (e.g. :class:`~mbsym.wind.turbine.TurbineModel`)
+        An object with ``eom`` (e.g. :class:`~mbsym.wind.structure.turbine.TurbineModel`)
         supplies the defaults through its hooks ``default_state()``,
         ``default_inputs()`` (evaluated at t = 0), ``default_parameters()`` and the
         output channels of ``output_function()``.

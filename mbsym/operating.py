@@ -8,7 +8,7 @@
 - :func:`linearize_azimuths`: linearizations at several rotor azimuths in one batch
   (:func:`mbsym.linear.linearize_batch`), and their average
   (:meth:`AzimuthSweep.average`), in multi-blade coordinates
-  (:func:`mbsym.wind.mbc.mbc_transform`) when the model has rotating-frame blade DOFs.
+  (:func:`mbsym.wind.analysis.mbc.mbc_transform`) when the model has rotating-frame blade DOFs.
 
 Coordinates without stiffness (a free generator azimuth, an unmoored surge) have no
 static equilibrium value: they are *held* at their initial value (found automatically,
@@ -353,8 +353,8 @@ class AzimuthSweep:
         matrices are averaged as they are. With blade DOFs each azimuth's model is
         first written in multi-blade coordinates (Coleman): ``mbc(A, blade_indices,
         azimuth, rotor_speed, B=B) -> (A_B, B_B)`` (default
-        :func:`mbsym.wind.mbc.mbc_transform`), M, C, K by
-        :func:`mbsym.wind.mbc.mbc_second_order`, outputs by ``Cy T``; blade
+        :func:`mbsym.wind.analysis.mbc.mbc_transform`), M, C, K by
+        :func:`mbsym.wind.analysis.mbc.mbc_second_order`, outputs by ``Cy T``; blade
         coordinates then read collective, cosine, sine.
         """
         b = self.batch
@@ -369,7 +369,7 @@ class AzimuthSweep:
                            b.inputs, op, b.outputs, mean["Cy"], mean["Dy"], b.output_units, b.method)
 
     def _to_fixed_frame(self, lin: LinearModel, psi: float, mbc) -> LinearModel:
-        from .wind.mbc import coleman_matrices, mbc_second_order, mbc_transform
+        from .wind.analysis.mbc import coleman_matrices, mbc_second_order, mbc_transform
 
         mbc = mbc or mbc_transform
         om, n = self.rotor_speed, len(lin.coordinates)

@@ -8,7 +8,7 @@ Contract (kept for acceptance checks)::
 LIST is comma-separated rotor speeds [rpm]. For each speed the turbine of the deck (its
 DOFs; a prescribed azimuth when GenDOF is off) is linearized at OpenFAST's operating point
 of an undeflected deck (tower and platform displacements zero, the blades at the deck's tip
-deflections, rotor spinning at that speed; :mod:`mbsym.wind.campbell_diagram`) at N
+deflections, rotor spinning at that speed; :mod:`mbsym.wind.analysis.campbell_diagram`) at N
 azimuths, transformed to multi-blade coordinates and averaged; the modes are labelled by
 their kinetic energy ("1st flap collective", "1st edge backward whirl", "1st tower
 fore-aft" …). ``--method elastodyn-fd`` (default, as ``mbsym linearize`` and OpenFAST)
@@ -62,7 +62,7 @@ def parse_rpm_list(text: str) -> list[float]:
 
 def run(args: argparse.Namespace) -> int:
     from ..wind import read_openfast
-    from ..wind.campbell_diagram import campbell, campbell_model
+    from ..wind.analysis.campbell_diagram import campbell, campbell_model
 
     rpm = parse_rpm_list(args.rpm)
     if args.azimuths < 1:

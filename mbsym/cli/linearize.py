@@ -59,7 +59,7 @@ def undeflected(turbine, rpm: float | None = None):
 
 def _model(deck, rpm):
     from ..wind import nrel5mw, read_openfast
-    from ..wind.turbine import NON_BLADE_DOFS, TurbineModel
+    from ..wind.structure.turbine import NON_BLADE_DOFS, TurbineModel
     from .simulate import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING
 
     if deck is None:

@@ -6,7 +6,7 @@ Contract (kept for acceptance checks)::
                    [--compare OPENFAST.csv] [--method M] [--rtol R] [--atol A]
                    [--list-methods] [--stats] [--compile]
 
-No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.nrel5mw`) with its
+No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.deck.nrel5mw`) with its
 structural DOFs this template models, released from a tower-top displacement of
 0.5 m fore-aft with the rotor at the deck's 10 rpm, yaw held by the NREL 5 MW
 ServoDyn yaw spring and damper (ElastoDyn alone leaves the yaw free). ``--tmax``/``--dt`` default to the
@@ -84,19 +84,19 @@ def run(args: argparse.Namespace) -> int:
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
     _summary(label, model, series, stats)
     if ref is not None:
-        from ..wind.compare import compare, not_compared
+        from ..wind.analysis.compare import compare, not_compared
 
         _print_comparison(compare(series, ref))
         missing = not_compared(series, ref)
         if missing:
             print(f"not compared (not produced by this model): {', '.join(missing)}")
     if args.out:
-        from ..wind.compare import write_csv
+        from ..wind.analysis.compare import write_csv
 
         write_csv(args.out, series)
         print(f"wrote {args.out} ({len(series.time)} rows, {len(series.names)} channels)")
     if args.plot:
-        from ..wind.compare import overlay_plot
+        from ..wind.analysis.compare import overlay_plot
 
         overlay_plot(args.plot, series, ref, title=label)
         print(f"wrote {args.plot}")
@@ -111,7 +111,7 @@ def _check_files(args):
 
     ref = None
     if args.compare:
-        from ..wind.compare import read_csv
+        from ..wind.analysis.compare import read_csv
 
         ref = read_csv(args.compare)
     for flag, path in (("--out", args.out), ("--plot", args.plot)):
@@ -129,7 +129,7 @@ def _check_files(args):
 
 def _model(deck):
     from ..wind import read_openfast
-    from ..wind.turbine import NON_BLADE_DOFS, TurbineModel
+    from ..wind.structure.turbine import NON_BLADE_DOFS, TurbineModel
 
     if deck is None:
         turbine = builtin_turbine()
@@ -204,7 +204,7 @@ def _merge(acc, stats):
 
 
 def _series(result, channels):
-    from ..wind.compare import TimeSeries
+    from ..wind.analysis.compare import TimeSeries
 
     units = dict(zip(channels.names, channels.units))
     names = tuple(result.output_names)

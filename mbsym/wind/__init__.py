@@ -2,12 +2,12 @@
 
 :func:`read_openfast` reads a deck into :class:`TurbineParameters` (SI units,
 descriptive names); :func:`nrel5mw` returns the NREL 5 MW onshore turbine from
-package data; :mod:`mbsym.wind.elastodyn_nodes` integrates the distributed tower
-and blade properties the way ElastoDyn does, and :mod:`mbsym.wind.elastodyn_bodies`
+package data; :mod:`mbsym.wind.structure.elastodyn_nodes` integrates the distributed tower
+and blade properties the way ElastoDyn does, and :mod:`mbsym.wind.structure.elastodyn_bodies`
 turns them into ElastoDyn-equivalent shape integrals for flexible bodies.
 """
 
-from .elastodyn_nodes import (
+from .structure.elastodyn_nodes import (
     BladeModalProperties,
     BladeNodes,
     RotorMassProperties,
@@ -22,7 +22,7 @@ from .elastodyn_nodes import (
     tower_nodes,
     tower_top_mass,
 )
-from .elastodyn_bodies import (
+from .structure.elastodyn_bodies import (
     BLADE_DOFS,
     TOWER_DOFS,
     ElastoDynBladeData,
@@ -32,12 +32,13 @@ from .elastodyn_bodies import (
     tower_elastodyn_data,
     tower_shape_integrals,
 )
-from .campbell_diagram import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
-from .mbc import coleman_matrices, mbc_second_order, mbc_transform
-from .fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
-from .nrel5mw import nrel5mw
-from .openfast import KEY_MAP, read_openfast
-from .parameters import (
+from .analysis.campbell_diagram import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
+from .analysis.mbc import coleman_matrices, mbc_second_order, mbc_transform
+from .analysis.fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
+from .structure.turbine import TurbineModel
+from .deck.nrel5mw import nrel5mw
+from .deck.openfast import KEY_MAP, read_openfast
+from .deck.parameters import (
     DOF_NAMES,
     BladeParameters,
     InitialConditions,
@@ -47,6 +48,7 @@ from .parameters import (
 )
 
 __all__ = [
+    "TurbineModel",
     "read_openfast",
     "nrel5mw",
     "KEY_MAP",

@@ -94,7 +94,7 @@ def pendulum_eom():
 def paper45():
     """TurbineModel of paper45_fa_ss_gen lin0 (TFA1, TSS1, GeAz; undeflected, 0 rpm)."""
     from mbsym.wind import read_openfast
-    from mbsym.wind.turbine import TurbineModel
+    from mbsym.wind.structure.turbine import TurbineModel
 
     return TurbineModel(read_openfast(case_deck("paper45_fa_ss_gen")))
 
@@ -103,6 +103,6 @@ def paper45():
 def paper46():
     """TurbineModel of paper46_floating lin0 (Sg, P, TFA1; undeflected)."""
     from mbsym.wind import read_openfast
-    from mbsym.wind.turbine import TurbineModel
+    from mbsym.wind.structure.turbine import TurbineModel
 
     return TurbineModel(read_openfast(case_deck("paper46_floating")))

@@ -42,7 +42,7 @@ def reports():
     out = {}
     for case in CASES:
         from mbsym.wind import read_openfast
-        from mbsym.wind.turbine import TurbineModel
+        from mbsym.wind.structure.turbine import TurbineModel
 
         model = TurbineModel(cli.undeflected(read_openfast(case_deck(case))))
         out[case] = json.loads(json.dumps(cli.linear_report(model)))

@@ -170,7 +170,7 @@ def test_steady_rotation_averages_gravity_over_azimuth():
 
 
 def test_multi_blade_coordinates_average():
-    pytest.importorskip("mbsym.wind.mbc")
+    pytest.importorskip("mbsym.wind.analysis.mbc")
     eom, w0sq = three_blade_rotor()
     om = 3.0
     x = np.zeros(eom.n_x)

@@ -29,7 +29,7 @@ def paper45():
     if not DECK.exists():
         pytest.skip("shared OpenFAST reference data not available")
     from mbsym.wind import read_openfast
-    from mbsym.wind.turbine import TurbineModel
+    from mbsym.wind.structure.turbine import TurbineModel
 
     model = TurbineModel(read_openfast(DECK))
     ref = simulate(model, T, method="cvodes", rtol=1e-12, atol=1e-12, t_out=T_OUT)

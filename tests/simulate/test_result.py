@@ -100,7 +100,7 @@ def test_protocol_scalar_outputs_and_channels_object(osc):
         def output_function(self):
             return f
 
-    class Channels:          # like mbsym.wind.channels.Channels: .function and .names
+    class Channels:          # like mbsym.wind.structure.channels.Channels: .function and .names
         function = ca.Function("y", [x, u, p], [ca.vertcat(2 * x[0], x[1])])
         names = ("a", "b")
 

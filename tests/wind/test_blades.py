@@ -30,8 +30,8 @@ import pytest
 
 import mbsym as mb
 from mbsym.wind import nrel5mw, read_openfast
-from mbsym.wind.elastodyn_bodies import blade_elastodyn_data
-from mbsym.wind.turbine import BLADE_FLAGS, MODELLED_DOFS, TurbineModel, blade_rotation, initial_blade_deflection
+from mbsym.wind.structure.elastodyn_bodies import blade_elastodyn_data
+from mbsym.wind.structure.turbine import BLADE_FLAGS, MODELLED_DOFS, TurbineModel, blade_rotation, initial_blade_deflection
 
 CASES = Path(__file__).resolve().parents[2].parent / "shared" / "openfast" / "cases"
 BETA_L = (1.875104068711961, 4.694091132974174)
@@ -262,7 +262,7 @@ def test_tip_deflection_channels_match_the_engine_kinematics():
 def test_blade_data_computed_once_per_blade(monkeypatch):
     """TurbineModel computes ElastoDyn's blade data once per blade and the output channels reuse the
     bodies' shape integrals (no recomputation of blade or tower data in channels.py)."""
-    import mbsym.wind.turbine as turbine_module
+    import mbsym.wind.structure.turbine as turbine_module
 
     calls = []
     original = turbine_module.blade_elastodyn_data
@@ -277,7 +277,7 @@ def test_blade_data_computed_once_per_blade(monkeypatch):
     rigid = TurbineModel(t, dofs=["TwFADOF1", "GenDOF"])
     assert sorted(calls) == [0, 0, 1, 1, 2, 2]          # 3 flexible + 3 rigid blades, once each
     assert model.blade_data(1) is model.blade_data(1)
-    import mbsym.wind.channels as channels_module
+    import mbsym.wind.structure.channels as channels_module
     assert not hasattr(channels_module, "blade_elastodyn_data") and not hasattr(channels_module, "tower_elastodyn_data")
     assert rigid.eom.n_q == 2
 

@@ -30,7 +30,7 @@ import mbsym as mb
 from mbsym.beam import spin_softening
 from mbsym.exceptions import ParameterError
 from mbsym.wind import blade_modal_properties, blade_nodes, nrel5mw, read_openfast, tower_modal_properties
-from mbsym.wind.elastodyn_bodies import (
+from mbsym.wind.structure.elastodyn_bodies import (
     blade_elastodyn_data,
     blade_shape_integrals,
     tower_elastodyn_data,

@@ -23,8 +23,8 @@ import pytest
 
 import mbsym as mb
 from mbsym.wind import nrel5mw, read_openfast
-from mbsym.wind.compare import compare, read_csv
-from mbsym.wind.turbine import BLADE_FLAGS, NON_BLADE_DOFS, SUPPORTED_DOFS, TurbineModel, unsupported_features
+from mbsym.wind.analysis.compare import compare, read_csv
+from mbsym.wind.structure.turbine import BLADE_FLAGS, NON_BLADE_DOFS, SUPPORTED_DOFS, TurbineModel, unsupported_features
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "openfast"
 CASES = ["paper44_fa_gen", "paper45_fa_ss_gen", "paper46_floating"]
@@ -37,7 +37,7 @@ def _case(name):
 
 
 def _series(result, model):
-    from mbsym.wind.compare import TimeSeries
+    from mbsym.wind.analysis.compare import TimeSeries
     ch = model.output_function()
     units = dict(zip(ch.names, ch.units))
     return TimeSeries(result.t, result.output_names, tuple(units[n] for n in result.output_names), result.y)

@@ -1,6 +1,6 @@
 """The packaged NREL 5 MW data must be exactly what the shared base deck gives.
 
-This module is also the generator of ``mbsym/wind/data/nrel5mw.json``::
+This module is also the generator of ``mbsym/wind/deck/data/nrel5mw.json``::
 
     PYTHONPATH=. python tests/wind/test_wind_nrel5mw_data.py --write
 
@@ -21,7 +21,7 @@ import pytest
 
 from mbsym.wind import TurbineParameters, nrel5mw, read_openfast
 
-PACKAGED = Path(__file__).resolve().parents[2] / "mbsym" / "wind" / "data" / "nrel5mw.json"
+PACKAGED = Path(__file__).resolve().parents[2] / "mbsym" / "wind" / "deck" / "data" / "nrel5mw.json"
 
 SOURCE = {
     "definition": ("J. Jonkman, S. Butterfield, W. Musial, G. Scott, 'Definition of a 5-MW "
@@ -51,7 +51,7 @@ def test_packaged_json_matches_the_deck(base_fst):
     # Reference: the shared deck itself; exact equality (JSON floats round-trip exactly).
     packaged = json.loads(PACKAGED.read_text(encoding="utf-8"))
     assert packaged == generate(base_fst), (
-        "mbsym/wind/data/nrel5mw.json is stale; regenerate it with "
+        "mbsym/wind/deck/data/nrel5mw.json is stale; regenerate it with "
         "'PYTHONPATH=. python tests/wind/test_wind_nrel5mw_data.py --write'")
 
 

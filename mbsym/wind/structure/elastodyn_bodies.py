@@ -48,11 +48,11 @@ from typing import Sequence
 
 import numpy as np
 
-from ..beam.lumped import lumped_shape_integrals
-from ..beam.sid import ShapeIntegrals, damping_matrix
-from ..exceptions import ParameterError
+from ...beam.lumped import lumped_shape_integrals
+from ...beam.sid import ShapeIntegrals, damping_matrix
+from ...exceptions import ParameterError
 from .elastodyn_nodes import blade_nodes, mode_shape, tower_nodes, tower_top_mass
-from .parameters import TurbineParameters
+from ..deck.parameters import TurbineParameters
 
 __all__ = [
     "BLADE_DOFS", "TOWER_DOFS", "ElastoDynBladeData", "ElastoDynTowerData",

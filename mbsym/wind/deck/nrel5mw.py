@@ -1,6 +1,6 @@
 """The built-in NREL 5 MW onshore reference turbine (no deck needed).
 
-The values come from package data ``mbsym/wind/data/nrel5mw.json``, generated
+The values come from package data ``mbsym/wind/deck/data/nrel5mw.json``, generated
 once from the OpenFAST v5 ElastoDyn-only base deck of the NREL 5 MW onshore
 turbine (Jonkman et al. 2009, NREL/TP-500-38060; ElastoDyn files
 ``NREL5MW_ElastoDyn_Onshore.dat``, ``NRELOffshrBsline5MW_Onshore_ElastoDyn_Tower.dat``
@@ -15,7 +15,7 @@ import json
 from importlib import resources
 from typing import Any
 
-from ..exceptions import ParameterError
+from ...exceptions import ParameterError
 from .parameters import TurbineParameters
 
 __all__ = ["nrel5mw"]
@@ -24,7 +24,7 @@ _DATA = "data/nrel5mw.json"
 
 
 def _load() -> dict[str, Any]:
-    text = resources.files("mbsym.wind").joinpath(_DATA).read_text(encoding="utf-8")
+    text = resources.files("mbsym.wind.deck").joinpath(_DATA).read_text(encoding="utf-8")
     data = json.loads(text)
     if "_source" not in data or "parameters" not in data:
         raise ParameterError(f"Package data {_DATA} is malformed (no '_source' or "

@@ -1,6 +1,6 @@
 """Shared behaviour of the wind-parameter records (private).
 
-:class:`_Record` gives the frozen dataclasses of :mod:`mbsym.wind.parameters`
+:class:`_Record` gives the frozen dataclasses of :mod:`mbsym.wind.deck.parameters`
 exact equality (arrays compared element-wise, fields with ``compare=False``
 skipped) and JSON-compatible ``to_dict``/``from_dict`` round trips driven by the
 type hints; :func:`_set_array` and :func:`_freeze_columns` store read-only,
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import ParameterError
+from ...exceptions import ParameterError
 
 
 def _readonly(value: Any, name: str, shape_tail: tuple[int, ...] = ()) -> np.ndarray:

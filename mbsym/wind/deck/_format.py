@@ -10,7 +10,7 @@ and collects every problem with file, line and key, to raise them together as on
 :class:`~mbsym.exceptions.OpenFASTFormatError`.
 
 Which keys a file has, and what they mean, is not known here: callers describe
-them with :class:`_Key` and :class:`_TableSpec` (see :mod:`mbsym.wind.openfast`).
+them with :class:`_Key` and :class:`_TableSpec` (see :mod:`mbsym.wind.deck.openfast`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..exceptions import OpenFASTFormatError
+from ...exceptions import OpenFASTFormatError
 
 _REQ = object()  # "no default: the key is required"
 _Check = tuple[Callable[[Any], bool], str]

@@ -4,14 +4,14 @@ These frozen dataclasses hold what an OpenFAST/ElastoDyn deck describes, under
 descriptive names: lengths in m, masses in kg, inertias in kg m^2, angles in rad,
 rotational speeds in rad/s, damping ratios as fractions of critical (ElastoDyn's
 percent / 100) and gearbox efficiency as a fraction.  The one documented mapping
-from OpenFAST keys to these names lives in :mod:`mbsym.wind.openfast`; the only
+from OpenFAST keys to these names lives in :mod:`mbsym.wind.deck.openfast`; the only
 ElastoDyn names used here are the degree-of-freedom flags (:data:`DOF_NAMES`),
 which the whole package keeps verbatim (see DESIGN.md).
 
 Distributed tower and blade properties are stored **as written in the deck**
 (unadjusted), together with ElastoDyn's adjustment factors (AdjTwMa, AdjFASt,
 AdjSSSt, AdjBlMs, AdjFlSt, AdjEdSt) kept explicitly; the ``adjusted_*``
-properties apply them.  :mod:`mbsym.wind.elastodyn_nodes` always uses the
+properties apply them.  :mod:`mbsym.wind.structure.elastodyn_nodes` always uses the
 adjusted values, as ElastoDyn does.
 
 Arrays are read-only float64 copies; change a value with
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import ParameterError
+from ...exceptions import ParameterError
 from ._record import _freeze_columns, _Record, _set_array
 
 __all__ = [
@@ -173,7 +173,7 @@ class TowerParameters(_Record):
         Coefficients of x^2 ... x^6 of modes 1 and 2, x = height fraction.
     point_mass_fraction, point_mass : ndarray, shape (m,)
         Optional concentrated masses (NTwCMass table) [-], [kg]; empty if absent.
-        Kept, but not used by :mod:`mbsym.wind.elastodyn_nodes`.
+        Kept, but not used by :mod:`mbsym.wind.structure.elastodyn_nodes`.
     extra_columns : dict of str to ndarray
         Further table columns (e.g. of FAST v7 layouts), by header name.
     extra : dict of str to str
@@ -313,7 +313,7 @@ class BladeParameters(_Record):
 class TurbineParameters(_Record):
     """Everything an ElastoDyn deck defines about a turbine, in SI units.
 
-    Attributes are named after what they are; :data:`mbsym.wind.openfast.KEY_MAP`
+    Attributes are named after what they are; :data:`mbsym.wind.deck.openfast.KEY_MAP`
     lists the OpenFAST key behind each.  Per-blade quantities are tuples of length
     ``number_of_blades``; points are (x, y, z) tuples in ElastoDyn's frames.
 

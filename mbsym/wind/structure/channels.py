@@ -1,4 +1,4 @@
-"""OpenFAST output channels of a :class:`~mbsym.wind.turbine.TurbineModel`.
+"""OpenFAST output channels of a :class:`~mbsym.wind.structure.turbine.TurbineModel`.
 
 Names, units and signs follow ElastoDyn (docs/elastodyn_notes.md §6): ``Q_*``,
 ``QD_*``, ``QD2_*`` for every enabled DOF (``Q_TSS*`` is the negative of our
@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ..bodies.flexible import FlexibleBody
-from ..kinematics import elastodyn_rotation
-from .mbc import blade1_azimuth, blade_dof
+from ...bodies.flexible import FlexibleBody
+from ...kinematics import elastodyn_rotation
+from .dofs import blade1_azimuth, blade_dof
 
 __all__ = ["Channels", "output_function", "channel_units"]
 

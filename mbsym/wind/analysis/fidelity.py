@@ -1,6 +1,6 @@
 """Model no more than a scene needs: a ladder of turbine models of increasing DOF sets.
 
-:func:`fidelity_ladder` builds one :class:`~mbsym.wind.turbine.TurbineModel` per rung
+:func:`fidelity_ladder` builds one :class:`~mbsym.wind.structure.turbine.TurbineModel` per rung
 (ElastoDyn flag sets, e.g. FA1 -> FA1 + SS1 -> + GenDOF -> + DrTrDOF -> + blades), runs
 the same scene (the deck's initial conditions, ``tmax``) on each, and measures for the
 chosen OpenFAST output channels
@@ -9,7 +9,7 @@ chosen OpenFAST output channels
 - the error against a reference time series (e.g. OpenFAST's output of the deck),
 
 with ``ε = mean|y - y_ref| / range(y_ref)`` per channel (wrap-aware for ``Azimuth``
-and ``Q_GeAz``; the paper's metric, :func:`mbsym.wind.compare.error_metrics`), and the
+and ``Q_GeAz``; the paper's metric, :func:`mbsym.wind.analysis.compare.error_metrics`), and the
 cost of each rung (model build, preparation, integration wall time).
 :meth:`FidelityLadder.smallest` names the smallest rung within a tolerance.
 """
@@ -22,9 +22,9 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..exceptions import MbsymError
+from ...exceptions import MbsymError
 from .compare import WRAPPED, TimeSeries, error_metrics
-from .parameters import TurbineParameters
+from ..deck.parameters import TurbineParameters
 
 __all__ = ["DEFAULT_LADDER", "Rung", "FidelityLadder", "fidelity_ladder"]
 
@@ -194,13 +194,13 @@ def fidelity_ladder(turbine: TurbineParameters, ladder: Sequence[Sequence[str]] 
     tolerance : float
         ε threshold for :meth:`FidelityLadder.smallest` [-] (default 1 %).
     reference : TimeSeries, optional
-        A reference (e.g. :func:`mbsym.wind.compare.read_csv` of OpenFAST's output).
+        A reference (e.g. :func:`mbsym.wind.analysis.compare.read_csv` of OpenFAST's output).
     method, dt, rtol, atol, compile : optional
         Passed to :func:`mbsym.simulate` for every rung.
     t_out : array, optional
         Output times [s]; default every DT_Out of the deck.
     model_options : dict, optional
-        Keyword arguments of :class:`~mbsym.wind.turbine.TurbineModel` (e.g. ``yaw_spring``).
+        Keyword arguments of :class:`~mbsym.wind.structure.turbine.TurbineModel` (e.g. ``yaw_spring``).
 
     Returns
     -------
@@ -219,8 +219,8 @@ def fidelity_ladder(turbine: TurbineParameters, ladder: Sequence[Sequence[str]] 
     >>> [r.n_dofs for r in lad.rungs], lad.smallest().label
     ([1, 2], 'FA1')
     """
-    from ..simulate import simulate
-    from .turbine import TurbineModel
+    from ...simulate import simulate
+    from ..structure.turbine import TurbineModel
 
     if not ladder:
         raise ValueError("ladder must contain at least one set of ElastoDyn DOF flags.")

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..exceptions import DimensionError, OpenFASTFormatError
+from ...exceptions import DimensionError, OpenFASTFormatError
 
 __all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "not_compared", "overlay_plot", "WRAPPED"]
 

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ParameterError
-from .parameters import TurbineParameters
+from ...exceptions import ParameterError
+from ..deck.parameters import TurbineParameters
 
 __all__ = [
     "TowerNodes", "BladeNodes", "RotorMassProperties", "TowerModalProperties",

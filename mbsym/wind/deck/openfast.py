@@ -1,6 +1,6 @@
 """Read OpenFAST decks (main ``.fst``, ElastoDyn, tower and blade files).
 
-:func:`read_openfast` returns :class:`~mbsym.wind.parameters.TurbineParameters`.
+:func:`read_openfast` returns :class:`~mbsym.wind.deck.parameters.TurbineParameters`.
 This is the only module that spells OpenFAST keys; :data:`KEY_MAP` documents
 which attribute each key becomes (angles are converted from deg to rad, RotSpeed
 from rpm to rad/s, percentages to fractions).
@@ -33,8 +33,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..exceptions import OpenFASTFormatError
-from ._deck import (
+from ...exceptions import OpenFASTFormatError
+from ._format import (
     _REQ, _Check, _convert, _Deck, _Key, _read_keys, _read_table_columns, _resolve, _TableSpec,
 )
 from .parameters import (

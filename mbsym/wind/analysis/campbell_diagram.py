@@ -1,4 +1,4 @@
-"""Campbell diagrams of :class:`~mbsym.wind.turbine.TurbineModel` s: fixed-frame modes vs rotor speed.
+"""Campbell diagrams of :class:`~mbsym.wind.structure.turbine.TurbineModel` s: fixed-frame modes vs rotor speed.
 
 For each rotor speed Ω:
 
@@ -14,7 +14,7 @@ For each rotor speed Ω:
    differences (``method="elastodyn-fd"``, as ``mbsym linearize``) so that the frequencies are
    OpenFAST's including its finite-step error (notes §8.3: 0.8 % on a floating platform's
    pitch); ``method="exact"`` for automatic differentiation.
-3. **Multi-blade coordinates** (:mod:`mbsym.wind.mbc`, blade-1 azimuth = ElastoDyn's
+3. **Multi-blade coordinates** (:mod:`mbsym.wind.analysis.mbc`, blade-1 azimuth = ElastoDyn's
    ``Azimuth`` output ``q_GeAz + q_DrTr + AzimB1Up + π/2``, with the ``dT/dt`` terms of a
    constant Ω), then the average of the fixed-frame state matrices over the azimuths
    (:meth:`mbsym.operating.AzimuthSweep.average`, as OpenFAST's MBC3 does).
@@ -24,7 +24,7 @@ For each rotor speed Ω:
    multi-blade coordinates, coupling included) and the mode shape ``v`` normalised to
    ``vᴴ M̄ v = 1``, coordinate ``i`` carries ``|Re(conj(v_i) (M̄ v)_i)|``; a cyclic pair is
    split into forward and backward whirl by the unitary change of basis
-   :func:`~mbsym.wind.mbc.whirl_coordinates` applied to ``v`` and ``M̄ v``. Labels: blade
+   :func:`~mbsym.wind.analysis.mbc.whirl_coordinates` applied to ``v`` and ``M̄ v``. Labels: blade
    collective ("1st flap collective"), whirl ("1st edge backward whirl") and the other DOFs
    in words ("1st tower fore-aft", "drivetrain torsion", "platform pitch" …), assigned one
    to one (an optimal assignment of modes to labels), so a label names the same physical
@@ -53,11 +53,11 @@ from typing import Sequence
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ..exceptions import ModelDefinitionError, ParameterError
-from ..linear import METHODS
-from ..operating import OperatingPoint, linearize_azimuths
+from ...exceptions import ModelDefinitionError, ParameterError
+from ...linear import METHODS
+from ...operating import OperatingPoint, linearize_azimuths
 from .mbc import N_BLADES, blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, whirl_coordinates
-from .parameters import TurbineParameters
+from ..deck.parameters import TurbineParameters
 
 __all__ = ["CampbellMode", "CampbellDiagram", "FixedFrameModes", "campbell", "fixed_frame_modes",
            "operating_point", "campbell_model", "DOF_LABELS", "UNDEFLECTED"]
@@ -206,7 +206,7 @@ def campbell_model(turbine: TurbineParameters, dofs: Sequence[str] | None = None
     >>> campbell_model(nrel5mw(), ["TwFADOF1"]).eom.prescribed
     ('GeAz',)
     """
-    from .turbine import TurbineModel
+    from ..structure.turbine import TurbineModel
 
     ic = turbine.initial_conditions
     zero = dict(tower_top_fa_displacement=0.0, tower_top_ss_displacement=0.0, platform_surge=0.0,
@@ -243,7 +243,7 @@ def operating_point(model, rotor_speed: float, *, azimuth: float = 0.0, p: dict 
     Examples
     --------
     >>> from mbsym.wind import nrel5mw
-    >>> from mbsym.wind.turbine import TurbineModel
+    >>> from mbsym.wind.structure.turbine import TurbineModel
     >>> op = operating_point(TurbineModel(nrel5mw(), ["TwFADOF1", "GenDOF"]), 1.0)
     >>> op.q.round(4).tolist(), op.qd.tolist()          # q_GeAz = 3π/2 with blade 1 up
     ([0.0, 4.7124], [0.0, 1.0])
@@ -432,7 +432,7 @@ def campbell(turbine, rpm: Sequence[float], *, dofs: Sequence[str] | None = None
     >>> [[round(float(f), 3) for f in m.freq_hz] for m in cd.modes]
     [[0.673, 0.723], [0.673, 0.923], [0.673, 0.523]]
     """
-    from .turbine import TurbineModel
+    from ..structure.turbine import TurbineModel
 
     speeds = np.asarray(rpm, dtype=float).reshape(-1)
     if speeds.size == 0 or not np.all(np.isfinite(speeds)) or np.any(speeds < 0):

@@ -1,0 +1,7 @@
+"""The ElastoDyn-equivalent structure of a turbine.
+
+ElastoDyn's analysis nodes and mass integrals (:mod:`.elastodyn_nodes`), the tower and
+blade shape integrals (:mod:`.elastodyn_bodies`), coordinate names (:mod:`.dofs`), the
+:class:`~.turbine.TurbineModel` template and its OpenFAST output channels
+(:mod:`.channels`). Imports :mod:`mbsym.wind.deck` and the general layers only.
+"""

@@ -1,0 +1,655 @@
+"""ElastoDyn-equivalent wind-turbine template: one System for any set of ElastoDyn DOFs.
+
+:class:`TurbineModel` builds the structural model ElastoDyn builds for the degrees of
+freedom a deck enables (or a list of ElastoDyn flag names), following ElastoDyn's
+kinematic chain (docs/elastodyn_notes.md §4) in IEC axes (x downwind, z up):
+
+ground → platform (Sg, Sw, Hv translations; R, P, Y rotation vector with ElastoDyn's
+small-rotation matrix and fixed-axis rates) → tower (flexible: TwFA/TwSS modes on
+ElastoDyn's nodes, or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
+generator (geared, GenDOF azimuth) and low-speed shaft → hub (DrTrDOF torsion) →
+coned and pitched blades (ElastoDyn's frame ``j``; flexible with FlapDOF1, FlapDOF2 and
+EdgeDOF: lumped node masses with the twisted, curvature-integrated mode shapes of
+:func:`~mbsym.wind.structure.elastodyn_bodies.blade_shape_integrals`, ElastoDyn's stiffness and
+damping; rigid point-mass blades otherwise).
+
+A disabled DOF keeps its initial value; a disabled GenDOF with a nonzero initial rotor
+speed (or ``prescribed_azimuth=True``) spins the rotor through a prescribed azimuth
+(inputs ``GeAz``, ``GeAz_d``, ``GeAz_dd``). Blade pitch is the deck's BlPitch, or with
+``pitch_input=True`` a collective prescribed angle (inputs ``BlPitch``, ``BlPitch_d``,
+``BlPitch_dd``). Coordinates carry ElastoDyn's DOF names (``TFA1``, ``GeAz``,
+``B1F1`` …) in ElastoDyn's state order (notes §7: blade DOFs as B1F1, B2F1, B3F1, B1E1 …,
+B1F2 …); side-side coordinates are positive along +y (ElastoDyn's internal ``Q_TSS1`` is
+their negative, see :mod:`mbsym.wind.structure.channels`).
+
+Centrifugal stiffening, spin softening, Coriolis and gravity loads on the blades are not
+added as matrices: they come out of Kane's method from the blades' axial shortening and
+the instantaneous rotor motion, as in ElastoDyn (notes §2.2).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Callable, Sequence
+
+import casadi as ca
+import numpy as np
+
+from ... import FlexibleBody, RigidBody, System
+from ...bodies.base import Body
+from ...exceptions import ModelDefinitionError
+from ...joints import Fixed, Joint, Revolute
+from ...kinematics import elastodyn_rotation, rotation
+from .elastodyn_bodies import (
+    BLADE_DOFS,
+    ElastoDynBladeData,
+    blade_elastodyn_data,
+    blade_shape_integrals,
+    tower_elastodyn_data,
+    tower_shape_integrals,
+)
+from .elastodyn_nodes import rotor_mass_properties
+from ..deck.parameters import DOF_NAMES, TurbineParameters
+
+__all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+           "STATE_ORDER", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
+
+#: ElastoDyn flag -> coordinate name, in ElastoDyn's state order (notes §7).
+STATE_ORDER = {
+    "PtfmSgDOF": "Sg", "PtfmSwDOF": "Sw", "PtfmHvDOF": "Hv", "PtfmRDOF": "R", "PtfmPDOF": "P",
+    "PtfmYDOF": "Y", "TwFADOF1": "TFA1", "TwSSDOF1": "TSS1", "TwFADOF2": "TFA2", "TwSSDOF2": "TSS2",
+    "YawDOF": "Yaw", "GenDOF": "GeAz", "DrTrDOF": "DrTr",
+}
+#: Platform, tower, yaw and drivetrain flags (the 13 non-blade flags, state order): with only
+#: these the blades are rigid.
+NON_BLADE_DOFS = tuple(STATE_ORDER)
+#: Former name of :data:`NON_BLADE_DOFS`, kept for compatibility (it is *not* every flag the
+#: template models: see :data:`MODELLED_DOFS`).
+SUPPORTED_DOFS = NON_BLADE_DOFS
+#: Blade flags in ElastoDyn's state order (all blades' F1, then E1, then F2) and the
+#: suffix of their coordinates (``B<k>F1`` …).
+BLADE_FLAGS = {"FlapDOF1": "F1", "EdgeDOF": "E1", "FlapDOF2": "F2"}
+#: Every flag the template models: 13 non-blade flags + 3 blade flags (22 DOFs for 3 blades).
+MODELLED_DOFS = NON_BLADE_DOFS + tuple(BLADE_FLAGS)
+_PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
+_TOWER = ("TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2")
+
+
+class PlatformJoint(Joint):
+    """ElastoDyn's platform: translations along ground axes, rotation vector (roll, pitch, yaw)
+    turned into a rotation by :func:`mbsym.kinematics.elastodyn_rotation`, and angular velocity
+    equal to the rotation-vector rates in ground axes (ElastoDyn's fixed-axis convention).
+
+    Parameters
+    ----------
+    values : sequence of 6
+        (surge, sway, heave [m], roll, pitch, yaw [rad]): a coordinate symbol for an enabled
+        DOF, a number (the fixed initial value) for a disabled one.
+    """
+
+    def __init__(self, parent: Body, child: Body, *, values: Sequence, offset=(0.0, 0.0, 0.0)) -> None:
+        coords = [v for v in values if isinstance(v, ca.SX)]
+        super().__init__(parent, child, offset=offset, coordinates=coords)
+        self.values = [v if isinstance(v, ca.SX) else ca.SX(float(v)) for v in values]
+
+    def relative(self) -> tuple[ca.SX, ca.SX]:
+        return ca.vertcat(*self.values[:3]), elastodyn_rotation(ca.vertcat(*self.values[3:]))
+
+    def angular_velocity(self, speed) -> ca.SX:
+        rates = [speed(v) if v.is_symbolic() else ca.SX(0) for v in self.values[3:]]
+        return ca.vertcat(*rates)
+
+
+class TurbineModel:
+    """ElastoDyn-equivalent structural model of a wind turbine.
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        From :func:`mbsym.wind.read_openfast` or :func:`mbsym.wind.deck.nrel5mw`.
+    dofs : sequence of str, optional
+        ElastoDyn flag names to enable (e.g. ``["TwFADOF1", "GenDOF", "FlapDOF1"]``);
+        default: the deck's own flags. :data:`MODELLED_DOFS` lists the flags modelled
+        (PitchDOF and TeetDOF are not).
+    yaw_spring, yaw_damping : float, optional, keyword-only
+        Yaw-bearing spring [N m/rad] and damper [N m s/rad] about the neutral ``NacYaw``
+        (ServoDyn's YawSpr/YawDamp; ElastoDyn alone has none).
+    pitch_input : bool, optional, keyword-only
+        ``False`` (default): each blade pitched at the deck's BlPitch. ``True``: collective
+        pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
+        ``BlPitch_dd``; default input the deck's pitch), turning every blade about its
+        ``j3`` axis as ElastoDyn's pitch does (the blades must share one initial pitch).
+    prescribed_azimuth : bool, optional, keyword-only
+        With GenDOF off, drive the rotor through the prescribed azimuth inputs (``GeAz``,
+        ``GeAz_d``, ``GeAz_dd``) even when the deck's RotSpeed is 0 (Campbell diagrams at
+        several speeds from one model). Default: only when RotSpeed is nonzero.
+
+    Raises
+    ------
+    ModelDefinitionError
+        Listing at once every deck feature that would change the dynamics of the enabled
+        DOFs but that the template does not model (:func:`unsupported_features`), and
+        unknown or unmodelled DOF flags.
+
+    Attributes
+    ----------
+    system : System
+        The description (add loads to it before calling :attr:`eom` if needed).
+    dofs : tuple of str
+        Enabled ElastoDyn flags, in ElastoDyn's state order.
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> model = TurbineModel(nrel5mw(), dofs=["TwFADOF1", "GenDOF"])
+    >>> model.eom.coordinates
+    ('TFA1', 'GeAz')
+    >>> TurbineModel(nrel5mw(), dofs=["FlapDOF1", "EdgeDOF"]).eom.coordinates
+    ('B1F1', 'B2F1', 'B3F1', 'B1E1', 'B2E1', 'B3E1')
+    """
+
+    def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
+                 prescribed_azimuth: bool = False) -> None:
+        if not isinstance(turbine, TurbineParameters):
+            raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
+        self.turbine = turbine
+        self.dofs, problems = _resolve_dofs(turbine, dofs)
+        problems += unsupported_features(turbine, self.dofs)
+        if problems:
+            raise ModelDefinitionError(
+                f"the template cannot model this turbine as it stands ({len(problems)} problem"
+                f"{'s' if len(problems) > 1 else ''}):\n" + "\n".join(f"  - {m}" for m in problems))
+        self._blade_data: dict[int, ElastoDynBladeData] = {}
+        self._yaw = (float(yaw_spring), float(yaw_damping))
+        self.pitch_input = bool(pitch_input)
+        self.prescribed_azimuth = bool(prescribed_azimuth)
+        if self.pitch_input and len(set(turbine.initial_conditions.blade_pitch)) > 1:
+            raise ModelDefinitionError(
+                f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
+                f"({[float(np.rad2deg(b)) for b in turbine.initial_conditions.blade_pitch]} deg); "
+                "set equal BlPitch or use pitch_input=False.")
+        self.system = System()
+        self.coords: dict[str, ca.SX] = {}
+        self.prescribed: dict[str, Callable[[float], float]] = {}
+        self.bodies: dict[str, Body] = {}
+        self._eom = None
+        self._channels = None
+        self._build()
+
+    # ------------------------------------------------------------------ public
+    @property
+    def eom(self):
+        """EquationsOfMotion (derived on first use)."""
+        if self._eom is None:
+            self._eom = self.system.equations(name="turbine")
+        return self._eom
+
+    def initial_state(self) -> np.ndarray:
+        """x0 = [q0; qd0] from ElastoDyn's initial-condition keys (notes §5)."""
+        ic, eom = self.turbine.initial_conditions, self.eom
+        q0 = {"Sg": ic.platform_surge, "Sw": ic.platform_sway, "Hv": ic.platform_heave,
+              "R": ic.platform_roll, "P": ic.platform_pitch, "Y": ic.platform_yaw,
+              "Yaw": ic.nacelle_yaw, "GeAz": self.initial_generator_azimuth(), "DrTr": 0.0}
+        q0.update(self._tower_initial())
+        q0.update(self._blade_initial())
+        qd0 = {"GeAz": ic.rotor_speed}
+        x0 = [q0.get(n, 0.0) for n in eom.coordinates] + [qd0.get(n, 0.0) for n in eom.coordinates]
+        return np.array(x0, dtype=float)
+
+    def initial_generator_azimuth(self) -> float:
+        """ElastoDyn's q_GeAz = Azimuth - AzimB1Up - π/2, wrapped to [0, 2π) [rad]."""
+        t = self.turbine
+        return float(np.mod(t.initial_conditions.azimuth - t.azimuth_blade1_up - np.pi / 2, 2 * np.pi))
+
+    def _tower_initial(self) -> dict[str, float]:
+        """TTDspFA/TTDspSS go to mode 1, or to mode 2 when mode 1 is off (never split)."""
+        ic = self.turbine.initial_conditions
+        out = {}
+        for value, modes in ((ic.tower_top_fa_displacement, ("TFA1", "TFA2")),
+                             (ic.tower_top_ss_displacement, ("TSS1", "TSS2"))):
+            for m in modes:
+                if m in self.coords:
+                    out[m] = value     # SS coordinates are positive along +y, as TTDspSS
+                    break
+        return out
+
+    def _blade_initial(self) -> dict[str, float]:
+        """Blade DOFs from OoPDefl/IPDefl with ElastoDyn's rule (notes §5), per blade."""
+        t, out = self.turbine, {}
+        ic = t.initial_conditions
+        target = np.array([ic.blade_oop_tip_deflection, ic.blade_ip_tip_deflection], dtype=float)
+        flags = [f for f in BLADE_FLAGS if self.dofs.get(f)]
+        if not flags or not np.any(target):
+            return out
+        for k in range(t.number_of_blades):
+            values = initial_blade_deflection(self.blade_data(k).tip_displacement,
+                                              ic.blade_pitch[k], target, self.dofs, blade=k + 1)
+            out.update({blade_coordinate(k, f): v for f, v in values.items() if self.dofs.get(f)})
+        return out
+
+    def blade_data(self, blade: int) -> ElastoDynBladeData:
+        """ElastoDyn's nodes, shapes and matrices of blade ``blade`` (0-based), computed once per model."""
+        if blade not in self._blade_data:
+            self._blade_data[blade] = blade_elastodyn_data(self.turbine, blade)
+        return self._blade_data[blade]
+
+    def input_defaults(self) -> dict[str, float | Callable[[float], float]]:
+        """Default value (number or function of time [s]) of every input of the model."""
+        out: dict = {name: 0.0 for name in self.eom.inputs}
+        out.update(self.prescribed)
+        return out
+
+    # ------------------------------------------------------------------ simulation protocol
+    def default_state(self) -> np.ndarray:
+        """Initial state for :func:`mbsym.simulate` (same as :meth:`initial_state`)."""
+        return self.initial_state()
+
+    def default_inputs(self) -> dict[str, float | Callable[[float], float]]:
+        """Inputs for :func:`mbsym.simulate`: zero loads, prescribed motions as functions of time."""
+        return self.input_defaults()
+
+    def output_function(self):
+        """OpenFAST channels (:class:`mbsym.wind.structure.channels.Channels`: ``function``, ``names``, ``units``)."""
+        if self._channels is None:
+            from .channels import output_function
+
+            self._channels = output_function(self)
+        return self._channels
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """OpenFAST channel names of :meth:`output_function`."""
+        return self.output_function().names
+
+    # ------------------------------------------------------------------ build
+    def _build(self) -> None:
+        t, sys = self.turbine, self.system
+        for flag, name in STATE_ORDER.items():
+            if self.dofs.get(flag):
+                self.coords[name] = sys.coordinates(name)
+        for flag in BLADE_FLAGS:              # B1F1, B2F1, B3F1, B1E1, ... (notes §7)
+            if self.dofs.get(flag):
+                for k in range(t.number_of_blades):
+                    name = blade_coordinate(k, flag)
+                    self.coords[name] = sys.coordinates(name)
+        self.p = self._parameters()
+        sys.set_gravity([0.0, 0.0, -self.p["gravity"]])
+        platform = self._platform()
+        top = self._tower(platform)
+        nacelle = self._nacelle(top)
+        shaft = self._shaft(nacelle)
+        hub = self._drivetrain(shaft)
+        self._blades(hub)
+        self._inputs(platform, nacelle, shaft, hub)
+
+    def _parameters(self) -> dict[str, ca.SX]:
+        """Named parameters with the deck's values as defaults (design studies, gradients)."""
+        t = self.turbine
+        values = {
+            "gravity": t.simulation.gravity, "nacelle_mass": t.nacelle_mass,
+            "nacelle_yaw_inertia": t.nacelle_yaw_inertia, "yaw_bearing_mass": t.yaw_bearing_mass,
+            "hub_mass": t.hub_mass, "hub_inertia": t.hub_inertia, "generator_inertia": t.generator_inertia,
+            "tower_stiffness_scale": 1.0,
+        }
+        if self.dofs.get("DrTrDOF"):
+            values.update(drivetrain_stiffness=t.drivetrain_stiffness, drivetrain_damping=t.drivetrain_damping)
+        if any(self.dofs.get(f) for f in _PLATFORM):
+            values.update(platform_mass=t.platform_mass, platform_roll_inertia=t.platform_roll_inertia,
+                          platform_pitch_inertia=t.platform_pitch_inertia,
+                          platform_yaw_inertia=t.platform_yaw_inertia)
+        syms = self.system.parameters(list(values), values=values)
+        return dict(zip(values, syms if isinstance(syms, tuple) else (syms,)))
+
+    def _add(self, joint: Joint) -> Body:
+        self.system.add_joint(joint)
+        self.bodies[joint.child.name] = joint.child
+        return joint.child
+
+    def _platform(self) -> Body:
+        t, ic = self.turbine, self.turbine.initial_conditions
+        init = [ic.platform_surge, ic.platform_sway, ic.platform_heave,
+                ic.platform_roll, ic.platform_pitch, ic.platform_yaw]
+        values = [self.coords.get(STATE_ORDER[f], v) for f, v in zip(_PLATFORM, init)]
+        ref = np.asarray(t.platform_reference, dtype=float)
+        if any(isinstance(v, ca.SX) for v in values):
+            p = self.p
+            body = RigidBody("platform", mass=p["platform_mass"], com=np.asarray(t.platform_cm) - ref,
+                             inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
+                                      p["platform_yaw_inertia"]])
+        else:
+            body = RigidBody("platform", mass=0.0)
+        return self._add(PlatformJoint(self.system.ground, body, values=values, offset=ref))
+
+    def _tower(self, platform: Body) -> tuple[Body, list[float]]:
+        """Tower on the platform; returns (tower body, top offset in tower axes)."""
+        t, p = self.turbine, self.p
+        base = [0.0, 0.0, t.tower_base_height - t.platform_reference[2]]
+        length = t.tower_height - t.tower_base_height
+        active = [f for f in _TOWER if self.dofs.get(f)]
+        if active:
+            sid = tower_shape_integrals(t, dofs=active)
+            top_mass = self._rotor_mass() + p["nacelle_mass"] + p["yaw_bearing_mass"]
+            tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
+                                 top_mass=top_mass, end_rotation_order="elastodyn",
+                                 stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
+        else:
+            data = tower_elastodyn_data(t)
+            m, h = np.asarray(data.element_mass), np.asarray(data.height)
+            zc = float(m @ h / m.sum())
+            i_xx = float(m @ (h - zc) ** 2)
+            tower = RigidBody("tower", mass=float(m.sum()), com=[0, 0, zc], inertia=[i_xx, i_xx, 0.0])
+        self._add(Fixed(platform, tower, offset=base))
+        top = [0.0, 0.0, length]
+        self._add(Fixed(tower, RigidBody("yaw_bearing", mass=p["yaw_bearing_mass"]), offset=top))
+        return tower, top
+
+    def _nacelle(self, tower_top) -> Body:
+        t, p = self.turbine, self.p
+        tower, top = tower_top
+        cm = np.asarray(t.nacelle_cm, dtype=float)
+        # ElastoDyn's only nacelle inertia: about the yaw axis through the CM (notes §4)
+        i_zz = p["nacelle_yaw_inertia"] - p["nacelle_mass"] * (cm[0] ** 2 + cm[1] ** 2)
+        nacelle = RigidBody("nacelle", mass=p["nacelle_mass"], com=cm, inertia=[0.0, 0.0, i_zz])
+        if "Yaw" in self.coords:
+            self._add(Revolute(tower, nacelle, axis=[0, 0, 1], coordinate=self.coords["Yaw"], offset=top))
+            k, c = self._yaw
+            if k:
+                self.system.add_spring(self.coords["Yaw"], k, rest=t.initial_conditions.nacelle_yaw)
+            if c:
+                self.system.add_damper(self.coords["Yaw"], c)
+        else:
+            self._add(Fixed(tower, nacelle, offset=top, rotation=rotation("z", t.initial_conditions.nacelle_yaw)))
+        return nacelle
+
+    def _shaft(self, nacelle: Body) -> Body:
+        """Massless shaft frame at the rotor apex: x along the shaft (c1), tilted by ShftTilt."""
+        t = self.turbine
+        tilt = t.shaft_tilt
+        c1 = np.array([np.cos(tilt), 0.0, np.sin(tilt)])
+        apex = np.array([0.0, 0.0, t.twr2shft]) + t.overhang * c1
+        shaft = RigidBody("shaft", mass=0.0)
+        return self._add(Fixed(nacelle, shaft, offset=apex, rotation=rotation("y", -tilt)))
+
+    def _azimuth(self) -> ca.SX | float:
+        """Generator azimuth: coordinate, prescribed input (spinning, GenDOF off) or constant."""
+        if "GeAz" in self.coords:
+            return self.coords["GeAz"]
+        q0, om = self.initial_generator_azimuth(), self.turbine.initial_conditions.rotor_speed
+        if om == 0.0 and not self.prescribed_azimuth:
+            return q0
+        psi = self.system.prescribed("GeAz")
+        self.prescribed.update({"GeAz": lambda s, q0=q0, om=om: q0 + om * s,
+                                "GeAz_d": lambda s, om=om: om, "GeAz_dd": lambda s: 0.0})
+        return psi
+
+    def _drivetrain(self, shaft: Body) -> Body:
+        t, p = self.turbine, self.p
+        psi = self._azimuth()
+        ratio = abs(t.gearbox_ratio)
+        gen = RigidBody("generator", mass=0.0, inertia=[p["generator_inertia"], 0.0, 0.0])
+        hub = RigidBody("hub", mass=p["hub_mass"], com=[t.hub_cm, 0.0, 0.0], inertia=[p["hub_inertia"], 0.0, 0.0])
+        if isinstance(psi, ca.SX):
+            self._add(Revolute(shaft, gen, axis=[1, 0, 0], coordinate=psi, gear_ratio=ratio))
+        else:
+            self._add(Fixed(shaft, gen, rotation=rotation("x", ratio * psi)))
+        lss = shaft
+        if "DrTr" in self.coords:
+            lss = RigidBody("lss", mass=0.0)
+            self._joint_about_x(shaft, lss, psi)
+            self._add(Revolute(lss, hub, axis=[1, 0, 0], coordinate=self.coords["DrTr"]))
+            self.system.add_spring(self.coords["DrTr"], p["drivetrain_stiffness"])
+            self.system.add_damper(self.coords["DrTr"], p["drivetrain_damping"])
+        else:
+            self._joint_about_x(lss, hub, psi)
+        return hub
+
+    def _joint_about_x(self, parent: Body, child: Body, angle) -> None:
+        if isinstance(angle, ca.SX):
+            self._add(Revolute(parent, child, axis=[1, 0, 0], coordinate=angle))
+        else:
+            self._add(Fixed(parent, child, rotation=rotation("x", angle)))
+
+    def _rotor_mass(self):
+        """Hub + blades [kg] (ElastoDyn's RotMass), hub mass as a parameter."""
+        return self.p["hub_mass"] + sum(rotor_mass_properties(self.turbine).blade_mass)
+
+    def _blades(self, hub: Body) -> None:
+        """Coned and pitched blades of ElastoDyn's lumped node masses (notes §1.8, §4).
+
+        Flexible blades carry the enabled FlapDOF1/FlapDOF2/EdgeDOF shapes; with no blade
+        DOF each blade is one rigid body with the same mass distribution.
+        """
+        t = self.turbine
+        n = t.number_of_blades
+        flags = [f for f in BLADE_DOFS if self.dofs.get(f)]            # body order F1, F2, E1
+        pitch = self._pitch()
+        for k in range(n):
+            name = f"blade{k + 1}"
+            if flags:
+                sid = blade_shape_integrals(t, k, dofs=flags)
+                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags])
+            else:
+                blade = _rigid_blade(self.blade_data(k), name)
+            root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
+            if isinstance(pitch, ca.SX):
+                # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
+                # the one prescribed angle through a unit gear ratio.
+                bearing = RigidBody(f"pitch{k + 1}", mass=0.0)
+                R0 = blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)
+                self._add(Revolute(hub, bearing, axis=[0, 0, -1], coordinate=pitch, offset=root, rotation=R0.tolist(),
+                                   gear_ratio=None if k == 0 else 1.0))
+                self._add(Fixed(bearing, blade))
+            else:
+                R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
+                self._add(Fixed(hub, blade, offset=root, rotation=R.tolist()))
+
+    def _pitch(self) -> ca.SX | None:
+        """Collective pitch: a prescribed coordinate (``pitch_input``) or None (deck's BlPitch)."""
+        if not self.pitch_input:
+            return None
+        b0 = float(self.turbine.initial_conditions.blade_pitch[0])
+        pitch = self.system.prescribed("BlPitch")
+        self.prescribed.update({"BlPitch": lambda s, b0=b0: b0, "BlPitch_d": lambda s: 0.0,
+                                "BlPitch_dd": lambda s: 0.0})
+        return pitch
+
+    def _inputs(self, platform: Body, nacelle: Body, shaft: Body, hub: Body) -> None:
+        """Loads exposed as inputs, only where they can move an enabled DOF."""
+        sys = self.system
+        if "GeAz" in self.coords or "DrTr" in self.coords:
+            tq_gen, tq_aero = sys.inputs("GenTq RotTorq")
+            gen = self.bodies["generator"]
+            sys.add_torque(gen, [-tq_gen, 0.0, 0.0], frame=shaft)       # HSS torque on the generator
+            sys.add_torque(shaft, [tq_gen, 0.0, 0.0], frame=shaft)      # its reaction on the nacelle
+            sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
+        thrust = sys.inputs("RotThrust")
+        sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
+        if any(self.dofs.get(f) for f in _PLATFORM):
+            fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
+            sys.add_force(platform, [fx, fy, fz])
+            sys.add_torque(platform, [mx, my, mz])
+
+
+def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
+    """Blade frame (ElastoDyn's j1, j2, j3 as columns) in hub axes (IEC x, y, z).
+
+    Hub axes relate to ElastoDyn's g frame by g1 = x, g2 = z, g3 = -y; the blade is
+    rotated by ``gamma`` [rad] about x, coned by ``cone`` and pitched by ``pitch``
+    (notes §4). ``j3`` is the blade axis (radial).
+    """
+    g1, g2, g3 = np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), np.array([0, -1.0, 0])
+    g2p = np.cos(gamma) * g2 + np.sin(gamma) * g3
+    g3p = -np.sin(gamma) * g2 + np.cos(gamma) * g3
+    i1 = np.cos(cone) * g1 - np.sin(cone) * g3p
+    i2 = g2p
+    i3 = np.sin(cone) * g1 + np.cos(cone) * g3p
+    j1 = np.cos(pitch) * i1 - np.sin(pitch) * i2
+    j2 = np.sin(pitch) * i1 + np.cos(pitch) * i2
+    return np.column_stack([j1, j2, i3])
+
+
+def blade_coordinate(blade: int, flag: str) -> str:
+    """Coordinate name of a blade DOF: ``blade_coordinate(0, "FlapDOF1") == "B1F1"`` (blade 0-based)."""
+    return f"B{blade + 1}{BLADE_FLAGS[flag]}"
+
+
+def initial_blade_deflection(tip_displacement, pitch: float, target, dofs: dict[str, bool], *,
+                             blade: int = 1) -> dict[str, float]:
+    """Blade DOF values giving the tip deflection ``target`` = (OoPDefl, IPDefl) [m] (notes §5).
+
+    ElastoDyn's rule (``InitBlDefl``): with a flap DOF (FlapDOF1, else FlapDOF2) solve the 2x2
+    system of its and the edge mode's coned-frame tip components; the other flap mode is 0.
+    Without a flap DOF, least squares on the edge mode. ElastoDyn solves the 2x2 system even
+    when EdgeDOF is off and freezes the edge mode at the solved value; a disabled DOF has no
+    coordinate here, so the flap mode is then fitted alone (least squares) and a warning says so.
+
+    Parameters
+    ----------
+    tip_displacement : array (3, 2)
+        Tip (j1, j2) components of a unit F1, F2, E1 DOF (``ElastoDynBladeData.tip_displacement``).
+    pitch : float
+        Blade pitch [rad].
+    target : sequence of 2
+        (OoPDefl, IPDefl) [m].
+    dofs : dict
+        ElastoDyn flags -> enabled.
+
+    Returns
+    -------
+    dict
+        ``{"FlapDOF1": q, "FlapDOF2": q, "EdgeDOF": q}`` [m]; disabled DOFs are 0.
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> from mbsym.wind.structure.elastodyn_bodies import blade_elastodyn_data
+    >>> ut = blade_elastodyn_data(nrel5mw()).tip_displacement
+    >>> q = initial_blade_deflection(ut, 0.0, [1.0, 0.0], {"FlapDOF1": True, "EdgeDOF": True})
+    >>> {k: round(v, 4) for k, v in q.items()}
+    {'FlapDOF1': 0.9876, 'FlapDOF2': 0.0, 'EdgeDOF': 0.1268}
+    """
+    ut = np.asarray(tip_displacement, dtype=float)
+    c, s = np.cos(pitch), np.sin(pitch)
+    A = np.vstack([ut[:, 0] * c + ut[:, 1] * s, -ut[:, 0] * s + ut[:, 1] * c])    # (2, 3): OoP, IP per DOF
+    target = np.asarray(target, dtype=float)
+    out = {f: 0.0 for f in BLADE_DOFS}
+    flap = next((f for f in ("FlapDOF1", "FlapDOF2") if dofs.get(f)), None)
+    edge = BLADE_DOFS.index("EdgeDOF")
+    if flap is None:
+        if dofs.get("EdgeDOF"):
+            a = A[:, edge]
+            out["EdgeDOF"] = float(a @ target / (a @ a))
+        return out
+    i = BLADE_DOFS.index(flap)
+    pair = A[:, [i, edge]]
+    if dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
+        out[flap], out["EdgeDOF"] = (float(v) for v in np.linalg.solve(pair, target))
+        return out
+    a = A[:, i]
+    out[flap] = float(a @ target / (a @ a))
+    if not dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
+        frozen = np.linalg.solve(pair, target)
+        if abs(frozen[1]) > 1e-12:
+            warnings.warn(f"blade {blade}: ElastoDyn would freeze the disabled edge mode at q_E1 = {frozen[1]:.6g} m "
+                          f"to meet OoPDefl/IPDefl; mbsym keeps it at 0 and fits {flap} alone "
+                          f"(q = {out[flap]:.6g} m).", UserWarning, stacklevel=3)
+    return out
+
+
+def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
+    """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
+    m = np.append(np.asarray(data.element_mass), data.tip_mass)
+    z = np.append(np.asarray(data.span), data.length)
+    mass = float(m.sum())
+    zc = float(m @ z / mass)
+    i_xx = float(m @ (z - zc) ** 2)
+    return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
+
+
+def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
+    """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
+
+    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs),
+    platform products of inertia (with platform DOFs), gearbox losses (GBoxEff < 100 %,
+    with GenDOF: ElastoDyn's friction terms in the generator equation) and, for two-bladed
+    rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
+    inertia (``Hubg1Iner = Hubg2Iner = (HubIner - HubMass (UndSling - HubCM)²) / cos² Delta3``
+    about the shaft and the teeter axis; the template has HubIner about the shaft only).
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+    dofs : dict
+        ElastoDyn flag -> enabled.
+
+    Returns
+    -------
+    list of str
+        One message per unsupported feature (empty if none), saying what to change.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from mbsym.wind import nrel5mw
+    >>> t = dataclasses.replace(nrel5mw(), gearbox_efficiency=0.95)
+    >>> unsupported_features(t, {"GenDOF": True})
+    ['GBoxEff = 95 % (gearbox friction in the generator-azimuth equation): set GBoxEff = 100 or disable GenDOF']
+    """
+    out = []
+    on = {f for f, v in dofs.items() if v}
+    platform, tower = on & set(_PLATFORM), on & set(_TOWER)
+    cmass = np.asarray(turbine.tower.point_mass, dtype=float)
+    if (platform or tower) and np.any(cmass != 0):
+        out.append(f"tower concentrated masses (NTwCMass = {cmass.size}: TwCMass {cmass.tolist()} kg at "
+                   f"TwCMassHtFract {np.asarray(turbine.tower.point_mass_fraction).tolist()}): set NTwCMass = 0 "
+                   "or disable the tower and platform DOFs")
+    products = (turbine.platform_xy_inertia, turbine.platform_yz_inertia, turbine.platform_xz_inertia)
+    if platform and any(abs(x) > 0 for x in products):
+        out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "
+                   "set them to 0 or disable the platform DOFs")
+    if "GenDOF" in on and turbine.gearbox_efficiency < 1.0:
+        out.append(f"GBoxEff = {100 * turbine.gearbox_efficiency:.6g} % (gearbox friction in the generator-azimuth "
+                   "equation): set GBoxEff = 100 or disable GenDOF")
+    if turbine.number_of_blades == 2:
+        out += _two_blade_features(turbine, bool(platform or tower or "YawDOF" in on))
+    return out
+
+
+def _two_blade_features(t: TurbineParameters, support_moves: bool) -> list[str]:
+    """Teetering-hub data of a two-bladed deck that the template (hub at the apex, no teeter) ignores."""
+    out = []
+    if t.undersling != 0:
+        out.append(f"UndSling = {t.undersling:.6g} m (2-bladed rotor off the teeter pin): set UndSling = 0")
+    if t.delta3 != 0:
+        out.append(f"Delta3 = {np.rad2deg(t.delta3):.6g} deg (teeter axis; divides the hub inertia by cos^2 Delta3): "
+                   "set Delta3 = 0")
+    if t.initial_conditions.teeter_angle != 0:
+        out.append(f"TeetDefl = {np.rad2deg(t.initial_conditions.teeter_angle):.6g} deg (a fixed teeter angle): "
+                   "set TeetDefl = 0")
+    g1 = (t.hub_inertia - t.hub_mass * (t.undersling - t.hub_cm) ** 2) / np.cos(t.delta3) ** 2
+    if not np.isclose(g1, t.hub_inertia, rtol=1e-12, atol=0.0) or (support_moves and g1 != 0):
+        out.append(f"2-bladed hub inertia: ElastoDyn's Hubg1Iner = Hubg2Iner = {g1:.6g} kg m^2 about the shaft and "
+                   f"the teeter axis; the template has HubIner = {t.hub_inertia:.6g} kg m^2 about the shaft only "
+                   "(set HubIner = 0, or disable the tower, platform and yaw DOFs and make "
+                   "HubMass (UndSling - HubCM)^2 = 0)")
+    return out
+
+
+def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> tuple[dict[str, bool], list[str]]:
+    """Enabled flags (every modelled flag -> bool) and a message for requested flags that are not modelled."""
+    if dofs is None:
+        chosen = {f for f, on in turbine.dofs.items() if on}
+    else:
+        if isinstance(dofs, str):
+            raise TypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
+        chosen = set(dofs)
+        unknown = sorted(chosen - set(DOF_NAMES))
+        if unknown:
+            raise ModelDefinitionError(f"unknown ElastoDyn DOF flags {unknown}; valid flags are {list(DOF_NAMES)}.")
+    unsupported = sorted(chosen - set(MODELLED_DOFS))
+    problems = []
+    if unsupported:
+        problems.append(f"DOFs {unsupported} are not modelled by this template yet (supported: {list(MODELLED_DOFS)}); "
+                        "disable them (dofs=[...]) to build the rest")
+    return {f: (f in chosen) for f in MODELLED_DOFS}, problems
