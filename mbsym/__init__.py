@@ -9,6 +9,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .bodies import FlexibleBody, Ground, RigidBody
 from .codegen import CompilationWarning, compile_function
+from .dynamics import Dynamics, as_dynamics
 from .equations import EomFunctions, EquationsOfMotion
 from .exceptions import (
     BeamDataError,
@@ -46,6 +47,8 @@ __all__ = [
     "Free",
     "EquationsOfMotion",
     "EomFunctions",
+    "Dynamics",
+    "as_dynamics",
     "linearize",
     "linearize_batch",
     "sensitivities",
