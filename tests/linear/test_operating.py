@@ -24,7 +24,7 @@ import pytest
 
 import mbsym as mb
 from mbsym.linear import linearize_batch
-from mbsym.operating import OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
+from mbsym.linear import OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
 
 G = 9.81
 

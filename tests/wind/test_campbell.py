@@ -202,7 +202,7 @@ def test_blade_coordinate_helpers():
 
 # ---------------------------------------------------------------- azimuth sweep and conventions
 def test_sweep_equals_a_per_azimuth_linearize_loop():
-    """fixed_frame_modes (batched mbsym.operating.linearize_azimuths + AzimuthSweep.average) against
+    """fixed_frame_modes (batched mbsym.linear.linearize_azimuths + AzimuthSweep.average) against
     a plain loop of mbsym.linearize and mbc_transform at the same points (exact Jacobians): A and M̄
     to 1e-9 of their norms. Built-in NREL 5 MW (tower, yaw, generator, drivetrain, 9 blade DOFs)."""
     model = TurbineModel(nrel5mw())

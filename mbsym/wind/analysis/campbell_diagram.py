@@ -10,14 +10,14 @@ For each rotor speed Ω:
    zero. Not an equilibrium: the linear model is the Jacobian of ``x' = f(x, u)`` there, as
    in ElastoDyn (docs/elastodyn_notes.md §7).
 2. **Linear models** at ``n_azimuth`` equally spaced rotor azimuths over one revolution, in one
-   batch (:func:`mbsym.operating.linearize_azimuths`), by default with ElastoDyn's central
+   batch (:func:`mbsym.linear.linearize_azimuths`), by default with ElastoDyn's central
    differences (``method="elastodyn-fd"``, as ``mbsym linearize``) so that the frequencies are
    OpenFAST's including its finite-step error (notes §8.3: 0.8 % on a floating platform's
    pitch); ``method="exact"`` for automatic differentiation.
 3. **Multi-blade coordinates** (:mod:`mbsym.wind.analysis.mbc`, blade-1 azimuth = ElastoDyn's
    ``Azimuth`` output ``q_GeAz + q_DrTr + AzimB1Up + π/2``, with the ``dT/dt`` terms of a
    constant Ω), then the average of the fixed-frame state matrices over the azimuths
-   (:meth:`mbsym.operating.AzimuthSweep.average`, as OpenFAST's MBC3 does).
+   (:meth:`mbsym.linear.AzimuthSweep.average`, as OpenFAST's MBC3 does).
 4. **Modes**: eigenvalues of the averaged matrix, ``f = |λ| / 2π`` [Hz] and
    ``ζ = -Re λ / |λ|``, each labelled by the fixed-frame coordinate that carries most of
    its kinetic energy. With ``M̄`` the azimuth average of ``T1ᵀ M T1`` (the mass matrix in
@@ -55,7 +55,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ...exceptions import ModelDefinitionError, ParameterError
 from ...linear import METHODS
-from ...operating import OperatingPoint, linearize_azimuths
+from ...linear import OperatingPoint, linearize_azimuths
 from .mbc import N_BLADES, blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, whirl_coordinates
 from ..deck.parameters import TurbineParameters
 

@@ -1,7 +1,7 @@
 """Central-difference Jacobians as CasADi Functions and ElastoDyn's linearization steps.
 
 Used by ``method="fd"`` and ``method="elastodyn-fd"`` of :func:`mbsym.linear.linearize`,
-:func:`mbsym.linear_batch.linearize_batch` and :func:`mbsym.sensitivity.sensitivities`;
+:func:`mbsym.linear.linearize_batch` and :func:`mbsym.linear.sensitivities`;
 :func:`elastodyn_steps` is public as :func:`mbsym.linear.elastodyn_steps`.
 """
 
@@ -12,13 +12,14 @@ import re
 import casadi as ca
 import numpy as np
 
-from .equations import EquationsOfMotion
-from .exceptions import ModelDefinitionError
+from ..equations import EquationsOfMotion
+from ..exceptions import ModelDefinitionError
+from ._cache import cached
 
-__all__ = ["elastodyn_steps"]
+__all__ = ["elastodyn_steps", "fd_function", "fd_rhs"]
 
 
-def _fd_function(f: ca.Function, n_x: int, name: str) -> ca.Function:
+def fd_function(f: ca.Function, n_x: int, name: str) -> ca.Function:
     """``(x, u, p, h) -> (∂f/∂x)`` by central differences with per-state steps ``h``, as a Function.
 
     Differentiable in ``p`` (sensitivities of the finite-difference A) and mappable.
@@ -31,11 +32,9 @@ def _fd_function(f: ca.Function, n_x: int, name: str) -> ca.Function:
     return ca.Function(name, [x, u, p, h], [ca.densify(J)], ["x", "u", "p", "h"], ["J"])
 
 
-def _fd_rhs(eom: EquationsOfMotion) -> ca.Function:
+def fd_rhs(eom: EquationsOfMotion) -> ca.Function:
     """``(x, u, p, h) -> ∂rhs/∂x`` by central differences, built once per model."""
-    from .linear import _cached      # linear imports this module: the cache helper is imported on use
-
-    return _cached(eom, "fd_rhs", lambda: _fd_function(eom.functions.rhs, eom.n_x, f"{eom.name}_rhs_fd"))
+    return cached(eom, "fd_rhs", lambda: fd_function(eom.functions.rhs, eom.n_x, f"{eom.name}_rhs_fd"))
 
 
 def elastodyn_steps(model) -> dict[str, float]:
