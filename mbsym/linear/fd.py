@@ -1,4 +1,4 @@
-"""Central-difference Jacobians as CasADi Functions and ElastoDyn's linearization steps.
+"""Central-difference Jacobians as CasADi Functions, and the hook for a model's own linearization steps.
 
 Used by ``method="fd"`` and ``method="elastodyn-fd"`` of :func:`mbsym.linear.linearize`,
 :func:`mbsym.linear.linearize_batch` and :func:`mbsym.linear.sensitivities`;
@@ -7,10 +7,7 @@ Used by ``method="fd"`` and ``method="elastodyn-fd"`` of :func:`mbsym.linear.lin
 
 from __future__ import annotations
 
-import re
-
 import casadi as ca
-import numpy as np
 
 from ..equations import EquationsOfMotion
 from ..exceptions import ModelDefinitionError
@@ -38,46 +35,21 @@ def fd_rhs(eom: EquationsOfMotion) -> ca.Function:
 
 
 def elastodyn_steps(model) -> dict[str, float]:
-    """ElastoDyn's central-difference steps of its linearization, by coordinate name.
+    """The model's own central-difference steps of ``method="elastodyn-fd"``, by coordinate name.
 
-    ``ED_Init_Jacobian_x`` (docs/elastodyn_notes.md §7): platform translations
-    0.2°·max(TowerHt, 1) [rad·m], platform rotations 2°, first tower modes
-    0.02°·TwrFlexL, second tower modes 0.002°·TwrFlexL, yaw / generator azimuth /
-    drivetrain 2°, blade first flap and edge modes 0.2°·BldFlexL, second flap
-    0.02°·BldFlexL, each at least √eps. ElastoDyn perturbs a speed by the same number
-    as its coordinate.
-
-    Parameters
-    ----------
-    model : TurbineModel
-        A wind-turbine model (attribute ``turbine``: TurbineParameters).
+    A model object supplies them through its hook ``linearization_steps()`` — a wind
+    turbine (:class:`mbsym.wind.TurbineModel`) returns ElastoDyn's steps
+    (``ED_Init_Jacobian_x``: 2° for platform rotations, 0.02°·TwrFlexL for first tower
+    modes, …; :func:`mbsym.wind.structure.steps.elastodyn_steps`).
 
     Raises
     ------
     ModelDefinitionError
-        If the model has no turbine data, or a coordinate has no ElastoDyn step.
+        If the model has no such hook.
     """
-    t = getattr(model, "turbine", None)
-    if t is None or not hasattr(t, "tower_height"):
-        raise ModelDefinitionError(f"method='elastodyn-fd' needs a wind-turbine model (TurbineModel); got "
-                                   f"{type(model).__name__}. Use method='fd' with steps=... instead.")
-    deg = np.pi / 180.0
-    twr = t.tower_height - t.tower_base_height
-    bld = t.tip_radius - t.hub_radius
-    table = {"Sg": 0.2 * deg * max(t.tower_height, 1.0), "R": 2 * deg, "TFA1": 0.02 * deg * twr,
-             "TFA2": 0.002 * deg * twr, "Yaw": 2 * deg}
-    table.update(Sw=table["Sg"], Hv=table["Sg"], P=table["R"], Y=table["R"], TSS1=table["TFA1"],
-                 TSS2=table["TFA2"], GeAz=table["Yaw"], DrTr=table["Yaw"], RFrl=table["Yaw"], TFrl=table["Yaw"],
-                 Teet=table["Yaw"])
-    steps, missing = {}, []
-    for c in model.eom.coordinates:
-        blade = re.fullmatch(r"B\d+(F1|E1|F2)", c)
-        value = table.get(c) if blade is None else (0.02 if blade.group(1) == "F2" else 0.2) * deg * bld
-        if value is None:
-            missing.append(c)
-        else:
-            steps[c] = max(value, np.sqrt(np.finfo(float).eps))
-    if missing:
-        raise ModelDefinitionError(f"no ElastoDyn linearization step for coordinates {missing}; pass "
-                                   "method='fd' with steps={name: step} instead.")
-    return steps
+    hook = getattr(model, "linearization_steps", None)
+    if not callable(hook):
+        raise ModelDefinitionError(f"method='elastodyn-fd' needs a model that supplies ElastoDyn's steps (a wind "
+                                   f"TurbineModel); got {type(model).__name__}. Use method='fd' with steps=... "
+                                   "instead.")
+    return dict(hook())

@@ -165,7 +165,7 @@ def test_named_signals_round_trip(paper45):
     ({"steps": [1e-3] * 2}, TypeError, "only with method='fd'"),
     ({"method": "fd", "steps": [1e-3]}, DimensionError, "steps must be"),
     ({"qdd0": "equilibrium"}, ValueError, "qdd0 must be"),
-    ({"method": "elastodyn-fd"}, mb.ModelDefinitionError, "needs a wind-turbine model"),
+    ({"method": "elastodyn-fd"}, mb.ModelDefinitionError, "supplies ElastoDyn.s steps"),
 ])
 def test_errors(pendulum_eom, kwargs, error, match):
     with pytest.raises(error, match=match):

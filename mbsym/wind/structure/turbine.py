@@ -49,6 +49,8 @@ from .elastodyn_bodies import (
     tower_shape_integrals,
 )
 from .elastodyn_nodes import rotor_mass_properties
+from .mbc import BladeFrame
+from .steps import elastodyn_steps
 from ..deck.parameters import DOF_NAMES, TurbineParameters
 
 __all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
@@ -261,6 +263,15 @@ class TurbineModel:
     def output_names(self) -> tuple[str, ...]:
         """OpenFAST channel names of :meth:`output_function`."""
         return self.output_function().names
+
+    # ------------------------------------------------------------------ linearization hooks
+    def linearization_steps(self) -> dict[str, float]:
+        """ElastoDyn's central-difference steps by coordinate (``method="elastodyn-fd"``, :mod:`.steps`)."""
+        return elastodyn_steps(self.turbine, self.eom.coordinates)
+
+    def rotating_frame(self) -> BladeFrame:
+        """Multi-blade coordinates of the blade DOFs for azimuth averages; blade-1 azimuth = GeAz + AzimB1Up + π/2."""
+        return BladeFrame(self.eom.coordinates, offset=self.turbine.azimuth_blade1_up + np.pi / 2)
 
     # ------------------------------------------------------------------ build
     def _build(self) -> None:
