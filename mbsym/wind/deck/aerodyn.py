@@ -122,6 +122,11 @@ class AeroDynInput(_Record):
         BEM_Mod (1 legacy NoSweepPitchTwist, 2 polar); 1 if the file has no such key.
     skew_model : int or None
         Skew_Mod (or older SkewMod) as written.
+    skew_redistribution : bool
+        Whether AeroDyn redistributes the induction over the skewed disk (Pitt/Peters):
+        Skew_Mod = 1 with SkewRedistr_Mod = 1 ("default"), or, in older files, SkewMod = 2.
+    skew_redistribution_factor : float
+        SkewRedistrFactor (older SkewModFactor); "default" = 15π/32.
     tip_loss, hub_loss, tangential_induction : bool
         TipLoss, HubLoss, TanInd.
     axial_drag, tangential_drag : bool
@@ -154,6 +159,8 @@ class AeroDynInput(_Record):
     wake_model: int
     bem_model: int
     skew_model: int | None
+    skew_redistribution: bool
+    skew_redistribution_factor: float
     tip_loss: bool
     hub_loss: bool
     tangential_induction: bool
@@ -311,6 +318,7 @@ def _read_main(deck: _MainDeck, n_blades: int) -> dict[str, Any]:
         "unsteady_model": deck.value(_Key(_alias(deck, "UA_Mod", "UAMod", "AFAeroMod"), "",
                                           "int")),
     }
+    v |= _skew(deck, v["skew_model"])
     for key, name in _MAIN_KEYS:
         v[name] = _flag(deck, key)
     for key, name in (("AirDens", "air_density"), ("KinVisc", "kinematic_viscosity")):
@@ -335,6 +343,21 @@ def _read_main(deck: _MainDeck, n_blades: int) -> dict[str, Any]:
         _read_table_columns(deck, _TOWER_TABLE, tower)
         v |= {k: tower[k] for k in ("tower_elevation", "tower_diameter", "tower_drag")}
     return v
+
+
+def _skew(deck: _MainDeck, skew_model: int | None) -> dict[str, Any]:
+    """Skewed-wake redistribution switch and factor (v4+ keys, or the older SkewMod ones)."""
+    new = _canon("Skew_Mod") in deck.entries
+    if new:
+        mode = deck.value(_Key("SkewRedistr_Mod", "", "float|default", default="default"))
+        on = skew_model == 1 and mode in ("default", 1)
+    else:
+        on = skew_model == 2  # older AeroDyn 15: SkewMod 2 = Pitt/Peters
+    factor = deck.value(_Key(_alias(deck, "SkewRedistrFactor", "SkewModFactor"), "", "float|default",
+                             default="default"))
+    return {"skew_redistribution": bool(on),
+            "skew_redistribution_factor": 15.0 * math.pi / 32.0 if factor in ("default", None)
+            else float(factor)}
 
 
 def read_aerodyn(path: str | Path, *, n_blades: int = 3) -> AeroDynInput:

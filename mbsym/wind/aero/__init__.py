@@ -1,0 +1,1 @@
+"""Rotor aerodynamics: steady BEM, performance surfaces, smooth CasADi rotor loads."""
