@@ -300,10 +300,11 @@ def read_performance_table(path: str | Path) -> PerformanceTable:
     wind_speed = None
     if "wind" in sections:
         values = [v for row in sections["wind"].rows for v in row]
-        if len(values) > 1 or (values and not values[0] > 0):
-            problems.append(f"{path}, line {sections['wind'].label_line}: expected one positive "
-                            f"wind speed [m/s]; got {values}. Fix it (performance tables are 2-D).")
-        elif values:
+        if len(values) > 1 or (values and not values[0] >= 0):
+            problems.append(f"{path}, line {sections['wind'].label_line}: expected one wind "
+                            f"speed >= 0 [m/s] (0: unknown); got {values}. Fix it (performance "
+                            "tables are 2-D).")
+        elif values and values[0] > 0:
             wind_speed = values[0]
     matrices: dict[str, np.ndarray | None] = {}
     if pitch is not None and tsr is not None:
@@ -351,7 +352,7 @@ def write_performance_table(table: PerformanceTable, path: str | Path, *,
         with full precision (``repr``), so they round-trip exactly.
     wind_speed : float, optional
         The "z axis" wind speed [m/s]; default ``table.wind_speed``, or 0 if unknown
-        (ROSCO reads and ignores it).
+        (ROSCO reads and ignores it; :func:`read_performance_table` reads 0 as None).
 
     Returns
     -------

@@ -59,7 +59,8 @@ def test_main_options_of_the_reference_deck(ad):
     assert ad.airfoil_columns == (1, 2, 3, 4) and ad.use_pitching_moment
     assert [a.name for a in ad.airfoils] == ["Cylinder1", "Cylinder2", "DU40_A17", "DU35_A17",
                                              "DU30_A17", "DU25_A17", "DU21_A17", "NACA64_A17"]
-    assert "SkewRedistr_Mod" in ad.extra  # keys not modelled are kept verbatim
+    assert ad.skew_redistribution and abs(ad.skew_redistribution_factor - 15 * math.pi / 32) < 1e-15
+    assert "SkewMomCorr" in ad.extra  # keys not modelled are kept verbatim
     assert ad.tower_elevation[-1] == 87.6
 
 

@@ -169,7 +169,8 @@ def _bad(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:
     (r"^# Torque coefficient$", "# something else", r"section '# Torque coefficient' is missing"),
     (r"^# Pitch angle vector.*\n0\.0   1\.0   2\.0\n", "",
      r"section '# Pitch angle vector, <n> entries.*' is missing"),
-    (r"^11\.4$", "11.4 12.0", r"line 8: expected one positive wind speed"),
+    (r"^11\.4$", "11.4 12.0", r"line 8: expected one wind speed >= 0"),
+    (r"^11\.4$", "-3.0", r"line 8: expected one wind speed >= 0"),
     (r"^#  Thrust coefficient$", "# Power coefficient", r"line 17: a second '# Power coefficient' "
                                                         r"section \(the first is on line 11\)"),
     (r"^# Pitch angle vector.*$", "", r"line 5: numbers before any section label"),
