@@ -58,9 +58,9 @@ def _cell_coefficients(axis_x: np.ndarray, axis_y: np.ndarray, values: np.ndarra
                             for t in samples for u in samples])
     inverse = np.linalg.inv(vandermonde)
     hx, hy = np.diff(axis_x), np.diff(axis_y)
-    xs = axis_x[:-1, None] + samples[None, :] * hx[:, None]  # (nx-1, n)
-    ys = axis_y[:-1, None] + samples[None, :] * hy[:, None]
-    grid = spline(xs.ravel(), ys.ravel())  # (nx-1)*n x (ny-1)*n, sorted axes
+    xs = (axis_x[:-1, None] + samples[None, :] * hx[:, None]).ravel()  # (nx-1)*n
+    ys = (axis_y[:-1, None] + samples[None, :] * hy[:, None]).ravel()
+    grid = spline.ev(*np.meshgrid(xs, ys, indexing="ij"))  # (nx-1)*n x (ny-1)*n
     blocks = grid.reshape(len(hx), n, len(hy), n).transpose(0, 2, 1, 3)  # cell, cell, t, u
     return blocks.reshape(len(hx), len(hy), n * n) @ inverse.T
 
