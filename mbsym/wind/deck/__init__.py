@@ -1,14 +1,24 @@
 """Reading turbine descriptions: OpenFAST decks and the built-in NREL 5 MW.
 
 The strict, line-numbered OpenFAST format parser (``_format``), the typed parameter
-records (:mod:`.parameters`), the ElastoDyn deck reader (:mod:`.openfast`) and the
-package data of the NREL 5 MW (:mod:`.nrel5mw`). Imports nothing else of ``mbsym.wind``.
+records (:mod:`.parameters`), the ElastoDyn deck reader (:mod:`.openfast`), the AeroDyn 15
+readers (:mod:`.aerodyn`, :mod:`.airfoils`), ROSCO performance tables (:mod:`.performance`)
+and the package data of the NREL 5 MW (:mod:`.nrel5mw`, :mod:`.nrel5mw_aero`). Imports
+nothing else of ``mbsym.wind``.
 """
 
+from .aerodyn import AeroDynBlade, AeroDynInput, read_aerodyn, read_aerodyn_blade
+from .airfoils import AirfoilPolar, read_airfoil
 from .nrel5mw import nrel5mw
+from .nrel5mw_aero import nrel5mw_aerodyn, nrel5mw_performance_table
 from .openfast import KEY_MAP, read_openfast
+from .performance import PerformanceTable, read_performance_table, write_performance_table
 from .parameters import (DOF_NAMES, BladeParameters, InitialConditions, SimulationSettings, TowerParameters,
                          TurbineParameters)
 
 __all__ = ["read_openfast", "nrel5mw", "KEY_MAP", "DOF_NAMES", "TurbineParameters", "SimulationSettings",
-           "InitialConditions", "TowerParameters", "BladeParameters"]
+           "InitialConditions", "TowerParameters", "BladeParameters",
+           # rotor aerodynamics input (AeroDyn 15, ROSCO performance tables)
+           "read_aerodyn", "read_aerodyn_blade", "AeroDynInput", "AeroDynBlade", "read_airfoil",
+           "AirfoilPolar", "PerformanceTable", "read_performance_table", "write_performance_table",
+           "nrel5mw_aerodyn", "nrel5mw_performance_table"]

@@ -329,6 +329,24 @@ def _read_elastodyn(ed: _Deck, sim: dict[str, Any]) -> dict[str, Any]:
     return v
 
 
+#: source_files role -> (.fst key, SimulationSettings switch) of the modules named by the .fst
+_MODULE_FILES = {"inflowwind": ("InflowFile", "inflow_model"),
+                 "aerodyn": ("AeroFile", "aerodynamics_model"),
+                 "servodyn": ("ServoFile", "servo_model")}
+
+
+def _module_files(fst: _Deck, sim: dict[str, Any]) -> dict[str, str]:
+    """Paths of the InflowWind/AeroDyn/ServoDyn files the .fst switches on (those that exist)."""
+    out = {}
+    for role, (key, switch) in _MODULE_FILES.items():
+        entry = fst.entries.get(key.lower())
+        if sim.get(switch) and entry is not None and entry.values:
+            path = fst.path.parent / entry.values[0].replace("\\", "/")
+            if path.is_file():
+                out[role] = str(path)
+    return out
+
+
 def read_openfast(path: str | Path) -> TurbineParameters:
     """Read an OpenFAST deck (``.fst`` + ElastoDyn, tower and blade files).
 
@@ -371,6 +389,7 @@ def read_openfast(path: str | Path) -> TurbineParameters:
         fst.raise_problems()
     ed.raise_problems()
     sources = {"fst": str(fst_path), "elastodyn": str(ed.path)}
+    sources |= _module_files(fst, sim)
     tower_path = _resolve(ed, "TwrFile", "tower file")
     sources["tower"] = str(tower_path)
     tower = TowerParameters(**_read_distributed(

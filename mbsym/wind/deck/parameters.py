@@ -383,8 +383,9 @@ class TurbineParameters(_Record):
         Unrecognised or unmodelled ElastoDyn keys (outputs, yaw friction, ...) with
         raw values.
     source_files : dict of str to str
-        Files read, by role ("fst", "elastodyn", "tower", "blade1", ...); not
-        compared by ``==``.
+        Files read, by role ("fst", "elastodyn", "tower", "blade1", ...), plus the
+        module files the ``.fst`` switches on and that exist ("inflowwind",
+        "aerodyn", "servodyn"; named, not read); not compared by ``==``.
     """
 
     simulation: SimulationSettings

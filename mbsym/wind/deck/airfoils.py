@@ -1,0 +1,225 @@
+"""Read AeroDyn 15 airfoil files (AirfoilInfo format): steady polars Cl, Cd, Cm vs AoA.
+
+An AirfoilInfo file is a keyed OpenFAST file whose comment lines start with ``!``:
+``InterpOrd``, ``NonDimArea``, ``NumCoords`` (often an ``@file`` include of the
+shape coordinates, not needed here), ``BL_file``, ``NumTabs``, then per table
+``Re`` (millions), ``UserProp``, ``InclUAdata`` (+ unsteady-aero constants),
+``NumAlf`` and ``NumAlf`` rows of coefficients.  The columns holding AoA [deg],
+Cl, Cd and Cm are named by the AeroDyn main file (``InCol_Alfa`` ... ``InCol_Cm``;
+``InCol_Cm = 0`` means no Cm column).
+
+mbsym reads the **first table** (what AeroDyn uses with ``AFTabMod = 1``); the
+number of tables is kept in :attr:`AirfoilPolar.n_tables`.  The keys are read with
+the strict, line-numbered parser of :mod:`mbsym.wind.deck._format`; the table rows
+are read here.  Problems raise :class:`~mbsym.exceptions.OpenFASTFormatError`
+naming the file and line, all problems of a file together.
+
+Like AeroDyn's default (``InterpOrd = "default"`` = 1), the polars are meant to be
+interpolated linearly in AoA; the file's choice is kept in ``interp_order``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...exceptions import OpenFASTFormatError, ParameterError
+from ._format import _TOKEN, _canon, _Deck, _Key, _real
+from ._record import _readonly, _Record
+
+__all__ = ["AirfoilPolar", "read_airfoil"]
+
+_DEG = math.pi / 180.0
+
+
+@dataclass(frozen=True, eq=False)
+class AirfoilPolar(_Record):
+    """Steady aerodynamic coefficients of one airfoil (immutable).
+
+    Attributes
+    ----------
+    name : str
+        The airfoil's name (file stem, e.g. ``"DU21_A17"``).
+    alpha : ndarray, shape (n,)
+        Angle of attack [rad], strictly increasing, spanning [-π, π].
+    cl, cd, cm : ndarray, shape (n,)
+        Lift, drag and pitching-moment (about the 1/4 chord, nose up positive)
+        coefficients [-]; ``cm`` is zero where the file has no Cm column.
+    reynolds : float
+        Reynolds number of the table [-] (the file gives it in millions).
+    interp_order : int
+        1 (linear, AeroDyn's default) or 3 (cubic spline), as the file asks.
+    n_tables : int
+        Number of tables in the file; only the first is kept (AFTabMod = 1).
+    source : str or None
+        The file read (not compared by ``==``).
+    """
+
+    name: str
+    alpha: np.ndarray
+    cl: np.ndarray
+    cd: np.ndarray
+    cm: np.ndarray
+    reynolds: float
+    interp_order: int = 1
+    n_tables: int = 1
+    source: str | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        alpha = _readonly(self.alpha, f"AirfoilPolar({self.name}).alpha")
+        if alpha.size < 2 or np.any(np.diff(alpha) <= 0):
+            raise ParameterError(f"AirfoilPolar({self.name}).alpha must hold at least 2 strictly "
+                                 "increasing angles [rad].")
+        if alpha[0] > -math.pi + 1e-9 or alpha[-1] < math.pi - 1e-9:
+            raise ParameterError(
+                f"AirfoilPolar({self.name}).alpha spans [{math.degrees(alpha[0]):g}, "
+                f"{math.degrees(alpha[-1]):g}] deg; it must span [-180, 180] deg (a full polar, "
+                "as AeroDyn expects). Extend the table (e.g. with AirfoilPrep / Viterna).")
+        object.__setattr__(self, "alpha", alpha)
+        for name in ("cl", "cd", "cm"):
+            values = _readonly(getattr(self, name), f"AirfoilPolar({self.name}).{name}")
+            if values.shape != alpha.shape:
+                raise ParameterError(f"AirfoilPolar({self.name}).{name} has {values.size} values; "
+                                     f"expected {alpha.size} (one per angle of attack).")
+            object.__setattr__(self, name, values)
+        if self.interp_order not in (1, 3):
+            raise ParameterError(f"AirfoilPolar({self.name}).interp_order must be 1 or 3; got "
+                                 f"{self.interp_order!r}.")
+
+    def coefficients(self, alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Linearly interpolated (cl, cd, cm) at ``alpha`` [rad] (wrapped to [-π, π])."""
+        wrapped = np.mod(np.asarray(alpha, dtype=float) + math.pi, 2 * math.pi) - math.pi
+        return (np.interp(wrapped, self.alpha, self.cl), np.interp(wrapped, self.alpha, self.cd),
+                np.interp(wrapped, self.alpha, self.cm))
+
+
+class _AirfoilDeck(_Deck):
+    """The keyed part of an airfoil file: everything up to the first ``NumAlf`` line."""
+
+    def _parse(self, lines: list[str], specs: tuple) -> None:  # type: ignore[override]
+        self.all_lines = lines
+        self.numalf_index = next((i for i, text in enumerate(lines) if _key_of(text) == "numalf"),
+                                 None)
+        stop = len(lines) if self.numalf_index is None else self.numalf_index + 1
+        super()._parse(lines[:stop], specs)
+
+
+def _key_of(text: str) -> str | None:
+    """Canonical key of a ``<value> <Key> ! ...`` line, or None."""
+    stripped = text.strip()
+    if not stripped or stripped.startswith(("!", "#", "-", "=")):
+        return None
+    tokens = _TOKEN.findall(stripped)
+    return _canon(tokens[1]) if len(tokens) > 1 else None
+
+
+def _read_rows(deck: _AirfoilDeck, n_rows: int, n_cols: int) -> tuple[np.ndarray | None, list[int]]:
+    """Read ``n_rows`` numeric rows after the NumAlf line (comments skipped)."""
+    rows: list[list[float]] = []
+    numbers: list[int] = []
+    i = deck.numalf_index + 1
+    lines = deck.all_lines
+    while len(rows) < n_rows and i < len(lines):
+        text, number = lines[i].strip(), i + 1
+        i += 1
+        if not text or text.startswith(("!", "#")):
+            continue
+        tokens = _TOKEN.findall(text)
+        values = [_real(t) for t in tokens]
+        if len(tokens) < n_cols or any(v is None for v in values[:n_cols]):
+            bad = next((t for t, v in zip(tokens, values) if v is None), None)
+            what = (f"expected a number, got {bad!r}" if bad is not None and len(tokens) >= n_cols
+                    else f"expected at least {n_cols} numbers (the highest InCol_* column), got "
+                    f"{len(tokens)}")
+            deck.problems.append(f"{deck.path}, line {number}: {what} (row {len(rows) + 1} of the "
+                                 "coefficient table). Fix the row, or NumAlf.")
+            return None, numbers
+        rows.append([float(v) for v in values[:n_cols]])  # type: ignore[arg-type]
+        numbers.append(number)
+    if len(rows) < n_rows:
+        line = deck.numalf_index + 1
+        deck.problems.append(f"{deck.path}, line {line}, key 'NumAlf': says {n_rows} rows, but "
+                             f"only {len(rows)} follow. Make the count match the table.")
+        return None, numbers
+    return np.array(rows), numbers
+
+
+def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2, 3, 4)
+                 ) -> AirfoilPolar:
+    """Read the first coefficient table of an AeroDyn (AirfoilInfo) airfoil file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The airfoil file.
+    columns : tuple of 4 int, optional
+        1-based columns of AoA, Cl, Cd and Cm (AeroDyn's ``InCol_Alfa``,
+        ``InCol_Cl``, ``InCol_Cd``, ``InCol_Cm``; Cm column 0 = none).
+
+    Returns
+    -------
+    AirfoilPolar
+        AoA in rad, coefficients as written; a single-row table (constant data)
+        becomes a constant polar over [-π, π].
+
+    Raises
+    ------
+    OpenFASTFormatError
+        If the file is missing, a key is missing or malformed, the table is short,
+        a value is not a number, or the AoA does not strictly increase over
+        [-180, 180] deg; the message names the file and line.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise OpenFASTFormatError(f"airfoil file not found: tried '{path.absolute()}'. Check the "
+                                  "AFNames entry of the AeroDyn file (paths are relative to it).")
+    if len(columns) != 4 or any(not isinstance(c, int) or c < 0 for c in columns) or \
+            min(columns[:3]) < 1:
+        raise ParameterError(f"columns must be 4 column numbers (AoA, Cl, Cd >= 1; Cm >= 0); got "
+                             f"{columns!r}.")
+    deck = _AirfoilDeck(path)
+    head = [t.strip() for t in deck.all_lines[:2]]
+    for number, text in enumerate(head, start=1):
+        if text and not text.startswith(("!", "#", "-", "=")) and _key_of(text) is not None:
+            deck.problems.append(f"{path}, line {number}: mbsym reads the first two lines of an "
+                                 "airfoil file as free text, but this one holds a key. Insert a "
+                                 "comment line ('! ...') above it.")
+    order = deck.value(_Key("InterpOrd", "", "float|default", default="default"))
+    n_tables = deck.value(_Key("NumTabs", "", "int",
+                               check=(lambda v: v >= 1, "must be at least 1")))
+    reynolds = deck.value(_Key("Re", "", check=(lambda v: v >= 0, "must not be negative")))
+    n_alpha = deck.value(_Key("NumAlf", "", "int", check=(lambda v: v >= 1, "must be at least 1")))
+    interp = 1 if order in ("default", None) else order
+    if interp not in (1, 3, 1.0, 3.0):
+        deck.problem(deck.line_of("InterpOrd"), "InterpOrd", f"must be 1, 3 or \"default\"; got "
+                     f"{order:g}. Fix it.")
+    data, numbers = (None, [])
+    if deck.numalf_index is not None and isinstance(n_alpha, int) and n_alpha >= 1:
+        data, numbers = _read_rows(deck, n_alpha, max(columns))
+    if data is not None:
+        alpha, cl, cd = (data[:, c - 1] for c in columns[:3])
+        cm = data[:, columns[3] - 1] if columns[3] else np.zeros(len(data))
+        if len(data) == 1:  # constant data, as AeroDyn's ConstData
+            alpha, cl, cd, cm = (np.array([-180.0, 180.0]), np.repeat(cl, 2), np.repeat(cd, 2),
+                                 np.repeat(cm, 2))
+        _check_alpha(deck, alpha, numbers)
+    deck.raise_problems()
+    return AirfoilPolar(name=path.stem, alpha=alpha * _DEG, cl=cl, cd=cd, cm=cm,
+                        reynolds=reynolds * 1e6, interp_order=int(interp), n_tables=n_tables,
+                        source=str(path))
+
+
+def _check_alpha(deck: _AirfoilDeck, alpha: np.ndarray, numbers: list[int]) -> None:
+    steps = np.diff(alpha)
+    if np.any(steps <= 0):
+        j = int(np.argmax(steps <= 0)) + 1
+        deck.problems.append(f"{deck.path}, line {numbers[j]}: the angle of attack must strictly "
+                             f"increase; {alpha[j]:g} deg follows {alpha[j - 1]:g} deg (line "
+                             f"{numbers[j - 1]}). Fix the order.")
+    elif alpha[0] > -180.0 + 1e-6 or alpha[-1] < 180.0 - 1e-6:
+        deck.problems.append(f"{deck.path}, line {numbers[0]}: the table spans "
+                             f"[{alpha[0]:g}, {alpha[-1]:g}] deg; it must span [-180, 180] deg "
+                             "(a full polar, as AeroDyn expects). Extend the table.")
