@@ -44,8 +44,9 @@ def rosco_library(version: str = VERSION, *, fetch: bool = True, timeout: float 
     if not wheels and fetch:
         folder.mkdir(parents=True, exist_ok=True)
         try:
-            subprocess.run([sys.executable, "-m", "pip", "download", "--no-deps", "--quiet", "--disable-pip-version-check",
-                            f"rosco=={version}", "-d", str(folder)], check=True, timeout=timeout,
+            subprocess.run([sys.executable, "-m", "pip", "download", "--no-deps", "--quiet",
+                            "--disable-pip-version-check", f"rosco=={version}", "-d", str(folder)],
+                           check=True, timeout=timeout,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         except (subprocess.SubprocessError, OSError):
             return None
