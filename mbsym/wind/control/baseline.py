@@ -50,9 +50,15 @@ the scheme; the code is ours):
    or, with peak shaving (``PS_Mode``), ``PS_BldPitchMin`` at the filtered wind
    estimate; saturation and the rate limits ``PC_MinRat``/``PC_MaxRat``.
 
-Differences from the library: ROSCO receives single-precision measurements;
-its estimator falls back to the filtered hub wind on NaN (not reproduced); the
-nacelle-vane correction of the filtered hub wind is taken as 1 (no yaw error).
+Differences from the library: ROSCO receives single-precision measurements and
+its time step in single precision (pass ``dt=float(numpy.float32(dt))`` to
+reproduce it to the last bits); its estimator falls back to the filtered hub wind
+on NaN (not reproduced); the nacelle-vane correction of the filtered hub wind is
+taken as 1 (no yaw error); and ROSCO switches its estimator off (and restarts the
+EKF one step later) when the pitch is below the Cp table's range by any amount,
+which happens on rounding residuals of ~1e-20 rad when the rate-limited pitch
+reaches fine pitch — we count pitch within :data:`RANGE_TOLERANCE` (1e-12 rad) of
+the range as inside.
 """
 
 from __future__ import annotations
@@ -75,6 +81,8 @@ COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
+#: Pitch below the estimator's range [rad] still counted in range (ROSCO: exactly 0; see _estimator).
+RANGE_TOLERANCE = 1e-12
 # ROSCO's fixed EKF constants (ControllerBlocks.f90): turbulence intensity, length scale / R, noise.
 _EKF_TI, _EKF_LENGTH, _EKF_R = 0.18, 6.0, 0.02
 
@@ -288,7 +296,11 @@ class BaselineController:
         torque_min = 1e-4 * s.rated_torque
         torque_in = ca.if_else(torque_f < torque_min, torque_min, torque_f)
         op_last = ca.if_else(r, 1.0, x["estimator_on"])
-        op = ca.if_else((pitch_in != pitch) + (torque_in != torque_f) + (speed_in != rot_f), 0.0, 1.0)
+        # ROSCO tests "input was saturated" with exact comparisons; a rounding residual (a rate-limited pitch
+        # arriving at the minimum as -3e-20 rad) then switches its estimator off for one step and restarts
+        # the EKF. We accept residuals below RANGE_TOLERANCE [rad] on the pitch (see the module docstring).
+        op = ca.if_else((ca.fabs(pitch_in - pitch) > RANGE_TOLERANCE) + (torque_in != torque_f) +
+                        (speed_in != rot_f), 0.0, 1.0)
         restart = r + (op != op_last) if s.wind_estimator > 0 else r
         restart = restart > 0
         nxt["estimator_on"] = op

@@ -187,7 +187,10 @@ class DisconController:
     procedure : str, optional
         Name of the entry point (ServoDyn ``DLL_ProcName``).
     run_name : str, optional
-        Simulation root name (``avcOUTNAME``; ROSCO names its debug files after it).
+        Simulation root name (``avcOUTNAME``), with an extension as ServoDyn sends it
+        (``<root>.SrvD``): ROSCO strips the extension (and with it the C string's
+        terminating NUL) and writes its debug files (``LoggingLevel > 0``) to
+        ``<root>.RO.dbg``, relative to the working directory.
     private_copy : bool, optional
         Load a private copy so instances do not share state (default; see above).
     quiet : bool, optional
@@ -220,7 +223,7 @@ class DisconController:
 
     def __init__(self, library, input_file, *, dt: float, n_blades: int = 3, individual_pitch: bool = True,
                  constants: Mapping[str, float] | None = None, torque_table=None, procedure: str = "DISCON",
-                 run_name: str = "mbsym", private_copy: bool = True, quiet: bool = True) -> None:
+                 run_name: str = "mbsym.SrvD", private_copy: bool = True, quiet: bool = True) -> None:
         self._handle = None
         path = Path(library)
         if not path.is_file():
