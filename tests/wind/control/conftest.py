@@ -14,26 +14,7 @@ from pathlib import Path
 import pytest
 
 import _rosco
-
-
-def _find_shared() -> Path:
-    here = Path(__file__).resolve()
-    for parent in here.parents[3:]:
-        if (parent / "shared" / "openfast").is_dir():
-            return parent / "shared"
-    return here.parents[3].parent / "shared"
-
-
-SHARED = _find_shared()
-AERO = SHARED / "openfast" / "aero"
-DECK = AERO / "openfast_inputs" / "deck"
-
-
-def need(path: Path) -> Path:
-    """``path``, or skip the test if the shared reference data is absent."""
-    if not path.exists():
-        pytest.skip(f"shared reference data not found at {path}")
-    return path
+from _ctrl_data import DECK, need
 
 
 @pytest.fixture(scope="session")

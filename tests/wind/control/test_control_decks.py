@@ -13,7 +13,7 @@ import shutil
 import numpy as np
 import pytest
 
-from conftest import DECK, need
+from _ctrl_data import DECK, need
 from mbsym.exceptions import ControllerError, OpenFASTFormatError
 from mbsym.wind.control import BaselineSettings
 from mbsym.wind.deck.discon_in import read_discon_in

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from _measurements import openfast_measurements, read_openfast_csv, synthetic_sweep
-from conftest import AERO, DECK, need
+from _ctrl_data import AERO, DECK, need
 from mbsym.exceptions import ControllerError, ParameterError
 from mbsym.wind.control import DisconController
 from mbsym.wind.control.baseline import MEASUREMENTS

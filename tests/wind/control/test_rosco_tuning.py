@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from _measurements import synthetic_sweep
-from conftest import DECK, need
+from _ctrl_data import DECK, need
 from mbsym.wind.control import BaselineController
 from mbsym.wind.control.tuning import pi_gains, tune_rosco
 from mbsym.wind.deck.discon_in import read_discon_in
