@@ -62,15 +62,16 @@ def rate_limit(u, last, rate_min: float, rate_max: float, dt: float, reset, rese
 def interp1(grid, values, name: str):
     """Clamped piecewise-linear lookup ``q -> values(q)`` (ROSCO's ``interp1d``) as a Python callable on SX.
 
-    A CasADi ``linear`` interpolant (generated C has a binary search) on the clamped
-    query; measured faster than writing the hat functions out in SX (665 vs 5400
-    instructions for the whole controller step).
+    A CasADi ``linear`` interpolant with binary search on the clamped query; measured
+    faster than writing the hat functions out in SX (668 vs 5400 instructions for the
+    whole controller step) and than the default linear search (2.8 vs 4.3 µs per
+    compiled step).
     """
     grid = np.asarray(grid, dtype=float)
     values = np.asarray(values, dtype=float)
     if grid.size == 1:
         return lambda q: ca.SX(float(values[0]))
-    table = ca.interpolant(name, "linear", [grid], values)
+    table = ca.interpolant(name, "linear", [grid], values, {"lookup_mode": ["binary"]})
     return lambda q: table(sat(q, grid[0], grid[-1]))
 
 
@@ -78,5 +79,6 @@ def interp2(x_grid, y_grid, data, name: str):
     """Clamped bilinear lookup ``(x, y) -> data[y, x]`` (ROSCO's ``interp2d``; ``data`` rows follow ``y_grid``)."""
     x_grid, y_grid = np.asarray(x_grid, dtype=float), np.asarray(y_grid, dtype=float)
     data = np.asarray(data, dtype=float)
-    table = ca.interpolant(name, "linear", [y_grid, x_grid], data.ravel(order="F"))
+    table = ca.interpolant(name, "linear", [y_grid, x_grid], data.ravel(order="F"),
+                           {"lookup_mode": ["binary", "binary"]})
     return lambda x, y: table(ca.vertcat(sat(y, y_grid[0], y_grid[-1]), sat(x, x_grid[0], x_grid[-1])))
