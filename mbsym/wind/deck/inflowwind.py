@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...exceptions import OpenFASTFormatError, WindInputError
-from ._format import _Deck, _Key, _read_keys
+from ._format import _Deck, _Key, _read_keys, _resolve
 
-__all__ = ["InflowWindSettings", "read_inflowwind", "INFLOWWIND_KEYS"]
+__all__ = ["InflowWindSettings", "read_inflowwind", "deck_inflowwind", "INFLOWWIND_KEYS"]
 
 _DEG = math.pi / 180.0
 _k = _Key
@@ -147,3 +147,23 @@ def read_inflowwind(path) -> InflowWindSettings:
             break
     lines = {k.key: deck.line_of(k.key) for k in _KEYS if k.key.lower() in deck.entries}
     return InflowWindSettings(**values, uniform_file=resolved, path=str(p), extra=deck.extra(), lines=lines)
+
+
+def deck_inflowwind(fst) -> InflowWindSettings | None:
+    """The InflowWind settings a main ``.fst`` file names (``CompInflow = 1``, ``InflowFile``), or None.
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Missing or malformed ``.fst`` keys, a missing InflowWind file (file, line, key).
+    """
+    p = Path(fst)
+    if not p.is_file():
+        raise OpenFASTFormatError(f"OpenFAST main input file not found: tried '{p.absolute()}'. Check the path.")
+    deck = _Deck(p)
+    mode = deck.value(_k("CompInflow", "", "int", check=(lambda v: v in (0, 1, 2), "must be 0, 1 or 2")))
+    deck.value(_k("InflowFile", "", "str", default=""))
+    deck.raise_problems()
+    if mode != 1:
+        return None
+    return read_inflowwind(_resolve(deck, "InflowFile", "InflowWind input file"))

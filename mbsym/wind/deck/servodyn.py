@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import OpenFASTFormatError
-from ._format import _Deck, _Key, _read_keys, _read_table_columns, _TableSpec
+from ._format import _Deck, _Key, _read_keys, _read_table_columns, _resolve as _resolve_key, _TableSpec
 
-__all__ = ["ServoDynSettings", "read_servodyn", "SERVODYN_KEYS"]
+__all__ = ["ServoDynSettings", "read_servodyn", "deck_servodyn", "SERVODYN_KEYS"]
 
 _DEG, _RPM, _PCT = math.pi / 180.0, math.pi / 30.0, 0.01
 _k = _Key
@@ -193,3 +193,27 @@ def read_servodyn(path) -> ServoDynSettings:
                             library=_resolve(p, values["library_name"]),
                             library_input=_resolve(p, values["library_input_name"]),
                             path=str(p), extra=deck.extra(), lines=lines)
+
+
+def deck_servodyn(fst) -> tuple[ServoDynSettings | None, float]:
+    """The ServoDyn settings a main ``.fst`` file names (``CompServo = 1``, ``ServoFile``), and the glue ``DT`` [s].
+
+    Returns ``(None, DT)`` when ``CompServo = 0``.  ``DT`` is what ``"default"`` time
+    steps of ServoDyn resolve to (:meth:`ServoDynSettings.controller_time_step`).
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Missing or malformed ``.fst`` keys, a missing ServoDyn file (file, line, key).
+    """
+    p = Path(fst)
+    if not p.is_file():
+        raise OpenFASTFormatError(f"OpenFAST main input file not found: tried '{p.absolute()}'. Check the path.")
+    deck = _Deck(p)
+    mode = deck.value(_k("CompServo", "", "int", check=(lambda v: v in (0, 1), "must be 0 or 1")))
+    dt = deck.value(_k("DT", "", check=(lambda v: v > 0, "must be greater than 0")))
+    deck.value(_k("ServoFile", "", "str", default=""))
+    deck.raise_problems()
+    if mode != 1:
+        return None, dt
+    return read_servodyn(_resolve_key(deck, "ServoFile", "ServoDyn input file")), dt

@@ -140,3 +140,12 @@ def test_baseline_reports_a_bad_performance_table_with_its_line(deck_copy):
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(OpenFASTFormatError, match=rf"Cp_Ct_Cq.NREL5MW.txt.*line {row + 1}"):
         BaselineSettings.from_discon(deck_copy / "DISCON.IN", dt=0.00625)
+
+
+def test_a_main_fst_leads_to_its_servodyn_library_and_discon_in():
+    from mbsym.wind.deck.servodyn import deck_servodyn
+    fst = need(DECK.parent / "step_10_14" / "step_10_14.fst")
+    srv, dt = deck_servodyn(fst)
+    assert dt == 0.00625 and srv.controller_time_step(dt) == 0.00625
+    assert srv.library_input.resolve() == (DECK / "DISCON.IN").resolve()
+    assert read_discon_in(srv.library_input)["VS_ControlMode"] == 2

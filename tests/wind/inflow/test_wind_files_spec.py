@@ -136,3 +136,12 @@ def test_spec_file_paths(tmp_path, aero):
 def test_bad_specs_raise_wind_input_errors(spec, match):
     with pytest.raises(WindInputError, match=match):
         parse_wind_spec(spec)
+
+
+def test_a_main_fst_leads_to_its_wind(aero, tmp_path):
+    from mbsym.wind.deck.inflowwind import deck_inflowwind
+    fst = aero / "openfast_inputs" / "step_10_14" / "step_10_14.fst"
+    assert deck_inflowwind(fst).wind()(40.0) == 14.0
+    still = tmp_path / "still.fst"
+    still.write_text(fst.read_text().replace("          1   CompInflow", "          0   CompInflow"))
+    assert deck_inflowwind(still) is None
