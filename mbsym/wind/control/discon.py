@@ -360,6 +360,29 @@ class DisconController:
                                   "(records 55/56), which is not supported (as in ServoDyn).")
         return out
 
+    def callable(self, measurements=("GenSpeed", "RotSpeed", "BldPitch1", "GenPwr", "Wind1VelX"),
+                 commands=("BlPitchCom1", "GenTqCom")):
+        """A vector form ``f(t, y) -> u`` of :meth:`step` for simulation loops.
+
+        ``y`` holds ``measurements`` in order (default: the order of
+        :attr:`BaselineController.measurement_names <mbsym.wind.control.BaselineController>`),
+        ``u`` the ``commands`` in order (default: blade-1 pitch demand [rad], generator
+        torque demand [N m]).
+        """
+        measurements, commands = tuple(measurements), tuple(commands)
+        bad = sorted(set(measurements) - set(MEASUREMENT_RECORDS)) + sorted(set(commands) - set(COMMAND_RECORDS))
+        if bad:
+            raise ParameterError(f"unknown measurement or command names {bad}; measurements: "
+                                 f"{list(MEASUREMENT_RECORDS)}, commands: {list(COMMAND_RECORDS)}.")
+
+        def step(t: float, y) -> np.ndarray:
+            values = np.asarray(y, dtype=float).reshape(-1)
+            if values.size != len(measurements):
+                raise ParameterError(f"y has {values.size} entries; expected {len(measurements)} {list(measurements)}.")
+            out = self.step(t, dict(zip(measurements, values.tolist())))
+            return np.array([out[name] for name in commands])
+        return step
+
     def finish(self) -> None:
         """Make the final call (status −1) if the library was started; further steps raise."""
         handle = self._live()

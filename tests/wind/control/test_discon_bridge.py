@@ -144,3 +144,16 @@ def test_from_servodyn_uses_the_deck(rosco_lib, tmp_path):
         u = ctrl.step(0.0, {"GenSpeed": 110.0, "RotSpeed": 1.13, "BldPitch1": 0.01, "GenPwr": 3e6,
                             "Wind1VelX": 9.0})
         assert u["BlPitchCom2"] == pytest.approx(0.01, rel=1e-6)
+
+
+def test_vector_callable_for_simulation_loops(rosco_lib, discon_in):
+    y = np.array([110.0, 1.13, 0.01, 3.0e6, 9.0])
+    with DisconController(rosco_lib, discon_in, dt=DT) as a, DisconController(rosco_lib, discon_in, dt=DT) as b:
+        f = a.callable()
+        u = f(0.0, y)
+        ref = b.step(0.0, dict(zip(NAMES, y)))
+        assert u.tolist() == [ref["BlPitchCom1"], ref["GenTqCom"]]
+        with pytest.raises(ParameterError, match="expected 5"):
+            f(DT, y[:4])
+    with pytest.raises(ParameterError, match="unknown measurement or command names \\['Pitch'\\]"):
+        a.callable(commands=("Pitch",))
