@@ -18,6 +18,8 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "WindInputError",
+    "ControllerError",
 ]
 
 
@@ -59,3 +61,11 @@ class SolverError(MbsymError, RuntimeError):
 
 class SimulationOptionError(MbsymError, ValueError):
     """An option of :func:`mbsym.simulate` (time span, step, tolerances, output times) is invalid."""
+
+
+class WindInputError(MbsymError, ValueError):
+    """A wind input (specification string, signal parameters, wind file content) is invalid."""
+
+
+class ControllerError(MbsymError, RuntimeError):
+    """A controller could not be loaded, configured or called (e.g. a DISCON library failed)."""

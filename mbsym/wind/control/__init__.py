@@ -1,0 +1,16 @@
+"""Controllers of wind turbines: DISCON libraries in the loop and our ROSCO-scheme baseline.
+
+- :mod:`.swap`: the Bladed swap-array record map;
+- :mod:`.discon`: :class:`DisconController`, any ``DISCON`` library through ctypes;
+- :mod:`.settings`: :class:`BaselineSettings` and the mapping from ROSCO's ``DISCON.IN``;
+- :mod:`.baseline`: :class:`BaselineController`, the ROSCO scheme as a discrete-time CasADi Function;
+- :mod:`.tuning`: ROSCO's tuning (:func:`tune_rosco`) and :func:`pi_gains`.
+"""
+
+from .baseline import COMMANDS, MEASUREMENTS, BaselineController
+from .discon import REQUIRED_MEASUREMENTS, DisconController
+from .settings import DISCON_MAP, BaselineSettings
+from .tuning import RoscoTuning, pi_gains, tune_rosco
+
+__all__ = ["DisconController", "REQUIRED_MEASUREMENTS", "BaselineController", "BaselineSettings", "DISCON_MAP",
+           "MEASUREMENTS", "COMMANDS", "tune_rosco", "pi_gains", "RoscoTuning"]

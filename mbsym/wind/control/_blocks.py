@@ -1,0 +1,84 @@
+"""Discrete-time building blocks of the baseline controller, as CasADi SX expressions (private).
+
+Each block returns its output and its next state; ``reset`` (an SX 0/1) re-initializes
+the block the way ROSCO does at its first call (filters start at their input, a PI
+controller outputs its initial value, a rate limiter passes its reset value).
+The filters are ROSCO's Tustin (bilinear) discretizations of
+
+- first order ``H(s) = ω / (s + ω)``;
+- second order ``H(s) = ω² / (s² + 2ζω s + ω²)``.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+# ROSCO's conversion constants (Constants.f90), used where ROSCO converts, to stay bit-close.
+R2D = 57.2957795130
+D2R = 0.01745329251
+EPS = float(np.finfo(float).eps)
+
+
+def sat(x, lo, hi):
+    """``min(max(x, lo), hi)`` (ROSCO's ``saturate``)."""
+    return ca.fmin(ca.fmax(x, lo), hi)
+
+
+def lpf1(u, last_in, last_out, corner: float, dt: float, reset, initial=None):
+    """First-order low-pass filter step → (y, next last_in, next last_out)."""
+    init = u if initial is None else initial
+    last_in = ca.if_else(reset, init, last_in)
+    last_out = ca.if_else(reset, init, last_out)
+    a1, a0, b = 2.0 + corner * dt, corner * dt - 2.0, corner * dt
+    y = (-a0 * last_out + b * u + b * last_in) / a1
+    return y, u, y
+
+
+def lpf2(u, states, corner: float, damping: float, dt: float, reset):
+    """Second-order low-pass filter step; ``states = (in1, in2, out1, out2)`` → (y, next states)."""
+    in1, in2, out1, out2 = (ca.if_else(reset, u, s) for s in states)
+    c = dt**2 * corner**2
+    a2, a1, a0 = c + 4.0 + 4.0 * damping * corner * dt, 2.0 * c - 8.0, c + 4.0 - 4.0 * damping * corner * dt
+    y = (c * u + 2.0 * c * in1 + c * in2 - a1 * out1 - a0 * out2) / a2
+    return y, (u, in1, y, out1)
+
+
+def pi(error, kp, ki, lo, hi, dt: float, integral, initial, reset):
+    """PI controller with a saturated integrator → (output, next integral)."""
+    integral_next = sat(integral + dt * ki * error, lo, hi)
+    out = sat(kp * error + integral_next, lo, hi)
+    return ca.if_else(reset, initial, out), ca.if_else(reset, initial, integral_next)
+
+
+def rate_limit(u, last, rate_min: float, rate_max: float, dt: float, reset, reset_value=None):
+    """Rate limiter → (output, next last).  On reset the output is ``reset_value`` (default ``u``)."""
+    value = u if reset_value is None else reset_value
+    rate = sat((u - last) / dt, rate_min, rate_max)
+    out = ca.if_else(reset, value, last + rate * dt)
+    return out, out
+
+
+def interp1(grid, values, name: str):
+    """Clamped piecewise-linear lookup ``q -> values(q)`` (ROSCO's ``interp1d``) as a Python callable on SX.
+
+    A CasADi ``linear`` interpolant with binary search on the clamped query; measured
+    faster than writing the hat functions out in SX (668 vs 5400 instructions for the
+    whole controller step) and than the default linear search (2.8 vs 4.3 µs per
+    compiled step).
+    """
+    grid = np.asarray(grid, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if grid.size == 1:
+        return lambda q: ca.SX(float(values[0]))
+    table = ca.interpolant(name, "linear", [grid], values, {"lookup_mode": ["binary"]})
+    return lambda q: table(sat(q, grid[0], grid[-1]))
+
+
+def interp2(x_grid, y_grid, data, name: str):
+    """Clamped bilinear lookup ``(x, y) -> data[y, x]`` (ROSCO's ``interp2d``; ``data`` rows follow ``y_grid``)."""
+    x_grid, y_grid = np.asarray(x_grid, dtype=float), np.asarray(y_grid, dtype=float)
+    data = np.asarray(data, dtype=float)
+    table = ca.interpolant(name, "linear", [y_grid, x_grid], data.ravel(order="F"),
+                           {"lookup_mode": ["binary", "binary"]})
+    return lambda x, y: table(ca.vertcat(sat(y, y_grid[0], y_grid[-1]), sat(x, x_grid[0], x_grid[-1])))

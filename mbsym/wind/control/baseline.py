@@ -1,0 +1,462 @@
+"""Our baseline wind-turbine controller: the ROSCO scheme as one discrete-time CasADi Function.
+
+``BaselineController(settings).function`` maps ``(xc, y) -> (xc_next, u)`` once per
+sample time ``dt``; ``u`` is held over the next ``dt`` (zero-order hold), as OpenFAST
+holds a DISCON library's commands.  ``x0`` is a constant: the first call (state
+``first = 1``) initializes every block from the first measurements, as ROSCO does
+at its first call, so no measurement is needed to build ``x0``.
+
+Measurements ``y`` (SI units, :attr:`BaselineController.measurement_names`):
+
+=============  =======  ================================================================
+``GenSpeed``   rad/s    generator speed (pitch PI error, torque control)
+``RotSpeed``   rad/s    rotor speed (wind-speed estimator)
+``BldPitch1``  rad      blade pitch, read at the first call only (afterwards, as in ROSCO,
+                        the controller uses its own previous command)
+``GenPwr``     W        electrical power (set-point smoother)
+``Wind1VelX``  m/s      hub-height wind speed: initializes the estimator (and is the
+                        estimate itself with ``wind_estimator = 0`` or out of its range)
+=============  =======  ================================================================
+
+Commands ``u``: ``BlPitchCom`` [rad] (collective pitch demand), ``GenTqCom`` [N m]
+(generator torque demand, >= 0).
+
+One step, in ROSCO 2.10.6's order (ROSCO's own source and docs were read to learn
+the scheme; the code is ours):
+
+1. filters: generator and rotor speed (first- or second-order low-pass); the
+   previous wind estimate (``F_WECornerFreq``); the previous torque demand and the
+   previous pitch demand (second order, damping 0.7, corners ``F_LPFCornerFreq``
+   and ``F_LPFCornerFreq/4``);
+2. wind-speed estimator (``WE_Mode 2``): ROSCO's extended Kalman filter on the
+   states (rotor speed, turbulent wind, mean wind) with the rotor torque from the
+   Cp table, process noise for a turbulence intensity of 18 % over a length
+   scale of 6 rotor radii, measurement noise 0.02 (rad/s)², and the first-order
+   poles ``WE_FOPoles``; it falls back to the low-pass-filtered hub wind (corner
+   ``F_WECornerFreq/10``) when pitch, torque or speed leave the Cp table's range,
+   and restarts on re-entry;
+3. set-points: pitch reference speed ``PC_RefSpd`` raised by a negative smoother
+   shift; torque reference ``TSRopt·Ŭ/R·N`` (``VS_ControlMode 2``) low-pass filtered
+   (``F_VSRefSpdCornerFreq``), limited to [``VS_MinOMSpd``, ``VS_RefSpd``] and lowered
+   by a positive smoother shift; region-3 pitch threshold ``PC_MinPit + PC_Switch``;
+4. set-point smoother (``SS_Mode 1``): shift ``((β − β_min)/0.524·SS_VSGain −
+   (P_rated − P)/P_rated·SS_PCGain)·PC_RefSpd``, low-pass filtered (``F_SSCornerFreq``);
+5. torque: a PI on the speed error saturated at [``VS_MinTq``, min(P_rated/(η ω), ``VS_MaxTq``)]
+   (constant power above rated; ``VS_RtTq`` for constant torque) — or with
+   ``VS_ControlMode 1`` the state machine k·ω² / PI in regions 1.5 and 2.5 /
+   constant power or torque in region 3 — then the rate limit ``VS_MaxRat``;
+6. pitch: the gain-scheduled PI (gains interpolated at the filtered pitch) between
+   the previous minimum pitch and ``PC_MaxPit``; the minimum pitch is ``PC_FinePit``
+   or, with peak shaving (``PS_Mode``), ``PS_BldPitchMin`` at the filtered wind
+   estimate; saturation and the rate limits ``PC_MinRat``/``PC_MaxRat``.
+
+Differences from the library: ROSCO receives single-precision measurements and
+its time step in single precision (pass ``dt=float(numpy.float32(dt))`` to
+reproduce it to the last bits); its estimator falls back to the filtered hub wind
+on NaN (not reproduced); the nacelle-vane correction of the filtered hub wind is
+taken as 1 (no yaw error); and ROSCO switches its estimator off (and restarts the
+EKF one step later) when the pitch is below the Cp table's range by any amount,
+which happens on rounding residuals of ~1e-20 rad when the rate-limited pitch
+reaches fine pitch — we count pitch within :data:`RANGE_TOLERANCE` (1e-12 rad) of
+the range as inside.
+"""
+
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import DimensionError, ParameterError
+from ._blocks import D2R, EPS, R2D, interp1, interp2, lpf1, lpf2, pi, rate_limit, sat
+from .settings import BaselineSettings
+
+__all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS"]
+
+#: Measurement names and units, in the order of ``y``.
+MEASUREMENTS = {"GenSpeed": "rad/s", "RotSpeed": "rad/s", "BldPitch1": "rad", "GenPwr": "W", "Wind1VelX": "m/s"}
+#: Command names and units, in the order of ``u``.
+COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
+#: Internal signals of :attr:`BaselineController.diagnostics`.
+DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
+               "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
+#: Pitch below the estimator's range [rad] still counted in range (ROSCO: exactly 0; see _estimator).
+RANGE_TOLERANCE = 1e-12
+# ROSCO's fixed EKF constants (ControllerBlocks.f90): turbulence intensity, length scale / R, noise.
+_EKF_TI, _EKF_LENGTH, _EKF_R = 0.18, 6.0, 0.02
+
+
+class _States:
+    """Named slots of the state vector."""
+
+    def __init__(self) -> None:
+        self.names: list[str] = []
+        self.x0: list[float] = []
+
+    def add(self, name: str, n: int = 1, x0: float = 0.0) -> None:
+        self.names += [name] if n == 1 else [f"{name}[{i}]" for i in range(n)]
+        self.x0 += [x0] * n
+
+    def bind(self, x: ca.SX) -> dict[str, ca.SX]:
+        out, i = {}, 0
+        while i < len(self.names):
+            base = self.names[i].split("[")[0]
+            n = sum(1 for nm in self.names if nm.split("[")[0] == base)
+            out[base] = x[i] if n == 1 else x[i:i + n]
+            i += n
+        return out
+
+
+class BaselineController:
+    """The ROSCO control scheme as a discrete-time CasADi Function (see the module docstring).
+
+    Parameters
+    ----------
+    settings : BaselineSettings
+        All numbers; build them with :meth:`from_discon` or the tuning functions of
+        :mod:`mbsym.wind.control.tuning`.
+
+    Attributes
+    ----------
+    function : casadi.Function
+        ``(xc, y) -> (xc_next, u)``, SX, one controller step.
+    dt : float
+        Sample time [s].
+    x0 : ndarray
+        Initial controller state (constant; the first call initializes).
+    state_names, measurement_names, command_names : tuple of str
+        Names (units: :data:`MEASUREMENTS`, :data:`COMMANDS`).
+    diagnostics : casadi.Function
+        ``(xc, y) -> d`` with the internal signals :data:`DIAGNOSTICS` of the same step.
+
+    Examples
+    --------
+    >>> from mbsym.wind.control import BaselineController
+    >>> ctrl = BaselineController.from_discon("DISCON.IN", dt=0.00625)  # doctest: +SKIP
+    >>> x, u = ctrl.function(ctrl.x0, [116.6, 1.2025, 0.0075, 3.46e6, 10.0])  # doctest: +SKIP
+    """
+
+    measurement_names = tuple(MEASUREMENTS)
+    command_names = tuple(COMMANDS)
+
+    def __init__(self, settings: BaselineSettings) -> None:
+        if not isinstance(settings, BaselineSettings):
+            raise TypeError(f"settings must be a BaselineSettings; got {type(settings).__name__}.")
+        self.settings = settings
+        self.dt = settings.dt
+        states = self._layout()
+        x = ca.SX.sym("xc", len(states.names))
+        y = ca.SX.sym("y", len(MEASUREMENTS))
+        x_next, u, diag = self._step(states.bind(x), y)
+        order = [x_next[name] for name in dict.fromkeys(nm.split("[")[0] for nm in states.names)]
+        xn = ca.vertcat(*[ca.vec(v) for v in order])
+        self.state_names = tuple(states.names)
+        self.x0 = np.array(states.x0)
+        self.x0.setflags(write=False)
+        self.function = ca.Function("baseline_controller", [x, y], [xn, ca.vertcat(*u)], ["xc", "y"],
+                                    ["xc_next", "u"], {"cse": True})
+        self.diagnostics = ca.Function("baseline_diagnostics", [x, y], [ca.vertcat(*diag)], ["xc", "y"], ["d"],
+                                       {"cse": True})
+
+    @classmethod
+    def from_discon(cls, discon, *, dt: float, performance=None) -> BaselineController:
+        """Configure from a ROSCO ``DISCON.IN`` (see :meth:`BaselineSettings.from_discon`)."""
+        return cls(BaselineSettings.from_discon(discon, dt=dt, performance=performance))
+
+    # ------------------------------------------------------------------ layout
+    def _layout(self) -> _States:
+        s = self.settings
+        st = _States()
+        st.add("first", x0=1.0)
+        speed_states = 2 if s.speed_filter_order == 1 else 4
+        st.add("gen_speed_filter", speed_states)
+        st.add("rot_speed_filter", speed_states)
+        st.add("estimate_filter", 2)
+        st.add("torque_filter", 4)
+        st.add("pitch_filter", 4)
+        st.add("hub_wind_filter", 2)
+        st.add("wind_estimate")
+        st.add("estimator_on", x0=1.0)
+        st.add("ekf_x", 3)
+        st.add("ekf_P", 9)
+        st.add("ekf_K", 3)
+        st.add("reference_filter", 2)
+        st.add("smoother_filter", 2)
+        st.add("last_power")
+        st.add("min_pitch")
+        st.add("pitch_integral")
+        st.add("torque_integral", 1 if s.torque_mode == 2 else 4)
+        st.add("torque_last")
+        st.add("pitch_total_last")
+        st.add("pitch_last")
+        st.add("pitch_command_last")
+        return st
+
+    # ------------------------------------------------------------------ one step
+    def _step(self, x: dict, y: ca.SX):
+        s, dt = self.settings, self.dt
+        r = x["first"]
+        gen_speed, rot_speed, pitch_meas, power_meas, hub_wind = (y[i] for i in range(5))
+        nxt: dict[str, ca.SX] = {"first": ca.SX(0.0)}
+
+        # --- initialization values (ROSCO SetParameters at its first call) and inputs of this call
+        pitch = ca.if_else(r, pitch_meas, x["pitch_command_last"])
+        torque0 = ca.if_else(gen_speed > 0.98 * s.pitch_reference_speed, s.rated_torque,
+                             ca.fmin(s.rated_torque, s.region2_gain * gen_speed**2))
+        last_torque = ca.if_else(r, torque0, x["torque_last"])
+        last_estimate = ca.if_else(r, hub_wind, x["wind_estimate"])
+        shift_prev = ca.if_else(r, 0.0, x["smoother_filter"][1])
+        power = ca.if_else(r, torque0 * gen_speed * s.generator_efficiency, power_meas)
+
+        # --- 1. filters
+        gen_f, nxt["gen_speed_filter"] = self._speed_filter(gen_speed, x["gen_speed_filter"], r)
+        rot_f, nxt["rot_speed_filter"] = self._speed_filter(rot_speed, x["rot_speed_filter"], r)
+        est_f, a, b = lpf1(last_estimate, *_split2(x["estimate_filter"]), s.estimate_filter_corner, dt, r)
+        nxt["estimate_filter"] = ca.vertcat(a, b)
+        torque_f, t_states = lpf2(last_torque, _split4(x["torque_filter"]), s.speed_filter_corner, 0.7, dt, r)
+        nxt["torque_filter"] = ca.vertcat(*t_states)
+        pitch_f, p_states = lpf2(pitch, _split4(x["pitch_filter"]), 0.25 * s.speed_filter_corner, 0.7, dt, r)
+        nxt["pitch_filter"] = ca.vertcat(*p_states)
+
+        # --- 2. wind-speed estimate
+        estimate, op, cp_op = self._estimator(x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
+
+        # --- 3. set-points
+        ref_pitch_speed = s.pitch_reference_speed - ca.fmin(shift_prev, 0.0)
+        pitch_error = ref_pitch_speed - gen_f
+        if s.torque_mode == 2:
+            tsr_ref = s.optimal_tsr * estimate / s.rotor_radius * s.gearbox_ratio
+        else:
+            tsr_ref = ca.SX(s.rated_generator_speed)
+        ref, a, b = lpf1(tsr_ref, *_split2(x["reference_filter"]), s.reference_filter_corner, dt, r)
+        nxt["reference_filter"] = ca.vertcat(a, b)
+        ref = sat(ref, s.min_generator_speed, s.rated_generator_speed)
+        ref = ref - ca.fmax(shift_prev, 0.0)
+        ref = ca.fmax(ref, s.min_generator_speed)
+        torque_error = ref - gen_f
+        region3_pitch = x["min_pitch"] + s.region3_pitch_margin
+
+        # --- 4. set-point smoother
+        if s.setpoint_smoothing:
+            shift = ((pitch - x["min_pitch"]) / 0.524 * s.smoother_torque_gain
+                     - (s.rated_power - x["last_power"]) / s.rated_power * s.smoother_power_gain) \
+                * s.pitch_reference_speed
+            shift_f, a, b = lpf1(shift, *_split2(x["smoother_filter"]), s.smoother_corner, dt, r)
+            nxt["smoother_filter"] = ca.vertcat(a, b)
+        else:
+            shift_f = ca.SX(0.0)
+            nxt["smoother_filter"] = ca.SX.zeros(2)
+
+        # --- 5. torque
+        torque, state_code = self._torque(x, nxt, r, gen_f, gen_speed, torque_error, pitch, region3_pitch,
+                                          last_torque)
+        nxt["last_power"] = power
+
+        # --- 6. pitch
+        kp = interp1(s.schedule_pitch, s.schedule_kp, "pc_kp")(pitch_f)
+        ki = interp1(s.schedule_pitch, s.schedule_ki, "pc_ki")(pitch_f)
+        total, nxt["pitch_integral"] = pi(pitch_error, kp, ki, x["min_pitch"], s.pitch_max, dt,
+                                          x["pitch_integral"], pitch, r)
+        if s.peak_shaving:
+            min_pitch = ca.fmax(interp1(s.min_pitch_wind_speeds, s.min_pitch_schedule, "ps_min")(est_f),
+                                s.fine_pitch)
+        else:
+            min_pitch = ca.SX(s.fine_pitch)
+        nxt["min_pitch"] = min_pitch
+        total = sat(total, min_pitch, s.pitch_max)
+        total, nxt["pitch_total_last"] = rate_limit(total, x["pitch_total_last"], s.pitch_rate_min,
+                                                    s.pitch_rate_max, dt, r, pitch)
+        demand = sat(total, min_pitch, s.pitch_max)
+        demand, nxt["pitch_last"] = rate_limit(demand, x["pitch_last"], s.pitch_rate_min, s.pitch_rate_max,
+                                               dt, r, pitch)
+        command = sat(demand, s.pitch_min, s.pitch_max)
+        command, nxt["pitch_command_last"] = rate_limit(command, x["pitch_command_last"], s.pitch_rate_min,
+                                                        s.pitch_rate_max, dt, r, pitch)
+
+        diag = [gen_f, rot_f, estimate, est_f, op, min_pitch, ref_pitch_speed, pitch_error, kp, ki, total, ref,
+                torque_error, shift_f, state_code, cp_op]
+        return nxt, [command, ca.fmax(torque, 0.0)], diag
+
+    def _speed_filter(self, signal, states, r):
+        s = self.settings
+        if s.speed_filter_order == 1:
+            y, a, b = lpf1(signal, states[0], states[1], s.speed_filter_corner, self.dt, r)
+            return y, ca.vertcat(a, b)
+        y, st = lpf2(signal, _split4(states), s.speed_filter_corner, s.speed_filter_damping, self.dt, r)
+        return y, ca.vertcat(*st)
+
+    def _estimator(self, x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate):
+        """ROSCO's WindSpeedEstimator: input saturation, EKF, fallback to the filtered hub wind."""
+        s, dt = self.settings, self.dt
+        min_speed = 0.25 * s.min_generator_speed / s.gearbox_ratio
+        speed_in = ca.if_else(rot_f < min_speed, min_speed + EPS, rot_f)
+        max_pitch = (s.cp_pitch[-1] * 180.0 / math.pi) * D2R if s.cp_pitch else 0.0
+        pitch_in = sat(pitch, s.pitch_min, max_pitch)
+        torque_min = 1e-4 * s.rated_torque
+        torque_in = ca.if_else(torque_f < torque_min, torque_min, torque_f)
+        op_last = ca.if_else(r, 1.0, x["estimator_on"])
+        # ROSCO tests "input was saturated" with exact comparisons; a rounding residual (a rate-limited pitch
+        # arriving at the minimum as -3e-20 rad) then switches its estimator off for one step and restarts
+        # the EKF. We accept residuals below RANGE_TOLERANCE [rad] on the pitch (see the module docstring).
+        op = ca.if_else((ca.fabs(pitch_in - pitch) > RANGE_TOLERANCE) + (torque_in != torque_f) +
+                        (speed_in != rot_f), 0.0, 1.0)
+        restart = r + (op != op_last) if s.wind_estimator > 0 else r
+        restart = restart > 0
+        nxt["estimator_on"] = op
+        hub_f, a, b = lpf1(hub_wind, *_split2(x["hub_wind_filter"]), s.estimate_filter_corner / 10.0, dt,
+                           restart, initial=last_estimate)
+        nxt["hub_wind_filter"] = ca.vertcat(a, b)
+        if s.wind_estimator != 2:
+            nxt.update(ekf_x=x["ekf_x"], ekf_P=x["ekf_P"], ekf_K=x["ekf_K"], wind_estimate=hub_f)
+            return hub_f, op, ca.SX(0.0)
+        xh, P, K = x["ekf_x"], ca.reshape(x["ekf_P"], 3, 3), x["ekf_K"]
+        # restart values
+        vm0 = ca.fmax(hub_f, 3.0)
+        xh_restart = ca.vertcat(speed_in, 0.0, vm0)
+        P_restart = ca.diag(ca.vertcat(0.01, 0.01, 1.0))
+        # prediction and update
+        om_r, vt, vm = ca.fmax(xh[0], EPS), xh[1], xh[2]
+        vh = vt + vm
+        R, J, rho, L = s.rotor_radius, s.drivetrain_inertia, s.air_density, _EKF_LENGTH * s.rotor_radius
+        area = math.pi * R**2
+        pole = interp1(s.estimator_wind_speeds, s.estimator_poles, "we_poles")(vh)
+        cp_lookup = interp2(np.asarray(s.cp_pitch) * 180.0 / math.pi, s.cp_tsr, s.cp, "we_cp")
+        cp_raw = cp_lookup(pitch_in * R2D, ca.fmax(speed_in, EPS) * R / vh)
+        cp_op = ca.fmax(0.0, cp_raw)
+        F = ca.SX.zeros(3, 3)
+        F[0, 0] = pole
+        F[0, 1] = 1.0 / (2.0 * J) * rho * math.pi * R**2.0 * 1.0 / om_r * 3.0 * cp_op * vh**2.0
+        F[0, 2] = F[0, 1]
+        F[1, 1] = -math.pi * vm / (2.0 * L)
+        F[1, 2] = -math.pi * vt / (2.0 * L)
+        Q = ca.diag(ca.vertcat(1e-5, math.pi * vm**3.0 * _EKF_TI**2.0 / L, 2.0**2.0 / 600.0))
+        wind = ca.fmax(last_estimate, EPS)
+        tau = ca.fmax(0.5 * (rho * area) * (last_estimate**3 / speed_in) *
+                      cp_lookup(pitch_in * R2D, speed_in * R / wind), 0.0)
+        dx = ca.vertcat(1.0 / J * (tau - s.gearbox_ratio * torque_in), -math.pi * vm / (2.0 * L) * vt, 0.0)
+        xp = xh + dt * dx
+        Pp = P + dt * (F @ P + P @ F.T + Q - (K * _EKF_R) @ K.T)
+        K_new = Pp[:, 0] / (Pp[0, 0] + _EKF_R)
+        xu = xp + K_new * (speed_in - om_r)
+        H = ca.horzcat(1.0, 0.0, 0.0)
+        Pu = (ca.SX.eye(3) - K_new @ H) @ Pp
+        # select
+        run = op > 0
+        xh_next = ca.if_else(run, ca.if_else(restart, xh_restart, xu), xh)
+        P_next = ca.if_else(run, ca.if_else(restart, P_restart, Pu), P)
+        K_next = ca.if_else(run, ca.if_else(restart, ca.SX.zeros(3), K_new), K)
+        estimate = ca.if_else(run, xh_next[1] + xh_next[2], hub_f)
+        nxt.update(ekf_x=xh_next, ekf_P=ca.vec(P_next), ekf_K=K_next, wind_estimate=estimate)
+        return estimate, op, cp_op
+
+    def _torque(self, x, nxt, r, gen_f, gen_speed, error, pitch, region3_pitch, last_torque):
+        """ROSCO's VariableSpeedControl (modes 1 and 2) and its state machine."""
+        s, dt = self.settings, self.dt
+        const_power_torque = (s.rated_power / s.generator_efficiency) / gen_f
+        max_torque = ca.fmin(const_power_torque, s.torque_max) if s.constant_power else ca.SX(s.rated_torque)
+        if s.torque_mode == 2:
+            torque, nxt["torque_integral"] = pi(error, s.torque_kp, s.torque_ki, s.torque_min, max_torque, dt,
+                                                x["torque_integral"], last_torque, r)
+            code = ca.SX(7.0)
+        else:
+            torque, code = self._torque_state_machine(x, nxt, r, gen_f, error, pitch, region3_pitch, last_torque,
+                                                      const_power_torque)
+        torque = sat(torque, s.torque_min, ca.fmin(s.torque_max, max_torque))
+        torque, nxt["torque_last"] = rate_limit(torque, x["torque_last"], -s.torque_rate_max, s.torque_rate_max,
+                                                dt, r)
+        return torque, code
+
+    def _torque_state_machine(self, x, nxt, r, gen_f, error, pitch, region3_pitch, last_torque, cp_torque):
+        s, dt = self.settings, self.dt
+        ar_i, br_i, ar_prev, br_prev = (x["torque_integral"][i] for i in range(4))
+        max_om_tq = s.region2_gain * s.rated_generator_speed**2
+        min_om_tq = s.region2_gain * s.min_generator_speed**2
+        region3 = 5.0 if s.constant_power else 4.0
+        # state machine (uses the previous PI outputs; at the first call: region 3 or 2 by pitch)
+        state = ca.if_else(pitch >= region3_pitch, region3,
+                           ca.if_else(ar_prev >= max_om_tq * 1.01, 3.0,
+                                      ca.if_else((gen_f < s.rated_generator_speed) * (br_prev >= min_om_tq), 2.0,
+                                                 ca.if_else(br_prev < min_om_tq, 1.0, 0.0))))
+        state = ca.if_else(r, ca.if_else(pitch >= region3_pitch, region3, 2.0), state)
+        ar, ar_i = pi(error, s.torque_kp, s.torque_ki, max_om_tq, s.region25_torque_max, dt, ar_i, max_om_tq, r)
+        br, br_i = pi(s.min_generator_speed - gen_f, s.torque_kp, s.torque_ki, s.torque_min, min_om_tq, dt, br_i,
+                      min_om_tq, r)
+        nxt["torque_integral"] = ca.vertcat(ar_i, br_i, ar, br)
+        k_omega2 = s.region2_gain * gen_f**2
+        region3_torque = cp_torque if s.constant_power else ca.SX(s.rated_torque)
+        torque = ca.if_else(state == 1.0, br, ca.if_else(state == 2.0, k_omega2, ca.if_else(
+            state == 3.0, ar, ca.if_else(state >= 4.0, region3_torque, last_torque))))
+        return torque, state
+
+    # ------------------------------------------------------------------ numeric helpers
+    def run(self, measurements, *, x0=None, compiled: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Run the controller open loop over a sequence of measurements (one row per step).
+
+        Parameters
+        ----------
+        measurements : array_like, shape (n_steps, 5)
+            ``y`` at each step, columns in :attr:`measurement_names` order (SI units).
+        x0 : array_like, optional
+            Initial state (default :attr:`x0`).
+        compiled : bool, optional
+            Evaluate generated C (:func:`mbsym.compile_function`, disk-cached) instead
+            of CasADi's virtual machine.
+
+        Returns
+        -------
+        commands : ndarray, shape (n_steps, 2)
+            ``u`` at each step (held over the following ``dt``).
+        states : ndarray, shape (n_steps + 1, n_states)
+            The state before each step and after the last.
+        """
+        y = np.asarray(measurements, dtype=float)
+        if y.ndim != 2 or y.shape[1] != len(MEASUREMENTS):
+            raise DimensionError(f"measurements must have shape (n_steps, {len(MEASUREMENTS)}) with columns "
+                                 f"{list(MEASUREMENTS)}; got {y.shape}.")
+        if not np.all(np.isfinite(y)):
+            raise ParameterError("measurements must be finite.")
+        x = np.array(self.x0 if x0 is None else x0, dtype=float).reshape(-1)
+        if x.size != self.x0.size:
+            raise DimensionError(f"x0 has {x.size} entries; expected {self.x0.size}.")
+        loop = self.chunk_function(compiled=compiled)
+        n, chunk = y.shape[0], loop.size2_in(1)
+        padded = np.vstack([y, np.repeat(y[-1:], (-n) % chunk, axis=0)]) if n else y
+        us, xs = [], []
+        for k in range(0, padded.shape[0], chunk):
+            x_chunk, u_chunk = loop(x, padded[k:k + chunk].T)
+            xs.append(np.asarray(x_chunk).T)
+            us.append(np.asarray(u_chunk).T)
+            x = xs[-1][-1]
+        states = np.vstack([self.x0 if x0 is None else np.asarray(x0, dtype=float).reshape(1, -1)] + xs)[:n + 1]
+        commands = np.vstack(us)[:n] if us else np.zeros((0, len(COMMANDS)))
+        return commands, states
+
+    def chunk_function(self, *, compiled: bool = False, steps: int = 256):
+        """``(xc, Y) -> (Xc, U)``: ``steps`` controller steps in one call (CasADi ``mapaccum``).
+
+        ``Y`` is 5 × steps; ``Xc`` holds the states after each step.  Cached per
+        controller; ``compiled=True`` returns the compiled version.
+        """
+        key = (compiled, steps)
+        cache = self.__dict__.setdefault("_chunks", {})
+        if key not in cache:
+            f = self.function.mapaccum(f"baseline_controller_{steps}", steps)
+            if compiled:
+                from ...codegen import compile_function
+                f = compile_function(f).function
+            cache[key] = f
+        return cache[key]
+
+    def __repr__(self) -> str:
+        s = self.settings
+        return (f"BaselineController(dt={self.dt:g} s, torque_mode={s.torque_mode}, wind_estimator="
+                f"{s.wind_estimator}, {len(self.state_names)} states)")
+
+
+def _split2(v):
+    return v[0], v[1]
+
+
+def _split4(v):
+    return v[0], v[1], v[2], v[3]

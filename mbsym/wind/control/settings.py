@@ -1,0 +1,232 @@
+"""Settings of the baseline controller (descriptive SI names) and their mapping from ROSCO's ``DISCON.IN``.
+
+:class:`BaselineSettings` holds every number :class:`~mbsym.wind.control.baseline.BaselineController`
+uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
+(``VS_GenEff`` % becomes a fraction, every other value keeps ROSCO's SI unit).
+:meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
+table it names, for the wind-speed estimator) and refuses, naming file and line,
+the ROSCO features the baseline does not implement (IPC, yaw control, power
+reference, start-up/shut-down, floating feedback, tower damper, notch filters,
+fixed-pitch torque control, the I&I estimator, pitch actuator model, ...); use
+:class:`~mbsym.wind.control.discon.DisconController` with the library for those.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
+
+__all__ = ["BaselineSettings", "DISCON_MAP", "UNSUPPORTED_MODES"]
+
+#: DISCON.IN key → BaselineSettings attribute.
+DISCON_MAP = {
+    "F_LPFType": "speed_filter_order", "F_LPFCornerFreq": "speed_filter_corner",
+    "F_LPFDamping": "speed_filter_damping", "VS_ControlMode": "torque_mode", "VS_ConstPower": "constant_power",
+    "SS_Mode": "setpoint_smoothing", "WE_Mode": "wind_estimator", "PS_Mode": "peak_shaving",
+    "F_SSCornerFreq": "smoother_corner", "F_WECornerFreq": "estimate_filter_corner",
+    "F_VSRefSpdCornerFreq": "reference_filter_corner",
+    "PC_GS_angles": "schedule_pitch", "PC_GS_KP": "schedule_kp", "PC_GS_KI": "schedule_ki",
+    "PC_MaxPit": "pitch_max", "PC_MinPit": "pitch_min", "PC_MaxRat": "pitch_rate_max",
+    "PC_MinRat": "pitch_rate_min", "PC_RefSpd": "pitch_reference_speed", "PC_FinePit": "fine_pitch",
+    "PC_Switch": "region3_pitch_margin", "VS_GenEff": "generator_efficiency", "VS_ArSatTq": "region25_torque_max",
+    "VS_MaxRat": "torque_rate_max", "VS_MaxTq": "torque_max", "VS_MinTq": "torque_min",
+    "VS_MinOMSpd": "min_generator_speed", "VS_Rgn2K": "region2_gain", "VS_RtPwr": "rated_power",
+    "VS_RtTq": "rated_torque", "VS_RefSpd": "rated_generator_speed", "VS_KP": "torque_kp",
+    "VS_KI": "torque_ki", "VS_TSRopt": "optimal_tsr", "SS_VSGain": "smoother_torque_gain",
+    "SS_PCGain": "smoother_power_gain", "WE_BladeRadius": "rotor_radius", "WE_GearboxRatio": "gearbox_ratio",
+    "WE_Jtot": "drivetrain_inertia", "WE_RhoAir": "air_density", "WE_FOPoles_v": "estimator_wind_speeds",
+    "WE_FOPoles": "estimator_poles", "PS_WindSpeeds": "min_pitch_wind_speeds", "PS_BldPitchMin": "min_pitch_schedule",
+}
+#: Modes the baseline does not implement: key → the values it accepts.
+UNSUPPORTED_MODES = {
+    "IPC_ControlMode": (0,), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
+    "Fl_Mode": (0,), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0,),
+    "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
+    "VS_FBP": (0,), "VS_ControlMode": (1, 2), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
+    "F_GenSpdNotch_N": (0,),
+}
+
+
+def _tuple(values) -> tuple[float, ...]:
+    return tuple(float(v) for v in np.asarray(values, dtype=float).reshape(-1))
+
+
+@dataclass(frozen=True)
+class BaselineSettings:
+    """Every setting of the baseline controller (SI units: rad, rad/s, N m, W, m, kg m², s).
+
+    Speeds named ``*_generator_speed``/``pitch_reference_speed`` are on the generator
+    (high-speed) shaft.  The pitch gain schedule ``schedule_kp`` [s], ``schedule_ki``
+    [-] is indexed by the filtered pitch ``schedule_pitch`` [rad]; ``torque_kp``
+    [N m s/rad], ``torque_ki`` [N m/rad] are the torque PI gains.  The wind-speed
+    estimator (``wind_estimator = 2``, ROSCO's EKF) needs the rotor's power
+    coefficient table ``cp`` (rows: ``cp_tsr``, columns: ``cp_pitch`` [rad]) and the
+    first-order poles ``estimator_poles`` [1/s] over ``estimator_wind_speeds`` [m/s].
+    """
+
+    dt: float
+    speed_filter_corner: float
+    speed_filter_order: int = 1
+    speed_filter_damping: float = 0.0
+    torque_mode: int = 2
+    constant_power: bool = True
+    setpoint_smoothing: bool = True
+    wind_estimator: int = 2
+    peak_shaving: bool = True
+    smoother_corner: float = 0.6283
+    estimate_filter_corner: float = 0.20944
+    reference_filter_corner: float = 0.20944
+    schedule_pitch: tuple[float, ...] = ()
+    schedule_kp: tuple[float, ...] = ()
+    schedule_ki: tuple[float, ...] = ()
+    pitch_max: float = math.pi / 2
+    pitch_min: float = 0.0
+    pitch_rate_max: float = 0.1745
+    pitch_rate_min: float = -0.1745
+    pitch_reference_speed: float = 0.0
+    fine_pitch: float = 0.0
+    region3_pitch_margin: float = 0.01745
+    generator_efficiency: float = 1.0
+    region25_torque_max: float = 0.0
+    torque_rate_max: float = 0.0
+    torque_max: float = 0.0
+    torque_min: float = 0.0
+    min_generator_speed: float = 0.0
+    region2_gain: float = 0.0
+    rated_power: float = 0.0
+    rated_torque: float = 0.0
+    rated_generator_speed: float = 0.0
+    torque_kp: float = 0.0
+    torque_ki: float = 0.0
+    optimal_tsr: float = 0.0
+    smoother_torque_gain: float = 1.0
+    smoother_power_gain: float = 0.0
+    rotor_radius: float = 0.0
+    gearbox_ratio: float = 1.0
+    drivetrain_inertia: float = 0.0
+    air_density: float = 1.225
+    estimator_wind_speeds: tuple[float, ...] = ()
+    estimator_poles: tuple[float, ...] = ()
+    min_pitch_wind_speeds: tuple[float, ...] = ()
+    min_pitch_schedule: tuple[float, ...] = ()
+    cp_tsr: tuple[float, ...] = ()
+    cp_pitch: tuple[float, ...] = ()
+    cp: tuple[tuple[float, ...], ...] = ()
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        problems = []
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "cp":
+                value = tuple(_tuple(row) for row in value)
+                object.__setattr__(self, "cp", value)
+            elif f.type.startswith("tuple"):
+                object.__setattr__(self, f.name, _tuple(value))
+            elif f.type == "float":
+                if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(float(value)):
+                    problems.append(f"{f.name} must be a finite number; got {value!r}")
+                else:
+                    object.__setattr__(self, f.name, float(value))
+        if problems:
+            raise ParameterError("BaselineSettings: " + "; ".join(problems) + ".")
+        self._validate()
+
+    def _validate(self) -> None:
+        p = []
+        if not self.dt > 0:
+            p.append(f"dt must be > 0 [s]; got {self.dt}")
+        if self.speed_filter_order not in (1, 2):
+            p.append(f"speed_filter_order must be 1 or 2; got {self.speed_filter_order}")
+        if self.torque_mode not in (1, 2):
+            p.append(f"torque_mode must be 1 (k·ω² with PI transitions) or 2 (TSR tracking); got {self.torque_mode}")
+        if self.wind_estimator not in (0, 2):
+            p.append(f"wind_estimator must be 0 (filtered hub wind) or 2 (EKF); got {self.wind_estimator}")
+        n = len(self.schedule_pitch)
+        if n < 1 or len(self.schedule_kp) != n or len(self.schedule_ki) != n:
+            p.append("schedule_pitch, schedule_kp and schedule_ki must have the same length >= 1")
+        if n > 1 and np.any(np.diff(self.schedule_pitch) <= 0):
+            p.append("schedule_pitch must strictly increase")
+        if self.peak_shaving and (len(self.min_pitch_wind_speeds) < 1 or
+                                  len(self.min_pitch_wind_speeds) != len(self.min_pitch_schedule)):
+            p.append("peak shaving needs min_pitch_wind_speeds and min_pitch_schedule of equal length >= 1")
+        if self.wind_estimator == 2:
+            if len(self.estimator_wind_speeds) < 1 or len(self.estimator_wind_speeds) != len(self.estimator_poles):
+                p.append("the EKF needs estimator_wind_speeds and estimator_poles of equal length >= 1")
+            shape = np.shape(self.cp)
+            if shape != (len(self.cp_tsr), len(self.cp_pitch)) or min(shape + (2,)) < 2:
+                p.append(f"the EKF needs a cp table of shape (len(cp_tsr), len(cp_pitch)) >= (2, 2); got {shape}")
+            for name in ("rotor_radius", "drivetrain_inertia", "air_density"):
+                if not getattr(self, name) > 0:
+                    p.append(f"{name} must be > 0 for the EKF")
+        if not 0 < self.generator_efficiency <= 1:
+            p.append(f"generator_efficiency must be in (0, 1]; got {self.generator_efficiency}")
+        if not (self.pitch_rate_min < 0 < self.pitch_rate_max and self.torque_rate_max > 0):
+            p.append("pitch_rate_min < 0 < pitch_rate_max and torque_rate_max > 0 are required")
+        for name in ("speed_filter_corner", "estimate_filter_corner", "pitch_reference_speed", "rated_power",
+                     "rated_generator_speed", "gearbox_ratio"):
+            if not getattr(self, name) > 0:
+                p.append(f"{name} must be > 0; got {getattr(self, name)}")
+        if p:
+            raise ParameterError("BaselineSettings: " + "; ".join(p) + ".")
+
+    def replace(self, **changes) -> BaselineSettings:
+        """A copy with some settings changed (validated again)."""
+        return replace(self, **changes)
+
+    @classmethod
+    def from_discon(cls, discon, *, dt: float, performance=None) -> BaselineSettings:
+        """Settings from a ROSCO ``DISCON.IN`` (path or :class:`~mbsym.wind.deck.discon_in.DisconInput`).
+
+        Parameters
+        ----------
+        discon : str, Path or DisconInput
+            The controller input file.
+        dt : float
+            Controller time step [s] (ServoDyn's ``DLL_DT``).
+        performance : PerformanceTable, str or Path, optional
+            The rotor performance table for the EKF; default: ``PerfFileName`` of the file.
+
+        Raises
+        ------
+        OpenFASTFormatError
+            A malformed ``DISCON.IN`` or performance table (file, line, key).
+        ControllerError
+            A mode the baseline does not implement (file, line, key and the supported values).
+        """
+        from ..deck.discon_in import DisconInput, read_discon_in
+        from ..deck.performance import PerformanceTable, read_performance_table
+
+        d = discon if isinstance(discon, DisconInput) else read_discon_in(discon)
+        bad = [f"{d.where(k)}: {k} = {d[k]} is not supported by the baseline controller (supported: "
+               f"{', '.join(map(str, ok))})" for k, ok in UNSUPPORTED_MODES.items() if int(d[k]) not in ok]
+        if bad:
+            raise ControllerError("; ".join(bad) + ". Use DisconController with the DISCON library for these "
+                                  "features, or set the modes to a supported value.")
+        values = {attr: d[key] for key, attr in DISCON_MAP.items()}
+        values["generator_efficiency"] = d["VS_GenEff"] / 100.0
+        values["torque_kp"], values["torque_ki"] = float(d["VS_KP"][0]), float(d["VS_KI"][0])
+        values["constant_power"] = bool(d["VS_ConstPower"])
+        values["setpoint_smoothing"] = bool(d["SS_Mode"])
+        values["peak_shaving"] = bool(d["PS_Mode"])
+        if d["WE_Mode"] == 2:
+            table = performance if isinstance(performance, PerformanceTable) else \
+                read_performance_table(performance if performance is not None else _performance_path(d))
+            values.update(cp_tsr=table.tsr, cp_pitch=table.pitch, cp=table.cp)
+        try:
+            return cls(dt=dt, **values, source=str(d.path))
+        except ParameterError as exc:
+            raise ControllerError(f"{d.path}: {exc}") from None
+
+
+def _performance_path(d) -> Path:
+    path = d.performance_file
+    if path is None or not path.is_file():
+        raise OpenFASTFormatError(f"{d.where('PerfFileName')}: performance table not found: tried "
+                                  f"'{path}'. Fix PerfFileName (relative to the DISCON.IN).")
+    return path

@@ -1,0 +1,33 @@
+"""Wind inputs: hub-height wind speed signals for simulations and OpenFAST wind files.
+
+- :mod:`.signals`: :class:`SteadyWind`, :class:`StepWind`, :class:`RampWind`, the IEC
+  :class:`ExtremeOperatingGust`, :class:`TabulatedWind` — all :class:`WindSignal`\\ s:
+  numpy-evaluable (``wind(t)``), tabulated (``wind.table(t_end)``) and CasADi
+  (``wind.to_casadi()``), usable as :func:`mbsym.simulate` inputs;
+- :mod:`.kaimal`: reproducible turbulent series with the IEC Kaimal spectrum;
+- :mod:`.files`: OpenFAST InflowWind uniform wind files (``.hh``) and
+  ``Time_[s],Wind1VelX_[m/s]`` CSV, read and written;
+- :mod:`.spec`: the command line's ``--wind SPEC`` strings.
+
+Example
+-------
+>>> from mbsym.wind.inflow import parse_wind_spec
+>>> wind = parse_wind_spec("steady:12")
+>>> grid, values = wind.table(60.0)   # or inputs={"wind": wind} in mbsym.simulate
+>>> float(values[0])
+12.0
+"""
+
+from .files import (UNIFORM_COLUMNS, UniformWind, read_uniform_wind, read_wind_csv, write_uniform_wind,
+                    write_wind_csv)
+from .kaimal import IEC_LENGTH_SCALE, KaimalWind, kaimal_spectrum, kaimal_wind
+from .signals import (ExtremeOperatingGust, RampWind, SteadyWind, StepWind, TabulatedWind, WindSignal,
+                      iec_gust_speed)
+from .spec import WIND_SPEC_FORMS, parse_wind_spec
+
+__all__ = [
+    "WindSignal", "SteadyWind", "StepWind", "RampWind", "ExtremeOperatingGust", "TabulatedWind", "iec_gust_speed",
+    "KaimalWind", "kaimal_wind", "kaimal_spectrum", "IEC_LENGTH_SCALE",
+    "UniformWind", "read_uniform_wind", "write_uniform_wind", "read_wind_csv", "write_wind_csv", "UNIFORM_COLUMNS",
+    "parse_wind_spec", "WIND_SPEC_FORMS",
+]
