@@ -42,7 +42,6 @@ from typing import Any, ClassVar
 
 import casadi as ca
 import numpy as np
-from scipy.interpolate import make_interp_spline
 
 from ..exceptions import IntegrationError
 from .base import Method, Trajectory, prepared, symbolic_rhs
@@ -104,6 +103,8 @@ class SundialsMethod(Method):
         """B-spline coefficients of the callable inputs, row-major ``(n_coef, n_callable)`` as casadi.bspline."""
         if self._splines is None:
             return np.zeros(0)
+        from scipy.interpolate import make_interp_spline   # only with callable inputs (import time of mbsym)
+
         t, knots = self._splines
         values = self.problem.inputs(t)[:, list(self.problem.inputs.callables)]
         return make_interp_spline(t, values, k=3, t=knots).c.reshape(-1)
