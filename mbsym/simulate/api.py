@@ -12,7 +12,7 @@ from .base import Problem
 from .checks import SimulationOptionWarning, check_step, check_t_out, check_tmax, check_tolerances, initial_state
 from .inputs import input_signal
 from .methods import get_method
-from .model import resolve_model
+from .model import plant_of
 from .result import SimulationResult
 
 __all__ = ["simulate", "DEFAULT_OUTPUT_POINTS", "DEFAULT_RTOL", "DEFAULT_ATOL"]
@@ -114,8 +114,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     """
     if not isinstance(compile, bool):
         raise TypeError(f"compile must be True or False; got {compile!r}.")
-    resolved = resolve_model(model)
-    eom = resolved.eom
+    plant = plant_of(model)
     tmax = check_tmax(tmax)
     cls = get_method(method)
     _warn_ignored(cls, dt, rtol, atol, t_out)
@@ -132,23 +131,20 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     else:
         grid = np.linspace(0.0, tmax, DEFAULT_OUTPUT_POINTS)
     times = grid if t_out is None else check_t_out(t_out, tmax)
-    x_init = initial_state(x0, eom.states, resolved.default_x)
-    params = dict(resolved.default_p)
-    if p is not None and not isinstance(p, Mapping):
-        eom.parameter_vector(p)          # raises ParameterError with the model's names
-    params.update(p or {})
-    p_vec = eom.parameter_vector(params)
-    if resolved.default_u and (inputs is None or isinstance(inputs, Mapping)):
-        inputs = {**resolved.default_u, **(inputs or {})}
-    signal = input_signal(inputs, eom.inputs, tmax)
-    problem = Problem(eom, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
+    x_init = initial_state(x0, plant.states, plant.default_x)
+    p_vec = plant.parameter_vector(p)
+    if plant.default_u and (inputs is None or isinstance(inputs, Mapping)):
+        inputs = {**plant.default_u, **(inputs or {})}
+    signal = input_signal(inputs, plant.inputs, tmax)
+    problem = Problem(plant, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
                       compile=compile)
     X, stats = cls(problem).solve()
     U = signal(times)
     t0 = time.perf_counter()
-    Y = resolved.outputs(X, U, p_vec, compile=compile)
+    Y = plant.outputs(X, U, p_vec, compile=compile)
     stats["outputs_wall_s"] = time.perf_counter() - t0
-    return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats)
+    return SimulationResult(times, X, plant.states, U, plant.inputs, Y, plant.output_names, stats,
+                            plant.output_units, plant.n_q)
 
 
 def _warn_ignored(cls, dt, rtol, atol, t_out) -> None:

@@ -84,7 +84,7 @@ class FixedStepMethod(Method):
 
     # ------------------------------------------------------------------ hooks
     def _state_size(self) -> int:
-        return self.problem.eom.n_x
+        return self.problem.plant.n_x
 
     def _step(self, z, U, p, h):
         raise NotImplementedError
@@ -100,17 +100,17 @@ class FixedStepMethod(Method):
         evaluated only if ``need_end`` (an output time in the last step).
         """
         pr = self.problem
-        F = np.empty((Zr.shape[0], pr.eom.n_x))
+        F = np.empty((Zr.shape[0], pr.plant.n_x))
         F[:-1] = Ar
         F[-1] = 0.0                              # weight zero in the interpolation unless needed
         if need_end:
-            F[-1] = np.asarray(pr.eom.functions.rhs(Zr[-1, : pr.eom.n_x], pr.inputs.at(float(t_grid[-1])),
+            F[-1] = np.asarray(pr.plant.rhs(Zr[-1, : pr.plant.n_x], pr.inputs.at(float(t_grid[-1])),
                                                     pr.p)).reshape(-1)
         return F, int(need_end)
 
     def _symbol_class(self) -> type:
         """SX or MX for the step (default: as the model's rhs)."""
-        return symbolic_rhs(self.problem.eom)[0]
+        return symbolic_rhs(self.problem.plant)[0]
 
     def _counts(self, A: np.ndarray) -> tuple[int, int]:
         """(rhs or residual evaluations, Jacobian evaluations) of the loop, from the by-products."""
@@ -127,24 +127,24 @@ class FixedStepMethod(Method):
     # ------------------------------------------------------------------ machinery
     def _prepare(self) -> tuple[Any, bool]:
         pr = self.problem
-        step, _ = prepared(pr.eom, self.cache_key("step"), self._build_step)
-        return prepared(pr.eom, self.cache_key("loop", pr.n_steps), lambda: PreparedLoop(step[0], pr.n_steps, step[1]))
+        step, _ = prepared(pr.owner, self.cache_key("step"), self._build_step)
+        return prepared(pr.owner, self.cache_key("loop", pr.n_steps), lambda: PreparedLoop(step[0], pr.n_steps, step[1]))
 
     def _build_step(self) -> tuple[ca.Function, bool]:
-        eom = self.problem.eom
+        plant = self.problem.plant
         sym = self._symbol_class()
         z = sym.sym("z", self._state_size())
-        U = sym.sym("U", eom.n_u, len(self.nodes))
-        p = sym.sym("p", eom.n_p)
+        U = sym.sym("U", plant.n_u, len(self.nodes))
+        p = sym.sym("p", plant.n_p)
         h = sym.sym("h")
         z_next, aux = self._step(z, U, p, h)
         opts = {"cse": True} if sym is ca.SX else {}
-        step = ca.Function(f"{eom.name}_{self.name.replace('-', '_')}_step", [z, U, p, h], [z_next, aux],
+        step = ca.Function(f"{plant.name}_{self.name.replace('-', '_')}_step", [z, U, p, h], [z_next, aux],
                            ["z", "U", "p", "h"], ["z_next", "aux"], opts)
         return self._compile(step)
 
     def _integrate(self, prep: PreparedLoop) -> Trajectory:
-        pr, eom = self.problem, self.problem.eom
+        pr, plant = self.problem, self.problem.plant
         h, n = pr.dt, pr.n_steps
         t_grid = h * np.arange(n + 1)
         t_grid[-1] = pr.tmax
@@ -153,14 +153,14 @@ class FixedStepMethod(Method):
         U = pr.inputs(t_stage).T                                   # (n_u, n_c * n)
         z0 = self._initial()
         Zn, A = prep.run(z0, U, pr.p, h)                           # (n_z, n), (n_aux, n)
-        bad, bad_aux = first_bad_column(Zn[: eom.n_x], pr.x0), self._aux_failure(A)
+        bad, bad_aux = first_bad_column(Zn[: plant.n_x], pr.x0), self._aux_failure(A)
         Zr = np.vstack([z0[None, :], Zn.T])                         # (n + 1, n_z) rows at t_grid
         Z = Zr.T
         if bad_aux is not None and (bad is None or bad_aux <= bad):
             self._raise_aux_failure(bad_aux, A, Z, t_grid)
         if bad is not None:
-            hint = "" if self.implicit else stability_hint(eom, pr, self.name, self.stability_radius)
-            raise_diverged(self.name, float(t_grid[bad + 1]), h, Zn[: eom.n_x, bad], eom.states, pr.x0,
+            hint = "" if self.implicit else stability_hint(plant, pr, self.name, self.stability_radius)
+            raise_diverged(self.name, float(t_grid[bad + 1]), h, Zn[: plant.n_x, bad], plant.states, pr.x0,
                            where=f"step {bad + 1} of {n}", hint=hint)
         x_out, n_extra = self._output(Zr, A.T, t_grid)
         n_rhs, n_jac = self._counts(A)
@@ -172,7 +172,7 @@ class FixedStepMethod(Method):
     def _output(self, Zr: np.ndarray, Ar: np.ndarray, t_grid: np.ndarray) -> tuple[np.ndarray, int]:
         """States at ``t_out`` (rows): exact on the step grid, cubic Hermite in between."""
         pr = self.problem
-        h, n_x = pr.dt, pr.eom.n_x
+        h, n_x = pr.dt, pr.plant.n_x
         k = np.clip(np.floor(pr.t_out / h + 1e-9).astype(int), 0, pr.n_steps)
         s = (pr.t_out - t_grid[k]) / h
         if np.all(np.abs(s) <= 1e-9):
@@ -202,7 +202,7 @@ class RK4(FixedStepMethod):
     stability_radius: ClassVar[float] = 2.78
 
     def _step(self, x, U, p, h):
-        rhs = self.problem.eom.functions.rhs
+        rhs = self.problem.plant.rhs
         k1 = rhs(x, U[:, 0], p)
         k2 = rhs(x + (h / 2) * k1, U[:, 1], p)
         k3 = rhs(x + (h / 2) * k2, U[:, 1], p)

@@ -68,6 +68,7 @@ class GeneralizedAlpha(FixedStepMethod):
     name: ClassVar[str] = "generalized-alpha"
     order: ClassVar[int] = 2
     implicit: ClassVar[bool] = True
+    second_order: ClassVar[bool] = True
     nodes: ClassVar[tuple[float, ...]] = (1.0,)
     stability_radius: ClassVar[float] = float("inf")
     #: Spectral radius of the amplification matrix at infinite frequency [-].
