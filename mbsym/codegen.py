@@ -25,7 +25,6 @@ Measured on the CI machine kind (paper45 turbine, 3 DOFs): the RK4 step of
 
 from __future__ import annotations
 
-import atexit
 import functools
 import hashlib
 import os
@@ -233,10 +232,11 @@ def compile_in_background(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAG
     """Compile ``f`` into the disk cache in a background thread (no result: later calls find the library).
 
     Used by the accuracy-driven default of :func:`mbsym.simulate` when compiling does not pay off within
-    the call but would over later ones. At interpreter exit, running compilations are waited for (at most
-    :data:`COMPILE_TIMEOUT_S`), so that the library lands in the cache. Returns whether a compilation
-    was started (not when compilation is off, no compiler exists, or one for ``f`` is already running).
-    Failures are silent (the next call compiles again, or uses the virtual machine).
+    the call but would over later ones. The thread is not a daemon: the interpreter waits for it at exit
+    (at most :data:`COMPILE_TIMEOUT_S`), so that the library lands in the cache (a daemon thread would
+    lose its temporary build directory to the interpreter's exit clean-up). Returns whether a
+    compilation was started (not when compilation is off, no compiler exists, or one for ``f`` is
+    already running). Failures are silent (the next call compiles again, or uses the virtual machine).
     """
     if os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0") or compiler_command(compiler) is None:
         return False
@@ -254,20 +254,17 @@ def compile_in_background(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAG
                 except Exception:  # noqa: BLE001 - a background warm-up must never disturb the caller
                     pass
 
-        thread = threading.Thread(target=work, name=f"mbsym-compile-{f.name()}", daemon=True)
+        thread = threading.Thread(target=work, name=f"mbsym-compile-{f.name()}", daemon=False)
         _BACKGROUND[key] = thread
         thread.start()
     return True
 
 
 def wait_for_background(timeout: float | None = COMPILE_TIMEOUT_S) -> None:
-    """Wait for the background compilations started by :func:`compile_in_background` (called at exit)."""
+    """Wait for the background compilations started by :func:`compile_in_background` (e.g. in benchmarks)."""
     deadline = None if timeout is None else time.monotonic() + timeout
     for thread in list(_BACKGROUND.values()):
         thread.join(None if deadline is None else max(deadline - time.monotonic(), 0.0))
-
-
-atexit.register(wait_for_background)
 
 
 def _fallback(f: ca.Function, key: str, t0: float, message: str, warn: bool) -> CompiledFunction:

@@ -205,7 +205,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         monitor.update(tmax)
     U = signal(times) if extra is None else extra.u
     t0 = time.perf_counter()
-    Y = plant.outputs(X, U, p_vec, compile=bool(stats.get("compiled")) and compile is not False)
+    Y = plant.outputs(X, U, p_vec, compile=compile if auto else bool(compile))
     stats["outputs_wall_s"] = time.perf_counter() - t0
     names, units = plant.output_names, plant.output_units
     if extra is not None:

@@ -387,7 +387,8 @@ def _run_rk4(plant, x0, p, signal, times, tmax, accuracy, sel, compile, monitor)
         except IntegrationError:
             estimate = math.inf
         stats.update(compile_choice=reason, background_compile=background, error_estimate=estimate,
-                     check=f"step doubling ({'2 dt' if double_ok else 'dt / 2'})")
+                     check=f"step doubling ({'2 dt' if double_ok else 'dt / 2'})",
+                     check_steps=n // 2 if double_ok else 2 * n)
         if estimate <= accuracy or attempt == MAX_REFINEMENTS:
             break
         shrink = (0.7 * accuracy / estimate) ** 0.25 if math.isfinite(estimate) else 0.25

@@ -32,6 +32,7 @@ turns each into the :class:`Plant` the methods integrate. An object with ``eom``
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any, Mapping, Protocol, Sequence, runtime_checkable
 
@@ -65,43 +66,81 @@ class ResolvedModel:
     output_function: ca.Function | None
     output_names: tuple[str, ...]
 
-    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool = False) -> np.ndarray:
-        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y); ``compile``: as generated C.
-
-        The output Function mapped over the N rows is built once per (model, N, compile) and kept in the
-        cache of prepared Functions (:func:`mbsym.simulate.base.prepared`; the entry holds ``f`` itself,
-        so its ``id`` stays unique); it is called through ``Function.buffer()`` on numpy arrays.
-        """
-        n = X.shape[0]
-        if self.output_function is None:
-            return np.zeros((n, 0))
-        f = self.output_function
-        mapped, _ = prepared(self.eom, ("outputs", id(f), n, compile, compile_key(compile)),
-                              lambda: (f, _MappedOutputs(f, n, compile)))
-        return mapped[1](X, U, p)
+    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool | None = False) -> np.ndarray:
+        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y) (see :func:`evaluate_outputs`)."""
+        return evaluate_outputs(self.eom, self.output_function, X, U, p, compile)
 
 
-class _MappedOutputs:
-    """``(X (N, n_x), U (N, n_u), p) -> Y (N, n_y)``: ``f`` mapped over N columns, called through a buffer."""
+#: Output times per call of the mapped output Function (CasADi's map takes time to build in proportion to
+#: its length: 1.4 ms for 512 columns, 34 ms for 3001; blocks of a fixed length are built once per model).
+OUTPUT_BLOCK = 256
 
-    def __init__(self, f: ca.Function, n: int, compile: bool) -> None:
-        g = maybe_compile(f, True)[0] if compile else f
-        serial = g.map(f"{f.name()}_map{n}", "serial", n, [2], [])       # p (input 2) shared by all columns
-        X, U, P = (ca.MX.sym(s, g.size1_in(i), n if i < 2 else 1) for i, s in enumerate(("X", "U", "p")))
-        Y = ca.vertcat(*[ca.reshape(ca.densify(r), -1, n) for r in serial.call([X, U, P])])
-        self.n, self.n_y = n, Y.size1()
-        self.function = ca.Function(f"{f.name()}_outputs{n}", [X, U, P], [Y])
+
+def evaluate_outputs(owner: Any, f: ca.Function | None, X: np.ndarray, U: np.ndarray, p: np.ndarray,
+                     compile: bool | None = False) -> np.ndarray:
+    """``f(x, u, p)`` at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y).
+
+    ``f`` is mapped over blocks of :data:`OUTPUT_BLOCK` columns (one Function per model, cached in
+    :func:`mbsym.simulate.base.prepared`), called through ``Function.buffer()`` on numpy arrays.
+    ``compile``: True as generated C; False in CasADi's virtual machine; None: compiled when the
+    library is already in the disk cache, else the virtual machine (and, when that takes more than
+    10 ms, a compilation into the disk cache in the background for the next runs).
+    """
+    n = X.shape[0]
+    if f is None:
+        return np.zeros((n, 0))
+    block = min(OUTPUT_BLOCK, max(n, 1))
+    sym, _ = prepared(owner, ("outputs", id(f), block, "symbolic"), lambda: (f, _mapped_block(f, block)))
+    g = sym[1]
+    choice = compile
+    if compile is None:
+        from .. import codegen
+
+        choice = codegen.cached_library(g) is not None
+    run, _ = prepared(owner, ("outputs", id(f), block, bool(choice), compile_key(bool(choice))),
+                      lambda: (f, _BlockOutputs(maybe_compile(g, True)[0] if choice else g, block)))
+    t0 = time.perf_counter()
+    Y = run[1](X, U, p)
+    if compile is None and not choice and time.perf_counter() - t0 > 0.01:
+        from .. import codegen
+
+        codegen.compile_in_background(g)
+    return Y
+
+
+def _mapped_block(f: ca.Function, block: int) -> ca.Function:
+    """``(X (n_x, B), U (n_u, B), P (n_p, B)) -> Y (n_y, B)``: ``f`` mapped over B columns, outputs stacked."""
+    serial = f.map(block, "serial")
+    X, U, P = (ca.MX.sym(s, f.size1_in(i), block) for i, s in enumerate(("X", "U", "p")))
+    Y = ca.vertcat(*[ca.reshape(ca.densify(r), -1, block) for r in serial.call([X, U, P])])
+    return ca.Function(f"{f.name()}_outputs{block}", [X, U, P], [Y])
+
+
+class _BlockOutputs:
+    """``(X (N, n_x), U (N, n_u), p) -> Y (N, n_y)`` through a block Function of B columns (last block padded)."""
+
+    def __init__(self, g: ca.Function, block: int) -> None:
+        self.g, self.block, self.n_y = g, block, g.size1_out(0)
 
     def __call__(self, X: np.ndarray, U: np.ndarray, p: np.ndarray) -> np.ndarray:
+        n, B = X.shape[0], self.block
+        n_pad = -(-n // B) * B
         # row-major (N, n) equals column-major (n, N): the layout CasADi reads and writes
-        args = [np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (X, U, p)]
-        Y = np.empty((self.n, self.n_y))
-        buf, trigger = self.function.buffer()
-        for i, a in enumerate(args):
-            buf.set_arg(i, memoryview(a))
-        buf.set_res(0, memoryview(Y.reshape(-1)))
-        trigger()
-        return Y
+        Xp, Up = np.zeros((n_pad, X.shape[1])), np.zeros((n_pad, U.shape[1]))
+        Xp[:n], Up[:n] = X, U
+        Xp[n:], Up[n:] = X[-1:], U[-1:] if n else 0.0          # padding: repeat a valid row
+        P = np.ascontiguousarray(np.broadcast_to(np.asarray(p, dtype=float), (B, np.size(p))))
+        Y = np.empty((n_pad, self.n_y))
+        buf, trigger = self.g.buffer()
+        buf.set_arg(2, memoryview(P.reshape(-1)))
+        for k in range(0, n_pad, B):
+            xs, us = Xp[k:k + B].reshape(-1), Up[k:k + B].reshape(-1)
+            ys = Y[k:k + B].reshape(-1)
+            buf.set_arg(0, memoryview(xs))
+            buf.set_arg(1, memoryview(us))
+            buf.set_res(0, memoryview(ys))
+            trigger()
+        return Y[:n]
 
 
 def resolve_model(model: Any) -> ResolvedModel:
@@ -228,15 +267,9 @@ class Plant:
             raise ParameterError(f"p must be a dict by parameter name; got {type(p).__name__}.")
         return self._parameter_vector({**self.default_p, **(p or {})})
 
-    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool = False) -> np.ndarray:
-        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y) (see :meth:`ResolvedModel.outputs`)."""
-        n = X.shape[0]
-        if self.output_function is None:
-            return np.zeros((n, 0))
-        f = self.output_function
-        mapped, _ = prepared(self.owner, ("outputs", id(f), n, compile, compile_key(compile)),
-                             lambda: (f, _MappedOutputs(f, n, compile)))
-        return mapped[1](X, U, p)
+    def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool | None = False) -> np.ndarray:
+        """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y) (see :func:`evaluate_outputs`)."""
+        return evaluate_outputs(self.owner, self.output_function, X, U, p, compile)
 
 
 def plant_of(model: Any) -> Plant:
