@@ -44,6 +44,12 @@ class SimulationResult:
         extras (``rtol``, ``atol``, ``n_lu``; ``input_samples`` of the SUNDIALS
         methods: samples per callable input). Counters a method does not know
         are ``None``.
+    output_units : tuple of str
+        Units of the columns of ``y`` ("" when the model gives none), e.g. OpenFAST's.
+    structural : int or None
+        Number of coordinates ``q`` when ``x`` starts with ``[q; qd]`` (equations of
+        motion, or dynamics composed around them); None for other first-order dynamics,
+        where :attr:`q` and :attr:`qd` are not defined.
     """
 
     t: np.ndarray
@@ -54,16 +60,33 @@ class SimulationResult:
     y: np.ndarray
     output_names: tuple[str, ...]
     statistics: dict = field(default_factory=dict)
+    output_units: tuple[str, ...] = ()
+    structural: int | None = -1
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "u", "y"):
             arr = np.array(getattr(self, name), dtype=float)   # a private copy, then read-only
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
+        units = tuple(self.output_units) or ("",) * len(self.output_names)
+        if len(units) != len(self.output_names):
+            raise ValueError(f"output_units has {len(units)} entries for {len(self.output_names)} outputs.")
+        object.__setattr__(self, "output_units", units)
+        if self.structural == -1:                       # not given: x = [q; qd]
+            object.__setattr__(self, "structural", len(self.states) // 2)
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Units of the outputs by name (e.g. ``res.units["RotSpeed"] == "rpm"``)."""
+        return dict(zip(self.output_names, self.output_units))
 
     @property
     def n_q(self) -> int:
-        return len(self.states) // 2
+        """Number of coordinates (see :attr:`structural`)."""
+        if self.structural is None:
+            raise AttributeError("this result is of first-order dynamics without coordinates q (structural is "
+                                 "None): use x, states and state(name).")
+        return self.structural
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -77,7 +100,7 @@ class SimulationResult:
     @property
     def qd(self) -> np.ndarray:
         """Speeds, shape (N, n_q) (a view of ``x``)."""
-        return self.x[:, self.n_q:]
+        return self.x[:, self.n_q: 2 * self.n_q]
 
     @property
     def success(self) -> bool:

@@ -1,0 +1,604 @@
+"""Discrete controllers in the loop of :func:`mbsym.simulate`, with zero-order hold.
+
+A :class:`DiscreteController` runs every ``dt`` seconds, at ``t_k = k dt``: it reads the
+measurements ``y_k`` (model outputs or states, by name) at ``t_k``, updates its state and sets
+the inputs it actuates, which are then held until ``t_{k+1}``::
+
+    (xc_{k+1}, u_k) = law(xc_k, y_k)        u(t) = u_k on [t_k, t_{k+1})
+
+The plant is integrated between samples by RK4 sub-steps (``m`` per sample; the step never
+straddles a sample time, where the held inputs jump). Inputs not actuated by the controller
+(e.g. the wind speed as a time series) follow ``inputs=`` as without a controller. A value given
+in ``inputs=`` for an actuated input is its value before the first sample (what measurements
+with direct feedthrough see at t = 0).
+
+Two kinds of law:
+
+- a CasADi ``Function (xc, y) -> (xc_next, u)``: the whole closed loop is **one generated
+  loop**, a ``mapaccum`` over controller samples whose body is the law followed by the ``m``
+  RK4 sub-steps of the plant with ``u`` held (compiled to C with the rest when compilation is on);
+- a Python callable ``law(t, xc, y) -> (xc_next, u)`` (a DISCON library through ctypes, an
+  NMPC step), called once per sample between compiled plant loops.
+
+The result holds the plant states, the inputs as applied (held values included) and, appended
+to the outputs, the controller states (after each sample: the value on ``[t_k, t_{k+1})`` is
+``xc_{k+1}``), named ``state_names``.
+
+Between output times the states are cubic Hermite interpolants of each sub-step (with the
+derivative at a sample's end taken with that sample's held input: one extra rhs evaluation per
+sample).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..exceptions import DimensionError, IntegrationError, SimulationOptionError
+from .base import BufferedFunction, Problem, dense_rhs, maybe_compile, prepared
+from .checks import first_bad_column, raise_diverged
+from .fixed import RK4, PreparedLoop
+from .monitor import CHUNK_WALL_S, SimulationInterrupted
+
+__all__ = ["DiscreteController", "bind_controller", "run_closed_loop"]
+
+
+class DiscreteController:
+    """A discrete-time controller with zero-order hold, for ``mbsym.simulate(..., controller=...)``.
+
+    Parameters
+    ----------
+    law : casadi.Function or callable
+        ``Function (xc, y) -> (xc_next, u)`` with column vectors ``xc (n_xc)``, ``y
+        (len(measurements))``, ``u (len(actuates))``: kept inside the generated loop. Or a Python
+        callable ``law(t, xc, y) -> (xc_next, u)`` [t in s; arrays], called once per sample.
+    dt : float
+        Sample time [s].
+    x0 : array (n_xc), optional
+        Initial controller state (default zeros; a Function law fixes n_xc).
+    measurements : sequence of str, keyword-only
+        Names of the model outputs or states that form ``y``, in order (outputs are looked up
+        first).
+    actuates : sequence of str, keyword-only
+        Names of the model inputs set by ``u``, in order.
+    state_names : sequence of str, optional, keyword-only
+        Names of the controller states in the result (default ``<name>.x0``, ``<name>.x1``, ...).
+    name : str, optional, keyword-only
+        Default ``"controller"``.
+
+    Raises
+    ------
+    SimulationOptionError
+        A sample time that is not a positive finite number.
+    DimensionError
+        Sizes of the Function, x0 and the names that do not agree; duplicate names.
+    TypeError
+        A law that is neither a casadi.Function nor callable.
+
+    Examples
+    --------
+    A discrete integral controller driving a first-order plant ``x' = -x + u`` to ``y = 1``:
+
+    >>> import casadi as ca, mbsym as mb
+    >>> x, u, p = ca.SX.sym("x"), ca.SX.sym("u"), ca.SX.sym("p", 0)
+    >>> plant = mb.Dynamics(ca.Function("f", [x, u, p], [-x + u]), states=["x"], inputs=["u"])
+    >>> xc, y = ca.SX.sym("xc"), ca.SX.sym("y")
+    >>> law = ca.Function("I", [xc, y], [xc + 0.1 * (1 - y), xc + 0.1 * (1 - y)])
+    >>> ctrl = DiscreteController(law, 0.1, measurements=["x"], actuates=["u"])
+    >>> res = mb.simulate(plant, 20.0, controller=ctrl)
+    >>> round(float(res.state("x")[-1]), 3)
+    1.0
+    """
+
+    def __init__(self, law: ca.Function | Callable, dt: float, x0: Sequence[float] | None = None, *,
+                 measurements: Sequence[str], actuates: Sequence[str], state_names: Sequence[str] | None = None,
+                 name: str = "controller") -> None:
+        if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(float(dt)) or float(dt) <= 0:
+            raise SimulationOptionError(f"controller sample time dt must be a positive finite number [s]; got {dt!r}.")
+        self.dt = float(dt)
+        self.name = str(name)
+        self.measurements = _unique(measurements, "measurements")
+        self.actuates = _unique(actuates, "actuates")
+        if not self.actuates:
+            raise DimensionError("actuates must name at least one model input the controller sets.")
+        if isinstance(law, ca.Function):
+            n_xc = self._check_function(law, x0)
+            self.is_function = True
+        elif callable(law):
+            n_xc = 0 if x0 is None else np.size(x0)
+            self.is_function = False
+        else:
+            raise TypeError(f"law must be a casadi.Function (xc, y) -> (xc_next, u) or a callable "
+                            f"law(t, xc, y) -> (xc_next, u); got {type(law).__name__}.")
+        self.law = law
+        self.x0 = _vector(np.zeros(n_xc) if x0 is None else x0, n_xc, "x0")
+        names = [f"{self.name}.x{i}" for i in range(n_xc)] if state_names is None else list(state_names)
+        self.state_names = _unique(names, "state_names")
+        if len(self.state_names) != n_xc:
+            raise DimensionError(f"state_names has {len(self.state_names)} names for {n_xc} controller states.")
+
+    @property
+    def n_xc(self) -> int:
+        return self.x0.size
+
+    def _check_function(self, f: ca.Function, x0) -> int:
+        if f.n_in() != 2 or f.n_out() != 2:
+            raise DimensionError(f"the controller Function must be (xc, y) -> (xc_next, u); {f.name()!r} has "
+                                 f"{f.n_in()} inputs and {f.n_out()} outputs.")
+        n_xc = f.numel_in(0)
+        if f.numel_out(0) != n_xc:
+            raise DimensionError(f"the controller Function takes a state of {n_xc} values but returns "
+                                 f"{f.numel_out(0)} as xc_next.")
+        if f.numel_in(1) != len(self.measurements):
+            raise DimensionError(f"the controller Function takes y of {f.numel_in(1)} values; measurements names "
+                                 f"{len(self.measurements)}: {list(self.measurements)}.")
+        if f.numel_out(1) != len(self.actuates):
+            raise DimensionError(f"the controller Function returns u of {f.numel_out(1)} values; actuates names "
+                                 f"{len(self.actuates)}: {list(self.actuates)}.")
+        if x0 is not None and np.size(x0) != n_xc:
+            raise DimensionError(f"x0 has {np.size(x0)} values; the controller Function's state has {n_xc}.")
+        return n_xc
+
+    def __repr__(self) -> str:
+        kind = f"Function {self.law.name()!r}" if self.is_function else "Python callable"
+        return (f"DiscreteController({self.name!r}, {kind}, dt={self.dt:g} s, n_xc={self.n_xc}, "
+                f"measurements={list(self.measurements)}, actuates={list(self.actuates)})")
+
+
+def _unique(names: Sequence[str], what: str) -> tuple[str, ...]:
+    if isinstance(names, str):
+        raise TypeError(f"{what} must be a sequence of names, e.g. [{names!r}]; got the string {names!r}.")
+    out = tuple(str(n) for n in names)
+    if len(set(out)) != len(out):
+        raise DimensionError(f"{what} names must be unique; got {list(out)}.")
+    return out
+
+
+def _vector(value, n: int, what: str) -> np.ndarray:
+    try:
+        v = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise DimensionError(f"controller {what} must be {n} numbers; got {value!r}.") from None
+    if v.size != n or not np.all(np.isfinite(v)):
+        raise DimensionError(f"controller {what} must be {n} finite numbers; got {v.tolist()}.")
+    return v
+
+
+# ------------------------------------------------------------------------------------------- binding
+@dataclass
+class BoundController:
+    """A controller attached to a plant: index maps and the measurement Function."""
+
+    ctrl: DiscreteController
+    act: np.ndarray               # indices of the actuated inputs in u
+    measure: ca.Function          # (x, u, p) -> y
+    substep_dt: float | None      # step given explicitly (method "rk4", dt), else None
+    n_columns: int
+
+
+def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float) -> BoundController:
+    """Check ``controller`` against ``plant`` and the options; build the measurement Function."""
+    if not isinstance(controller, DiscreteController):
+        raise TypeError(f"controller must be an mbsym.simulate.DiscreteController; got {type(controller).__name__}.")
+    if method not in (None, "rk4"):
+        raise SimulationOptionError(f"a controller runs with RK4 sub-steps between its samples; method {method!r} is "
+                                    "not supported with controller= (leave method unset, or use 'rk4').")
+    c = controller
+    missing = [n for n in c.actuates if n not in plant.inputs]
+    if missing:
+        raise DimensionError(f"the controller actuates {missing}, which are not inputs of the model; its inputs are "
+                             f"{list(plant.inputs)}.")
+    unknown = [n for n in c.measurements if n not in plant.output_names and n not in plant.states]
+    if unknown:
+        raise DimensionError(f"the controller measures {unknown}, which are neither outputs nor states of the model; "
+                             f"outputs: {list(plant.output_names)[:20]}, states: {list(plant.states)[:20]}.")
+    clash = [n for n in c.state_names if n in plant.output_names]
+    if clash:
+        raise DimensionError(f"controller state names {clash} are also model outputs; pass other state_names.")
+    h = None
+    if dt is not None:
+        m = c.dt / dt
+        if abs(m - round(m)) > 1e-9 * max(m, 1.0):
+            raise SimulationOptionError(f"dt = {dt:g} s must divide the controller sample time {c.dt:g} s (the RK4 "
+                                        "steps must not straddle a sample, where the held inputs jump); choose "
+                                        f"dt = {c.dt:g} / m or leave method and dt unset.")
+        h = c.dt / round(m)
+    return BoundController(c, np.array([plant.inputs.index(n) for n in c.actuates], dtype=int),
+                           _measurement_function(plant, c.measurements), h, c.n_xc)
+
+
+def _measurement_function(plant, names: Sequence[str]) -> ca.Function:
+    x, u, p = (ca.MX.sym(s, n) for s, n in (("x", plant.n_x), ("u", plant.n_u), ("p", plant.n_p)))
+    y_all = None
+    if any(n in plant.output_names for n in names):
+        y_all = ca.vertcat(*[ca.vec(v) for v in plant.output_function.call([x, u, p])])
+    rows = [y_all[plant.output_names.index(n)] if n in plant.output_names else x[plant.states.index(n)]
+            for n in names]
+    y = ca.vertcat(*rows) if rows else ca.MX(0, 1)
+    return ca.Function(f"{plant.name}_measurements", [x, u, p], [y], ["x", "u", "p"], ["y"])
+
+
+# ------------------------------------------------------------------------------------------- runs
+@dataclass
+class Extra:
+    """Columns the closed loop adds to a result: inputs as applied, controller states."""
+
+    u: np.ndarray
+    y: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+
+
+def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, accuracy, dt, compile, monitor):
+    """Integrate plant + controller; ``(X on times, statistics, Extra)``."""
+    from .auto import BACKGROUND_COMPILE_MIN_S, CHECK_SAMPLES, epsilon, plant_step
+    from .monitor import check_resources
+
+    c = bc.ctrl
+    u_init = signal.at(0.0)
+    t0 = time.perf_counter()
+    if bc.substep_dt is not None:
+        m, reason = int(round(c.dt / bc.substep_dt)), f"rk4, dt = {bc.substep_dt:.4g} s (given)"
+    elif accuracy is None:
+        m = max(1, int(math.ceil(c.dt / RK4.default_dt - 1e-9)))
+        reason = f"rk4, {m} sub-step(s) of at most {RK4.default_dt} s per sample"
+    else:
+        ps = plant_step(plant, x0, u_init, p, tmax, accuracy, h_max=c.dt)
+        h = min(ps.h_accuracy, 0.95 * ps.h_stability, c.dt) if math.isfinite(ps.h_accuracy) else c.dt / 4
+        m = max(1, int(math.ceil(c.dt / h - 1e-9)))
+        reason = (f"rk4, {m} sub-step(s) of {c.dt / m:.4g} s per {c.dt:g} s sample, from the linearized spectrum "
+                  f"at t = 0 (|λ|max = {ps.rho:.3g} 1/s)")
+    select_s = time.perf_counter() - t0
+    loop = _ClosedLoop(bc, plant, x0, p, signal, tmax)
+    check_resources(times.size, 1, float(loop.samples) * m, tmax)
+    on, compile_reason = _compilation(loop, m, compile, accuracy is not None, BACKGROUND_COMPILE_MIN_S)
+    res = loop.run(times, m, on, monitor)
+    wall = res.stats["integration_wall_s"]
+    estimate = None
+    if accuracy is not None:                # step doubling on the sub-steps (samples unchanged)
+        if m >= 2 and m % 2 == 0:
+            sub = slice(None, None, max(1, int(math.ceil(times.size / CHECK_SAMPLES))))
+            chk = loop.run(times[sub], m // 2, on, None)
+            estimate = epsilon(res.x[sub], chk.x) / 15.0
+        else:                               # twice the sub-steps: the finer run is the answer
+            chk = loop.run(times, 2 * m, on, None)
+            estimate = epsilon(chk.x, res.x) / 15.0
+            res, m = chk, 2 * m
+        wall += chk.stats["integration_wall_s"]
+    stats = res.stats
+    stats["integration_wall_s"] = wall
+    if estimate is not None:
+        stats.update(error_estimate=estimate, accuracy=accuracy, check="step doubling (sub-steps per sample)")
+    stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
+                 controller_samples=res.samples, substeps=m, dt=res.h)
+    stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
+    return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc)
+
+
+def _compilation(loop: "_ClosedLoop", m: int, compile, auto: bool, threshold: float) -> tuple[bool, str]:
+    if compile is not None:
+        return bool(compile), f"compile={compile}"
+    if not auto:
+        return False, "virtual machine (explicit method)"
+    from .. import codegen
+
+    f = loop.body(m)
+    per = loop.sample_seconds(f)
+    vm = per * loop.samples * 1.5
+    if vm <= threshold:
+        return False, f"virtual machine: ~{1e3 * vm:.3g} ms"
+    if codegen.compile_disabled() or codegen.compiler_command() is None:
+        return False, "virtual machine: compilation unavailable"
+    if codegen.cached_library(f) is not None:
+        return True, "compiled: its library is in the disk cache"
+    cost = codegen.estimate_compile_seconds(f)
+    if vm > cost:
+        return True, f"compiled: ~{vm:.2g} s in the virtual machine against ~{cost:.2g} s of compiling"
+    codegen.compile_in_background(f)
+    return False, f"virtual machine: ~{1e3 * vm:.3g} ms, below ~{cost:.2g} s of compiling; compiling in the background"
+
+
+@dataclass
+class _Run:
+    x: np.ndarray
+    u: np.ndarray
+    xc: np.ndarray
+    stats: dict
+    samples: int
+    h: float
+
+
+class _ClosedLoop:
+    """The sampled-data loop of one simulate() call (see the module docstring)."""
+
+    def __init__(self, bc: BoundController, plant, x0, p, signal, tmax) -> None:
+        self.bc, self.plant, self.x0, self.p, self.signal, self.tmax = bc, plant, x0, p, signal, tmax
+        c = bc.ctrl
+        self.samples = max(int(math.ceil(tmax / c.dt - 1e-9)), 1)
+        self.u_init = signal.at(0.0)[bc.act]
+        dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
+        self.rk4 = RK4(dummy)
+
+    # ---------------------------------------------------------------- the generated body
+    def body(self, m: int) -> ca.Function:
+        """``(z = [x; xc; u_held], Uexo (n_u, 3m), p, h) -> (z_next, aux)``: law, then m RK4 sub-steps."""
+        plant, bc = self.plant, self.bc
+
+        def build():
+            step = self.rk4.symbolic_step()
+            inner = step.mapaccum(f"{step.name()}_sub{m}", m, [0], [0])
+            n_x, n_u, n_a, n_xc = plant.n_x, plant.n_u, bc.act.size, bc.ctrl.n_xc
+            z, U = ca.MX.sym("z", n_x + n_xc + n_a), ca.MX.sym("U", n_u, 3 * m)
+            p, h = ca.MX.sym("p", plant.n_p), ca.MX.sym("h")
+            x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:]
+            keep, put = _masks(n_u, bc.act)
+            u_meas = ca.mtimes(keep, U[:, 0]) + ca.mtimes(put, ua_prev)
+            y = bc.measure(x, u_meas, p)
+            xc1, ua = bc.ctrl.law(xc, y)
+            Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
+            Xs, K1 = inner(x, Uh, ca.repmat(p, 1, m), ca.repmat(h, 1, m))
+            k_end = plant.rhs(Xs[:, -1], Uh[:, -1], p)
+            z_next = ca.vertcat(Xs[:, -1], xc1, ua)
+            aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
+            return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, h], [z_next, aux],
+                               ["z", "U", "p", "h"], ["z_next", "aux"])
+
+        return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
+                                           bc.ctrl.measurements, m), build)[0]
+
+    def sample_seconds(self, f: ca.Function) -> float:
+        """Wall time of one sample of the body ``f`` [s] (buffered calls, best of two)."""
+        z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        U = np.repeat(self.signal.at(0.0)[:, None], f.size2_in(1), axis=1)
+        args = [z, np.asfortranarray(U).reshape(-1, order="F"), np.ascontiguousarray(self.p, dtype=float),
+                np.array([self.bc.ctrl.dt])]
+        outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
+        buf, trigger = f.buffer()
+        for i, a in enumerate(args):
+            buf.set_arg(i, memoryview(a))
+        for i, o in enumerate(outs):
+            buf.set_res(i, memoryview(o))
+        best = math.inf
+        for _ in range(2):
+            t0 = time.perf_counter()
+            trigger()
+            best = min(best, time.perf_counter() - t0)
+        return best
+
+    # ---------------------------------------------------------------- running
+    def run(self, times: np.ndarray, m: int, compiled: bool, monitor) -> _Run:
+        t0 = time.perf_counter()
+        if self.bc.ctrl.is_function:
+            body, on = self.body(m), False
+            body, on = maybe_compile(body, compiled)
+            prep = time.perf_counter() - t0
+            out = self._run_function(body, times, m, monitor)
+        else:
+            step, on = self.rk4.symbolic_step(), False
+            step, on = maybe_compile(step, compiled)
+            loop = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
+                            lambda: PreparedLoop(step, m, on))[0]
+            rhs = BufferedFunction(maybe_compile(dense_rhs(self.plant), compiled)[0] if compiled
+                                   else dense_rhs(self.plant), self.p)
+            meas = BufferedFunction(self.bc.measure, self.p)
+            prep = time.perf_counter() - t0
+            out = self._run_callable(loop, rhs, meas, times, m, monitor)
+        out.stats.update(prepare_wall_s=prep, compiled=on, method="rk4", cache_hit=None, disk_cache_hit=None,
+                         success=True, n_jac=0)
+        return out
+
+    def _sample_grid(self, k0: int, k1: int) -> tuple[np.ndarray, np.ndarray]:
+        """Start times and lengths of samples k0..k1-1 (the last one ends at tmax)."""
+        c = self.bc.ctrl
+        start = np.arange(k0, k1) * c.dt
+        end = np.minimum(start + c.dt, self.tmax)
+        return start, end - start
+
+    def _exogenous(self, start: np.ndarray, length: np.ndarray, m: int) -> np.ndarray:
+        """Inputs at the RK4 stage times of every sub-step, (n_u, 3 m n_samples)."""
+        j = np.arange(m)[:, None] + np.array([0.0, 0.5, 1.0])[None, :]          # (m, 3) in sub-steps
+        t = start[:, None, None] + (length / m)[:, None, None] * j[None, :, :]
+        return self.signal(t.reshape(-1)).T
+
+    def _run_function(self, body: ca.Function, times, m, monitor) -> _Run:
+        n_x, n_xc, n_a = self.plant.n_x, self.bc.ctrl.n_xc, self.bc.act.size
+        z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        collector = _Collector(self, times, m)
+        K, k0, per, wall = self.samples, 0, 0.0, 0.0
+        try:
+            while k0 < K:
+                L = _first_chunk(self, body) if k0 == 0 else _chunk(K - k0, per)
+                loop = _sample_loop(self.plant.owner, body, L)
+                start, length = self._sample_grid(k0, k0 + L)
+                U = self._exogenous(start, length, m)
+                t1 = time.perf_counter()
+                Zn, A = loop.run(z, U, self.p, length / m)
+                dt_run = time.perf_counter() - t1
+                wall += dt_run
+                per = max(dt_run / L, 1e-8)
+                Xs = A[: n_x * m].reshape(n_x, m, L, order="F")
+                K1 = A[n_x * m: 2 * n_x * m].reshape(n_x, m, L, order="F")
+                k_end = A[2 * n_x * m: 2 * n_x * m + n_x]
+                xc = A[2 * n_x * m + n_x: 2 * n_x * m + n_x + n_xc]
+                ua = A[2 * n_x * m + n_x + n_xc:]
+                collector.add(k0, z[:n_x], Xs, K1, k_end, xc, ua, start, length)
+                z = Zn[:, -1].copy()
+                k0 += L
+                if monitor is not None:
+                    monitor.update(float(min(k0 * self.bc.ctrl.dt, self.tmax)))
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(min(k0 * self.bc.ctrl.dt, self.tmax), collector.partial()) from None
+        return collector.result(wall, m)
+
+    def _run_callable(self, loop: PreparedLoop, rhs, meas, times, m, monitor) -> _Run:
+        c, n_x, act = self.bc.ctrl, self.plant.n_x, self.bc.act
+        x, xc, ua = self.x0.copy(), c.x0.copy(), self.u_init.copy()
+        collector = _Collector(self, times, m)
+        wall, last_report, k = 0.0, time.perf_counter(), 0
+        try:
+            for k in range(self.samples):
+                start, length = self._sample_grid(k, k + 1)
+                U = self._exogenous(start, length, m)
+                u_meas = U[:, 0].copy()
+                u_meas[act] = ua
+                t1 = time.perf_counter()
+                y = meas(x, u_meas).reshape(-1)
+                xc, ua = _call_law(c, float(start[0]), xc, y)
+                U[act, :] = ua[:, None]
+                Zn, K1 = loop.run(x, U, self.p, float(length[0]) / m)
+                k_end = rhs(Zn[:, -1], U[:, -1])
+                wall += time.perf_counter() - t1
+                collector.add(k, x, Zn.reshape(n_x, m, 1), K1.reshape(n_x, m, 1), k_end.reshape(n_x, 1),
+                              xc.reshape(-1, 1), ua.reshape(-1, 1), start, length)
+                x = Zn[:, -1].copy()
+                if monitor is not None and time.perf_counter() - last_report > CHUNK_WALL_S:
+                    monitor.update(float(start[0] + length[0]))
+                    last_report = time.perf_counter()
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(k * c.dt, collector.partial()) from None
+        return collector.result(wall, m)
+
+
+def _first_chunk(loop: _ClosedLoop, body: ca.Function) -> int:
+    """Samples of the first chunk: all of them unless one sample's timed cost says they take > 0.3 s."""
+    return loop.samples if loop.samples <= 64 else _chunk(loop.samples, loop.sample_seconds(body))
+
+
+def _chunk(remaining: int, per_sample: float) -> int:
+    """All remaining samples if they take about a chunk's time, else a power of two (16..4096) of them."""
+    fit = CHUNK_WALL_S / max(per_sample, 1e-9)
+    if remaining <= 1.5 * fit:
+        return remaining
+    return int(min(max(16, 2 ** int(math.log2(max(fit, 1.0)))), 4096, remaining))
+
+
+def _sample_loop(owner, body: ca.Function, n: int) -> "_SampleLoop":
+    return prepared(owner, ("closed-loop samples", id(body), n), lambda: _SampleLoop(body, n))[0]
+
+
+class _SampleLoop:
+    """``mapaccum`` of the closed-loop body over n samples, each with its own sub-step length h."""
+
+    def __init__(self, body: ca.Function, n: int) -> None:
+        self.n = n
+        self.body = body
+        loop = body.mapaccum(f"{body.name()}_loop{n}", n, [0], [0])
+        z, U = ca.MX.sym("z", body.size1_in(0)), ca.MX.sym("U", body.size1_in(1), body.size2_in(1) * n)
+        p, H = ca.MX.sym("p", body.size1_in(2)), ca.MX.sym("H", 1, n)
+        self.loop = ca.Function(f"{body.name()}_loop{n}", [z, U, p, H], loop(z, U, ca.repmat(p, 1, n), H))
+
+    def run(self, z0, U, p, H):
+        args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
+                np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(H, dtype=float)]
+        outs = [np.empty(self.n * self.body.numel_out(i)) for i in range(2)]
+        buf, trigger = self.loop.buffer()
+        for i, a in enumerate(args):
+            buf.set_arg(i, memoryview(a))
+        for i, o in enumerate(outs):
+            buf.set_res(i, memoryview(o))
+        trigger()
+        return tuple(o.reshape(self.n, -1).T for o in outs)
+
+
+def _masks(n_u: int, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``keep`` (n_u, n_u): zero on actuated rows; ``put`` (n_u, n_a): places u_ctrl on them."""
+    keep = np.eye(n_u)
+    keep[act, act] = 0.0
+    put = np.zeros((n_u, act.size))
+    put[act, np.arange(act.size)] = 1.0
+    return keep, put
+
+
+def _call_law(c: DiscreteController, t: float, xc: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if c.is_function:
+        xc1, ua = c.law(xc, y)
+        return np.asarray(xc1, dtype=float).reshape(-1), np.asarray(ua, dtype=float).reshape(-1)
+    out = c.law(t, xc.copy(), y.copy())
+    if not (isinstance(out, (tuple, list)) and len(out) == 2):
+        raise DimensionError(f"controller {c.name!r}: law(t, xc, y) must return (xc_next, u); got {type(out).__name__} "
+                             f"at t = {t:g} s.")
+    try:
+        xc1 = np.asarray(out[0], dtype=float).reshape(-1)
+        ua = np.asarray(out[1], dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise DimensionError(f"controller {c.name!r}: law returned non-numeric values at t = {t:g} s.") from None
+    if xc1.size != c.n_xc or ua.size != len(c.actuates):
+        raise DimensionError(f"controller {c.name!r}: law(t, xc, y) returned xc_next of {xc1.size} and u of {ua.size} "
+                             f"values at t = {t:g} s; expected {c.n_xc} and {len(c.actuates)} ({list(c.actuates)}).")
+    if not (np.all(np.isfinite(xc1)) and np.all(np.isfinite(ua))):
+        raise IntegrationError(f"controller {c.name!r} returned non-finite values at t = {t:g} s: xc_next = "
+                               f"{xc1.tolist()}, u = {ua.tolist()}.")
+    return xc1, ua
+
+
+class _Collector:
+    """Outputs of a closed-loop run at the requested times, chunk by chunk (Hermite within each sub-step)."""
+
+    def __init__(self, loop: _ClosedLoop, times: np.ndarray, m: int) -> None:
+        self.loop, self.times, self.m = loop, times, m
+        n_x, c = loop.plant.n_x, loop.bc.ctrl
+        self.x = np.empty((times.size, n_x))
+        self.u = np.empty((times.size, loop.plant.n_u))
+        self.xc = np.empty((times.size, c.n_xc))
+        self.done = 0
+        self.steps = 0
+        self.h = c.dt / m
+
+    def add(self, k0, x_start, Xs, K1, k_end, xc, ua, start, length) -> None:
+        """Samples k0.. of one chunk: sub-step end states Xs (n_x, m, L), start derivatives K1, end derivatives."""
+        lp, m = self.loop, self.m
+        n_x, L = Xs.shape[0], Xs.shape[2]
+        bad = first_bad_column(Xs.reshape(n_x, -1, order="F"), lp.x0)
+        if bad is not None:
+            j = bad // m
+            raise_diverged("rk4", float(start[j] + (bad % m + 1) * length[j] / m), float(length[j] / m),
+                           Xs.reshape(n_x, -1, order="F")[:, bad], lp.plant.states, lp.x0,
+                           where=f"controller sample {k0 + j + 1} of {lp.samples}")
+        self.steps += L * m
+        t_end = float(start[-1] + length[-1])
+        last = k0 + L == lp.samples
+        hi = self.times.size if last else int(np.searchsorted(self.times, t_end * (1 - 1e-12), side="left"))
+        if hi <= self.done:
+            return
+        t = self.times[self.done:hi]
+        # sample and sub-step of each output time
+        j = np.clip(np.searchsorted(start, t * (1 + 1e-12) + 1e-12, side="right") - 1, 0, L - 1)
+        h = length[j] / m
+        s_abs = (t - start[j]) / h
+        i = np.clip(np.floor(s_abs + 1e-9).astype(int), 0, m - 1)
+        s = np.clip(s_abs - i, 0.0, 1.0)[:, None]
+        XL = np.where((i == 0)[:, None], x_start_rows(x_start, Xs, j), Xs[:, np.maximum(i - 1, 0), j].T)
+        XR = Xs[:, i, j].T
+        FL = K1[:, i, j].T
+        FR = np.where((i == m - 1)[:, None], k_end[:, j].T, K1[:, np.minimum(i + 1, m - 1), j].T)
+        hh = h[:, None]
+        s2, s3 = s * s, s * s * s
+        self.x[self.done:hi] = ((2 * s3 - 3 * s2 + 1) * XL + (s3 - 2 * s2 + s) * hh * FL
+                                + (3 * s2 - 2 * s3) * XR + (s3 - s2) * hh * FR)
+        U = lp.signal(t)
+        U[:, lp.bc.act] = ua[:, j].T
+        self.u[self.done:hi] = U
+        self.xc[self.done:hi] = xc[:, j].T
+        self.done = hi
+
+    def partial(self):
+        return self.times[: self.done], self.x[: self.done].copy()
+
+    def result(self, wall: float, m: int) -> _Run:
+        lp = self.loop
+        stats = {"steps": self.steps, "n_rhs": self.steps * 4 + lp.samples, "integration_wall_s": wall,
+                 "message": f"{lp.samples} controller samples of {lp.bc.ctrl.dt:g} s, {m} RK4 sub-step(s) each, "
+                            f"up to t = {lp.tmax:g} s."}
+        return _Run(self.x, self.u, self.xc, stats, lp.samples, lp.bc.ctrl.dt / m)
+
+
+def x_start_rows(x_start: np.ndarray, Xs: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """State at the start of samples ``j`` of a chunk: x_start for the first, else the previous sample's end."""
+    prev = Xs[:, -1, np.maximum(j - 1, 0)].T
+    return np.where((j == 0)[:, None], x_start[None, :], prev)
