@@ -46,6 +46,7 @@ import numpy as np
 from ..exceptions import IntegrationError
 from .base import Method, Trajectory, prepared, symbolic_rhs
 from .checks import divergence_message, first_bad_column, raise_diverged
+from .monitor import SimulationInterrupted, sigint_seen
 
 __all__ = ["SundialsMethod", "Cvodes", "Adams", "Idas", "CALLABLE_INTERVALS", "MAX_CALLABLE_INTERVALS"]
 
@@ -179,8 +180,11 @@ class SundialsMethod(Method):
         else:
             args = {"x0": pr.x0, "p": np.concatenate([pr.p, pr.inputs.at(0.0)]), **self._call_args()}
         try:
-            X = np.array(integ(**args)["xf"])
-        except RuntimeError as exc:
+            with sigint_seen() as interrupted:
+                X = np.array(integ(**args)["xf"])
+        except (RuntimeError, KeyboardInterrupt) as exc:
+            if interrupted or isinstance(exc, KeyboardInterrupt):
+                raise SimulationInterrupted(float(integ.stats().get("tcur", 0.0))) from None
             raise IntegrationError(self._failure(integ, args, exc)) from exc
         stats = integ.stats()
         bad = first_bad_column(X, pr.x0)

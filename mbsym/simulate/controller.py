@@ -237,7 +237,7 @@ class Extra:
 
 def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, accuracy, dt, compile, monitor):
     """Integrate plant + controller; ``(X on times, statistics, Extra)``."""
-    from .auto import BACKGROUND_COMPILE_MIN_S, CHECK_SAMPLES, epsilon, plant_step
+    from .auto import BACKGROUND_COMPILE_MIN_S, CHECK_SAMPLES, MAX_REFINEMENTS, epsilon, plant_step
     from .monitor import check_resources
 
     c = bc.ctrl
@@ -261,20 +261,30 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     res = loop.run(times, m, on, monitor)
     wall = res.stats["integration_wall_s"]
     estimate = None
-    if accuracy is not None:                # step doubling on the sub-steps (samples unchanged)
+    for attempt in range(MAX_REFINEMENTS + 1 if accuracy is not None else 0):
+        # step doubling on the sub-steps (the samples stay): half of them when possible, else twice as many
         if m >= 2 and m % 2 == 0:
             sub = slice(None, None, max(1, int(math.ceil(times.size / CHECK_SAMPLES))))
             chk = loop.run(times[sub], m // 2, on, None)
             estimate = epsilon(res.x[sub], chk.x) / 15.0
-        else:                               # twice the sub-steps: the finer run is the answer
+        else:                                           # the finer run is the answer
             chk = loop.run(times, 2 * m, on, None)
             estimate = epsilon(chk.x, res.x) / 15.0
             res, m = chk, 2 * m
         wall += chk.stats["integration_wall_s"]
+        if estimate <= accuracy or attempt == MAX_REFINEMENTS:
+            break
+        grow = (estimate / (0.7 * accuracy)) ** 0.25 if math.isfinite(estimate) else 4.0
+        m = 2 * int(math.ceil(m * min(max(grow, 1.2), 10.0) / 2))      # even: the next check halves it
+        reason += f"; refined to {m} sub-steps after the check estimated ε = {estimate:.2g}"
+        res = loop.run(times, m, on, monitor)
+        wall += res.stats["integration_wall_s"]
     stats = res.stats
     stats["integration_wall_s"] = wall
     if estimate is not None:
         stats.update(error_estimate=estimate, accuracy=accuracy, check="step doubling (sub-steps per sample)")
+        if estimate > accuracy:
+            stats["message"] += f" The error estimate {estimate:.2g} is above the requested accuracy {accuracy:g}."
     stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
                  controller_samples=res.samples, substeps=m, dt=res.h)
     stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
@@ -288,9 +298,12 @@ def _compilation(loop: "_ClosedLoop", m: int, compile, auto: bool, threshold: fl
         return False, "virtual machine (explicit method)"
     from .. import codegen
 
-    f = loop.body(m)
-    per = loop.sample_seconds(f)
-    vm = per * loop.samples * 1.5
+    if loop.bc.ctrl.is_function:
+        f = loop.body(m)
+        vm = loop.sample_seconds(f) * loop.samples * 1.5
+    else:                                   # a Python law: the plant's RK4 step is what may be compiled
+        f = loop.rk4.symbolic_step()
+        vm = loop.rk4._step_seconds(f, loop.x0) * loop.samples * m * 1.5
     if vm <= threshold:
         return False, f"virtual machine: ~{1e3 * vm:.3g} ms"
     if codegen.compile_disabled() or codegen.compiler_command() is None:

@@ -20,10 +20,13 @@ seconds (5 s), so that batch jobs show they are alive.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
+import threading
 import time
-from typing import Callable, TextIO
+from typing import Callable, Iterator, TextIO
 
 import numpy as np
 
@@ -127,6 +130,35 @@ class ProgressPrinter:
             self.stream.write("\n")
             self.stream.flush()
             self._drawn = False
+
+
+@contextlib.contextmanager
+def sigint_seen() -> Iterator[list]:
+    """Record whether SIGINT (Ctrl-C) arrives during the block (CasADi's SUNDIALS interfaces turn it into a
+    solver failure without saying so); the previous handler still runs. Yields a list, non-empty once seen.
+    Outside the main thread (no signal handlers there) nothing is recorded."""
+    seen: list = []
+    if threading.current_thread() is not threading.main_thread():
+        yield seen
+        return
+    previous = signal.getsignal(signal.SIGINT)
+
+    def handler(signum, frame):
+        seen.append(time.perf_counter())
+        if callable(previous):
+            previous(signum, frame)
+        elif previous == signal.SIG_DFL:
+            raise KeyboardInterrupt
+
+    try:
+        signal.signal(signal.SIGINT, handler)
+    except (ValueError, OSError):           # not allowed here (embedded interpreter): record nothing
+        yield seen
+        return
+    try:
+        yield seen
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def memory_limit() -> float:
