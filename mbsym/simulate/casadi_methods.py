@@ -37,7 +37,6 @@ of samples is reported as ``statistics["input_samples"]``.
 
 from __future__ import annotations
 
-import hashlib
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -120,6 +119,8 @@ class SundialsMethod(Method):
         (self._fn, self._compiled), _ = prepared(pr.owner, ("sundials", f.name(), pr.compile, self._compiler),
                                                  lambda: self._compile(f, jacobian=True))
         samples = None if self._splines is None else (pr.inputs.callables, self._splines[0].size, pr.tmax)
+        import hashlib
+
         key = self.cache_key(pr.rtol, pr.atol, self._varying, grid.size, hashlib.sha1(grid.tobytes()).hexdigest(),
                              samples)
         return prepared(pr.owner, key, lambda: self._build(grid))

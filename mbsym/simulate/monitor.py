@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import signal
 import sys
 import threading
 import time
@@ -137,6 +136,8 @@ def sigint_seen() -> Iterator[list]:
     """Record whether SIGINT (Ctrl-C) arrives during the block (CasADi's SUNDIALS interfaces turn it into a
     solver failure without saying so); the previous handler still runs. Yields a list, non-empty once seen.
     Outside the main thread (no signal handlers there) nothing is recorded."""
+    import signal
+
     seen: list = []
     if threading.current_thread() is not threading.main_thread():
         yield seen
