@@ -183,7 +183,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     monitor = RunMonitor(tmax, progress) if progress is not None else None
     try:
         if ctrl is not None:
-            from .controller import run_closed_loop
+            from .closed_loop import run_closed_loop
 
             X, stats, extra = run_closed_loop(ctrl, plant, x_init, p_vec, signal, times, tmax, accuracy=accuracy,
                                               dt=h, compile=compile, monitor=monitor)
