@@ -56,6 +56,7 @@ from .. import codegen
 from ..exceptions import IntegrationError
 from .base import Problem
 from .fixed import RK4
+from .monitor import check_resources
 
 __all__ = ["DEFAULT_ACCURACY", "Selection", "linearized", "predict_rk4_error", "rk4_stability_limit",
            "select", "run_auto", "epsilon"]
@@ -393,6 +394,7 @@ def _run_rk4(plant, x0, p, signal, times, tmax, accuracy, sel, compile, monitor)
     for attempt in range(MAX_REFINEMENTS + 1):
         n = _even_steps(tmax, h)
         h = tmax / n
+        check_resources(times.size, 1, 1.5 * n, tmax, fewer_steps="request a looser accuracy")   # outputs: checked
         main = RK4(_problem(plant, x0, p, signal, times, tmax, dt=h, monitor=monitor))
         on, reason, background = decide_compilation(main, compile, n, True)
         if on:

@@ -58,7 +58,8 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
                   f"at t = 0 (|λ|max = {ps.rho:.3g} 1/s)")
     select_s = time.perf_counter() - t0
     loop = _ClosedLoop(bc, plant, x0, p, signal, tmax)
-    check_resources(times.size, 1, float(loop.samples) * m, tmax)
+    check_resources(times.size, 1, float(loop.samples) * m, tmax,
+                    fewer_steps="use a longer controller sample time or fewer sub-steps")
     on, compile_reason = _compilation(loop, m, compile, accuracy is not None, BACKGROUND_COMPILE_MIN_S)
     res = loop.run(times, m, on, monitor)
     wall = res.stats["integration_wall_s"]

@@ -175,7 +175,8 @@ def memory_limit() -> float:
     return float(MEMORY_LIMIT_BYTES)
 
 
-def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: float) -> float:
+def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: float, *,
+                    fewer_steps: str = "use a larger step dt") -> float:
     """Refuse runs whose result or step count is beyond the limits; return the estimated result size [bytes].
 
     Parameters
@@ -188,6 +189,8 @@ def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: flo
         Number of integration steps of a fixed-step method (None for adaptive methods).
     tmax : float
         End time [s] (for the message).
+    fewer_steps : str, optional, keyword-only
+        How to take fewer steps, for the message.
 
     Raises
     ------
@@ -207,7 +210,7 @@ def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: flo
     if n_steps is not None and n_steps > MAX_STEPS:
         raise SimulationOptionError(
             f"the run would take {n_steps:.4g} integration steps (more than {MAX_STEPS:.3g}, hours of computing); "
-            f"shorten tmax = {tmax:g} s or use a larger step dt.")
+            f"shorten tmax = {tmax:g} s or {fewer_steps}.")
     return need
 
 
