@@ -23,7 +23,11 @@ from .controller import BoundController, DiscreteController
 from .fixed import RK4, PreparedLoop
 from .monitor import CHUNK_WALL_S, SimulationInterrupted
 
-__all__ = ["run_closed_loop"]
+__all__ = ["run_closed_loop", "CALLABLE_BATCH"]
+
+#: Samples per batch of a Python law: inputs sampled and outputs interpolated per batch (Ctrl-C and progress
+#: are handled between batches; a Ctrl-C inside the law ends the run at once).
+CALLABLE_BATCH = 256
 
 
 # ------------------------------------------------------------------------------------------- runs
@@ -253,31 +257,44 @@ class _ClosedLoop:
         return collector.result(wall, m)
 
     def _run_callable(self, loop: PreparedLoop, rhs, meas, times, m, monitor) -> _Run:
+        """One Python call of the law per sample; samples batched in chunks for inputs and outputs."""
         c, n_x, act = self.bc.ctrl, self.plant.n_x, self.bc.act
         x, xc, ua = self.x0.copy(), c.x0.copy(), self.u_init.copy()
         collector = _Collector(self, times, m)
-        wall, last_report, k = 0.0, time.perf_counter(), 0
+        step = loop.runner(self.p)
+        wall, k0, j, last_report = 0.0, 0, 0, time.perf_counter()
         try:
-            for k in range(self.samples):
-                start, length = self._sample_grid(k, k + 1)
-                U = self._exogenous(start, length, m)
-                u_meas = U[:, 0].copy()
-                u_meas[act] = ua
+            while k0 < self.samples:
+                L = min(CALLABLE_BATCH, self.samples - k0)
+                start, length = self._sample_grid(k0, k0 + L)
+                U_all = self._exogenous(start, length, m)            # (n_u, 3 m L)
+                Xs, K1 = np.empty((n_x, m, L)), np.empty((n_x, m, L))
+                KE, XC, UA = np.empty((n_x, L)), np.empty((c.n_xc, L)), np.empty((act.size, L))
+                x_start = x.copy()
                 t1 = time.perf_counter()
-                y = meas(x, u_meas).reshape(-1)
-                xc, ua = _call_law(c, float(start[0]), xc, y)
-                U[act, :] = ua[:, None]
-                Zn, K1 = loop.run(x, U, self.p, float(length[0]) / m)
-                k_end = rhs(Zn[:, -1], U[:, -1])
+                for j in range(L):
+                    U = U_all[:, 3 * m * j: 3 * m * (j + 1)]
+                    u_meas = U[:, 0].copy()
+                    u_meas[act] = ua
+                    y = meas(x, u_meas).reshape(-1)
+                    xc, ua = _call_law(c, float(start[j]), xc, y)
+                    U[act, :] = ua[:, None]
+                    Zn, K = step(x, U, float(length[j]) / m)
+                    Xs[:, :, j], K1[:, :, j] = Zn, K
+                    KE[:, j] = rhs(Zn[:, -1], U[:, -1])
+                    XC[:, j], UA[:, j] = xc, ua
+                    x = Zn[:, -1].copy()
                 wall += time.perf_counter() - t1
-                collector.add(k, x, Zn.reshape(n_x, m, 1), K1.reshape(n_x, m, 1), k_end.reshape(n_x, 1),
-                              xc.reshape(-1, 1), ua.reshape(-1, 1), start, length)
-                x = Zn[:, -1].copy()
+                collector.add(k0, x_start, Xs, K1, KE, XC, UA, start, length)
+                k0, j = k0 + L, 0
                 if monitor is not None and time.perf_counter() - last_report > CHUNK_WALL_S:
-                    monitor.update(float(start[0] + length[0]))
+                    monitor.update(float(min(k0 * c.dt, self.tmax)))
                     last_report = time.perf_counter()
         except KeyboardInterrupt:
-            raise SimulationInterrupted(k * c.dt, collector.partial()) from None
+            if k0 < self.samples and j > 0:                  # the samples of this batch done before Ctrl-C
+                collector.add(k0, x_start, Xs[:, :, :j], K1[:, :, :j], KE[:, :j], XC[:, :j], UA[:, :j], start[:j],
+                              length[:j])
+            raise SimulationInterrupted(min((k0 + j) * c.dt, self.tmax), collector.partial()) from None
         return collector.result(wall, m)
 
 
