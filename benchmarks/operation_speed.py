@@ -11,8 +11,8 @@ real-time factor and the ratio to OpenFAST (the shared README: a 150 s case of t
 about 3.5x real time). Accuracy beside it: the time-integration error of each run (ε = mean|y - y_ref| /
 range(y_ref) of RotSpeed, BldPitch1, GenPwr, TTDspFA against the same run with half the RK4 step), and
 the model's error against OpenFAST from benchmarks/operation_validation.py (step 10 -> 14 m/s).
-A cost breakdown per controller sample: compiled evaluations of the right-hand side, the measurements
-and the baseline law, and one DISCON call.
+A cost breakdown per controller sample: SX instructions of the right-hand side, the measurements and
+the baseline law, and the time of one DISCON call.
 
     python benchmarks/operation_speed.py [--tmax 600] [--no-discon] [--no-write]
 """
@@ -45,20 +45,6 @@ def run(model, wind, tmax, controller, dt=None):
     t_out = np.round(np.arange(0.0, tmax + 1e-9, 0.05), 10)
     return simulate_turbine(model, wind, tmax, controller=controller, t_out=t_out, compile=True,
                             **({} if dt is None else {"method": "rk4", "dt": dt}))
-
-
-def per_eval(f, args, n=2000, repeat=5) -> float:
-    """Seconds per evaluation of the compiled ``f`` (mapped over n columns, best of ``repeat``)."""
-    from mbsym.codegen import compile_function
-
-    g = compile_function(f.map(n)).function
-    cols = [np.tile(np.asarray(a, dtype=float).reshape(-1, 1), (1, n)) for a in args]
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        g(*cols)
-        best = min(best, time.perf_counter() - t0)
-    return best / n
 
 
 def main() -> None:
@@ -113,19 +99,14 @@ def main() -> None:
                      1e6 * wall / samples, eps(res, fine, res.t), warm))
         del first
         print(rows[-1], flush=True)
-    # breakdown per sample (built-in model)
+    # breakdown per sample (built-in model): instruction counts (deterministic) and one DISCON call
     model = models[id(builtin)]
     dyn = model.dynamics()
-    x0 = model.initial_state(12.0)
-    u0 = np.array([12.0, 0.06, 42000.0])
-    p = dyn.parameter_vector()
-    t_rhs = per_eval(dyn.rhs, [x0, u0, p])
-    t_meas = per_eval(model._parts["measurements"], [x0, u0, p])
-    t_out = per_eval(dyn.outputs, [x0, u0, p])
-    t_eom = per_eval(model.structure.eom.functions.rhs,
-                     [x0[:6], np.array([0.06, 0, 0, 42000, 4e6, 6e5]), p[:8]])
     law = baseline_in_loop(BaselineController(builtin.baseline_settings())).law
-    t_law = per_eval(law, [BaselineController(builtin.baseline_settings()).x0, [1173.7, 12.1, 3.9, 4951.0, 12.0]])
+    n_rhs, n_meas = dyn.rhs.n_instructions(), model._parts["measurements"].n_instructions()
+    n_out, n_law = dyn.outputs.n_instructions(), law.n_instructions()
+    n_eom = model.structure.eom.functions.rhs.n_instructions()
+    per_sample = 5 * n_rhs + n_meas + n_law
     t_discon = np.nan
     if lib is not None:
         with DisconController(lib, INPUTS / "deck" / "DISCON.IN", dt=0.00625) as c:
@@ -140,13 +121,12 @@ def main() -> None:
     for r in rows:
         table.append(f"| {r[0]} | {r[1]:g} | {r[2]} | {r[3]:.3f} | {r[4]:.0f} | {r[5]:.0f} | {r[6]:.1f} | "
                      f"{r[7]:.1e} | {r[8]:.1f} |")
-    breakdown = (f"Per evaluation, compiled (`-O1`): composed right-hand side {1e6 * t_rhs:.2f} us (of which the "
-                 f"structure's equations {1e6 * t_eom:.2f} us; {dyn.rhs.n_instructions()} and "
-                 f"{model.structure.eom.functions.rhs.n_instructions()} SX instructions), measurements "
-                 f"{1e6 * t_meas:.2f} us (all channels: {1e6 * t_out:.2f} us), baseline law {1e6 * t_law:.2f} us; "
-                 f"one DISCON call through ctypes {1e6 * t_discon:.1f} us. A controller sample costs 4 RK4 stages + "
-                 "1 derivative for the dense output + the measurements + the law, about "
-                 f"{1e6 * (5 * t_rhs + t_meas + t_law):.1f} us.")
+    breakdown = (f"A controller sample is 4 RK4 stages + 1 derivative for the dense output + the measurements + the "
+                 f"law: {per_sample} SX instructions (right-hand side {n_rhs}, of which the structure's equations "
+                 f"{n_eom}; measurements {n_meas} (all {dyn.n_y} channels: {n_out}, evaluated after the run); "
+                 f"baseline law {n_law}), {1e3 * rows[0][6] / per_sample:.2f} ns per instruction in "
+                 f"the first run. One DISCON call (ROSCO through ctypes and DisconController.step) takes "
+                 f"{1e6 * t_discon:.0f} us.")
     text = "\n".join(table) + "\n\n" + breakdown
     print(text)
     if not args.no_write:
