@@ -100,7 +100,7 @@ def smooth_clip(x: Any, lo: Any, hi: Any, width: float = 1e-4) -> Any:
 
     Examples
     --------
-    >>> float(smooth_clip(0.5, 0.0, 1.0)), float(smooth_clip(-1.0, 0.0, 1.0)), float(smooth_clip(0.0, 0.0, 1.0))
+    >>> float(smooth_clip(0.5, 0.0, 1.0)), float(smooth_clip(-1.0, 0.0, 1.0)), round(float(smooth_clip(0.0, 0.0, 1.0)), 9)
     (0.5, 0.0, 2.5e-05)
     """
     d = width * (hi - lo)

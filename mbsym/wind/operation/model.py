@@ -106,7 +106,7 @@ class OperatingTurbine:
     >>> dyn.inputs
     ('Wind1VelX', 'BlPitchCom', 'GenTqCom')
     >>> dyn.states[6:]
-    ('BlPitch', 'BlPitch_d', 'GenTq')
+    ('BlPitch', 'BlPitch_d', 'GenTq', 'DBEMT_w', 'DBEMT_v')
     """
 
     def __init__(self, turbine: TurbineParameters, rotor: RotorAero | None = None, *,
