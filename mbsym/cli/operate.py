@@ -217,8 +217,10 @@ def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
 
     sim = deck.turbine.simulation
     if deck.path is None:
-        grid = getattr(wind, "grid", None)
-        tmax = float(grid[-1]) if grid is not None and np.size(grid) > 1 else _BUILTIN_TMAX
+        from ..wind.inflow import TabulatedWind
+
+        table = isinstance(wind, TabulatedWind) and np.size(wind.time) > 1
+        tmax = float(wind.time[-1]) if table else _BUILTIN_TMAX
         sim = SimpleNamespace(total_time=tmax, output_time_step=_BUILTIN_DT_OUT, time_step=deck.controller_dt)
     tmax, t_out, _ = _time_grid(args, sim)
     return tmax, t_out

@@ -58,6 +58,13 @@ def test_builtin_wind_forms_and_no_controller(extra, capsys):
         assert stats["controller"] == "baseline" and stats["steps"] == 200
 
 
+def test_builtin_run_lasts_as_long_as_a_tabulated_wind(tmp_path, capsys):
+    table = tmp_path / "short.csv"
+    table.write_text("Time_[s],Wind1VelX_[m/s]\n0,9\n1.5,10\n")
+    assert main(["simulate", "--wind", str(table), "--stats"]) == 0
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["steps"] == 150
+
+
 def test_wind_files_as_spec(tmp_path, capsys):
     hh = need(AERO / "wind" / "step_10_14.hh")
     assert main(["simulate", "--wind", str(hh), "--tmax", "1", "--controller", "none"]) == 0
