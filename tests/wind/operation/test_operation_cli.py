@@ -26,8 +26,10 @@ def _header(path):
 
 
 def test_builtin_steady_wind_writes_openfast_channels(tmp_path, capsys):
-    out = tmp_path / "run.csv"
-    assert main(["simulate", "--wind", "steady:12", "--tmax", "3", "--stats", "--out", str(out)]) == 0
+    out, png = tmp_path / "run.csv", tmp_path / "run.png"
+    assert main(["simulate", "--wind", "steady:12", "--tmax", "3", "--stats", "--out", str(out), "--plot",
+                 str(png)]) == 0
+    assert png.stat().st_size > 10_000
     text = capsys.readouterr().out
     stats = json.loads(text.strip().splitlines()[-1])
     assert stats["method"] == "rk4" and stats["steps"] == 300 and stats["controller"] == "baseline"
@@ -89,6 +91,21 @@ def test_deck_without_its_library_names_the_path_and_the_fix(capsys):
     err = capsys.readouterr().err
     assert "libdiscon.so" in err and "--discon" in err and "pip download" in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_deck_runs_aerodyn_inflowwind_and_its_discon_library_without_flags(rosco_lib, tmp_path, capsys):
+    """The shared deck laid out as its ServoDyn expects: ../rosco/lib/libdiscon.so next to the deck folder."""
+    need(STEP_DECK)
+    for folder in ("step_10_14", "deck"):
+        (tmp_path / folder).mkdir()
+        for f in (INPUTS / folder).iterdir():
+            (tmp_path / folder / f.name).symlink_to(f)
+    (tmp_path / "rosco" / "lib").mkdir(parents=True)
+    (tmp_path / "rosco" / "lib" / "libdiscon.so").symlink_to(rosco_lib)
+    assert main(["simulate", str(tmp_path / "step_10_14" / "step_10_14.fst"), "--tmax", "1", "--stats"]) == 0
+    out = capsys.readouterr().out
+    stats = json.loads(out.strip().splitlines()[-1])
+    assert stats["controller"] == "discon" and "InflowWind" in out and "dynamic inflow" in out
 
 
 def test_deck_with_the_rosco_library(rosco_lib, capsys):

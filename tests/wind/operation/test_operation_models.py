@@ -49,6 +49,16 @@ def test_prescribed_rotor_speed_without_gendof():
         model.initial_state(12.0, rotor_speed=1.0)
 
 
+def test_first_order_inflow_lag_option_starts_at_equilibrium():
+    model = OperatingTurbine.nrel5mw(dynamic_inflow=False, inflow_lag=True)
+    dyn = model.dynamics()
+    assert dyn.states[-2:] == ("RotThrustLag", "RotTorqLag")
+    g, residual = _steady_residual(model, 12.0)
+    assert np.max(np.abs(residual)) < 1e-6 * max(abs(g.state[-2]), 1.0)
+    y = dict(zip(dyn.output_names, dyn.output_value(g.state, [12.0, g.pitch, g.torque])))
+    assert y["RtAeroFxh"] == pytest.approx(g.state[-2], rel=1e-12)     # the applied thrust is the lag state
+
+
 def test_blade_dofs_warn_that_they_get_no_aerodynamic_load():
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
