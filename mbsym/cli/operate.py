@@ -34,7 +34,6 @@ import argparse
 import json
 import sys
 import time
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np

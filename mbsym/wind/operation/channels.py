@@ -55,7 +55,7 @@ OPERATION_CHANNELS = {
 
 def channel_rows(g) -> list[tuple[str, str, Any]]:
     """``(name, unit, expression)`` of every channel of the composed graph ``g`` (:class:`.compose.Graph`)."""
-    model, eom, P = g.model, g.eom, g.P
+    model = g.model
     structural = model.structure.output_function()
     y_s = structural.function(ca.vertcat(g.q, g.qd), g.u_s, g.p_s)
     rows = [(n, u, y_s[i]) for i, (n, u) in enumerate(zip(structural.names, structural.units))]

@@ -28,7 +28,10 @@ from ...equations import SYMBOLIC_SOLVE_MAX_DOF
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
 
-__all__ = ["compose"]
+__all__ = ["compose", "WIRED_INPUTS"]
+
+#: Structural inputs driven by the composition (the others stay inputs of the Dynamics).
+WIRED_INPUTS = ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd")
 
 
 class Graph:
@@ -47,7 +50,7 @@ class Graph:
         elif model.inflow_lag:
             extra_states += ["RotThrustLag", "RotTorqLag"]
         self.states = tuple(eom.states) + tuple(extra_states)
-        self.passthrough = tuple(n for n in eom.inputs if n not in _wired(eom))
+        self.passthrough = tuple(n for n in eom.inputs if n not in WIRED_INPUTS)
         self.inputs = ("Wind1VelX", "BlPitchCom", "GenTqCom") + self.passthrough
         extra_p = ["air_density", "cp_scale", "ct_scale", *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
@@ -151,12 +154,11 @@ class Graph:
         return self._kinematics(body, self.u_s, self.qdd)
 
 
-def _wired(eom) -> tuple[str, ...]:
-    return ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd")
-
-
 def compose(model) -> Dynamics:
     """The :class:`mbsym.Dynamics` of ``model`` (an :class:`~.model.OperatingTurbine`)."""
+    from .model import _check_structure
+
+    _check_structure(model)
     eom = model.structure.eom
     kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
     g = Graph(model, kind)

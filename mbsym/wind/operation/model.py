@@ -39,11 +39,9 @@ from __future__ import annotations
 import warnings
 from typing import Any, Mapping, Sequence
 
-import casadi as ca
 import numpy as np
 
 from ...dynamics import Dynamics
-from ...equations import SYMBOLIC_SOLVE_MAX_DOF
 from ...exceptions import ModelDefinitionError, ParameterError
 from ..aero.rotor import RotorAero
 from ..deck.parameters import TurbineParameters
@@ -60,7 +58,6 @@ OPERATING_DOFS = ("GenDOF", "TwFADOF1", "TwSSDOF1")
 COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
 #: Aerodynamic parameters: name -> unit.
 AERO_PARAMETERS = {"air_density": "kg/m^3", "cp_scale": "-", "ct_scale": "-"}
-_WIRED = ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd")
 _UNLOADED = ("FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF")
 
 
@@ -218,7 +215,6 @@ class OperatingTurbine:
         """
         dyn = self.dynamics()
         x = dict(zip(dyn.states, dyn.x0))
-        n = self.structure.eom.n_q
         coords = self.structure.eom.coordinates
         if rotor_speed is not None:
             if self.spins_freely:
@@ -249,7 +245,6 @@ class OperatingTurbine:
         if "DrTr" in coords and (wind_speed is not None or torque is not None):
             stiffness = dict(zip(dyn.parameters, dyn.parameter_vector(p)))["drivetrain_stiffness"]
             x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
-        del n
         return np.array([x[s] for s in dyn.states])
 
     def balancing_torque(self, x: np.ndarray, wind_speed: float, p: Mapping[str, float] | None = None) -> float:
@@ -284,6 +279,7 @@ def _check_structure(model: OperatingTurbine) -> None:
     missing = [n for n in ("BlPitch", "RotThrust") if n not in eom.inputs]
     if missing:
         raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
-    for name in ACTUATOR_PARAMETERS:
-        if name in eom.parameters:
-            raise ModelDefinitionError(f"structural parameter {name!r} clashes with an actuator parameter.")
+    clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(AERO_PARAMETERS) | {"rotor_speed"}))
+    if clash:
+        raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "
+                                   "the same names (aerodynamics, actuators, rotor_speed).")
