@@ -100,11 +100,12 @@ class _Kinematics:
         s = P.R @ pos
         R_J = P.R @ R_att @ joint.rotation
         r_J = P.r + s
-        w_J = P.w + P.R @ self._rel_omega(R_att)
+        w_att = joint.parent.attachment_angular_velocity(joint.offset, self.speed)
+        w_J = P.w + P.R @ (self._rel_omega(R_att) if w_att is None else w_att)
         v_J = P.v + ca.cross(P.w, s) + P.R @ self._dt(pos)
         d, R_rel = joint.relative()
         dg = R_J @ d
-        w_rel = joint.angular_velocity(lambda c: self._speed[c.element_hash()])
+        w_rel = joint.angular_velocity(self.speed)
         if w_rel is None:
             w_rel = self._rel_omega(R_rel)
         return Frame(
@@ -113,6 +114,10 @@ class _Kinematics:
             v=v_J + ca.cross(w_J, dg) + R_J @ self._dt(d),
             w=w_J + R_J @ w_rel,
         )
+
+    def speed(self, coordinate: ca.SX) -> ca.SX:
+        """Speed symbol of a coordinate (or prescribed coordinate) symbol."""
+        return self._speed[coordinate.element_hash()]
 
     def q_index(self, coordinate: ca.SX) -> int:
         """Index of a coordinate symbol in q."""

@@ -86,6 +86,12 @@ class FlexibleBody(Body):
         the slope vector, ``n`` its small-angle series to order n (default 1:
         ``I + [θ~]``), ``"elastodyn"`` ElastoDyn's closest orthonormal matrix
         (rotation by ``atan|θ|``, :func:`mbsym.kinematics.elastodyn_rotation`).
+    end_angular_velocity : {"exact", "slope_rates"}, optional
+        Angular velocity of a child attached at the end, relative to the body:
+        ``"exact"`` (default) that of the end orientation, ``vee(Ṙ Rᵀ)``;
+        ``"slope_rates"`` the rates of the slope vector, ``θ̇ = Ψ q̇e`` along constant body
+        axes, ElastoDyn's tower-top convention (it is not the derivative of the end
+        orientation once two slopes are nonzero: no ``θ × θ̇`` term about the beam axis).
     stiffness, damping : array or SX, optional
         Override ``sid.ke`` / ``sid.de`` (n_e x n_e), e.g. with expressions of
         parameters for design studies.
@@ -97,7 +103,8 @@ class FlexibleBody(Body):
 
     def __init__(self, name: str, sid, coordinates: Sequence, *, taylor_order: int = 1,
                  gravity_stiffening: bool = True, centrifugal_stiffening: bool = True,
-                 top_mass=0.0, end_rotation_order: int | None = 1, stiffness=None, damping=None) -> None:
+                 top_mass=0.0, end_rotation_order: int | None = 1, end_angular_velocity: str = "exact",
+                 stiffness=None, damping=None) -> None:
         super().__init__(name)
         coordinates = tuple(coordinates)
         if len(coordinates) != sid.n_e:
@@ -118,6 +125,10 @@ class FlexibleBody(Body):
         self.gravity_stiffening = bool(gravity_stiffening)
         self.centrifugal_stiffening = bool(centrifugal_stiffening)
         self.end_rotation_order = end_rotation_order
+        if end_angular_velocity not in ("exact", "slope_rates"):
+            raise ModelDefinitionError(f"end_angular_velocity of {name!r} must be 'exact' or 'slope_rates'; "
+                                       f"got {end_angular_velocity!r}.")
+        self.end_angular_velocity = end_angular_velocity
         self._top_mass = _scalar(top_mass, f"top_mass of {name!r}")
         ne = sid.n_e
         self._ke = self._square(stiffness, sid.ke, "stiffness", ne)
@@ -163,6 +174,16 @@ class FlexibleBody(Body):
             f"joints and point loads on flexible body {self.name!r} must be at its root [0, 0, 0] or at its "
             f"end {end.tolist()} (body coordinates); got {off.tolist() if off is not None else offset}."
         )
+
+    def attachment_angular_velocity(self, offset: ca.SX, speed) -> ca.SX | None:
+        """``Ψ q̇e`` at the end with ``end_angular_velocity="slope_rates"``; otherwise None (exact)."""
+        if self.end_angular_velocity != "slope_rates" or not offset.is_constant():
+            return None
+        off = np.array(ca.evalf(offset)).reshape(-1)
+        if not np.allclose(off, np.asarray(self._sid.end_position, dtype=float).reshape(-1), rtol=1e-9, atol=1e-9):
+            return None
+        qde = ca.vertcat(*[speed(c) for c in self._qe])
+        return _dm(self._sid.end_rotation) @ qde
 
     # ------------------------------------------------------------ Kane terms
     def kane_terms(self, kin) -> dict:

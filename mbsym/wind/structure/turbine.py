@@ -300,6 +300,7 @@ class TurbineModel:
             top_mass = self._rotor_mass() + p["nacelle_mass"] + p["yaw_bearing_mass"]
             tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
                                  top_mass=top_mass, end_rotation_order="elastodyn",
+                                 end_angular_velocity="slope_rates",
                                  stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
         else:
             data = tower_elastodyn_data(t)
