@@ -56,6 +56,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mbsym.beam.integrals import _inertial_terms
+from mbsym.beam.nodes import LumpedNodes
 from mbsym.beam.sid import ShapeIntegrals, Taylor, _frequencies
 from mbsym.exceptions import BeamDataError
 
@@ -240,5 +241,14 @@ def lumped_shape_integrals(
         me=t["me"], gr=t["gr"], ge=t["ge"], oe=t["oe"], ke=ke, de=de, kg_t=kg_t, kg_r=kg_r,
         kg_omega=kg_omega, kg_tip=kg_tip, end_position=np.array([0.0, 0.0, L]),
         end_displacement=tip_u.T, end_rotation=psi, frequencies_hz=_frequencies(ke, t["me"]),
-        mtt2=t["mtt2"],
+        mtt2=t["mtt2"], nodes=_nodes(zz, m, phi, ax, L, m_tip, tip_u, ax_tip),
     )
+
+
+def _nodes(z, m, phi, ax, length, m_tip, tip_u, ax_tip) -> LumpedNodes:
+    """The point masses (a tip mass as the last node) with their exact displacement field."""
+    if m_tip > 0:
+        z, m = np.append(z, length), np.append(m, m_tip)
+        phi = np.concatenate([phi, tip_u[:, None, :]], axis=1)
+        ax = np.concatenate([ax, ax_tip[:, :, None]], axis=2)
+    return LumpedNodes(z, m, phi[..., :2], ax, ax_tip)

@@ -297,9 +297,8 @@ class TurbineModel:
         active = [f for f in _TOWER if self.dofs.get(f)]
         if active:
             sid = tower_shape_integrals(t, dofs=active)
-            top_mass = self._rotor_mass() + p["nacelle_mass"] + p["yaw_bearing_mass"]
             tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
-                                 top_mass=top_mass, end_rotation_order="elastodyn",
+                                 kinematics="exact", end_rotation_order="elastodyn",
                                  end_angular_velocity="slope_rates",
                                  stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
         else:
@@ -397,7 +396,8 @@ class TurbineModel:
             name = f"blade{k + 1}"
             if flags:
                 sid = blade_shape_integrals(t, k, dofs=flags)
-                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags])
+                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags],
+                                     kinematics="exact")
             else:
                 blade = _rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
