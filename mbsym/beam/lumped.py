@@ -12,7 +12,11 @@ in the body frame (beam along body ``z`` from its root, the body origin), with
 ``Ax(J)`` a symmetric ``n_e x n_e`` matrix, the axial shortening (ElastoDyn's
 ``AxRedBld`` / ``AxRedTFA``: ``Ax_ij(J) ~ int_0^{z_J} Phi_i' . Phi_j' dz``).
 :func:`lumped_shape_integrals` turns such a body into a :class:`ShapeIntegrals`
-whose integrals are all discrete sums over the nodes (and an optional tip mass).
+whose integrals are all discrete sums over the nodes (and an optional tip mass): the
+field to first order in ``q``, with the axial shortening as geometric stiffness (below). The
+returned integrals also keep the nodes (``ShapeIntegrals.nodes``), with which
+``FlexibleBody(..., kinematics="exact")`` uses the field exactly, at every order in ``q``
+(:mod:`mbsym.bodies.lumped_terms`; ElastoDyn's blades and tower at large deflections).
 
 Geometric stiffness from the axial shortening
 ---------------------------------------------
@@ -184,6 +188,9 @@ def lumped_shape_integrals(
     Returns
     -------
     ShapeIntegrals
+        With ``nodes`` (:class:`~mbsym.beam.nodes.LumpedNodes`: the point masses, a tip mass
+        as the last node), so that ``FlexibleBody(..., kinematics="exact")`` can use the exact
+        node positions instead of the first-order integrals and geometric stiffness.
 
     Raises
     ------

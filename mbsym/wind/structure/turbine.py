@@ -4,13 +4,15 @@
 freedom a deck enables (or a list of ElastoDyn flag names), following ElastoDyn's
 kinematic chain (docs/elastodyn_notes.md §4) in IEC axes (x downwind, z up):
 
-ground → platform (Sg, Sw, Hv translations; R, P, Y rotation vector with ElastoDyn's
-small-rotation matrix and fixed-axis rates) → tower (flexible: TwFA/TwSS modes on
-ElastoDyn's nodes, or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
+ground → platform (Sg, Sw, Hv translations; R, P, Y as ElastoDyn v5's yaw–pitch–roll
+Euler sequence with Euler-rate angular velocity, :mod:`.platform`) → tower (flexible:
+TwFA/TwSS modes on ElastoDyn's nodes at their exact positions, the top turning with the
+slope rates; or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
 generator (geared, GenDOF azimuth) and low-speed shaft → hub (DrTrDOF torsion) →
 coned and pitched blades (ElastoDyn's frame ``j``; flexible with FlapDOF1, FlapDOF2 and
 EdgeDOF: lumped node masses with the twisted, curvature-integrated mode shapes of
-:func:`~mbsym.wind.structure.elastodyn_bodies.blade_shape_integrals`, ElastoDyn's stiffness and
+:func:`~mbsym.wind.structure.elastodyn_bodies.blade_shape_integrals` at their exact positions
+``z + Φq − ½qᵀAxq`` (``FlexibleBody(kinematics="exact")``), ElastoDyn's stiffness and
 damping; rigid point-mass blades otherwise).
 
 A disabled DOF keeps its initial value; a disabled GenDOF with a nonzero initial rotor
