@@ -77,52 +77,57 @@ def _poly(mono: _Monomials, tensor: np.ndarray, groups: tuple[tuple[ca.SX, int],
 class ExactLumpedTerms:
     """The exact polynomial terms of one lumped body at symbolic ``q``, ``qd`` (body axes).
 
-    Attributes (SX)
-    ---------------
-    c : 3x1
+    Attributes
+    ----------
+    c : SX (3, 1)
         First moment ``sum m s`` [kg m].
-    inertia : 3x3
+    inertia : SX (3, 3)
         ``sum m (|s|^2 I - s s^T)`` about the origin [kg m^2].
-    C : 3 x n_e
+    C : SX (3, n_e)
         ``sum m S`` [kg].
-    coupling : 3 x n_e
+    G : list of SX (3, 3)
+        ``G[j][a, b] = sum m s_a S_bj`` [kg m].
+    coupling : SX (3, n_e)
         ``sum m s x S_j`` (column j) [kg m].
-    me : n_e x n_e
+    me : SX (n_e, n_e)
         ``sum m S^T S`` [kg].
     """
 
     def __init__(self, moments, q: ca.SX, qd: ca.SX) -> None:
-        mo, ne = moments, q.numel()
+        self._m, self.q, self.qd, self.n_e = moments, q, qd, q.numel()
         self._mono = _Monomials()
-        self._m = mo
-        self.q, self.qd, self.n_e = q, qd, ne
-        P = lambda t, groups: _poly(self._mono, np.asarray(t, dtype=float), groups)  # noqa: E731
-        self._P = P
-        q1, q2, q3, q4 = ((q, 1),), ((q, 2),), ((q, 3),), ((q, 4),)
-        # first moment and second moments sum m s s^T
-        cz = mo.z1 - 0.5 * P(mo.k1, q2)
-        self.c = ca.vertcat(P(mo.p, q1), cz)
-        sxy = _mat(P(mo.pp, q2), 2, 2)                                        # sum m s_a s_b, a, b in x, y
-        sz = P(mo.pz, q1) - 0.5 * P(mo.kp, q3)                                  # sum m s_a s_z (2)
-        szz = mo.z2 - P(mo.kz, q2) + 0.25 * P(mo.kk, q4)
-        Q2 = ca.vertcat(ca.horzcat(sxy, sz), ca.horzcat(sz.T, szz))
-        self.inertia = ca.trace(Q2) * ca.SX.eye(3) - Q2
-        # C = sum m S: rows Phi_x, Phi_y (constant), -(Ax q)^T
-        self.C = ca.vertcat(ca.DM(mo.p), -P(mo.k1, q1).T)
-        # G[a, b, j] = sum m s_a S_bj (outputs of _poly are C-ordered columns)
-        g_xy_xy = P(np.moveaxis(mo.pp, 2, 3), q1)                   # [a, b, j]: pp[a, b, i, j] q_i
-        g_z_xy = _mat(ca.DM(mo.pz.reshape(-1)) - 0.5 * P(np.moveaxis(mo.kp, 3, 1), q2), 2, ne)  # [b, j]
-        g_xy_z = _mat(-P(mo.kp, q2), 2, ne)                                    # [a, j]: kp[a, j, l, k] q_l q_k
-        g_z_z = -P(mo.kz, q1) + 0.5 * P(np.moveaxis(mo.kk, 2, 0), q3)           # [j]: kk[i, k, j, l] q_i q_k q_l
-        self.G = []
-        for j in range(ne):
-            gxx = ca.vertcat(ca.horzcat(g_xy_xy[0 * ne + j], g_xy_xy[1 * ne + j]),
-                             ca.horzcat(g_xy_xy[2 * ne + j], g_xy_xy[3 * ne + j]))
-            self.G.append(ca.vertcat(ca.horzcat(gxx, g_xy_z[:, j]), ca.horzcat(g_z_xy[:, j].T, g_z_z[j])))
+        self._P = lambda t, groups: _poly(self._mono, np.asarray(t, dtype=float), groups)  # noqa: E731
+        mo, P, q1, q2 = moments, self._P, ((q, 1),), ((q, 2),)
+        self.c = ca.vertcat(P(mo.p, q1), mo.z1 - 0.5 * P(mo.k1, q2))
+        self.inertia = self._inertia()
+        self.C = ca.vertcat(ca.DM(mo.p), -P(mo.k1, q1).T)              # rows Phi_x, Phi_y, -(Ax q)^T
+        self.G = self._g_tensor()
         self.coupling = ca.horzcat(*[_vee_antisym(Gj) for Gj in self.G])
-        # M_e = sum m (Phi^T Phi + (Ax q)(Ax q)^T)
-        me_q = _mat(P(np.transpose(mo.kk, (0, 2, 1, 3)), q2), ne, ne)          # [i, j]: kk[i, k, j, l] q_k q_l
-        self.me = ca.DM(mo.pp[0, 0] + mo.pp[1, 1]) + me_q
+        # M_e = sum m (Phi^T Phi + (Ax q)(Ax q)^T); [i, j] from kk[i, k, j, l] q_k q_l
+        self.me = ca.DM(mo.pp[0, 0] + mo.pp[1, 1]) + _mat(P(np.transpose(mo.kk, (0, 2, 1, 3)), q2), self.n_e, self.n_e)
+
+    def _inertia(self) -> ca.SX:
+        """``tr(Q) I - Q`` with the second moments ``Q = sum m s s^T`` (degree 4 in q)."""
+        mo, P, q = self._m, self._P, self.q
+        sxy = _mat(P(mo.pp, ((q, 2),)), 2, 2)                                  # sum m s_a s_b, a, b in x, y
+        sz = P(mo.pz, ((q, 1),)) - 0.5 * P(mo.kp, ((q, 3),))                   # sum m s_a s_z
+        szz = mo.z2 - P(mo.kz, ((q, 2),)) + 0.25 * P(mo.kk, ((q, 4),))
+        Q2 = ca.vertcat(ca.horzcat(sxy, sz), ca.horzcat(sz.T, szz))
+        return ca.trace(Q2) * ca.SX.eye(3) - Q2
+
+    def _g_tensor(self) -> list[ca.SX]:
+        """``G[j][a, b] = sum m s_a S_bj`` (the outputs of ``_poly`` are C-ordered columns)."""
+        mo, P, q, ne = self._m, self._P, self.q, self.n_e
+        g_xy_xy = P(np.moveaxis(mo.pp, 2, 3), ((q, 1),))                       # [a, b, j]: pp[a, b, i, j] q_i
+        g_z_xy = _mat(ca.DM(mo.pz.reshape(-1)) - 0.5 * P(np.moveaxis(mo.kp, 3, 1), ((q, 2),)), 2, ne)  # [b, j]
+        g_xy_z = _mat(-P(mo.kp, ((q, 2),)), 2, ne)                             # [a, j]: kp[a, j, l, k] q_l q_k
+        g_z_z = -P(mo.kz, ((q, 1),)) + 0.5 * P(np.moveaxis(mo.kk, 2, 0), ((q, 3),))  # [j]: kk[i, k, j, l] q_i q_k q_l
+        out = []
+        for j in range(ne):
+            gxx = ca.vertcat(ca.horzcat(g_xy_xy[j], g_xy_xy[ne + j]),
+                             ca.horzcat(g_xy_xy[2 * ne + j], g_xy_xy[3 * ne + j]))
+            out.append(ca.vertcat(ca.horzcat(gxx, g_xy_z[:, j]), ca.horzcat(g_z_xy[:, j].T, g_z_z[j])))
+        return out
 
     def mass_matrix(self) -> ca.SX:
         """``sum m B^T B`` ((6 + n_e)^2, order v, w, qd) [kg, kg m, kg m^2]."""
@@ -157,7 +162,7 @@ class ExactLumpedTerms:
         ex = P(-kpy + np.transpose(kpy, (2, 1, 0)), ((q, 1), (qd, 1)))    # (j) from [j, l, k] q_l qd_k
         ey = P(kpx - np.transpose(kpx, (2, 1, 0)), ((q, 1), (qd, 1)))
         pp = mo.pp
-        ez_mat = np.asarray(pp[0, 1] - pp[1, 0]).T                            # [j, k] = sum m (Phi_x,k Phi_y,j - Phi_y,k Phi_x,j)
+        ez_mat = np.asarray(pp[0, 1] - pp[1, 0]).T          # [j, k] = sum m (Phi_x,k Phi_y,j - Phi_y,k Phi_x,j)
         ez = ca.mtimes(ca.DM(ez_mat), qd)
         return w[0] * ex + w[1] * ey + w[2] * ez
 
