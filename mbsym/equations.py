@@ -192,8 +192,9 @@ class EquationsOfMotion:
         qdd_p = ca.vertcat(*presc[1::2]) if presc else ca.SX(0, 1)
         x = ca.vertcat(kin.q_all, kin.qd_all)
         xd = ca.vertcat(kin.qd_all, d.qdd, qdd_p)
-        a = ca.jtimes(v, x, xd)
-        wd = ca.jtimes(frame.w, x, xd)
+        a = kin.rate(v, x, xd)
+        wd = kin.rate(kin.frame(b).w, x, xd)
+        r, v, a, wd = kin.resolve([r, v, a, wd])
         return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.u, d.p],
                            [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "u", "p"],
                            ["r", "R", "v", "w", "a", "wd"], {"cse": True})
