@@ -16,8 +16,11 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
-from .exceptions import DimensionError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError
+from .exceptions import (
+    DimensionError, MassPropertyError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError,
+)
 from .kane import Derivation
+from .mass_properties import MassPropertyCheck, indefinite_problem
 from .symbols import check_finite_number
 
 __all__ = ["EquationsOfMotion", "EomFunctions"]
@@ -83,6 +86,7 @@ class EquationsOfMotion:
         self._defaults = MappingProxyType(dict(d.defaults))
         self._derivation = d
         self._functions = _build_functions(d, name)
+        self._mass_check = MassPropertyCheck(list(d.bodies.values()), d.p, self._parameters)
 
     # ------------------------------------------------------------ description
     @property
@@ -202,6 +206,9 @@ class EquationsOfMotion:
         ------
         ParameterError
             If a name is unknown, a value is missing (no default) or not finite.
+        MassPropertyError
+            If the values give a rigid body a negative mass or an unphysical inertia
+            (:mod:`mbsym.mass_properties`).
         """
         p = {} if p is None else p
         if not isinstance(p, Mapping):
@@ -218,8 +225,10 @@ class EquationsOfMotion:
                 f"missing values for parameters {missing} (they have no default); pass them in p, "
                 f"e.g. p={{{', '.join(repr(n) + ': ...' for n in missing)}}}."
             )
-        return np.array([check_finite_number(p[n] if n in p else self._defaults[n], f"parameter {n!r}")
-                         for n in self._parameters], dtype=float)
+        vec = np.array([check_finite_number(p[n] if n in p else self._defaults[n], f"parameter {n!r}")
+                        for n in self._parameters], dtype=float)
+        self._mass_check(vec)       # unphysical mass properties (e.g. a negative mass) -> MassPropertyError
+        return vec
 
     def _vec(self, value, n: int, what: str, names) -> np.ndarray:
         if isinstance(value, Mapping):
@@ -343,7 +352,11 @@ class EquationsOfMotion:
 
 
 def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
-    """Raise SingularMassMatrixError naming the coordinates of M's null space."""
+    """Raise SingularMassMatrixError naming the coordinates of M's null space, or
+    MassPropertyError if M has a clearly negative eigenvalue (not positive definite)."""
+    indefinite = indefinite_problem(M, names)
+    if indefinite:
+        raise MassPropertyError(indefinite)
     w, vecs = np.linalg.eigh(0.5 * (M + M.T))
     scale = max(float(np.max(np.abs(w))), 1e-300)
     bad = np.flatnonzero(w <= rtol * scale)

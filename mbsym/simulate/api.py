@@ -8,6 +8,7 @@ from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
 
+from ..mass_properties import check_mass_matrix
 from .base import Problem
 from .checks import SimulationOptionWarning, check_step, check_t_out, check_tmax, check_tolerances, initial_state
 from .inputs import input_signal
@@ -141,6 +142,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if resolved.default_u and (inputs is None or isinstance(inputs, Mapping)):
         inputs = {**resolved.default_u, **(inputs or {})}
     signal = input_signal(inputs, eom.inputs, tmax)
+    check_mass_matrix(eom, x_init[: eom.n_q], signal.at(0.0), p_vec)   # M > 0 at x0 before integrating
     problem = Problem(eom, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
                       compile=compile)
     X, stats = cls(problem).solve()
