@@ -46,13 +46,14 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         ``eom.states``, or a dict by state name whose missing states keep the
         model's default (zero for an EquationsOfMotion). Default: the model's
         default state, else zeros.
-    inputs : None, array (n_u) or dict, optional
+    inputs : None, array (n_u), dict or callable, optional
         ``u(t)``: None (zero, or the model's default inputs), constants in
         order ``eom.inputs``, or a dict by input name (missing inputs take the
         model's default, else zero) of numbers, tables ``(grid,
         values)`` or values on a shared grid ``{"t": grid, "F": values}``
         (interpolated linearly, never extrapolated), or callables ``f(t)``
-        [t in s]. See :mod:`mbsym.simulate.inputs`.
+        [t in s]; or one callable ``f(t) -> n_u values`` for all inputs. See
+        :mod:`mbsym.simulate.inputs`.
     p : dict, optional
         Parameter values by name; the model's defaults fill the gaps.
     method : str, optional

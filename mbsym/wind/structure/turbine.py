@@ -37,7 +37,7 @@ import numpy as np
 
 from ... import FlexibleBody, RigidBody, System
 from ...bodies.base import Body
-from ...exceptions import ModelDefinitionError
+from ...exceptions import ArgumentTypeError, ModelDefinitionError
 from ...joints import Fixed, Joint, Revolute
 from ...kinematics import elastodyn_rotation, rotation
 from .elastodyn_bodies import (
@@ -642,7 +642,7 @@ def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> tup
         chosen = {f for f, on in turbine.dofs.items() if on}
     else:
         if isinstance(dofs, str):
-            raise TypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
+            raise ArgumentTypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
         chosen = set(dofs)
         unknown = sorted(chosen - set(DOF_NAMES))
         if unknown:
