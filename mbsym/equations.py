@@ -78,8 +78,9 @@ class EquationsOfMotion:
     array([[1.]])
     """
 
-    def __init__(self, d: Derivation, *, name: str = "mbsym") -> None:
+    def __init__(self, d: Derivation, *, name: str = "mbsym", units: Mapping[str, str] | None = None) -> None:
         self._name = name
+        self._units = {c: (units or {}).get(c, "-") for c in d.names["coordinate"]}
         self._coordinates = tuple(d.names["coordinate"])
         self._inputs = tuple(d.names["input"])
         self._parameters = tuple(d.names["parameter"])
@@ -125,6 +126,13 @@ class EquationsOfMotion:
     def states(self) -> tuple[str, ...]:
         """Names of ``x = [q; qd]``."""
         return self._coordinates + self.speeds
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Unit of each state by name: coordinates ``"m"`` or ``"rad"`` (``"-"`` if unknown), speeds per s."""
+        out = dict(self._units)
+        out.update({f"{c}_d": (f"{u}/s" if u != "-" else "-") for c, u in self._units.items()})
+        return out
 
     @property
     def inputs(self) -> tuple[str, ...]:

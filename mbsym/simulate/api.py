@@ -14,7 +14,7 @@ from .checks import SimulationOptionWarning, check_step, check_t_out, check_tmax
 from .inputs import input_signal
 from .methods import get_method
 from .model import resolve_model
-from .result import SimulationResult
+from .result import SimulationResult, result_units
 
 __all__ = ["simulate", "DEFAULT_OUTPUT_POINTS", "DEFAULT_RTOL", "DEFAULT_ATOL"]
 
@@ -151,7 +151,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     t0 = time.perf_counter()
     Y = resolved.outputs(X, U, p_vec, compile=compile)
     stats["outputs_wall_s"] = time.perf_counter() - t0
-    return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats)
+    return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats,
+                            result_units(model, eom, resolved.output_names))
 
 
 def _warn_ignored(cls, dt, rtol, atol, t_out) -> None:
