@@ -26,7 +26,7 @@ from .exceptions import (
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
 from .modal import Mode, modal_analysis
-from .operating import AzimuthSweep, OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
+from .linear import AzimuthSweep, OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate

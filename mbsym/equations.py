@@ -48,6 +48,9 @@ class EomFunctions:
 
     ``u`` enters the energies only through prescribed coordinates.
     power : (q, qd, u, p) -> power of the non-conservative loads [W]
+    reactions : (q, qd, qdd, u, p) -> λ, the reaction generalized forces of the locked
+        coordinates (:meth:`mbsym.System.locked`) [N or N m]: what the support exerts to
+        hold each at zero; None without locked coordinates
     """
 
     mass_matrix: ca.Function
@@ -57,6 +60,7 @@ class EomFunctions:
     kinetic_energy: ca.Function
     potential_energy: ca.Function
     power: ca.Function
+    reactions: ca.Function | None = None
 
 
 class EquationsOfMotion:
@@ -273,6 +277,29 @@ class EquationsOfMotion:
         return self._vec(u, self.n_u, "u", self._inputs)
 
     @property
+    def locked(self) -> tuple[str, ...]:
+        """Names of the locked coordinates, in the order of :meth:`reactions`."""
+        return tuple(self._derivation.names.get("locked", ()))
+
+    def reactions(self, q, qd, qdd, u=None, p: Mapping[str, float] | None = None) -> np.ndarray:
+        """Reaction generalized forces of the locked coordinates [N or N m] (see :class:`EomFunctions`).
+
+        Raises
+        ------
+        ModelDefinitionError
+            If the system has no locked coordinates.
+        """
+        f = self._functions.reactions
+        if f is None:
+            raise ModelDefinitionError("this model has no locked coordinates; declare them with sys.locked(...) "
+                                       "and use them in joints to get reactions.")
+        qq = self._vec(q, self.n_q, "q", self._coordinates)
+        vv = self._vec(qd, self.n_q, "qd", self.speeds)
+        aa = self._vec(qdd, self.n_q, "qdd", self._coordinates)
+        uu, pp = self._args(u, p)
+        return np.array(f(qq, vv, aa, uu, pp)).reshape(-1)
+
+    @property
     def prescribed(self) -> tuple[str, ...]:
         """Names of the prescribed coordinates (their value, speed, acceleration are inputs)."""
         return tuple(self._derivation.prescribed)
@@ -382,7 +409,8 @@ def _build_functions(d: Derivation, name: str) -> EomFunctions:
     # One common-subexpression elimination over all outputs (cheaper than one per Function).
     opts: dict = {}
     q, qd, qdd, u, p = d.q, d.qd, d.qdd, d.u, d.p
-    M, F, T, V, P = ca.cse([d.M, d.F, d.T, d.V, d.power])
+    reactions = d.reactions if d.reactions is not None else ca.SX(0, 1)
+    M, F, T, V, P, R = ca.cse([d.M, d.F, d.T, d.V, d.power, reactions])
     e = F - M @ qdd
     if d.prescribed:
         f_M = ca.Function(f"{name}_mass_matrix", [q, u, p], [M], ["q", "u", "p"], ["M"], opts)
@@ -399,7 +427,10 @@ def _build_functions(d: Derivation, name: str) -> EomFunctions:
     f_T = ca.Function(f"{name}_kinetic_energy", [q, qd, u, p], [T], ["q", "qd", "u", "p"], ["T"], opts)
     f_V = ca.Function(f"{name}_potential_energy", [q, u, p], [V], ["q", "u", "p"], ["V"], opts)
     f_P = ca.Function(f"{name}_power", [q, qd, u, p], [P], ["q", "qd", "u", "p"], ["P"], opts)
-    return EomFunctions(f_M, f_F, f_e, f_rhs, f_T, f_V, f_P)
+    f_R = None
+    if d.reactions is not None:
+        f_R = ca.Function(f"{name}_reactions", [q, qd, qdd, u, p], [R], ["q", "qd", "qdd", "u", "p"], ["R"], opts)
+    return EomFunctions(f_M, f_F, f_e, f_rhs, f_T, f_V, f_P, f_R)
 
 
 def _numeric_rhs(f_M: ca.Function, f_F: ca.Function, n: int, nu: int, np_: int, name: str) -> ca.Function:

@@ -60,6 +60,7 @@ class Derivation:
     bodies: dict[str, Body] = field(default_factory=dict)
     kinematics: "_Kinematics | None" = None
     prescribed: tuple[str, ...] = ()
+    reactions: ca.SX | None = None      # (n_locked,) reaction generalized forces, of q, qd, qdd, u, p
 
 
 class _Kinematics:
@@ -146,7 +147,9 @@ def derive(system) -> Derivation:
     qp = ca.vertcat(*[v[0] for v in presc.values()]) if presc else ca.SX(0, 1)
     qdp = ca.vertcat(*[v[1] for v in presc.values()]) if presc else ca.SX(0, 1)
     qddp = ca.vertcat(*[v[2] for v in presc.values()]) if presc else ca.SX(0, 1)
-    kin = _Kinematics(system, q, qd, qp, qdp)
+    locked = st.locked()
+    ql, qdl = (ca.vertcat(*[v[k] for v in locked.values()]) if locked else ca.SX(0, 1) for k in (0, 1))
+    kin = _Kinematics(system, q, qd, ca.vertcat(qp, ql), ca.vertcat(qdp, qdl))
     g = system.gravity
 
     composites, merged = composite_bodies(system.joints)
@@ -159,6 +162,7 @@ def derive(system) -> Derivation:
         V_rows.append(contrib["V"])
     Vall = ca.vertcat(*V_rows) if V_rows else ca.SX(0, 1)
     J = ca.jacobian(Vall, qd)
+    Jl = ca.jacobian(Vall, qdl)             # partial velocities of the locked speeds (reactions)
     # velocity-dependent accelerations; prescribed coordinates add their accelerations
     A0 = ca.jtimes(Vall, kin.q_all, kin.qd_all)
     if presc:
@@ -166,6 +170,7 @@ def derive(system) -> Derivation:
 
     M = ca.SX.zeros(n, n)
     F = ca.SX.zeros(n, 1)
+    E_locked = ca.SX.zeros(qdl.numel(), 1)
     T = ca.SX(0)
     Vpot = ca.SX(0)
     p_body = ca.SX(0)   # power of body-internal non-conservative forces (elastic damping, ...)
@@ -173,23 +178,33 @@ def derive(system) -> Derivation:
     for body, c in blocks:
         k = c["V"].numel()
         B, a0 = J[row:row + k, :], A0[row:row + k]
-        row += k
         Mb, f_net, t_kin, v_pot, p_nc = c["terms"](a0, g)
         M += B.T @ Mb @ B
         F += B.T @ f_net
+        if locked:
+            E_locked += Jl[row:row + k, :].T @ (f_net - Mb @ (B @ qdd))
+        row += k
         T += t_kin
         Vpot += v_pot
         p_body += p_nc
 
-    F, Vpot, power = _apply_loads(system, kin, q, qd, F, Vpot)
+    F_all, Vpot, power = _apply_loads(system, kin, q, ca.vertcat(qd, qdl), ca.vertcat(F, E_locked), Vpot)
+    F, E_locked = F_all[:n], F_all[n:]
     power += p_body
     M = ca.tril2symm(ca.tril(M))
-    _check_structural_mass(M, st.names("coordinate"))
+    reactions = None
     frames = {b.name: kin.frame(b) for b in kin.order}
+    if locked:                              # held at zero: the reaction is minus the locked rows' residual
+        reactions = -E_locked
+        zero = ca.SX.zeros(2 * ql.numel(), 1)
+        lz = ca.vertcat(ql, qdl)
+        M, F, T, Vpot, power, reactions = ca.substitute([M, F, T, Vpot, power, reactions], [lz], [zero])
+        frames = {k: Frame(*ca.substitute([f.r, f.R, f.v, f.w], [lz], [zero])) for k, f in frames.items()}
+    _check_structural_mass(M, st.names("coordinate"))
     bodies = {b.name: b for b in kin.order}
-    names = {k: st.names(k) for k in ("coordinate", "input", "parameter")}
+    names = {k: st.names(k) for k in ("coordinate", "input", "parameter", "locked")}
     return Derivation(q, qd, qdd, u, p, names, st.defaults(), M, F, T, Vpot, power, frames, bodies, kin,
-                      tuple(presc))
+                      tuple(presc), reactions)
 
 
 def _body_velocities(body: Body, kin: _Kinematics, composites: dict) -> dict:
@@ -228,7 +243,11 @@ def _rigid(body: RigidBody, kin: _Kinematics, props: MassProperties) -> dict:
 
 
 def _apply_loads(system, kin: _Kinematics, q, qd, F, Vpot):
-    """Add point forces, torques, generalized forces, springs and dampers."""
+    """Add point forces, torques, generalized forces, springs and dampers.
+
+    ``qd`` may continue past the coordinates' speeds (locked speeds, for reactions): F has
+    one row per entry of ``qd``; generalized forces, springs and dampers act on the first rows.
+    """
     power = ca.SX(0)
     for load in system.loads:
         if isinstance(load, PointForce):

@@ -18,7 +18,7 @@ from .exceptions import ModelDefinitionError, ParameterError
 
 __all__ = ["SymbolTable", "split_names", "free_symbols"]
 
-KINDS = ("coordinate", "input", "parameter")
+KINDS = ("coordinate", "input", "parameter", "locked")
 
 
 def split_names(names: str | Sequence[str], what: str) -> list[str]:
@@ -76,6 +76,7 @@ class SymbolTable:
         self._accel: dict[str, ca.SX] = {}
         self._by_sym: dict[int, _Entry] = {}
         self._prescribed: dict[str, tuple[ca.SX, ca.SX, ca.SX]] = {}
+        self._locked: dict[str, tuple[ca.SX, ca.SX, ca.SX]] = {}
 
     # -- creation -------------------------------------------------------
     def declare(self, names: Iterable[str], kind: str, defaults: Mapping[str, float] | None = None) -> list[ca.SX]:
@@ -128,6 +129,18 @@ class SymbolTable:
             out.append(syms[0])
         return out
 
+    def declare_locked(self, names: Iterable[str]) -> list[ca.SX]:
+        """Declare locked coordinates: held at zero, their reaction generalized forces reported."""
+        out = self.declare(names, "locked")
+        for sym in out:
+            n = sym.name()
+            self._locked[n] = (sym, ca.SX.sym(f"{n}_d"), ca.SX.sym(f"{n}_dd"))
+        return out
+
+    def locked(self) -> dict[str, tuple[ca.SX, ca.SX, ca.SX]]:
+        """Locked coordinates by name: (value, speed, acceleration) symbols, all zero in the equations."""
+        return dict(self._locked)
+
     def prescribed(self) -> dict[str, tuple[ca.SX, ca.SX, ca.SX]]:
         """Prescribed coordinates by name: (value, speed, acceleration) input symbols."""
         return dict(self._prescribed)
@@ -162,6 +175,8 @@ class SymbolTable:
         entry = self.lookup(coordinate)
         if entry is not None and entry.name in self._prescribed:
             return self._prescribed[entry.name][1]
+        if entry is not None and entry.kind == "locked":
+            return self._locked[entry.name][1]
         if entry is None or entry.kind != "coordinate":
             raise ModelDefinitionError(
                 f"{coordinate!r} is not a coordinate of this system; declare it with sys.coordinates(...)."

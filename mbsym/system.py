@@ -125,6 +125,17 @@ class System:
         """
         return _one_or_tuple(self._symbols.declare_prescribed(split_names(names, "prescribed coordinate")))
 
+    def locked(self, names: str | Sequence[str]):
+        """Declare locked coordinates; return one SX symbol or a tuple.
+
+        A locked coordinate drives a joint that never moves: the equations hold it at
+        zero (no equation of motion, no cost), and report the generalized force the
+        support must exert to keep it there — its *reaction* — as
+        ``eom.functions.reactions(q, qd, qdd, u, p)`` (e.g. the bending moment at a
+        tower base: a locked rotation about the base's axis).
+        """
+        return _one_or_tuple(self._symbols.declare_locked(split_names(names, "locked coordinate")))
+
     def speed(self, coordinate) -> ca.SX:
         """Time derivative symbol of a coordinate (for loads depending on speeds)."""
         return self._symbols.speed_of(coordinate)
@@ -200,7 +211,10 @@ class System:
                 continue
             if geared and entry is not None and entry.kind == "coordinate" and of_joint:
                 continue    # a geared joint follows a coordinate that another joint owns
-            if entry is None or entry.kind != "coordinate":
+            if entry is not None and entry.kind == "locked" and not of_joint:
+                raise ModelDefinitionError(f"locked coordinate {entry.name!r} can drive a joint only, not the "
+                                           f"deflection of {joint.child.name!r}.")
+            if entry is None or entry.kind not in ("coordinate", "locked"):
                 raise ModelDefinitionError(
                     f"joint of {joint.child.name!r} uses {c!r}, which is not a coordinate of this system; "
                     "pass a symbol returned by sys.coordinates(...)."

@@ -33,7 +33,7 @@ from .structure.elastodyn_bodies import (
     tower_shape_integrals,
 )
 from .analysis.campbell_diagram import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
-from .analysis.mbc import coleman_matrices, mbc_second_order, mbc_transform
+from .structure.mbc import coleman_matrices, mbc_second_order, mbc_transform
 from .analysis.fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
 from .structure.turbine import TurbineModel
 from .deck.nrel5mw import nrel5mw

@@ -24,7 +24,7 @@ import pytest
 
 import mbsym as mb
 from mbsym.linear import linearize_batch
-from mbsym.operating import OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
+from mbsym.linear import OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
 
 G = 9.81
 
@@ -170,15 +170,18 @@ def test_steady_rotation_averages_gravity_over_azimuth():
 
 
 def test_multi_blade_coordinates_average():
-    pytest.importorskip("mbsym.wind.analysis.mbc")
+    pytest.importorskip("mbsym.wind.structure.mbc")
     eom, w0sq = three_blade_rotor()
     om = 3.0
     x = np.zeros(eom.n_x)
     x[eom.n_q] = om
     op = OperatingPoint(x[:4], x[4:], np.zeros(4), np.zeros(0), dict(eom.defaults), eom.coordinates, eom.inputs)
-    sweep = linearize_azimuths(eom, op, 5, coordinate="GeAz")
+    from mbsym.wind.structure.mbc import BladeFrame
+
+    assert linearize_azimuths(eom, op, 5, coordinate="GeAz").blade_indices == []    # the core knows no blades
+    sweep = linearize_azimuths(eom, op, 5, coordinate="GeAz", frame=BladeFrame(eom.coordinates))
     assert sweep.blade_indices == [(1, 2, 3)]
-    fixed = [sweep._to_fixed_frame(sweep.batch[i], psi, None).A for i, psi in enumerate(sweep.blade_azimuths)]
+    fixed = [sweep.frame.to_fixed_frame(sweep.batch[i], psi, om).A for i, psi in enumerate(sweep.blade_azimuths)]
     np.testing.assert_allclose(fixed, np.broadcast_to(fixed[0], (5, 8, 8)), atol=1e-9)
     wr = np.sqrt(w0sq + om**2)
     freqs = sorted(2 * np.pi * m.freq_hz for m in sweep.average().modes() if m.oscillatory)

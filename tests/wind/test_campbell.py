@@ -1,4 +1,4 @@
-"""Multi-blade coordinates and Campbell diagrams (mbsym.wind.analysis.mbc, mbsym.wind.analysis.campbell_diagram, `mbsym campbell`).
+"""Multi-blade coordinates and Campbell diagrams (mbsym.wind.structure.mbc, mbsym.wind.analysis.campbell_diagram, `mbsym campbell`).
 
 References
 ----------
@@ -39,7 +39,7 @@ from mbsym.cli.campbell import add_parser, parse_rpm_list, run
 from mbsym.exceptions import DimensionError, ModelDefinitionError, ParameterError
 from mbsym.wind import nrel5mw, read_openfast
 from mbsym.wind.analysis.campbell_diagram import campbell, campbell_model, fixed_frame_modes, operating_point
-from mbsym.wind.analysis.mbc import (blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, mbc_second_order,
+from mbsym.wind.structure.mbc import (blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, mbc_second_order,
                             mbc_transform, whirl_components, whirl_coordinates)
 from mbsym.wind.structure.turbine import TurbineModel
 
@@ -202,7 +202,7 @@ def test_blade_coordinate_helpers():
 
 # ---------------------------------------------------------------- azimuth sweep and conventions
 def test_sweep_equals_a_per_azimuth_linearize_loop():
-    """fixed_frame_modes (batched mbsym.operating.linearize_azimuths + AzimuthSweep.average) against
+    """fixed_frame_modes (batched mbsym.linear.linearize_azimuths + AzimuthSweep.average) against
     a plain loop of mbsym.linearize and mbc_transform at the same points (exact Jacobians): A and M̄
     to 1e-9 of their norms. Built-in NREL 5 MW (tower, yaw, generator, drivetrain, 9 blade DOFs)."""
     model = TurbineModel(nrel5mw())

@@ -10,21 +10,21 @@ For each rotor speed Ω:
    zero. Not an equilibrium: the linear model is the Jacobian of ``x' = f(x, u)`` there, as
    in ElastoDyn (docs/elastodyn_notes.md §7).
 2. **Linear models** at ``n_azimuth`` equally spaced rotor azimuths over one revolution, in one
-   batch (:func:`mbsym.operating.linearize_azimuths`), by default with ElastoDyn's central
+   batch (:func:`mbsym.linear.linearize_azimuths`), by default with ElastoDyn's central
    differences (``method="elastodyn-fd"``, as ``mbsym linearize``) so that the frequencies are
    OpenFAST's including its finite-step error (notes §8.3: 0.8 % on a floating platform's
    pitch); ``method="exact"`` for automatic differentiation.
-3. **Multi-blade coordinates** (:mod:`mbsym.wind.analysis.mbc`, blade-1 azimuth = ElastoDyn's
+3. **Multi-blade coordinates** (:mod:`mbsym.wind.structure.mbc`, blade-1 azimuth = ElastoDyn's
    ``Azimuth`` output ``q_GeAz + q_DrTr + AzimB1Up + π/2``, with the ``dT/dt`` terms of a
    constant Ω), then the average of the fixed-frame state matrices over the azimuths
-   (:meth:`mbsym.operating.AzimuthSweep.average`, as OpenFAST's MBC3 does).
+   (:meth:`mbsym.linear.AzimuthSweep.average`, as OpenFAST's MBC3 does).
 4. **Modes**: eigenvalues of the averaged matrix, ``f = |λ| / 2π`` [Hz] and
    ``ζ = -Re λ / |λ|``, each labelled by the fixed-frame coordinate that carries most of
    its kinetic energy. With ``M̄`` the azimuth average of ``T1ᵀ M T1`` (the mass matrix in
    multi-blade coordinates, coupling included) and the mode shape ``v`` normalised to
    ``vᴴ M̄ v = 1``, coordinate ``i`` carries ``|Re(conj(v_i) (M̄ v)_i)|``; a cyclic pair is
    split into forward and backward whirl by the unitary change of basis
-   :func:`~mbsym.wind.analysis.mbc.whirl_coordinates` applied to ``v`` and ``M̄ v``. Labels: blade
+   :func:`~mbsym.wind.structure.mbc.whirl_coordinates` applied to ``v`` and ``M̄ v``. Labels: blade
    collective ("1st flap collective"), whirl ("1st edge backward whirl") and the other DOFs
    in words ("1st tower fore-aft", "drivetrain torsion", "platform pitch" …), assigned one
    to one (an optimal assignment of modes to labels), so a label names the same physical
@@ -55,8 +55,8 @@ from scipy.optimize import linear_sum_assignment
 
 from ...exceptions import ModelDefinitionError, ParameterError
 from ...linear import METHODS
-from ...operating import OperatingPoint, linearize_azimuths
-from .mbc import N_BLADES, blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, whirl_coordinates
+from ...linear import OperatingPoint, linearize_azimuths
+from ..structure.mbc import N_BLADES, blade_dof, blade_indices, coleman_matrices, mbc_coordinate_names, whirl_coordinates
 from ..deck.parameters import TurbineParameters
 
 __all__ = ["CampbellMode", "CampbellDiagram", "FixedFrameModes", "campbell", "fixed_frame_modes",

@@ -3,7 +3,7 @@
 The one place that knows that blade coordinates are named ``B<blade><type>``
 (``F1`` 1st flap, ``E1`` 1st edge, ``F2`` 2nd flap): the template names them so,
 the output channels and the multi-blade transformation
-(:mod:`mbsym.wind.analysis.mbc`) read them so.
+(:mod:`mbsym.wind.structure.mbc`) read them so.
 """
 
 from __future__ import annotations

@@ -49,6 +49,8 @@ from .elastodyn_bodies import (
     tower_shape_integrals,
 )
 from .elastodyn_nodes import rotor_mass_properties
+from .mbc import BladeFrame
+from .steps import elastodyn_steps
 from ..deck.parameters import DOF_NAMES, TurbineParameters
 
 __all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
@@ -269,6 +271,15 @@ class TurbineModel:
         return (f"TurbineModel({source.rsplit('/', 1)[-1]}: {len(t.blades)} blades, tip radius {t.tip_radius:g} m, "
                 f"hub height {t.hub_height:.4g} m, rotor speed {t.initial_conditions.rotor_speed * 30 / np.pi:.4g} rpm; "
                 f"DOFs {dofs or 'none'})")
+
+    # ------------------------------------------------------------------ linearization hooks
+    def linearization_steps(self) -> dict[str, float]:
+        """ElastoDyn's central-difference steps by coordinate (``method="elastodyn-fd"``, :mod:`.steps`)."""
+        return elastodyn_steps(self.turbine, self.eom.coordinates)
+
+    def rotating_frame(self) -> BladeFrame:
+        """Multi-blade coordinates of the blade DOFs for azimuth averages; blade-1 azimuth = GeAz + AzimB1Up + π/2."""
+        return BladeFrame(self.eom.coordinates, offset=self.turbine.azimuth_blade1_up + np.pi / 2)
 
     # ------------------------------------------------------------------ build
     def _build(self) -> None:

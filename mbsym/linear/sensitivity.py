@@ -13,10 +13,14 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-from ._fd import _fd_rhs
-from .equations import EquationsOfMotion
-from .exceptions import DimensionError
-from .linear import LinearModel, _cached, _steps, _Target, jacobian_function, linear_function, linearize
+from ..equations import EquationsOfMotion
+from ..exceptions import DimensionError
+from ._cache import cached
+from .fd import fd_rhs
+from .functions import jacobian_function, linear_function
+from .linearize import linearize, resolve_steps
+from .model import LinearModel
+from .target import Target
 
 __all__ = ["Sensitivity", "sensitivities"]
 
@@ -64,7 +68,7 @@ class Sensitivity:
 def _sensitivity_function(eom: EquationsOfMotion, fd: bool) -> ca.Function:
     """``(q, qd, qdd, u, p, h) -> ∂vec(M, C, K, Q)/∂p`` at qdd, ∂vec(A, B)/∂p (and ∂vec(A_fd)/∂p)."""
     key = "sensitivity_fd" if fd else "sensitivity"
-    return _cached(eom, key, lambda: _build_sensitivity_function(eom, fd, key))
+    return cached(eom, key, lambda: _build_sensitivity_function(eom, fd, key))
 
 
 def _build_sensitivity_function(eom: EquationsOfMotion, fd: bool, name: str) -> ca.Function:
@@ -73,7 +77,7 @@ def _build_sensitivity_function(eom: EquationsOfMotion, fd: bool, name: str) -> 
                                                           ("p", eom.n_p), ("h", 2 * n)))
     mats = list(jacobian_function(eom)(q, qd, qdd, u, p)) + list(linear_function(eom)(q, qd, u, p)[4:6])
     if fd:
-        mats.append(_fd_rhs(eom)(ca.vertcat(q, qd), u, p, h))
+        mats.append(fd_rhs(eom)(ca.vertcat(q, qd), u, p, h))
     outs = [ca.densify(ca.jacobian(ca.vec(m), p)) for m in mats]
     return ca.Function(f"{eom.name}_{name}", [q, qd, qdd, u, p, h], outs)
 
@@ -102,9 +106,9 @@ def sensitivities(model, parameters: Sequence[str] | str, q0=None, qd0=None, u0=
     >>> float(s.of("k")["K"][0, 0]), round(float(s.of("k")["freq"][-1]), 5)   # 1, 1/(4π sqrt(k m))
     (1.0, 0.01989)
     """
-    from .modal import mode_sensitivities
+    from ..modal import mode_sensitivities
 
-    target = _Target(model)
+    target = Target(model)
     eom, n = target.eom, target.eom.n_q
     names = [parameters] if isinstance(parameters, str) else list(parameters)
     unknown = [s for s in names if s not in eom.parameters]
@@ -114,7 +118,7 @@ def sensitivities(model, parameters: Sequence[str] | str, q0=None, qd0=None, u0=
     lin = linearize(model, q0, qd0, u0, p, qdd0=qdd0, method=method, steps=steps)
     op = lin.operating_point
     pp = eom.parameter_vector(op["p"])
-    h = _steps(target, method, steps)
+    h = resolve_steps(target, method, steps)
     qdd = np.zeros(n) if qdd0 is None or isinstance(qdd0, str) else op["qdd"]
     jac = [np.array(j) for j in _sensitivity_function(eom, h is not None)(op["q"], op["qd"], qdd, op["u"], pp,
                                                                             np.ones(2 * n) if h is None else h)]

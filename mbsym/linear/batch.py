@@ -13,10 +13,13 @@ from typing import Any, Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-from ._fd import _fd_rhs
-from .exceptions import DimensionError, ParameterError, SolverError
-from .linear import (LinearModel, _natural_frequencies, _output_functions, _qdd, _resolve_outputs, _rows, _steps,
-                     _Target, jacobian_function, linear_function)
+from ..exceptions import DimensionError, ParameterError, SolverError
+from .fd import fd_rhs
+from .functions import jacobian_function, linear_function
+from .linearize import resolve_qdd, resolve_steps, rows
+from .model import LinearModel, natural_frequencies
+from .outputs import output_functions, resolve_outputs
+from .target import Target
 
 __all__ = ["LinearBatch", "linearize_batch", "compiled", "MAP_CHUNK"]
 
@@ -84,10 +87,10 @@ class LinearBatch:
         eigenvalue); rows with fewer entries than the longest (fewer real eigenvalues)
         end in NaN. Use ``batch[i].modes()`` for shapes, damping and names.
         """
-        return _natural_frequencies(self.A)[0]
+        return natural_frequencies(self.A)[0]
 
 
-def _batch_parameters(target: _Target, p, n_points: int) -> np.ndarray:
+def _batch_parameters(target: Target, p, n_points: int) -> np.ndarray:
     """(N, n_p): a dict of numbers and/or length-N arrays (parameter sweeps).
 
     Names, missing values and finiteness are checked once, by the model's own
@@ -150,22 +153,22 @@ def linearize_batch(model, x0, u0=None, p: Mapping[str, Any] | None = None, *, q
     >>> np.round(batch.K[:, 0, 0], 3)          # m g l cos(th)
     array([9.81 , 4.905])
     """
-    target = _Target(model)
+    target = Target(model)
     eom, n = target.eom, target.eom.n_q
     X = np.asarray(x0, dtype=float)
     if X.ndim != 2 or X.shape[1] != eom.n_x:
         raise DimensionError(f"x0 must have shape (N, {eom.n_x}) (states {list(eom.states)} in columns); "
                              f"got {X.shape}.")
     N = X.shape[0]
-    X = _rows(X, N, eom.n_x, "x0")
+    X = rows(X, N, eom.n_x, "x0")
     if isinstance(u0, Mapping) or u0 is None:
-        U = _rows(target.inputs(u0), N, eom.n_u, "u0")
+        U = rows(target.inputs(u0), N, eom.n_u, "u0")
     else:
-        U = _rows(u0, N, eom.n_u, "u0")
+        U = rows(u0, N, eom.n_u, "u0")
     P = _batch_parameters(target, p, N)
-    qdd_in = _qdd(eom, qdd0, N)
-    h = _steps(target, method, steps)
-    sel = _resolve_outputs(target, outputs)
+    qdd_in = resolve_qdd(eom, qdd0, N)
+    h = resolve_steps(target, method, steps)
+    sel = resolve_outputs(target, outputs)
     f = linear_function(eom)
     if compile:
         f = compiled(f)
@@ -180,7 +183,7 @@ def linearize_batch(model, x0, u0=None, p: Mapping[str, Any] | None = None, *, q
         jac = _mapped(jacobian_function(eom), N, parallel, X[:, :n], X[:, n:], qdd, U, P)
         K, Q = (_unstack(r, N) for r in jac[2:])
     if h is not None:
-        A = _unstack(_mapped(_fd_rhs(eom), N, parallel, X, U, P, np.tile(h, (N, 1)))[0], N)
+        A = _unstack(_mapped(fd_rhs(eom), N, parallel, X, U, P, np.tile(h, (N, 1)))[0], N)
     if not np.all(np.isfinite(A)):
         bad = np.flatnonzero(~np.all(np.isfinite(A.reshape(N, -1)), axis=1))
         raise SolverError(f"the linearization is not finite at {bad.size} points (first: {bad[:5].tolist()}); "
@@ -234,7 +237,7 @@ def _batch_outputs(target, sel, X, U, P, h, parallel):
     names, _, f_out, picks = sel
     Y, Cy, Dy = np.zeros((N, len(picks))), np.zeros((N, len(picks), eom.n_x)), np.zeros((N, len(picks), eom.n_u))
     if f_out is not None and any(k == "y" for k, _ in picks):
-        jac, fd = _output_functions(eom, f_out)
+        jac, fd = output_functions(eom, f_out)
         y_all, cy_all, dy_all = _mapped(jac, N, parallel, X, U, P)
         cy_all, dy_all = _unstack(cy_all, N), _unstack(dy_all, N)
         if h is not None:
@@ -252,7 +255,7 @@ def compiled(f: ca.Function) -> ca.Function:
 
     Falls back to ``f`` itself (with a ``CompilationWarning``) when no compiler works.
     """
-    from .codegen import compile_function
+    from ..codegen import compile_function
 
     return compile_function(f).function
 

@@ -5,10 +5,6 @@
 - :func:`steady_rotation`: a rotor spinning at a constant speed, every other DOF at its
   *mean* deflection: the generalized forces averaged over ``n_azimuth`` equally spaced
   rotor azimuths vanish.
-- :func:`linearize_azimuths`: linearizations at several rotor azimuths in one batch
-  (:func:`mbsym.linear.linearize_batch`), and their average
-  (:meth:`AzimuthSweep.average`), in multi-blade coordinates
-  (:func:`mbsym.wind.analysis.mbc.mbc_transform`) when the model has rotating-frame blade DOFs.
 
 Coordinates without stiffness (a free generator azimuth, an unmoored surge) have no
 static equilibrium value: they are *held* at their initial value (found automatically,
@@ -19,58 +15,18 @@ solver failures are reported the same way, never silently.
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass, field
-from typing import Callable, Mapping, Sequence
+from typing import Mapping, Sequence
 
 import casadi as ca
 import numpy as np
 
-from .exceptions import DimensionError, ModelDefinitionError
-from .linear import LinearBatch, LinearModel, _cached, _Target, jacobian_function, linearize_batch
+from ..exceptions import DimensionError, ModelDefinitionError
+from ._cache import cached
+from .functions import jacobian_function
+from .point import OperatingPoint
+from .target import Target
 
-__all__ = ["OperatingPoint", "static_equilibrium", "steady_rotation", "AzimuthSweep", "linearize_azimuths"]
-
-
-@dataclass(frozen=True)
-class OperatingPoint:
-    """A state, inputs and parameters to linearize about (pass it as ``q0`` to ``linearize``).
-
-    Attributes
-    ----------
-    q, qd, qdd : ndarray (n_q,)
-        Coordinates [m, rad], speeds and accelerations (zero at an equilibrium).
-    u : ndarray (n_u,)
-        Inputs.
-    p : dict
-        Parameter values by name.
-    coordinates, inputs : tuple of str
-    held : tuple of str
-        Coordinates kept at their initial value (no stiffness, or the spinning one).
-    residual : ndarray (n_q,)
-        Generalized forces left at the solution [N, N m] (averaged over azimuth for a
-        steady rotation; the spinning coordinate's entry is the torque needed to keep
-        the speed constant).
-    success : bool
-    message : str
-    """
-
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    u: np.ndarray
-    p: dict
-    coordinates: tuple[str, ...]
-    inputs: tuple[str, ...]
-    held: tuple[str, ...] = ()
-    residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    success: bool = True
-    message: str = ""
-
-    @property
-    def x(self) -> np.ndarray:
-        """``[q; qd]``."""
-        return np.concatenate([self.q, self.qd])
+__all__ = ["static_equilibrium", "steady_rotation"]
 
 
 def _neutral(K: np.ndarray, names: Sequence[str], rtol: float = 1e-9) -> list[str]:
@@ -88,7 +44,7 @@ def _check_hold(hold, names: Sequence[str]) -> list[str]:
     return hold
 
 
-def _solve(target: _Target, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: np.ndarray, held: Sequence[str],
+def _solve(target: Target, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: np.ndarray, held: Sequence[str],
            tol: float, max_iter: int) -> tuple[np.ndarray, np.ndarray, bool, str]:
     """Newton on the mean over the samples of F(q, qd, u) for the free coordinates.
 
@@ -123,7 +79,7 @@ def _solve(target: _Target, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: n
 
 def _forcing_map(eom, n_s: int) -> ca.Function:
     """``forcing.map(n_s)``, built once per model and number of samples."""
-    return _cached(eom, ("forcing_map", n_s), lambda: eom.functions.forcing.map(n_s))
+    return cached(eom, ("forcing_map", n_s), lambda: eom.functions.forcing.map(n_s))
 
 
 def _mean_force(eom, Qs: np.ndarray, qd: np.ndarray, U: np.ndarray, pp: np.ndarray) -> np.ndarray:
@@ -196,7 +152,7 @@ def static_equilibrium(model, u0=None, p: Mapping[str, float] | None = None, *, 
     >>> op.success, round(float(op.q[0]), 6)       # -m g / k
     (True, -0.2)
     """
-    target = _Target(model)
+    target = Target(model)
     eom = target.eom
     q_guess, _ = target.state(q0, None)
     uu, pp = target.inputs(u0), target.parameters(p)
@@ -218,7 +174,7 @@ def static_equilibrium(model, u0=None, p: Mapping[str, float] | None = None, *, 
                           eom.inputs, tuple(held), residual, ok, msg)
 
 
-def _rotating_coordinate(target: _Target, coordinate: str | None) -> tuple[str, bool]:
+def _rotating_coordinate(target: Target, coordinate: str | None) -> tuple[str, bool]:
     """(name, prescribed?) of the spinning coordinate; default GeAz (wind turbines)."""
     eom = target.eom
     name = coordinate or ("GeAz" if "GeAz" in eom.coordinates + eom.prescribed else None)
@@ -274,7 +230,7 @@ def steady_rotation(model, speed: float, *, coordinate: str | None = None, u0=No
         ``residual`` at the spinning coordinate is the mean torque needed to keep
         the speed constant.
     """
-    target = _Target(model)
+    target = Target(model)
     eom = target.eom
     name, prescribed = _rotating_coordinate(target, coordinate)
     if not np.isfinite(speed) or int(n_azimuth) < 1:
@@ -306,140 +262,3 @@ def steady_rotation(model, speed: float, *, coordinate: str | None = None, u0=No
         msg = f"steady rotation of {name} at {speed:.6g} rad/s" + (f"; held without stiffness: {held}" if held else "")
     return OperatingPoint(q, qd, np.zeros(eom.n_q), uu, dict(zip(eom.parameters, pp.tolist())), eom.coordinates,
                           eom.inputs, tuple(held_all), residual, ok, msg)
-
-
-# --------------------------------------------------------------------------- azimuth sweeps
-_BLADE = re.compile(r"B(\d+)(F1|E1|F2)")
-
-
-def blade_indices(coordinates: Sequence[str]) -> list[tuple[int, ...]]:
-    """Index triplets (blades 1, 2, 3) per blade DOF type, from names ``B<k>F1``, ``B<k>E1``, ``B<k>F2``."""
-    groups: dict[str, dict[int, int]] = {}
-    for i, c in enumerate(coordinates):
-        m = _BLADE.fullmatch(c)
-        if m:
-            groups.setdefault(m.group(2), {})[int(m.group(1))] = i
-    return [tuple(g[k] for k in sorted(g)) for g in groups.values()]
-
-
-@dataclass(frozen=True)
-class AzimuthSweep:
-    """Linearizations of a spinning rotor at several azimuths.
-
-    Attributes
-    ----------
-    azimuths : ndarray (n_s,)
-        Values of the spinning coordinate [rad].
-    blade_azimuths : ndarray (n_s,)
-        Azimuth of blade 1 [rad] (for multi-blade coordinates).
-    rotor_speed : float
-        [rad/s].
-    batch : LinearBatch
-        The linear models, one per azimuth.
-    blade_indices : list of tuple
-        Rotating-frame blade DOF triplets in ``q`` (empty without blade DOFs).
-    """
-
-    azimuths: np.ndarray
-    blade_azimuths: np.ndarray
-    rotor_speed: float
-    batch: LinearBatch
-    blade_indices: list
-
-    def average(self, *, mbc: Callable | None = None) -> LinearModel:
-        """The azimuth-averaged linear model.
-
-        Without rotating-frame DOFs every coordinate is in the fixed frame and the
-        matrices are averaged as they are. With blade DOFs each azimuth's model is
-        first written in multi-blade coordinates (Coleman): ``mbc(A, blade_indices,
-        azimuth, rotor_speed, B=B) -> (A_B, B_B)`` (default
-        :func:`mbsym.wind.analysis.mbc.mbc_transform`), M, C, K by
-        :func:`mbsym.wind.analysis.mbc.mbc_second_order`, outputs by ``Cy T``; blade
-        coordinates then read collective, cosine, sine.
-        """
-        b = self.batch
-        lins = [b[i] for i in range(len(b))]
-        if self.blade_indices:
-            lins = [self._to_fixed_frame(lin, psi, mbc) for lin, psi in zip(lins, self.blade_azimuths)]
-        keys = ("M", "C", "K", "Q", "A", "B", "Cy", "Dy")
-        mean = {k: np.mean([getattr(lin, k) for lin in lins], axis=0) for k in keys}
-        op = dict(lins[0].operating_point)
-        op["azimuths"] = self.azimuths.copy()
-        return LinearModel(mean["M"], mean["C"], mean["K"], mean["Q"], mean["A"], mean["B"], b.coordinates, b.states,
-                           b.inputs, op, b.outputs, mean["Cy"], mean["Dy"], b.output_units, b.method)
-
-    def _to_fixed_frame(self, lin: LinearModel, psi: float, mbc) -> LinearModel:
-        from .wind.analysis.mbc import coleman_matrices, mbc_second_order, mbc_transform
-
-        mbc = mbc or mbc_transform
-        om, n = self.rotor_speed, len(lin.coordinates)
-        A, B = mbc(lin.A, self.blade_indices, psi, om, B=lin.B)
-        M, C, K = mbc_second_order(lin.M, lin.C, lin.K, self.blade_indices, psi, om)
-        T = coleman_matrices(n, self.blade_indices, psi)
-        Tx = np.block([[T.T1, np.zeros((n, n))], [om * T.T2, T.T1]])
-        Q = np.linalg.solve(T.T1, lin.Q)
-        return LinearModel(M, C, K, Q, A, B, lin.coordinates, lin.states, lin.inputs, lin.operating_point,
-                           lin.outputs, lin.Cy @ Tx, lin.Dy, lin.output_units, lin.method)
-
-    def modes(self, **kw) -> list:
-        """Modes of the averaged model (:meth:`average`)."""
-        return self.average(**kw).modes()
-
-
-def linearize_azimuths(model, op: OperatingPoint | None = None, azimuths: int | Sequence[float] = 12, *,
-                       coordinate: str | None = None, outputs=None, method: str = "exact", steps=None,
-                       qdd0=None) -> AzimuthSweep:
-    """Linearize at several azimuths of the spinning coordinate, all in one batch.
-
-    Parameters
-    ----------
-    model : EquationsOfMotion or model object
-    op : OperatingPoint, optional
-        E.g. from :func:`steady_rotation`; default: the model's default state and inputs.
-    azimuths : int or sequence of float
-        A number of equally spaced azimuths over a revolution, starting at the
-        operating point's, or the coordinate values themselves [rad].
-    coordinate : str, optional, keyword-only
-        The spinning coordinate (default ``"GeAz"``).
-    outputs, method, steps, qdd0 : optional, keyword-only
-        As for :func:`mbsym.linearize`.
-
-    Returns
-    -------
-    AzimuthSweep
-        ``.average()`` gives the azimuth-averaged model (multi-blade coordinates
-        with blade DOFs).
-    """
-    target = _Target(model)
-    eom = target.eom
-    name, prescribed = _rotating_coordinate(target, coordinate)
-    if op is None:
-        q, qd = target.state(None, None)
-        u, p = target.inputs(None), None
-    else:
-        q, qd, u, p = op.q, op.qd, op.u, op.p
-    if prescribed:
-        psi0, speed = u[eom.inputs.index(name)], u[eom.inputs.index(f"{name}_d")]
-    else:
-        psi0, speed = q[eom.coordinates.index(name)], qd[eom.coordinates.index(name)]
-    if np.ndim(azimuths) == 0:
-        psi = psi0 + 2 * np.pi * np.arange(int(azimuths)) / int(azimuths)
-    else:
-        psi = np.asarray(azimuths, dtype=float).reshape(-1)
-    X, U = _azimuth_samples(target, name, prescribed, q, qd, u, psi)
-    batch = linearize_batch(model, X, U, p, outputs=outputs, method=method, steps=steps,
-                            qdd0=qdd0)
-    offset = _blade1_offset(target, name)
-    if not prescribed and "DrTr" in eom.coordinates:
-        offset_q = X[:, eom.coordinates.index("DrTr")]
-    else:
-        offset_q = 0.0
-    return AzimuthSweep(psi, psi + offset_q + offset, float(speed), batch, blade_indices(eom.coordinates))
-
-
-def _blade1_offset(target: _Target, name: str) -> float:
-    """Azimuth of blade 1 minus the spinning coordinate: ElastoDyn's AzimB1Up + π/2 for a turbine's GeAz."""
-    turbine = getattr(target.owner, "turbine", None)
-    if name == "GeAz" and turbine is not None and hasattr(turbine, "azimuth_blade1_up"):
-        return float(turbine.azimuth_blade1_up + np.pi / 2)
-    return 0.0

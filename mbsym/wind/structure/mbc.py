@@ -42,10 +42,10 @@ from typing import Sequence
 import numpy as np
 
 from ...exceptions import DimensionError, ModelDefinitionError
-from ..structure.dofs import (BLADE_COORDINATE, N_BLADES, blade1_azimuth, blade_dof, blade_indices,  # noqa: F401
+from .dofs import (BLADE_COORDINATE, N_BLADES, blade1_azimuth, blade_dof, blade_indices,  # noqa: F401
                               mbc_coordinate_names)
 
-__all__ = ["ColemanMatrices", "coleman_matrices", "mbc_transform", "mbc_second_order", "whirl_components",
+__all__ = ["BladeFrame", "ColemanMatrices", "coleman_matrices", "mbc_transform", "mbc_second_order", "whirl_components",
            "whirl_coordinates", "BLADE_COORDINATE", "blade_dof", "blade_indices", "mbc_coordinate_names",
            "blade1_azimuth", "N_BLADES"]
 
@@ -236,3 +236,48 @@ def whirl_components(cosine: complex, sine: complex) -> tuple[float, float]:
     f = abs(cosine + 1j * sine) ** 2 / 2
     b = abs(cosine - 1j * sine) ** 2 / 2
     return float(f), float(b)
+
+
+class BladeFrame:
+    """The rotating frame of a rotor's blade DOFs, for :func:`mbsym.linear.linearize_azimuths`.
+
+    Writes each azimuth's linear model in multi-blade coordinates (:func:`mbc_transform`
+    for A, B; :func:`mbc_second_order` for M, C, K; outputs by ``Cy T``), so that the
+    average over azimuths is the fixed-frame model OpenFAST's MBC3 gives.
+
+    Parameters
+    ----------
+    coordinates : sequence of str
+        The model's coordinates; blade DOFs are found by name (:func:`blade_indices`).
+    spinning : str, optional
+        The spinning coordinate (``"GeAz"``): the blade-1 azimuth is its value plus
+        ``offset`` plus the drivetrain torsion ``DrTr`` when that is a coordinate.
+    offset : float, optional
+        Blade-1 azimuth minus the spinning coordinate [rad]: ElastoDyn's
+        ``AzimB1Up + π/2`` for a turbine's GeAz, 0 otherwise.
+    """
+
+    def __init__(self, coordinates: Sequence[str], *, spinning: str = "GeAz", offset: float = 0.0) -> None:
+        self.coordinates = tuple(coordinates)
+        self.groups = blade_indices(self.coordinates)
+        self.offset = float(offset)
+        self._torsion = (self.coordinates.index("DrTr") if spinning == "GeAz" and "DrTr" in self.coordinates
+                         else None)
+
+    def azimuths(self, psi: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """Blade-1 azimuth [rad] at each sample: spinning coordinate ``psi`` + offset (+ DrTr)."""
+        torsion = X[:, self._torsion] if self._torsion is not None else 0.0
+        return np.asarray(psi, dtype=float) + torsion + self.offset
+
+    def to_fixed_frame(self, lin, azimuth: float, rotor_speed: float):
+        """One :class:`~mbsym.linear.LinearModel` in multi-blade coordinates at blade-1 ``azimuth`` [rad]."""
+        from ...linear import LinearModel
+
+        om, n = rotor_speed, len(lin.coordinates)
+        A, B = mbc_transform(lin.A, self.groups, azimuth, om, B=lin.B)
+        M, C, K = mbc_second_order(lin.M, lin.C, lin.K, self.groups, azimuth, om)
+        T = coleman_matrices(n, self.groups, azimuth)
+        Tx = np.block([[T.T1, np.zeros((n, n))], [om * T.T2, T.T1]])
+        Q = np.linalg.solve(T.T1, lin.Q)
+        return LinearModel(M, C, K, Q, A, B, lin.coordinates, lin.states, lin.inputs, lin.operating_point,
+                           lin.outputs, lin.Cy @ Tx, lin.Dy, lin.output_units, lin.method)
