@@ -136,6 +136,9 @@ class MassPropertyCheck:
         if key == self._last:
             return
         v = np.array(self._f(p_values)).reshape(-1, 10)
+        if _all_physical(v, np.array(self._triangle)):
+            self._last = key
+            return
         problems = []
         for name, uses, triangle, row in zip(self._names, self._uses, self._triangle, v):
             found = rigid_body_problems(float(row[0]), row[1:].reshape(3, 3, order="F"), name, triangle=triangle)
@@ -144,6 +147,19 @@ class MassPropertyCheck:
             raise MassPropertyError("parameter values give unphysical mass properties: " + "; ".join(problems)
                                     + ". Check the values passed in p (and the defaults).")
         self._last = key
+
+
+def _all_physical(v: np.ndarray, triangle: np.ndarray) -> bool:
+    """Vectorized screen of rows ``[mass, vec(J)]`` (the common case: every body is physical)."""
+    J = v[:, 1:].reshape(-1, 3, 3).transpose(0, 2, 1)
+    scale = np.abs(J).max(axis=(1, 2))
+    tol = RELATIVE_TOLERANCE * scale
+    if np.any(v[:, 0] < 0) or np.any(np.abs(J - J.transpose(0, 2, 1)).max(axis=(1, 2)) > tol):
+        return False
+    w = np.linalg.eigvalsh(0.5 * (J + J.transpose(0, 2, 1)))
+    one_axis = (w[:, 0] <= tol) & (w[:, 1] <= tol)
+    tri = (w[:, 2] <= w[:, 0] + w[:, 1] + TRIANGLE_TOLERANCE * w[:, 2]) | one_axis | ~triangle
+    return bool(np.all(w[:, 0] >= -tol) and np.all(tri))
 
 
 def check_mass_matrix(eom, q, u=None, p=None) -> None:

@@ -81,14 +81,13 @@ CASES = [
      MassPropertyError, r"not positive definite.*\['b'\]"),
     (lambda e, t: __import__("mbsym.wind.analysis.compare", fromlist=["x"]).compare(
         _series([0.0, 1.0]), _series([5.0, 6.0])), DimensionError, r"no overlap"),
-    (lambda e, t: mb.linearize(e, [0.0, 0.0], method="magic"), MbsymError, r"unknown linearization method"),
-    (lambda e, t: _steady_nan(t), MbsymError, r"speed must be finite"),
+    (lambda e, t: mb.linearize(e, [0.0, 0.0], method="magic"), OptionError, r"unknown linearization method"),
+    (lambda e, t: _steady_nan(t), OptionError, r"speed must be finite"),
+    (lambda e, t: mb.steady_rotation(t, "fast"), OptionError, r"speed must be finite"),
+    (lambda e, t: mb.linearize(e, [0.0, 0.0], steps=[1e-3, 1e-3]), ArgumentTypeError, r"steps= is used only"),
+    (lambda e, t: mb.linearize(e, [0.0, 0.0], qdd0="zero"), OptionError, r"qdd0 must be"),
+    (lambda e, t: mb.linearize("model", [0.0]), ArgumentTypeError, r"model must be an EquationsOfMotion"),
 ]
-#: Cases that need a change in mbsym/linear.py or mbsym/operating.py (the lead is moving them into the
-#: mbsym/linear package): strict xfail, so that they fail loudly once the change lands (then remove this).
-PENDING = {len(CASES) - 2: "linear.py: unknown method raises a plain ValueError",
-           len(CASES) - 1: "operating.py: steady_rotation(nan) raises a plain ValueError"}
-
 
 def _modules_on(t):
     import dataclasses
@@ -106,15 +105,7 @@ def _series(t):
     return TimeSeries(t, ("a",), ("m",), np.c_[t])
 
 
-def _params():
-    out = []
-    for i, (call, err, match) in enumerate(CASES):
-        marks = [pytest.mark.xfail(strict=True, raises=AssertionError, reason=PENDING[i])] if i in PENDING else []
-        out.append(pytest.param(call, err, match, id=f"api{i}", marks=marks))
-    return out
-
-
-@pytest.mark.parametrize("call, err, match", _params())
+@pytest.mark.parametrize("call, err, match", CASES, ids=[f"api{i}" for i in range(len(CASES))])
 def test_bad_call_raises_a_typed_error(eom, turbine, call, err, match):
     try:
         call(eom, turbine)
