@@ -20,6 +20,13 @@ __all__ = [
     "SimulationOptionError",
     "WindInputError",
     "ControllerError",
+    "MassPropertyError",
+    "UnsupportedFeatureError",
+    "ArgumentTypeError",
+    "OptionError",
+    "OutputFileError",
+    "MbsymWarning",
+    "ModelWarning",
 ]
 
 
@@ -69,3 +76,31 @@ class WindInputError(MbsymError, ValueError):
 
 class ControllerError(MbsymError, RuntimeError):
     """A controller could not be loaded, configured or called (e.g. a DISCON library failed)."""
+class MassPropertyError(ModelDefinitionError, ParameterError):
+    """Mass properties are not physical: a negative mass, an inertia tensor that is not symmetric
+    positive semi-definite or violates the triangle inequality, or a mass matrix that is not
+    positive definite. Raised at construction (numeric values) and when parameter values are bound."""
+
+
+class UnsupportedFeatureError(ModelDefinitionError):
+    """The input asks for physics mbsym does not model (e.g. an OpenFAST module switched on)."""
+
+
+class ArgumentTypeError(MbsymError, TypeError):
+    """An argument has the wrong type (e.g. a string where a list of names is expected)."""
+
+
+class OptionError(MbsymError, ValueError):
+    """An option (keyword argument or command-line flag) has an invalid value."""
+
+
+class OutputFileError(MbsymError, OSError):
+    """An output file cannot be written where asked, or would overwrite an input."""
+
+
+class MbsymWarning(UserWarning):
+    """Base class of the warnings issued by mbsym."""
+
+
+class ModelWarning(MbsymWarning):
+    """The model will not behave as its input seems to ask (a feature ignored, a DOF unrestrained)."""

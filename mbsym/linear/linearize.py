@@ -35,7 +35,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..equations import EquationsOfMotion, check_nonsingular
-from ..exceptions import DimensionError, SolverError
+from ..exceptions import ArgumentTypeError, DimensionError, OptionError, SolverError
 from .fd import elastodyn_steps, fd_rhs
 from .functions import jacobian_function, linear_function
 from .model import LinearModel
@@ -52,20 +52,21 @@ METHODS = ("exact", "fd", "elastodyn-fd")
 def resolve_steps(target: Target, method: str, steps) -> np.ndarray | None:
     """Per-state finite-difference steps (n_x), or None for the exact method."""
     if method not in METHODS:
-        raise ValueError(f"unknown linearization method {method!r}; choose one of {list(METHODS)}.")
+        raise OptionError(f"unknown linearization method {method!r}; choose one of {list(METHODS)}.")
     eom = target.eom
     if method == "exact":
         if steps is not None:
-            raise TypeError("steps= is used only with method='fd' (finite differences).")
+            raise ArgumentTypeError("steps= is used only with method='fd' (finite differences).")
         return None
     if method == "elastodyn-fd":
         if steps is not None:
-            raise TypeError("method='elastodyn-fd' uses ElastoDyn's own steps; for other steps use method='fd'.")
+            raise ArgumentTypeError("method='elastodyn-fd' uses ElastoDyn's own steps; for other steps use method='fd'.")
         table = elastodyn_steps(target.owner if target.owner is not None else eom)
         h = np.array([table[c] for c in eom.coordinates])
         return np.concatenate([h, h])
     if steps is None:
-        raise TypeError("method='fd' needs steps=: a dict by coordinate (speeds use the same step) or n_x numbers.")
+        raise ArgumentTypeError("method='fd' needs steps=: a dict by coordinate (speeds use the same step) or n_x "
+                                "numbers.")
     if isinstance(steps, Mapping):
         return _step_dict(steps, eom)
     h = np.asarray(steps, dtype=float).reshape(-1)
@@ -101,7 +102,7 @@ def resolve_qdd(eom: EquationsOfMotion, qdd0, n_points: int | None = None):
     if qdd0 is None or (isinstance(qdd0, str) and qdd0 == "rhs"):
         return qdd0
     if isinstance(qdd0, str):
-        raise ValueError(f"qdd0 must be None, 'rhs' or {eom.n_q} numbers; got {qdd0!r}.")
+        raise OptionError(f"qdd0 must be None, 'rhs' or {eom.n_q} numbers; got {qdd0!r}.")
     if n_points is None:
         return eom._vec(qdd0, eom.n_q, "qdd0", eom.coordinates)
     return rows(qdd0, n_points, eom.n_q, "qdd0")
@@ -206,7 +207,7 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
     op = {"q": q, "qd": qd, "qdd": qdd, "u": uu, "x": x, "xd": xd, "y": y0,
           "p": dict(zip(eom.parameters, pp.tolist()))}
     return LinearModel(M, C, K, Q.reshape(n, eom.n_u), A, B.reshape(2 * n, eom.n_u), eom.coordinates,
-                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method)
+                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method, units=dict(eom.units))
 
 
 def _from_operating_point(q0, qd0, u0, p):

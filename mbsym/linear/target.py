@@ -11,7 +11,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..equations import EquationsOfMotion
-from ..exceptions import DimensionError
+from ..exceptions import ArgumentTypeError, DimensionError
 
 __all__ = ["Target", "named"]
 
@@ -25,8 +25,8 @@ class Target:
         elif isinstance(getattr(model, "eom", None), EquationsOfMotion):
             self.eom, self.owner = model.eom, model
         else:
-            raise TypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is one; "
-                            f"got {type(model).__name__}.")
+            raise ArgumentTypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is "
+                                    f"one; got {type(model).__name__}.")
 
     def _hook(self, name: str):
         f = getattr(self.owner, name, None) if self.owner is not None else None

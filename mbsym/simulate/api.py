@@ -8,12 +8,13 @@ from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
 
+from ..mass_properties import check_mass_matrix
 from .base import Problem
 from .checks import SimulationOptionWarning, check_step, check_t_out, check_tmax, check_tolerances, initial_state
 from .inputs import input_signal
 from .methods import get_method
 from .model import resolve_model
-from .result import SimulationResult
+from .result import SimulationResult, result_units
 
 __all__ = ["simulate", "DEFAULT_OUTPUT_POINTS", "DEFAULT_RTOL", "DEFAULT_ATOL"]
 
@@ -45,13 +46,14 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         ``eom.states``, or a dict by state name whose missing states keep the
         model's default (zero for an EquationsOfMotion). Default: the model's
         default state, else zeros.
-    inputs : None, array (n_u) or dict, optional
+    inputs : None, array (n_u), dict or callable, optional
         ``u(t)``: None (zero, or the model's default inputs), constants in
         order ``eom.inputs``, or a dict by input name (missing inputs take the
         model's default, else zero) of numbers, tables ``(grid,
         values)`` or values on a shared grid ``{"t": grid, "F": values}``
         (interpolated linearly, never extrapolated), or callables ``f(t)``
-        [t in s]. See :mod:`mbsym.simulate.inputs`.
+        [t in s]; or one callable ``f(t) -> n_u values`` for all inputs. See
+        :mod:`mbsym.simulate.inputs`.
     p : dict, optional
         Parameter values by name; the model's defaults fill the gaps.
     method : str, optional
@@ -141,6 +143,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if resolved.default_u and (inputs is None or isinstance(inputs, Mapping)):
         inputs = {**resolved.default_u, **(inputs or {})}
     signal = input_signal(inputs, eom.inputs, tmax)
+    check_mass_matrix(eom, x_init[: eom.n_q], signal.at(0.0), p_vec)   # M > 0 at x0 before integrating
     problem = Problem(eom, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
                       compile=compile)
     X, stats = cls(problem).solve()
@@ -148,7 +151,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     t0 = time.perf_counter()
     Y = resolved.outputs(X, U, p_vec, compile=compile)
     stats["outputs_wall_s"] = time.perf_counter() - t0
-    return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats)
+    return SimulationResult(times, X, eom.states, U, eom.inputs, Y, resolved.output_names, stats,
+                            result_units(model, eom, resolved.output_names))
 
 
 def _warn_ignored(cls, dt, rtol, atol, t_out) -> None:

@@ -44,6 +44,10 @@ class SimulationResult:
         extras (``rtol``, ``atol``, ``n_lu``; ``input_samples`` of the SUNDIALS
         methods: samples per callable input). Counters a method does not know
         are ``None``.
+    units : dict of str to str
+        Unit of each state, input and output by name (``"m"``, ``"rad/s"`` …; ``"-"`` where
+        the model does not say): states from the joints (:attr:`EquationsOfMotion.units`),
+        outputs from the model's output channels when they carry units.
     """
 
     t: np.ndarray
@@ -54,6 +58,7 @@ class SimulationResult:
     y: np.ndarray
     output_names: tuple[str, ...]
     statistics: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "u", "y"):
@@ -112,11 +117,33 @@ class SimulationResult:
                 cols[name] = arr[:, j]
         return cols
 
+    def unit(self, name: str) -> str:
+        """Unit of a state, input or output (``"-"`` if unknown)."""
+        return self.units.get(name, "-")
+
     def __repr__(self) -> str:
         s = self.statistics
-        return (f"SimulationResult(method={s.get('method')!r}, t=[{self.t[0]:g} .. {self.t[-1]:g}] s "
-                f"({self.t.size} points), states={list(self.states)}, inputs={list(self.inputs)}, "
-                f"outputs={len(self.output_names)}, steps={s.get('steps')})")
+
+        def named(names, limit=8):
+            shown = [f"{n} [{self.unit(n)}]" for n in names[:limit]]
+            return ", ".join(shown) + (f", … ({len(names)} in all)" if len(names) > limit else "") or "none"
+
+        return (f"SimulationResult(method={s.get('method')!r}, t = {self.t[0]:g} .. {self.t[-1]:g} s "
+                f"({self.t.size} points, {s.get('steps')} steps); states: {named(self.states)}; "
+                f"inputs: {named(self.inputs, 4)}; outputs: {named(self.output_names, 4)})")
+
+
+def result_units(model, eom, output_names) -> dict[str, str]:
+    """Units by name for a :class:`SimulationResult`: states from ``eom.units``, outputs from the
+    model's output channels (an ``output_function()`` result with ``names`` and ``units``)."""
+    units = dict(getattr(eom, "units", {}) or {})
+    channels = None
+    if model is not eom and callable(getattr(model, "output_function", None)):
+        channels = model.output_function()
+    names, values = getattr(channels, "names", None), getattr(channels, "units", None)
+    if names is not None and values is not None:
+        units.update({n: u for n, u in zip(names, values) if n in output_names})
+    return units
 
 
 def _index(names: tuple[str, ...], name: str, what: str) -> int:

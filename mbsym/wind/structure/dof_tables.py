@@ -11,7 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ...exceptions import ModelDefinitionError
+from ...exceptions import ArgumentTypeError, ModelDefinitionError
 from ..deck.parameters import DOF_NAMES, TurbineParameters
 
 __all__ = ["STATE_ORDER", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS", "PLATFORM_FLAGS",
@@ -119,7 +119,7 @@ def resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> tupl
         chosen = {f for f, on in turbine.dofs.items() if on}
     else:
         if isinstance(dofs, str):
-            raise TypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
+            raise ArgumentTypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
         chosen = set(dofs)
         unknown = sorted(chosen - set(DOF_NAMES))
         if unknown:

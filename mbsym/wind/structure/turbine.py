@@ -234,6 +234,14 @@ class TurbineModel:
         """OpenFAST channel names of :meth:`output_function`."""
         return self.output_function().names
 
+    def __repr__(self) -> str:
+        t = self.turbine
+        dofs = [f for f, on in self.dofs.items() if on]
+        source = t.source_files.get("fst", "built-in") if t.source_files else "built-in"
+        return (f"TurbineModel({source.rsplit('/', 1)[-1]}: {len(t.blades)} blades, tip radius {t.tip_radius:g} m, "
+                f"hub height {t.hub_height:.4g} m, rotor speed {t.initial_conditions.rotor_speed * 30 / np.pi:.4g} rpm; "
+                f"DOFs {dofs or 'none'})")
+
     # ------------------------------------------------------------------ linearization hooks
     def linearization_steps(self) -> dict[str, float]:
         """ElastoDyn's central-difference steps by coordinate (``method="elastodyn-fd"``, :mod:`.steps`)."""
