@@ -261,7 +261,7 @@ def _report_comparison(series, ref) -> None:
 def _print_comparison(rows) -> None:
     print(f"\n{'channel':<14} {'ε [%]':>9} {'R²':>10} {'max |Δ|':>12}")
     for r in rows:
-        eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.3f}"
+        eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.4f}"
         r2 = "-" if np.isnan(r["r2"]) else f"{r['r2']:.6f}"
         print(f"{r['channel']:<14} {eps:>9} {r2:>10} {r['max_abs_diff']:12.4g}")
 
