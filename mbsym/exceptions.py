@@ -18,6 +18,7 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "ExportError",
 ]
 
 
@@ -59,3 +60,7 @@ class SolverError(MbsymError, RuntimeError):
 
 class SimulationOptionError(MbsymError, ValueError):
     """An option of :func:`mbsym.simulate` (time span, step, tolerances, output times) is invalid."""
+
+
+class ExportError(MbsymError, ValueError):
+    """A model cannot be exported as asked (an operation with no C/Python/LaTeX form, a model too large for LaTeX)."""
