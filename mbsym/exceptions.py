@@ -19,6 +19,7 @@ __all__ = [
     "SolverError",
     "SimulationOptionError",
     "ExportError",
+    "SweepError",
 ]
 
 
@@ -64,3 +65,7 @@ class SimulationOptionError(MbsymError, ValueError):
 
 class ExportError(MbsymError, ValueError):
     """A model cannot be exported as asked (an operation with no C/Python/LaTeX form, a model too large for LaTeX)."""
+
+
+class SweepError(MbsymError, ValueError):
+    """A sweep is ill-defined: unknown case keys, bad options, an executor that cannot be used."""
