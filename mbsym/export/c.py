@@ -27,8 +27,7 @@ from pathlib import Path
 import casadi as ca
 
 from ..exceptions import ExportError
-from .functions import FUNCTION_NAMES, casadi_functions, export_specs
-from .python import _check_names
+from .functions import FUNCTION_NAMES, casadi_functions, check_names, export_specs
 
 __all__ = ["ExportedC", "export_c"]
 
@@ -87,7 +86,7 @@ def export_c(eom, directory, *, name: str | None = None, functions=FUNCTION_NAME
     if not isinstance(prefix, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", prefix):
         raise ExportError(f"name must be a C identifier (letters, digits, underscores; not starting with a digit); "
                           f"got {prefix!r}. Pass name='...' to export_c.")
-    names = _check_names(functions)
+    names = check_names(functions)
     directory = Path(directory)
     try:
         directory.mkdir(parents=True, exist_ok=True)

@@ -31,7 +31,10 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-__all__ = ["ExportSpec", "FUNCTION_NAMES", "export_specs", "residual_jacobians", "dense_sx", "casadi_functions"]
+from ..exceptions import ExportError
+
+__all__ = ["ExportSpec", "FUNCTION_NAMES", "export_specs", "residual_jacobians", "dense_sx", "casadi_functions",
+           "check_names"]
 
 #: Every exported function, in the order they are written.
 FUNCTION_NAMES: tuple[str, ...] = ("mass_matrix", "forcing", "residual", "rhs", "rhs_jacobian_x", "rhs_jacobian_u",
@@ -140,3 +143,14 @@ def _rhs_jacobian(eom, which: str, full: str) -> ca.Function:
         lower = ca.solve(M, e_u, "qr") if eom.n_u else ca.MX.zeros(n, 0)
         out, label = ca.vertcat(ca.MX.zeros(n, eom.n_u), lower), "B"
     return ca.Function(full, [x, u, p], [ca.densify(out)], ["x", "u", "p"], [label])
+
+
+def check_names(functions) -> tuple[str, ...]:
+    """The requested names, in :data:`FUNCTION_NAMES` order; ExportError for unknown ones."""
+    if isinstance(functions, str):
+        functions = (functions,)
+    names = tuple(functions)
+    unknown = [n for n in names if n not in FUNCTION_NAMES]
+    if unknown or not names:
+        raise ExportError(f"unknown functions {unknown or '(none given)'}; choose from {list(FUNCTION_NAMES)}.")
+    return tuple(n for n in FUNCTION_NAMES if n in names)

@@ -28,7 +28,7 @@ from pathlib import Path
 import casadi as ca
 
 from ..exceptions import ExportError
-from .functions import FUNCTION_NAMES, export_specs, residual_jacobians
+from .functions import FUNCTION_NAMES, check_names, export_specs, residual_jacobians
 
 __all__ = ["export_python", "python_source"]
 
@@ -304,19 +304,9 @@ def export_python(eom, path, *, functions=FUNCTION_NAMES) -> Path:
     ExportError
         Unknown function names, a missing directory, or an operation with no Python form.
     """
-    functions = _check_names(functions)
+    functions = check_names(functions)
     path = Path(path)
     if not path.parent.is_dir():
         raise ExportError(f"cannot write {path}: the directory {path.parent} does not exist; create it first.")
     path.write_text(python_source(eom, functions=functions))
     return path
-
-
-def _check_names(functions) -> tuple[str, ...]:
-    if isinstance(functions, str):
-        functions = (functions,)
-    names = tuple(functions)
-    unknown = [n for n in names if n not in FUNCTION_NAMES]
-    if unknown or not names:
-        raise ExportError(f"unknown functions {unknown or '(none given)'}; choose from {list(FUNCTION_NAMES)}.")
-    return tuple(n for n in FUNCTION_NAMES if n in names)
