@@ -8,13 +8,14 @@ swept parameter ``tower_stiffness_scale`` over ``--cases`` values in [0.8, 1.2].
 Rows: the in-process executor (CasADi ``map`` over chunks of cases; the baseline), CasADi
 threads, worker processes and a local Dask cluster (loopback), each with 1 and 2 workers.
 Startup (spawning the pool or the cluster) is timed apart from the sweep itself: the Dask rows
-pass a ``distributed.Client`` already connected. Per case = (sweep wall) / cases; overhead =
-per case - the baseline's per case; in-worker = the evaluation alone, measured in the worker.
-Prepare = building the plan and sampling the inputs in the calling process (per sweep). Ratios are against
+pass a ``distributed.Client`` already connected. Wall times depend on the load of this shared
+machine; CPU times (this process + the workers' evaluations) much less: the CPU overhead per
+case against the in-process run is the executor's own work (shipping, scheduling). A second
+table repeats the rows with near-empty cases, where everything is overhead. Ratios are against
 the baseline of the same run; rows are run interleaved ``--repeat`` times and the fastest run of each is kept (the machine is shared); numbers are
 never asserted.
 
-Run: ``python benchmarks/sweep.py [--cases 16] [--tmax 20] [--repeat 3] [--write]``
+Run: ``python benchmarks/sweep.py [--cases 8] [--tmax 10] [--repeat 7] [--write]``
 (``--write`` updates the sweep section of benchmarks/README.md).
 """
 
@@ -32,6 +33,8 @@ from mbsym.sweep import sweep
 from mbsym.wind import TurbineModel, nrel5mw
 
 DT = 0.01
+#: Near-empty cases (5 steps), two counts: the slope is the per-case overhead, the rest the per-sweep cost.
+TINY_COUNTS, TINY_TMAX = (8, 40), 0.05
 
 
 def model():
@@ -68,47 +71,68 @@ def dask_clients():
     return out
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--cases", type=int, default=16)
-    ap.add_argument("--tmax", type=float, default=20.0)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--write", action="store_true")
-    args = ap.parse_args()
-    turbine = model()
-    cases = {"tower_stiffness_scale": np.linspace(0.8, 1.2, args.cases).tolist()}
-
-    def go(executor, **kw):
-        return sweep(turbine, cases, tmax=args.tmax, dt=DT, executor=executor, progress=False, **kw)
-
-    clients = dask_clients()
-    runs = [("in-process (CasADi map)", 1, 0.0, lambda: go("serial")),
-            ("in-process, compiled RK4 step", 1, 0.0, lambda: go("serial", compile=True)),
-            ("CasADi threads:1", 1, 0.0, lambda: go("threads:1")),
-            ("CasADi threads:2", 2, 0.0, lambda: go("threads:2"))]
+def executor_runs(go, clients, *, compiled: bool = True) -> list:
+    """(label, workers, startup [s], run) for every executor; ``go(executor, **kw)`` runs one sweep."""
+    runs = [("in-process (CasADi map)", 1, 0.0, lambda: go("serial"))]
+    if compiled:
+        runs.append(("in-process, compiled RK4 step", 1, 0.0, lambda: go("serial", compile=True)))
+    runs += [("CasADi threads:1", 1, 0.0, lambda: go("threads:1")),
+             ("CasADi threads:2", 2, 0.0, lambda: go("threads:2"))]
     for w in (1, 2):
         runs.append((f"processes:{w} (pool started per sweep; its startup subtracted)", w, pool_startup(w),
                      (lambda w=w: go(f"processes:{w}"))))
     for w, (client, _, startup) in clients.items():
         runs.append((f"Dask LocalCluster, {w} worker(s)", w, startup, (lambda c=client: go(c))))
+    return runs
+
+
+def measure(runs, repeat: int) -> tuple[list, bool]:
+    """Rows ``(label, workers, startup, fastest wall [s], fastest total CPU [s])`` and whether every executor gave
+    the in-process numbers bit for bit. Total CPU = this process (plan, sampling, scheduling, summaries of
+    in-process rows; the Dask scheduler runs here too) + the workers' evaluation CPU time. Rows run interleaved
+    so that the machine's load hits all alike; the fastest of ``repeat`` runs is kept."""
+    for _, _, _, fn in runs:                       # warm: caches, compilation, plans deserialized in workers
+        fn()
+    walls = {label: [] for label, *_ in runs}
+    cpus = {label: [] for label, *_ in runs}
+    results = {}
+    for _ in range(repeat):
+        for label, w, startup, fn in runs:
+            t0, c0 = time.perf_counter(), time.process_time()
+            res = results[label] = fn()
+            wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+            remote = not label.startswith(("in-process", "CasADi"))
+            walls[label].append(wall - (startup if label.startswith("processes") else 0.0))
+            cpus[label].append(cpu + (float(np.sum(res.case_cpu_s)) if remote else 0.0))
+    base = results[runs[0][0]]
+    identical = all(_same(base, r) for r in results.values())
+    return [(label, w, startup, min(walls[label]), min(cpus[label])) for label, w, startup, _ in runs], identical
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", type=int, default=8)
+    ap.add_argument("--tmax", type=float, default=10.0)
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--write", action="store_true")
+    args = ap.parse_args()
+    turbine = model()
+
+    def sweeper(n_cases, tmax):
+        cases = {"tower_stiffness_scale": np.linspace(0.8, 1.2, n_cases).tolist()}
+        return lambda executor, **kw: sweep(turbine, cases, tmax=tmax, dt=DT, executor=executor, progress=False,
+                                            **kw)
+
+    clients = dask_clients()
     try:
-        for _, _, _, fn in runs:                   # warm: caches, compilation, plans deserialized in workers
-            fn()
-        walls = {label: [] for label, *_ in runs}
-        results = {}
-        for _ in range(args.repeat):               # interleaved: the machine's load hits every row alike
-            for label, w, startup, fn in runs:
-                t0 = time.perf_counter()
-                results[label] = fn()
-                walls[label].append(time.perf_counter() - t0 - (startup if label.startswith("processes") else 0.0))
+        rows, identical = measure(executor_runs(sweeper(args.cases, args.tmax), clients), args.repeat)
+        tiny = [measure(executor_runs(sweeper(k, TINY_TMAX), clients, compiled=False), args.repeat)[0]
+                for k in TINY_COUNTS]
     finally:
         for client, cluster, _ in clients.values():
             client.close()
             cluster.close()
-    base = results[runs[0][0]]
-    identical = all(_same(base, r) for r in results.values())
-    rows = [(label, w, min(walls[label]), startup, results[label]) for label, w, startup, _ in runs]
-    print_table(rows, rows[0][2], args, identical)
+    print_table(rows, args, identical, tiny)
 
 
 def _same(a, b) -> bool:
@@ -116,30 +140,39 @@ def _same(a, b) -> bool:
                for c in a.table.columns)
 
 
-def print_table(rows, base_wall, args, identical):
+def print_table(rows, args, identical, tiny):
     n = args.cases
-    base_case = base_wall / n
+    base_wall, base_cpu = rows[0][3], rows[0][4]
     lines = [f"{n} cases × {args.tmax:g} s of simulated time (dt = {DT} s, {int(round(args.tmax / DT))} RK4 steps "
-             f"each), NREL 5 MW with TFA1, TSS1, GeAz; {os.cpu_count()} cores (shared). Results identical bit for "
-             f"bit on every executor: **{'yes' if identical else 'NO'}**.", "",
-             "| executor | workers | sweep wall [s] | per case [ms] | overhead per case vs in-process [ms] | "
-             "in-worker per case [ms] | speed-up vs in-process | startup [s] | prepare in caller [s] |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    one: dict = {}
-    for label, w, wall, startup, res in rows:
-        per = wall / n
-        inw = float(np.median(res.case_wall_s)) * 1e3
+             f"each), NREL 5 MW with TFA1, TSS1, GeAz; {os.cpu_count()} cores shared with other users (load average "
+             f"{os.getloadavg()[0]:.1f} at the end). Results identical bit for bit on every executor: "
+             f"**{'yes' if identical else 'NO'}**.", "",
+             "| executor | workers | sweep wall [s] | wall per case [ms] | speed-up (wall) vs in-process | "
+             "CPU per case [ms] | CPU overhead per case vs in-process [ms] | startup [s] |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    per_kind: dict = {}
+    for label, w, startup, wall, cpu in rows:
         kind = next((k for k in ("CasADi threads", "processes", "Dask LocalCluster") if label.startswith(k)), label)
-        one.setdefault(kind, {})[w] = wall
-        lines.append(f"| {label} | {w} | {wall:.3g} | {per * 1e3:.1f} | {(per - base_case) * 1e3:+.1f} | {inw:.1f} | "
-                     f"{base_wall / wall:.2f} | {startup:.2f} | {res.prepare_wall_s:.3f} |")
+        per_kind.setdefault(kind, {})[w] = wall
+        lines.append(f"| {label} | {w} | {wall:.3g} | {wall / n * 1e3:.1f} | {base_wall / wall:.2f} | "
+                     f"{cpu / n * 1e3:.1f} | {(cpu - base_cpu) / n * 1e3:+.1f} | {startup:.2f} |")
     lines.append("")
     for kind in ("CasADi threads", "processes", "Dask LocalCluster"):
-        walls = one.get(kind, {})
+        walls = per_kind.get(kind, {})
         if 1 in walls and 2 in walls:
-            lines.append(f"- {kind}: 1 → 2 workers speed-up {walls[1] / walls[2]:.2f}×.")
-    comp_case = next(r[2] for r in rows if "compiled" in r[0]) / n
-    lines += projection(base_case, comp_case, args.tmax)
+            lines.append(f"- {kind}: 1 → 2 workers, wall speed-up {walls[1] / walls[2]:.2f}×.")
+    (k1, k2), (small, large) = TINY_COUNTS, tiny
+    lines += ["", f"Overheads, from near-empty cases ({TINY_TMAX} s, {int(round(TINY_TMAX / DT))} steps) swept {k1} "
+              f"and {k2} at a time: per case = the slope between the two, per sweep = the rest (building the "
+              "plan: Dynamics, RK4 step, serialization; starting tasks):", "",
+              "| executor | workers | per case, wall [ms] | per case, CPU [ms] | per sweep, wall [ms] | "
+              "per sweep, CPU [ms] |", "|---|---:|---:|---:|---:|---:|"]
+    for (label, w, _, wall1, cpu1), (_, _, _, wall2, cpu2) in zip(small, large):
+        dw, dc = (wall2 - wall1) / (k2 - k1), (cpu2 - cpu1) / (k2 - k1)
+        lines.append(f"| {label} | {w} | {dw * 1e3:.2f} | {dc * 1e3:.2f} | {(wall1 - k1 * dw) * 1e3:.0f} | "
+                     f"{(cpu1 - k1 * dc) * 1e3:.0f} |")
+    comp_cpu = next(r[4] for r in rows if "compiled" in r[0]) / n
+    lines += projection(base_cpu / n, comp_cpu, args.tmax)
     text = "\n".join(lines)
     print(text)
     if args.write:
@@ -149,11 +182,11 @@ def print_table(rows, base_wall, args, identical):
 
 
 def projection(vm_case, compiled_case, tmax):
-    """1000 cases of 600 s each: measured per-case cost scaled by simulated time, divided among W workers."""
+    """1000 cases of 600 s each: measured per-case CPU cost scaled by simulated time, divided among W workers."""
     scale = 600.0 / tmax
-    out = ["", "Projection, 1000-case design load set of 600 s simulations of this model (per-case cost "
-           "scaled linearly from the measured one; ideal division among W single-core workers plus the measured "
-           "startup; a real cluster adds scheduler and network latency of a few ms per task):", "",
+    out = ["", "Projection, 1000-case design load set of 600 s simulations of this model: the in-process CPU cost "
+           "per case scaled linearly with simulated time, divided ideally among W single-core workers (add the "
+           "cluster's startup and a few ms of scheduling and network latency per task):", "",
            "| per-case cost | 600 s case [s] | 1 worker [h] | W = 16 [min] | W = 64 [min] | W = 256 [min] |",
            "|---|---:|---:|---:|---:|---:|"]
     for label, c in (("VM (default)", vm_case), ("compiled step", compiled_case)):

@@ -104,6 +104,7 @@ def sweep(model: Any, cases: Any, *, run: str | Callable = "simulate", tmax: flo
     t_begin = time.perf_counter()
     spec = parse_executor(executor)
     opts = _options(channels, del_channels, wohler, del_frequency, t_start, n_modes, chunk_size, series, compile)
+    _check_times(tmax, dt)
     case_dicts = as_cases(cases)
     setters = dict(setters or {})
     base = {"p": dict(p or {}), "x0": dict(x0 or {}), "inputs": dict(inputs or {}),
@@ -118,28 +119,7 @@ def sweep(model: Any, cases: Any, *, run: str | Callable = "simulate", tmax: flo
         raise SweepError(f"run must be 'simulate', 'linearize' or a callable run(case); got {run!r}.")
     if builder.names is not None:
         check_keys(case_dicts, setters=setters, **builder.names)
-    plans: dict[str, Any] = {}
-    jobs, early, resolved, payloads = [], {}, [], {}
-    for i, settings in enumerate(case_dicts):
-        try:
-            case = (resolve_case(i, settings, base, setters=setters, **builder.names) if builder.names is not None
-                    else Case(i, dict(settings), dict(base["p"]), dict(base["x0"]), dict(base["inputs"]),
-                              {**base["options"], **settings}))
-            plan, payload = builder.job(case)
-        except SweepError as exc:
-            if builder.names is None or not getattr(exc, "per_case", True):
-                raise
-            early[i] = builder.failure(exc)
-            resolved.append(None)
-            continue
-        except Exception as exc:  # noqa: BLE001 - a bad value fails its case only
-            early[i] = builder.failure(exc)
-            resolved.append(None)
-            continue
-        plans.setdefault(plan.key, plan)
-        jobs.append((i, plan.key, payload))
-        payloads[i] = (plan, payload)
-        resolved.append(case)
+    plans, jobs, early, resolved, payloads = _jobs(builder, case_dicts, base, setters)
     t_prepared = time.perf_counter()
     bar = Progress(len(case_dicts), progress)
     bar.update(list(early.values()))
@@ -153,7 +133,42 @@ def sweep(model: Any, cases: Any, *, run: str | Callable = "simulate", tmax: flo
     kept = [builder.series(resolved[i], o, *payloads[i]) if resolved[i] is not None and o.error is None else None
             for i, o in enumerate(ordered)] if opts["series"] else None
     return SweepResult(table, kept, resolved, str(spec), time.perf_counter() - t_begin,
-                       np.array([o.wall_s for o in ordered]), t_prepared - t_begin)
+                       np.array([o.wall_s for o in ordered]), t_prepared - t_begin,
+                       np.array([o.cpu_s for o in ordered]))
+
+
+def _jobs(builder, case_dicts: list[dict], base: dict, setters: dict):
+    """Resolve every case and build its payload: plans by key, jobs ``(index, plan key, payload)``, the outcomes
+    of cases that failed already, the resolved cases (None where failed) and ``{index: (plan, payload)}``."""
+    plans: dict[str, Any] = {}
+    jobs, early, resolved, payloads = [], {}, [], {}
+    for i, settings in enumerate(case_dicts):
+        try:
+            case = (resolve_case(i, settings, base, setters=setters, **builder.names) if builder.names is not None
+                    else Case(i, dict(settings), dict(base["p"]), dict(base["x0"]), dict(base["inputs"]),
+                              {**base["options"], **settings}))
+            plan, payload = builder.job(case)
+        except Exception as exc:  # noqa: BLE001 - a bad value fails its case only
+            if isinstance(exc, SweepError) and not getattr(exc, "per_case", True):
+                raise
+            early[i] = builder.failure(exc)
+            resolved.append(None)
+            continue
+        plans.setdefault(plan.key, plan)
+        jobs.append((i, plan.key, payload))
+        payloads[i] = (plan, payload)
+        resolved.append(case)
+    return plans, jobs, early, resolved, payloads
+
+
+def _check_times(tmax, dt) -> None:
+    """Common tmax and dt are checked before anything runs (a case's own values fail that case only)."""
+    from ..simulate.checks import check_step, check_tmax
+
+    if tmax is not None:
+        check_tmax(tmax)
+    if dt is not None:
+        check_step(dt, float(tmax) if tmax is not None else float(dt))
 
 
 def _options(channels, del_channels, wohler, del_frequency, t_start, n_modes, chunk_size, series, compile) -> dict:

@@ -198,8 +198,14 @@ def _dask(spec: ExecutorSpec, plans: dict, chunks: list, record: Callable) -> No
             except Exception as exc:  # noqa: BLE001 - a lost worker fails its chunk, not the sweep
                 record(chunk, _failed_chunk(chunk, exc))
     finally:
-        for close in closers:
-            close()
+        quiet = logging.getLogger("distributed")
+        level = quiet.level
+        quiet.setLevel(logging.ERROR)                # no INFO lines about workers closing
+        try:
+            for close in closers:
+                close()
+        finally:
+            quiet.setLevel(level)
 
 
 def _client(spec: ExecutorSpec, distributed) -> tuple[Any, list[Callable]]:

@@ -44,12 +44,14 @@ PREPARED_MAX = 8
 
 @dataclass
 class Outcome:
-    """What evaluating one case returns: its summary columns, error (or None), optional series, wall time [s]."""
+    """What evaluating one case returns: its summary columns, error (or None), optional series, wall time [s]
+    and CPU time [s] of the evaluation in its worker."""
 
     summary: dict
     error: str | None = None
     series: Any = None
     wall_s: float = 0.0
+    cpu_s: float = 0.0
 
 
 def _key(*parts) -> str:
@@ -299,12 +301,14 @@ def run_chunk(plan, payloads: list) -> list[Outcome]:
     prepared = prepare(plan)
     out = []
     for payload in payloads:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         try:
             result = prepared.one(payload)
-            out.append(prepared.outcome(payload, result, time.perf_counter() - t0))
+            outcome = prepared.outcome(payload, result, time.perf_counter() - t0)
         except Exception as exc:  # noqa: BLE001 - a failing case is recorded in its row, the sweep goes on
-            out.append(_failed(prepared, exc, time.perf_counter() - t0))
+            outcome = _failed(prepared, exc, time.perf_counter() - t0)
+        outcome.cpu_s = time.thread_time() - c0
+        out.append(outcome)
     return out
 
 
@@ -317,11 +321,15 @@ def evaluate_mapped(plan, payloads: list, *, parallelization: str = "serial", wo
     prepared = prepare(plan)
     if isinstance(plan, CallablePlan) or len(payloads) < 2:
         return run_chunk(plan, payloads)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()          # process time: includes CasADi's map threads
     try:
         f = prepared.mapped(len(payloads), parallelization, workers)
         results = prepared.split(f(*prepared.stack(payloads)), len(payloads))
     except Exception:  # noqa: BLE001 - isolate the failing case
         return run_chunk(plan, payloads)
     wall = (time.perf_counter() - t0) / len(payloads)
-    return [prepared.outcome(pl, r, wall) for pl, r in zip(payloads, results)]
+    out = [prepared.outcome(pl, r, wall) for pl, r in zip(payloads, results)]
+    cpu = (time.process_time() - c0) / len(payloads)
+    for o in out:
+        o.cpu_s = cpu
+    return out

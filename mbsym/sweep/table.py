@@ -128,8 +128,9 @@ class SweepResult:
     executor : str
     wall_s : float
         Total wall time of the sweep [s].
-    case_wall_s : ndarray
-        Wall time of each case's evaluation in its worker [s] (for mapped chunks, the chunk's time / size).
+    case_wall_s, case_cpu_s : ndarray
+        Wall and CPU time of each case's evaluation (and summary) in its worker [s] (for mapped chunks, the
+        chunk's time / size; CPU time of the process for in-process chunks, of the thread in workers).
     prepare_wall_s : float
         Building the plans (Functions, serialization) and sampling the inputs in this process [s].
     """
@@ -141,6 +142,7 @@ class SweepResult:
     wall_s: float
     case_wall_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     prepare_wall_s: float = 0.0
+    case_cpu_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def to_csv(self, path) -> Path:
         """``table.to_csv(path)``."""

@@ -129,6 +129,8 @@ def test_csv_round_trips_exactly(eom, tmp_path):
 def test_bad_sweeps_raise_before_running(eom):
     with pytest.raises(SweepError, match=r"case keys \['stiffness'\]"):
         sweep(eom, {"stiffness": [1.0]}, tmax=1.0)
+    with pytest.raises(mb.SimulationOptionError, match="tmax"):
+        sweep(eom, {"k": [1.0]}, tmax=-1.0)
     with pytest.raises(SweepError, match="need tmax"):
         sweep(eom, {"k": [1.0]})
     with pytest.raises(SweepError, match="executor 'gpu:2'"):
