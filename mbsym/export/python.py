@@ -268,7 +268,7 @@ def _public(eom, spec) -> str:
     elif spec.name == "rhs_jacobian_x":
         body = accel + [
             "    e_q, e_qd, _ = _call(_sx_residual_jacobians, (q, qd, qdd, u, p))",
-            f"    lower = _np.linalg.solve(M, _np.hstack([_dense(e_q, _SQUARE), _dense(e_qd, _SQUARE)]))",
+            "    lower = _np.linalg.solve(M, _np.hstack([_dense(e_q, _SQUARE), _dense(e_qd, _SQUARE)]))",
             f"    return _np.vstack([_np.hstack([_np.zeros(({n}, {n})), _np.eye({n})]), lower])",
         ]
     elif spec.name == "rhs_jacobian_u":

@@ -8,7 +8,6 @@ LaTeX must reproduce eom.mass_matrix / eom.forcing (1e-10 relative).
 """
 
 import importlib.util
-import re
 from pathlib import Path
 
 import numpy as np
@@ -33,8 +32,10 @@ def parse(tex: str, names: dict[str, str]):
 
 
 def evaluate(expr, values: dict[str, float]) -> float:
-    subs = {s: values[str(s)] for s in expr.free_symbols}
-    return float(expr.evalf(subs=subs, n=30))
+    import sympy
+
+    f = sympy.lambdify(sorted(expr.free_symbols, key=str), expr, "math")
+    return float(f(*[values[str(s)] for s in sorted(expr.free_symbols, key=str)]))
 
 
 def closed_form(q1, q2, w1, w2, m1, m2, l1, l2):
