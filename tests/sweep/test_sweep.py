@@ -145,3 +145,11 @@ def test_bad_sweeps_raise_before_running(eom):
         sweep(eom, [], tmax=1.0)
     with pytest.raises(TypeError):
         sweep(eom, {"k": [1.0]}, tmax=1.0, workers=2)
+
+
+def test_progress_bar_on_request(eom, capsys):
+    res = sweep(eom, {"k": [1.0, -1e12]}, tmax=0.5, channels=["x"], x0={"x": 1.0}, progress=True)
+    err = capsys.readouterr().err
+    assert "sweep [" in err and "2/2 cases, 1 failed" in err and len(res.table.failed) == 1
+    sweep(eom, {"k": [1.0]}, tmax=0.5, channels=["x"])          # not a terminal: no bar by default
+    assert capsys.readouterr().err == ""
