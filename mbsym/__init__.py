@@ -19,9 +19,11 @@ from .exceptions import (
     ModelDefinitionError,
     OpenFASTFormatError,
     ParameterError,
+    ExportError,
     SimulationOptionError,
     SingularMassMatrixError,
     SolverError,
+    SweepError,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
@@ -30,6 +32,7 @@ from .linear import AzimuthSweep, OperatingPoint, linearize_azimuths, static_equ
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate
+from .sweep import sweep
 
 try:
     __version__ = version("mbsym")
@@ -82,5 +85,8 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "ExportError",
+    "SweepError",
+    "sweep",
     "__version__",
 ]

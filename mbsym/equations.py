@@ -211,6 +211,34 @@ class EquationsOfMotion:
                            [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "u", "p"],
                            ["r", "R", "v", "w", "a", "wd"], {"cse": True})
 
+    # ------------------------------------------------------------ export
+    def export_c(self, directory, **options):
+        """Write the model's functions as standalone C with a minimal ``main.c``.
+
+        See :func:`mbsym.export.export_c` (options: ``name``, ``functions``, ``main``).
+        """
+        from .export import export_c
+
+        return export_c(self, directory, **options)
+
+    def export_python(self, path, **options):
+        """Write the model's functions as a numpy-only Python module called like :attr:`functions`.
+
+        See :func:`mbsym.export.export_python` (option: ``functions``).
+        """
+        from .export import export_python
+
+        return export_python(self, path, **options)
+
+    def latex(self, **options) -> str:
+        """The mass matrix and forcing of a small model in LaTeX, with the model's symbol names.
+
+        See :func:`mbsym.export.latex` (options: ``form``, ``digits``, ``max_terms``).
+        """
+        from .export import latex
+
+        return latex(self, **options)
+
     # ------------------------------------------------------------ numeric
     def parameter_vector(self, p: Mapping[str, float] | None = None) -> np.ndarray:
         """Parameter values as a vector in the order of :attr:`parameters`.

@@ -27,6 +27,8 @@ __all__ = [
     "OutputFileError",
     "MbsymWarning",
     "ModelWarning",
+    "ExportError",
+    "SweepError",
 ]
 
 
@@ -104,3 +106,9 @@ class MbsymWarning(UserWarning):
 
 class ModelWarning(MbsymWarning):
     """The model will not behave as its input seems to ask (a feature ignored, a DOF unrestrained)."""
+class ExportError(MbsymError, ValueError):
+    """A model cannot be exported as asked (an operation with no C/Python/LaTeX form, a model too large for LaTeX)."""
+
+
+class SweepError(MbsymError, ValueError):
+    """A sweep is ill-defined: unknown case keys, bad options, an executor that cannot be used."""
