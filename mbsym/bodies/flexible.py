@@ -89,6 +89,12 @@ class FlexibleBody(Body):
     stiffness, damping : array or SX, optional
         Override ``sid.ke`` / ``sid.de`` (n_e x n_e), e.g. with expressions of
         parameters for design studies.
+    mass_scale : float or SX, optional
+        Factor on every inertial shape integral (mass, first and second moments,
+        ``Ct``, ``Cr``, ``Me``, ``Gr``, ``Ge``, ``Oe`` and the self-weight and
+        centrifugal geometric stiffness; not ``kg_tip``, which the top mass loads):
+        the body with its mass density scaled, e.g. ElastoDyn's AdjTwMa as a
+        parameter. Default: none (the shape integrals as given).
 
     Examples
     --------
@@ -97,7 +103,8 @@ class FlexibleBody(Body):
 
     def __init__(self, name: str, sid, coordinates: Sequence, *, taylor_order: int = 1,
                  gravity_stiffening: bool = True, centrifugal_stiffening: bool = True,
-                 top_mass=0.0, end_rotation_order: int | None = 1, stiffness=None, damping=None) -> None:
+                 top_mass=0.0, end_rotation_order: int | None = 1, stiffness=None, damping=None,
+                 mass_scale=None) -> None:
         super().__init__(name)
         coordinates = tuple(coordinates)
         if len(coordinates) != sid.n_e:
@@ -119,6 +126,7 @@ class FlexibleBody(Body):
         self.centrifugal_stiffening = bool(centrifugal_stiffening)
         self.end_rotation_order = end_rotation_order
         self._top_mass = _scalar(top_mass, f"top_mass of {name!r}")
+        self._mass_scale = None if mass_scale is None else _scalar(mass_scale, f"mass_scale of {name!r}")
         ne = sid.n_e
         self._ke = self._square(stiffness, sid.ke, "stiffness", ne)
         self._de = self._square(damping, sid.de, "damping", ne)
@@ -143,7 +151,8 @@ class FlexibleBody(Body):
         return self._sid.n_e
 
     def symbolic_values(self) -> list:
-        return [self._top_mass, self._ke, self._de]
+        scale = [] if self._mass_scale is None else [self._mass_scale]
+        return [self._top_mass, self._ke, self._de, *scale]
 
     # ------------------------------------------------------------ attachment
     def attachment(self, offset: ca.SX) -> tuple[ca.SX, ca.SX]:
@@ -191,12 +200,17 @@ class FlexibleBody(Body):
             Mtt += sum((_dm(sid.mtt2[i][j]) * qe[i] * qe[j] for i in range(ne) for j in range(ne)), ca.SX.zeros(3, 3))
         Cr = _taylor(sid.cr, qe, o, (ne, 3))
         Ct = _dm(sid.ct)
-        S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
-        Mb = ca.blockcat([[m * ca.SX.eye(3), Mxt, Ct.T], [Mxt.T, Mtt, Cr.T], [Ct, Cr, _dm(sid.me)]])
-        W = skew(w)
+        Me = _dm(sid.me)
         Gr = sum((_taylor(_slice(sid.gr, j), qe, o, (3, 3)) * qde[j] for j in range(ne)), ca.SX.zeros(3, 3))
         Ge = sum((_dm(sid.ge[j]) * qde[j] for j in range(ne)), ca.SX.zeros(ne, 3))
         Oe = [_taylor(_slice(sid.oe, j), qe, o, (3, 3)) for j in range(ne)]
+        if self._mass_scale is not None:        # every inertial integral is linear in the mass density
+            c = self._mass_scale
+            m, Mxt, Mtt, Cr, Ct, Me, Gr, Ge = (c * v for v in (m, Mxt, Mtt, Cr, Ct, Me, Gr, Ge))
+            Oe = [c * v for v in Oe]
+        S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
+        Mb = ca.blockcat([[m * ca.SX.eye(3), Mxt, Ct.T], [Mxt.T, Mtt, Cr.T], [Ct, Cr, Me]])
+        W = skew(w)
         k_x = 2 * W @ Ct.T @ qde + W @ W @ S
         k_t = W @ Mtt @ w + Gr @ w
         k_e = ca.vertcat(*[w.T @ Oe[j] @ w for j in range(ne)]) + Ge @ w
@@ -220,22 +234,23 @@ class FlexibleBody(Body):
         qdd are left out so that M stays symmetric).
         """
         sid, ne = self._sid, self.n_e
+        c = 1.0 if self._mass_scale is None else self._mass_scale     # own-mass terms scale with the density
         Kg = ca.SX.zeros(ne, ne)
         if self.gravity_stiffening:
             # (a - g) kg_t for the body's own mass; the top mass pushes on the tip
             # with F = -top_mass (a - g).
             for a in range(3):
                 load = acc[a] - gb[a]
-                Kg += load * _dm(sid.kg_t[a]) - self._top_mass * load * _dm(sid.kg_tip[a])
+                Kg += c * load * _dm(sid.kg_t[a]) - self._top_mass * load * _dm(sid.kg_tip[a])
                 kr = np.asarray(sid.kg_r[a])
                 if np.any(kr):
-                    Kg += wdot[a] * _dm(kr)
+                    Kg += c * wdot[a] * _dm(kr)
         if self.centrifugal_stiffening:
             for a in range(3):
                 for b in range(3):
                     kab = np.asarray(sid.kg_omega[a][b])
                     if np.any(kab):
-                        Kg += w[a] * w[b] * _dm(kab)
+                        Kg += c * w[a] * w[b] * _dm(kab)
         return Kg
 
 
