@@ -22,6 +22,9 @@ from .exceptions import (
     SimulationOptionError,
     SingularMassMatrixError,
     SolverError,
+    DataError,
+    IdentificationOptionError,
+    IdentifiabilityWarning,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
@@ -30,6 +33,7 @@ from .operating import AzimuthSweep, OperatingPoint, linearize_azimuths, static_
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate
+from .identify import IdentificationResult, identify
 
 try:
     __version__ = version("mbsym")
@@ -63,6 +67,8 @@ __all__ = [
     "linearize_azimuths",
     "simulate",
     "SimulationResult",
+    "identify",
+    "IdentificationResult",
     "compile_function",
     "CompilationWarning",
     "LinearModel",
@@ -82,5 +88,8 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
     "__version__",
 ]

@@ -18,6 +18,9 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
 ]
 
 
@@ -59,3 +62,15 @@ class SolverError(MbsymError, RuntimeError):
 
 class SimulationOptionError(MbsymError, ValueError):
     """An option of :func:`mbsym.simulate` (time span, step, tolerances, output times) is invalid."""
+
+
+class DataError(MbsymError, ValueError):
+    """Measured or reference data are unusable: a channel is missing, values are not finite, times do not increase."""
+
+
+class IdentificationOptionError(MbsymError, ValueError):
+    """An option of :func:`mbsym.identify` (method, tolerances, weights, bounds, initial values) is invalid."""
+
+
+class IdentifiabilityWarning(UserWarning):
+    """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
