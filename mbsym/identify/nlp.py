@@ -41,13 +41,16 @@ def solve_nlp(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndarray
     n_th, n_x = theta0.size, fun.n_x
     th = ca.MX.sym("theta", n_th)
     parts, res, gaps, lbw, ubw, w0 = [th], [], [], [lb], [ub], [theta0]
+    p_fixed = np.array(p, dtype=float)
+    p_fixed[fun.theta_index] = 0.0
+    pf = ca.DM(p_fixed) + ca.mtimes(ca.DM(fun.E), th)          # the parameter vector with the estimates
     for i, (rec, S) in enumerate(zip(recs, S0)):
         n = rec.H.size
         Sm = ca.MX.sym(f"S{i}", n_x, n + 1)
         parts.append(ca.vec(Sm))
-        xn = fun.sym_interval.map(n)(Sm[:, :-1], rec.U[:-1].T, rec.U[1:].T, th, p, rec.H[None, :])
+        xn = fun.sym_interval.map(n)(Sm[:, :-1], rec.U[:-1].T, rec.U[1:].T, pf, rec.H[None, :])
         gaps.append(ca.vec(xn - Sm[:, 1:]))
-        y = fun.sym_output.map(n + 1)(Sm, rec.U.T, th, p)
+        y = fun.sym_output.map(n + 1)(Sm, rec.U.T, pf)
         e = _wrap_mx(y - ca.DM(rec.Y.T), rec.period)
         res.append(ca.vec(e * ca.DM(rec.w)))
         lo, hi = np.full((n_x, n + 1), -np.inf), np.full((n_x, n + 1), np.inf)

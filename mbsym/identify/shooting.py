@@ -93,7 +93,10 @@ class ShootingFunctions:
         self.compiled, self.compile_s = False, 0.0
         self.threads = max(1, int(threads))
         self.parallelization = "thread" if self.threads > 1 else "serial"
-        funcs = self._build(rows, list(theta_index))
+        self.theta_index = np.asarray(theta_index, dtype=int)
+        self.E = np.zeros((dyn.n_p, self.n_th))
+        self.E[self.theta_index, np.arange(self.n_th)] = 1.0
+        funcs = self._build(rows)
         self.sym_interval, self.sym_output = funcs["interval"], funcs["output"]     # uncompiled (for AD)
         if compile:
             out = {}
@@ -109,7 +112,10 @@ class ShootingFunctions:
         self._maps: dict = {}
 
     # ------------------------------------------------------------------ build
-    def _build(self, rows, theta_index) -> dict[str, ca.Function]:
+    def _build(self, rows) -> dict[str, ca.Function]:
+        """The Functions take the full parameter vector ``p`` (estimates written into it) and, for the
+        Jacobians, a selection ``E`` (n_p × n_θ) of the estimated columns: the generated code depends on how
+        many parameters are estimated, not on which (one compilation serves every choice)."""
         dyn = self.dyn
         use_y = any(k == "y" for k, _ in rows)
         outputs = dyn.outputs
@@ -121,69 +127,63 @@ class ShootingFunctions:
         sx = dyn.rhs.is_a("SXFunction") and (not use_y or outputs.is_a("SXFunction"))
         S = ca.SX if sx else ca.MX
         opts = {"cse": True} if sx else {}
-        x, u, th, p = S.sym("x", self.n_x), S.sym("u", self.n_u), S.sym("theta", self.n_th), S.sym("p", dyn.n_p)
-        pe = [p[i] for i in range(dyn.n_p)]
-        for j, i in enumerate(theta_index):
-            pe[i] = th[j]
-        pf = ca.vertcat(*pe) if pe else p
-        f = dyn.rhs(x, u, pf)
-        y = self._channels(rows, outputs if use_y else None, x, u, pf)
-        xt = ca.vertcat(x, th)
-        args, names = [x, u, th, p], ["x", "u", "theta", "p"]
-        f_theta = ca.Function("ident_rhs", args, [f], names, ["f"], opts)
-        f_jac = ca.Function("ident_rhs_jac", args, [f, ca.densify(ca.jacobian(f, xt))], names, ["f", "J"], opts)
+        x, u, p, E = S.sym("x", self.n_x), S.sym("u", self.n_u), S.sym("p", dyn.n_p), S.sym("E", dyn.n_p, self.n_th)
+        f = dyn.rhs(x, u, p)
+        y = self._channels(rows, outputs if use_y else None, x, u, p)
+        args, names = [x, u, p], ["x", "u", "p"]
+        f_jac = ca.Function("ident_rhs_jac", [*args, E], [ca.densify(v) for v in (
+            f, ca.jacobian(f, x), ca.mtimes(ca.jacobian(f, p), E))], [*names, "E"], ["f", "Jx", "JpE"], opts)
         output = ca.Function("ident_output", args, [ca.densify(y)], names, ["y"], opts)
-        output_jac = ca.Function("ident_output_jac", args, [ca.densify(v) for v in (y, ca.jacobian(y, x),
-                                 ca.jacobian(y, th))], names, ["y", "C", "D"], opts)
-        return {"interval": self._interval(f_theta), "output": output, "output_jac": output_jac,
+        output_jac = ca.Function("ident_output_jac", [*args, E], [ca.densify(v) for v in (
+            y, ca.jacobian(y, x), ca.mtimes(ca.jacobian(y, p), E))], [*names, "E"], ["y", "C", "D"], opts)
+        return {"interval": self._interval(dyn.rhs), "output": output, "output_jac": output_jac,
                 "interval_jac": self._interval_jac(f_jac), "condense": self._condense_step()}
 
     def _interval(self, f: ca.Function) -> ca.Function:
-        """``(x, u0, u1, θ, p, h) -> x_next``: ``m`` RK4 sub-steps (an MX graph calling the rhs)."""
-        S = ca.MX
-        x, u0, u1 = S.sym("x", self.n_x), S.sym("u0", self.n_u), S.sym("u1", self.n_u)
-        th, p, h = S.sym("theta", self.n_th), S.sym("p", self.dyn.n_p), S.sym("h")
+        """``(x, u0, u1, p, h) -> x_next``: ``m`` RK4 sub-steps (an MX graph calling the rhs)."""
+        x, u0, u1 = ca.MX.sym("x", self.n_x), ca.MX.sym("u0", self.n_u), ca.MX.sym("u1", self.n_u)
+        p, h = ca.MX.sym("p", self.dyn.n_p), ca.MX.sym("h")
         m = self.substeps
         hs = h / m
         xk = x
         for j in range(m):
             ua, um, ub = (u0 + (u1 - u0) * (c / m) for c in (j, j + 0.5, j + 1.0))
-            k1 = f(xk, ua, th, p)
-            k2 = f(xk + hs / 2 * k1, um, th, p)
-            k3 = f(xk + hs / 2 * k2, um, th, p)
-            k4 = f(xk + hs * k3, ub, th, p)
+            k1 = f(xk, ua, p)
+            k2 = f(xk + hs / 2 * k1, um, p)
+            k3 = f(xk + hs / 2 * k2, um, p)
+            k4 = f(xk + hs * k3, ub, p)
             xk = xk + hs / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        return ca.Function("ident_interval", [x, u0, u1, th, p, h], [ca.densify(xk)],
-                           ["x", "u0", "u1", "theta", "p", "h"], ["x_next"])
+        return ca.Function("ident_interval", [x, u0, u1, p, h], [ca.densify(xk)], ["x", "u0", "u1", "p", "h"],
+                           ["x_next"])
 
     def _interval_jac(self, f_jac: ca.Function) -> ca.Function:
-        """``(x, u0, u1, θ, p, h) -> (x_next, A, B)``: RK4 and its exact Jacobians, stage by stage.
+        """``(x, u0, u1, p, h, E) -> (x_next, A, B)``: RK4 and its exact Jacobians, stage by stage.
 
         With ``X_i = ∂(stage state)/∂[x; θ]`` (n_x × (n_x + n_θ)), each stage's slope has the
-        Jacobian ``K_i = J_f(stage) [X_i; 0 I]`` (chain rule through the stage states), so the
-        model's rhs Jacobian is evaluated once per stage (an MX graph calling one SX Function).
+        Jacobian ``K_i = ∂f/∂x X_i + [0 | ∂f/∂p E]`` (chain rule through the stage states), so
+        the model's rhs Jacobian is evaluated once per stage (an MX graph calling one SX Function).
         """
         nx, nth, m = self.n_x, self.n_th, self.substeps
         x0, u0, u1 = ca.MX.sym("x", nx), ca.MX.sym("u0", self.n_u), ca.MX.sym("u1", self.n_u)
-        th, p, h = ca.MX.sym("theta", nth), ca.MX.sym("p", self.dyn.n_p), ca.MX.sym("h")
-        lower = ca.DM(np.hstack([np.zeros((nth, nx)), np.eye(nth)]))
+        p, h, E = ca.MX.sym("p", self.dyn.n_p), ca.MX.sym("h"), ca.MX.sym("E", self.dyn.n_p, nth)
         hs = h / m
         x, X = x0, ca.DM(np.hstack([np.eye(nx), np.zeros((nx, nth))]))
+
+        def slope(xs, us, Xs):
+            k, Jx, JpE = f_jac(xs, us, p, E)
+            return k, ca.mtimes(Jx, Xs) + ca.horzcat(ca.MX.zeros(nx, nx), JpE)
+
         for j in range(m):
             ua, um, ub = (u0 + (u1 - u0) * (c / m) for c in (j, j + 0.5, j + 1.0))
-            k1, J1 = f_jac(x, ua, th, p)
-            K1 = ca.mtimes(J1, ca.vertcat(X, lower))
-            k2, J2 = f_jac(x + hs / 2 * k1, um, th, p)
-            K2 = ca.mtimes(J2, ca.vertcat(X + hs / 2 * K1, lower))
-            k3, J3 = f_jac(x + hs / 2 * k2, um, th, p)
-            K3 = ca.mtimes(J3, ca.vertcat(X + hs / 2 * K2, lower))
-            k4, J4 = f_jac(x + hs * k3, ub, th, p)
-            K4 = ca.mtimes(J4, ca.vertcat(X + hs * K3, lower))
+            k1, K1 = slope(x, ua, X)
+            k2, K2 = slope(x + hs / 2 * k1, um, X + hs / 2 * K1)
+            k3, K3 = slope(x + hs / 2 * k2, um, X + hs / 2 * K2)
+            k4, K4 = slope(x + hs * k3, ub, X + hs * K3)
             x = x + hs / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
             X = X + hs / 6 * (K1 + 2 * K2 + 2 * K3 + K4)
-        return ca.Function("ident_interval_jac", [x0, u0, u1, th, p, h],
+        return ca.Function("ident_interval_jac", [x0, u0, u1, p, h, E],
                            [ca.densify(x), ca.densify(X[:, :nx]), ca.densify(X[:, nx:])],
-                           ["x", "u0", "u1", "theta", "p", "h"], ["x_next", "A", "B"])
+                           ["x", "u0", "u1", "p", "h", "E"], ["x_next", "A", "B"])
 
     def _condense_step(self) -> ca.Function:
         """``(Z, A, B, g) -> A Z + [0 | B | g]``: one step of the condensing recursion."""
@@ -205,23 +205,27 @@ class ShootingFunctions:
             self._maps[key] = make()
         return self._maps[key]
 
+    def _p(self, theta: np.ndarray, p: np.ndarray) -> np.ndarray:
+        q = np.array(p, dtype=float)
+        q[self.theta_index] = theta
+        return q
+
     def intervals(self, X: np.ndarray, U0: np.ndarray, U1: np.ndarray, theta: np.ndarray, p: np.ndarray,
                   H: np.ndarray) -> np.ndarray:
         """States after every interval from the rows of ``X`` (N, n_x)."""
         n = X.shape[0]
-        f = self._cached(("interval", n), lambda: self.interval.map("ident_intervals", "serial", n, [3, 4], []))
-        (xn,) = _call(f, [X, U0, U1, theta, p, H])
+        f = self._cached(("interval", n), lambda: self.interval.map("ident_intervals", "serial", n, [3], []))
+        (xn,) = _call(f, [X, U0, U1, self._p(theta, p), H])
         return xn.reshape(n, self.n_x)
 
     def outputs(self, X: np.ndarray, U: np.ndarray, theta: np.ndarray, p: np.ndarray, *, jac: bool = False):
         """Channels at the rows of ``X`` (N, n_y); with ``jac`` also C (N, n_y, n_x) and D (N, n_y, n_th)."""
         n = X.shape[0]
-        f = self._cached(("output", jac, n), lambda: (self.output_jac if jac else self.output).map(
-            "ident_outputs", "serial", n, [2, 3], []))
-        res = _call(f, [X, U, theta, p])
         if not jac:
-            return res[0].reshape(n, self.n_y)
-        y, C, D = res
+            f = self._cached(("output", n), lambda: self.output.map("ident_outputs", "serial", n, [2], []))
+            return _call(f, [X, U, self._p(theta, p)])[0].reshape(n, self.n_y)
+        f = self._cached(("output_jac", n), lambda: self.output_jac.map("ident_outputs_jac", "serial", n, [2, 3], []))
+        y, C, D = _call(f, [X, U, self._p(theta, p), self.E.T])
         C = C.reshape(n, self.n_x, self.n_y).transpose(0, 2, 1)
         D = D.reshape(n, self.n_th, self.n_y).transpose(0, 2, 1)
         return y.reshape(n, self.n_y), C, D
@@ -231,8 +235,8 @@ class ShootingFunctions:
         """States after every interval (N, n_x) and the Jacobians A (N, n_x, n_x), B (N, n_x, n_th)."""
         n, nx, nth = X.shape[0], self.n_x, self.n_th
         f = self._cached(("interval_jac", n), lambda: self.interval_jac.map(
-            "ident_intervals_jac", self.parallelization, n, [3, 4], [], {"max_num_threads": self.threads}))
-        xn, A, B = _call(f, [X, U0, U1, theta, p, H])
+            "ident_intervals_jac", self.parallelization, n, [3, 5], [], {"max_num_threads": self.threads}))
+        xn, A, B = _call(f, [X, U0, U1, self._p(theta, p), H, self.E.T])
         return (xn.reshape(n, nx), A.reshape(n, nx, nx).transpose(0, 2, 1), B.reshape(n, nth, nx).transpose(0, 2, 1))
 
     def condense(self, Z0: np.ndarray, A: np.ndarray, B: np.ndarray, g: np.ndarray) -> np.ndarray:
@@ -245,8 +249,8 @@ class ShootingFunctions:
     def simulate(self, x0: np.ndarray, U: np.ndarray, theta: np.ndarray, p: np.ndarray, H: np.ndarray) -> np.ndarray:
         """Single-shooting trajectory (N + 1, n_x) from ``x0`` on the sample grid (``U`` (N + 1, n_u))."""
         n = H.size
-        loop = self._cached(("loop", n), lambda: _accumulated(self.interval, n, shared=(3, 4)))
-        (X,) = _call(loop, [x0, U[:-1], U[1:], theta, p, H])
+        loop = self._cached(("loop", n), lambda: _accumulated(self.interval, n, shared=(3,)))
+        (X,) = _call(loop, [x0, U[:-1], U[1:], self._p(theta, p), H])
         return np.vstack([np.asarray(x0, dtype=float)[None, :], X.reshape(n, self.n_x)])
 
 
