@@ -161,7 +161,7 @@ def warn_identifiability(names, corr: np.ndarray, std: np.ndarray, threshold: fl
     if problems:
         warnings.warn("poorly identifiable parameters: " + "; ".join(problems) + ". Fix one of each pair, add "
                       "channels or records that separate them, or accept the large standard errors.",
-                      IdentifiabilityWarning, stacklevel=3)
+                      IdentifiabilityWarning, stacklevel=4)
     return problems
 
 

@@ -382,8 +382,10 @@ def blade_matrices(turbine: TurbineParameters, blade: int, flags: Sequence[str],
     return K, C
 
 
-def resolve(parameter_names: Sequence[str], key: str) -> NamedParameter:
+def resolve(parameter_names: Sequence[str], key: str, *, dofs: Mapping[str, bool] | None = None) -> NamedParameter:
     """The entry of ``key`` if the model (its ``parameter_names``) has it.
+
+    ``dofs`` (the model's enabled flags) makes the message say why a key is absent.
 
     Raises
     ------
@@ -392,8 +394,13 @@ def resolve(parameter_names: Sequence[str], key: str) -> NamedParameter:
     """
     e = lookup(key)
     if e.name not in parameter_names:
-        why = (f"enable one of the DOFs {list(e.requires)}" if e.requires else
-               "it is not part of this model (for blade keys: the deck's blades differ in the value)")
+        enabled = dofs is not None and any(dofs.get(f) for f in e.requires)
+        if e.requires and not enabled:
+            why = f"enable one of the DOFs {list(e.requires)}"
+        elif e.key[:3] in ("FlS", "Bld"):
+            why = "the deck's blades have different values, so it stays numeric per blade"
+        else:
+            why = "this model does not have it"
         raise ParameterError(f"{key!r} ({e.name}) is not a parameter of this model: {why}. "
                              f"Its parameters are {list(parameter_names)}.")
     return e

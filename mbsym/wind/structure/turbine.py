@@ -249,7 +249,7 @@ class TurbineModel:
         """
         from .named_parameters import resolve
 
-        return resolve(self.eom.parameters, key)
+        return resolve(self.eom.parameters, key, dofs=self.dofs)
 
     # ------------------------------------------------------------------ simulation protocol
     def default_state(self) -> np.ndarray:
