@@ -69,7 +69,7 @@ def synthetic(runs: int) -> str:
     spread = est.std(axis=0, ddof=1)
     rows = [f"Synthetic paper45 data (mbsym, CVODES), noise 0.5 % of each channel's range, {runs} realizations, "
             f"start 20 % off; median wall per identification {np.median(walls):.2f} s.", "",
-            "| parameter | truth | first run: estimate ± std | first run: |error| / std | runs within 3 std | "
+            "| parameter | truth | first run: estimate ± std | first run: abs(error) / std | runs within 3 std | "
             "mean reported std | Monte-Carlo spread | std / spread |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
     for j, k in enumerate(keys):
         rows.append(f"| {k} | {tv[j]:g} | {est[0, j]:.6g} ± {std[0, j]:.2g} | {abs(est[0, j] - tv[j]) / std[0, j]:.2f} | "

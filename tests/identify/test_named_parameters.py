@@ -129,3 +129,22 @@ def test_table_lists_every_key_once():
     for key in npar.NAMED_PARAMETERS:
         assert table.count(f"| {key} |") == 1
     assert len({e.name for e in npar.NAMED_PARAMETERS.values()}) == len(npar.NAMED_PARAMETERS)
+
+
+def test_other_layers_register_parameters_by_name():
+    """How the aerodynamic turbine plugs in (air density, Cp/Ct scales): register, then resolve by name."""
+    entry = npar.NamedParameter("TestAirDens", "test_air_density", "kg/m^3", 1.0, "air density (test entry)",
+                                "rotor loads")
+    npar.register(entry)
+    try:
+        npar.register(entry)                                    # the same entry again: accepted
+        assert npar.lookup("testairdens") is entry
+        assert npar.resolve(["test_air_density", "gravity"], "TestAirDens") is entry
+        with pytest.raises(ParameterError, match="'TestAirDens' \\(test_air_density\\) is not a parameter"):
+            npar.resolve(["gravity"], "TestAirDens")
+        with pytest.raises(ParameterError, match="already registered differently"):
+            npar.register(dataclasses.replace(entry, factor=2.0))
+    finally:                                                    # leave the table as it was
+        npar.NAMED_PARAMETERS.pop("TestAirDens")
+        npar._BY_NAME.pop("test_air_density")
+        npar._CANONICAL.pop("testairdens")
