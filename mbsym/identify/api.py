@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
 from ..dynamics import Dynamics, as_dynamics
-from ..exceptions import DataError, DimensionError, IdentificationOptionError, ParameterError
+from ..exceptions import DataError, DimensionError, IdentifiabilityWarning, IdentificationOptionError, ParameterError
 from .data import Record, as_records, check_channels
 from .gauss_newton import ShootingRecord, gauss_newton
 from .result import IdentificationResult, correlation_of, covariance, fit_error, warn_identifiability
@@ -406,6 +407,7 @@ def _result(dyn, specs, fun, recs, records, chans, p, theta0, out, method, lam, 
     corr = correlation_of(cov)
     labels = tuple(s.key for s in specs)
     warn_identifiability(labels, corr, std, threshold)
+    state_std = _initial_state_std(dyn, recs, out, cov_all)
     fits, errs, datas = [], [], []
     for rec, r, S in zip(recs, records, out.S):
         x_start = rec.x0.copy()
@@ -431,4 +433,27 @@ def _result(dyn, specs, fun, recs, records, chans, p, theta0, out, method, lam, 
         wall_s=time.perf_counter() - t_start, timings=timings, success=out.success, message=out.message,
         cost=out.cost, residual_std=sigma, n_residuals=int(out.r.size), substeps=fun.substeps, method=method,
         compiled=fun.compiled, channels=tuple(chans), weights={c: float(v) for c, v in zip(chans, recs[0].w)},
-        fit=fits, history=out.history)
+        fit=fits, history=out.history, initial_state_std=state_std)
+
+
+def _initial_state_std(dyn, recs, out, cov_all) -> list:
+    """Standard errors of the estimated initial states per record; warns about states the channels miss."""
+    x_scale = np.maximum(np.max(np.abs(np.vstack(out.S)), axis=0), 1e-6)
+    theta_scale = np.maximum(np.abs(out.theta), 1e-12)
+    scaled = np.linalg.norm(out.J, axis=0) * np.concatenate([*(x_scale[r.free0] for r in recs), theta_scale])
+    floor = 1e-8 * float(np.max(scaled)) if scaled.size else 0.0
+    result, off, missed = [], 0, set()
+    for rec in recs:
+        d = {}
+        for j, i in enumerate(rec.free0):
+            seen = scaled[off + j] > floor
+            d[dyn.states[i]] = float(np.sqrt(abs(cov_all[off + j, off + j]))) if seen else float("inf")
+            if not seen:
+                missed.add(dyn.states[i])
+        result.append(d)
+        off += rec.free0.size
+    if missed:
+        warnings.warn(f"poorly identifiable initial states: {sorted(missed)} are not determined by the channels "
+                      "(kept at their starting values); add channels that see them or do not estimate them.",
+                      IdentifiabilityWarning, stacklevel=4)
+    return result

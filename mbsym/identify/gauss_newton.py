@@ -150,19 +150,23 @@ def stack(blocks: list[tuple[np.ndarray, np.ndarray]], recs: list[ShootingRecord
     return np.vstack(out), np.concatenate(res)
 
 
-def _solve_ls(J: np.ndarray, rl: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """``min ‖rl + J Δ‖`` with ``lo ≤ Δ ≤ hi``, columns scaled to unit norm."""
-    cs = np.linalg.norm(J, axis=0)
-    cs[cs == 0] = 1.0
-    Js = J / cs
-    d = np.linalg.lstsq(Js, -rl, rcond=None)[0] / cs
+def _solve_ls(J: np.ndarray, rl: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """``min ‖rl + J Δ‖`` with ``lo ≤ Δ ≤ hi``.
+
+    Unknowns are scaled by their typical size ``scale`` (not by the column norms, which would
+    inflate a column that the data hardly see): directions whose scaled singular value is below
+    1e-10 of the largest are left out (minimum-norm step), so an initial state the channels do
+    not observe stays where it is.
+    """
+    Js = J * scale
+    d = np.linalg.lstsq(Js, -rl, rcond=1e-10)[0] * scale
     if np.all(d >= lo) and np.all(d <= hi):
         return d
     from scipy.optimize import lsq_linear
 
-    lo_s, hi_s = np.minimum(lo * cs, 0.0), np.maximum(hi * cs, 0.0)
-    sol = lsq_linear(Js, -rl, bounds=(lo_s, hi_s), method="bvls")
-    return np.clip(sol.x / cs, lo, hi)
+    lo_s, hi_s = np.minimum(lo / scale, 0.0), np.maximum(hi / scale, 0.0)
+    sol = lsq_linear(Js, -rl, bounds=(lo_s, hi_s), method="bvls", lsq_solver="exact")
+    return np.clip(sol.x * scale, lo, hi)
 
 
 def _acceptable(f: float, h: float, filt: list[tuple[float, float]]) -> bool:
@@ -204,7 +208,8 @@ def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndar
         it += 1
         lo = np.concatenate([np.full(sum(n_free), -np.inf), lb - theta])
         hi = np.concatenate([np.full(sum(n_free), np.inf), ub - theta])
-        delta = _solve_ls(J, rl, lo, hi)
+        scale = np.concatenate([*(x_scale[r.free0] for r in recs), theta_scale])
+        delta = _solve_ls(J, rl, lo, hi, scale)
         dth = delta[sum(n_free):]
         dS, off = [], 0
         for (Z, _, _), nf in zip(cond, n_free):

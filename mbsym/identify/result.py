@@ -64,6 +64,8 @@ class IdentificationResult:
         Weight of each channel's residual.
     fit : list of dict
         Per record: ``time`` (N,) and ``y`` (N, n_c) simulated with the estimates.
+    initial_state_std : list of dict
+        Per record, standard errors of the estimated initial states (inf: not seen by the channels).
     history : list of dict
         Per Gauss–Newton iteration: cost, gap, step, line-search ``alpha``.
     """
@@ -92,6 +94,7 @@ class IdentificationResult:
     weights: dict
     fit: list = field(default_factory=list, repr=False)
     history: list = field(default_factory=list, repr=False)
+    initial_state_std: list = field(default_factory=list, repr=False)
 
     @property
     def eps_pct(self) -> dict:

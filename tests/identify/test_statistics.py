@@ -71,3 +71,20 @@ def test_well_separated_parameters_do_not_warn(osc):
     with warnings.catch_warnings():
         warnings.simplefilter("error", IdentifiabilityWarning)
         mb.identify(osc, {"time": t, "pos": exact_decay(t, 5.0, 0.2)}, ["k", "c"], compile=False)
+
+
+def test_unobserved_initial_state_stays_and_warns():
+    """A third state no channel sees: its initial value is kept, its standard error is inf, a warning says so."""
+    x, u, p = ca.SX.sym("x", 3), ca.SX.sym("u", 0), ca.SX.sym("p", 2)
+    f = ca.Function("f", [x, u, p], [ca.vertcat(x[1], -p[0] * x[0] - p[1] * x[1], 0.1 + 1e-14 * x[0])])
+    dyn = mb.Dynamics(f, states=["q", "v", "a"], parameters=["k", "c"], defaults={"k": 4.0, "c": 0.1},
+                      x0=[1.0, 0.0, 5.0])
+    t = np.arange(0.0, 8.0, 0.05)
+    with pytest.warns(IdentifiabilityWarning, match="initial states: \\['a'\\]"):
+        res = mb.identify(dyn, {"time": t, "q": exact_decay(t, 5.0, 0.2)}, ["k", "c"], estimate_x0=True,
+                          substeps=4, compile=False)
+    assert res.success and res.iterations < 15, res.message
+    assert res.initial_states[0]["a"] == pytest.approx(5.0, abs=1e-9)
+    assert res.initial_state_std[0]["a"] == np.inf
+    assert np.isfinite(res.initial_state_std[0]["q"])
+    assert res.parameters["k"] == pytest.approx(5.0, rel=1e-7)
