@@ -145,7 +145,12 @@ def _default_weights(Ys: list[np.ndarray]) -> np.ndarray:
 
 
 def _per_record(value, n: int, what: str) -> list:
-    if isinstance(value, list) and n > 1:
+    """One value per record: a list of arrays/dicts (one per record), or one value shared by all."""
+    per = isinstance(value, list) and len(value) > 0 and all(
+        isinstance(v, (Mapping, list, tuple, np.ndarray)) or v is None for v in value)
+    if n == 1:                              # a nested list may be one record's table (inputs (N, n_u))
+        return value if per and len(value) == 1 else [value]
+    if per:
         if len(value) != n:
             raise DimensionError(f"{what} is a list of {len(value)} entries; expected one per record ({n}).")
         return value
