@@ -24,6 +24,9 @@ from .exceptions import (
     SingularMassMatrixError,
     SolverError,
     SweepError,
+    DataError,
+    IdentificationOptionError,
+    IdentifiabilityWarning,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
@@ -33,6 +36,7 @@ from .kinematics import rotation, rotation_about, rotation_sequence, skew, small
 from .system import System
 from .simulate import SimulationResult, simulate
 from .sweep import sweep
+from .identify import IdentificationResult, identify
 
 try:
     __version__ = version("mbsym")
@@ -66,6 +70,8 @@ __all__ = [
     "linearize_azimuths",
     "simulate",
     "SimulationResult",
+    "identify",
+    "IdentificationResult",
     "compile_function",
     "CompilationWarning",
     "LinearModel",
@@ -88,5 +94,8 @@ __all__ = [
     "ExportError",
     "SweepError",
     "sweep",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
     "__version__",
 ]

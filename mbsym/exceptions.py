@@ -29,6 +29,9 @@ __all__ = [
     "ModelWarning",
     "ExportError",
     "SweepError",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
 ]
 
 
@@ -112,3 +115,13 @@ class ExportError(MbsymError, ValueError):
 
 class SweepError(MbsymError, ValueError):
     """A sweep is ill-defined: unknown case keys, bad options, an executor that cannot be used."""
+class DataError(MbsymError, ValueError):
+    """Measured or reference data are unusable: a channel is missing, values are not finite, times do not increase."""
+
+
+class IdentificationOptionError(MbsymError, ValueError):
+    """An option of :func:`mbsym.identify` (method, tolerances, weights, bounds, initial values) is invalid."""
+
+
+class IdentifiabilityWarning(UserWarning):
+    """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""

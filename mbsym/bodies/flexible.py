@@ -107,6 +107,12 @@ class FlexibleBody(Body):
     stiffness, damping : array or SX, optional
         Override ``sid.ke`` / ``sid.de`` (n_e x n_e), e.g. with expressions of
         parameters for design studies.
+    mass_scale : float or SX, optional
+        Factor on every inertial shape integral (mass, first and second moments,
+        ``Ct``, ``Cr``, ``Me``, ``Gr``, ``Ge``, ``Oe`` and the self-weight and
+        centrifugal geometric stiffness; not ``kg_tip``, which the top mass loads):
+        the body with its mass density scaled, e.g. ElastoDyn's AdjTwMa as a
+        parameter. Default: none (the shape integrals as given).
 
     Examples
     --------
@@ -116,7 +122,8 @@ class FlexibleBody(Body):
     def __init__(self, name: str, sid, coordinates: Sequence, *, kinematics: str = "shape_integrals",
                  taylor_order: int | None = None, gravity_stiffening: bool | None = None,
                  centrifugal_stiffening: bool | None = None, top_mass=None, end_rotation_order: int | None = 1,
-                 end_angular_velocity: str = "exact", stiffness=None, damping=None) -> None:
+                 end_angular_velocity: str = "exact", stiffness=None, damping=None,
+                 mass_scale=None) -> None:
         super().__init__(name)
         coordinates = tuple(coordinates)
         if len(coordinates) != sid.n_e:
@@ -149,6 +156,7 @@ class FlexibleBody(Body):
                                        f"got {end_angular_velocity!r}.")
         self.end_angular_velocity = end_angular_velocity
         self._top_mass = _scalar(top_mass, f"top_mass of {name!r}")
+        self._mass_scale = None if mass_scale is None else _scalar(mass_scale, f"mass_scale of {name!r}")
         ne = sid.n_e
         self._ke = self._square(stiffness, sid.ke, "stiffness", ne)
         self._de = self._square(damping, sid.de, "damping", ne)
@@ -173,7 +181,8 @@ class FlexibleBody(Body):
         return self._sid.n_e
 
     def symbolic_values(self) -> list:
-        return [self._top_mass, self._ke, self._de]
+        scale = [] if self._mass_scale is None else [self._mass_scale]
+        return [self._top_mass, self._ke, self._de, *scale]
 
     # ------------------------------------------------------------ attachment
     def attachment(self, offset: ca.SX) -> tuple[ca.SX, ca.SX]:
@@ -235,12 +244,17 @@ class FlexibleBody(Body):
             Mtt += sum((_dm(sid.mtt2[i][j]) * qe[i] * qe[j] for i in range(ne) for j in range(ne)), ca.SX.zeros(3, 3))
         Cr = _taylor(sid.cr, qe, o, (ne, 3))
         Ct = _dm(sid.ct)
-        S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
-        Mb = ca.blockcat([[m * ca.SX.eye(3), Mxt, Ct.T], [Mxt.T, Mtt, Cr.T], [Ct, Cr, _dm(sid.me)]])
-        W = skew(w)
+        Me = _dm(sid.me)
         Gr = sum((_taylor(_slice(sid.gr, j), qe, o, (3, 3)) * qde[j] for j in range(ne)), ca.SX.zeros(3, 3))
         Ge = sum((_dm(sid.ge[j]) * qde[j] for j in range(ne)), ca.SX.zeros(ne, 3))
         Oe = [_taylor(_slice(sid.oe, j), qe, o, (3, 3)) for j in range(ne)]
+        if self._mass_scale is not None:        # every inertial integral is linear in the mass density
+            c = self._mass_scale
+            m, Mxt, Mtt, Cr, Ct, Me, Gr, Ge = (c * v for v in (m, Mxt, Mtt, Cr, Ct, Me, Gr, Ge))
+            Oe = [c * v for v in Oe]
+        S = vee(-Mxt)                      # first moment of mass ∫ s_P dm
+        Mb = ca.blockcat([[m * ca.SX.eye(3), Mxt, Ct.T], [Mxt.T, Mtt, Cr.T], [Ct, Cr, Me]])
+        W = skew(w)
         k_x = 2 * W @ Ct.T @ qde + W @ W @ S
         k_t = W @ Mtt @ w + Gr @ w
         k_e = ca.vertcat(*[w.T @ Oe[j] @ w for j in range(ne)]) + Ge @ w
@@ -261,16 +275,18 @@ class FlexibleBody(Body):
         R = f.R
         w, gb = R.T @ f.w, R.T @ g
         t = exact_lumped_terms(self._sid.nodes.moments(), qe, qde)
-        m = float(self._sid.nodes.moments().mass)
-        Mb = t.mass_matrix()
+        c = 1.0 if self._mass_scale is None else self._mass_scale   # every inertial term is linear in the node masses
+        m = c * float(self._sid.nodes.moments().mass)
+        S, C = c * t.c, c * t.C
+        Mb = c * t.mass_matrix()
         f_nc = -self._de @ qde
-        k = t.velocity_terms(w) + ca.vertcat(ca.SX.zeros(6, 1), self._ke @ qe - f_nc)
+        k = c * t.velocity_terms(w) + ca.vertcat(ca.SX.zeros(6, 1), self._ke @ qe - f_nc)
         Tm = ca.diagcat(R, R, ca.SX.eye(self.n_e))
-        f_app = ca.vertcat(m * gb, ca.cross(t.c, gb), t.C.T @ gb)
+        f_app = ca.vertcat(m * gb, ca.cross(S, gb), C.T @ gb)
         f_net = f_app - k - Mb @ (Tm.T @ a0)
         Vb = ca.vertcat(R.T @ f.v, w, qde)
         t_kin = 0.5 * Vb.T @ Mb @ Vb
-        v_pot = -ca.dot(g, m * f.r + R @ t.c) + 0.5 * qe.T @ self._ke @ qe
+        v_pot = -ca.dot(g, m * f.r + R @ S) + 0.5 * qe.T @ self._ke @ qe
         return Tm @ Mb @ Tm.T, Tm @ f_net, t_kin, v_pot, ca.dot(f_nc, qde)
 
     def _geometric_stiffness(self, w: ca.SX, gb: ca.SX, acc: ca.SX, wdot: ca.SX) -> ca.SX:
@@ -281,22 +297,23 @@ class FlexibleBody(Body):
         qdd are left out so that M stays symmetric).
         """
         sid, ne = self._sid, self.n_e
+        c = 1.0 if self._mass_scale is None else self._mass_scale     # own-mass terms scale with the density
         Kg = ca.SX.zeros(ne, ne)
         if self.gravity_stiffening:
             # (a - g) kg_t for the body's own mass; the top mass pushes on the tip
             # with F = -top_mass (a - g).
             for a in range(3):
                 load = acc[a] - gb[a]
-                Kg += load * _dm(sid.kg_t[a]) - self._top_mass * load * _dm(sid.kg_tip[a])
+                Kg += c * load * _dm(sid.kg_t[a]) - self._top_mass * load * _dm(sid.kg_tip[a])
                 kr = np.asarray(sid.kg_r[a])
                 if np.any(kr):
-                    Kg += wdot[a] * _dm(kr)
+                    Kg += c * wdot[a] * _dm(kr)
         if self.centrifugal_stiffening:
             for a in range(3):
                 for b in range(3):
                     kab = np.asarray(sid.kg_omega[a][b])
                     if np.any(kab):
-                        Kg += w[a] * w[b] * _dm(kab)
+                        Kg += c * w[a] * w[b] * _dm(kab)
         return Kg
 
 

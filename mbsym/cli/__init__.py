@@ -1,4 +1,5 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
+``mbsym identify``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -43,12 +44,14 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
     from .campbell import add_parser as add_campbell
+    from .identify import add_parser as add_identify
     from .linearize import add_parser as add_linearize
     from .simulate import add_parser as add_simulate
 
     add_simulate(sub)
     add_linearize(sub)
     add_campbell(sub)
+    add_identify(sub)
     return parser
 
 
@@ -97,6 +100,8 @@ def _dispatch(args) -> int:
         from .simulate import run
     elif args.command == "linearize":
         from .linearize import run
+    elif args.command == "identify":
+        from .identify import run
     else:
         from .campbell import run
     return run(args)

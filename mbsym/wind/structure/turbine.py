@@ -64,6 +64,7 @@ from .elastodyn_bodies import (
 from .elastodyn_nodes import rotor_mass_properties
 from .initial_conditions import initial_blade_deflection
 from .mbc import BladeFrame
+from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
 from ..deck.parameters import TurbineParameters
@@ -212,6 +213,16 @@ class TurbineModel:
         out.update(self.prescribed)
         return out
 
+    def resolve_parameter(self, key: str):
+        """Named parameter ``key`` (ElastoDyn key such as ``"TwrFADmp(1)"`` or descriptive name) of this model.
+
+        Returns the :class:`~mbsym.wind.structure.named_parameters.NamedParameter` (name, unit,
+        ``factor`` = key value / model value); raises ParameterError if unknown or absent.
+        """
+        from .named_parameters import resolve
+
+        return resolve(self.eom.parameters, key, dofs=self.dofs)
+
     # ------------------------------------------------------------------ simulation protocol
     def default_state(self) -> np.ndarray:
         """Initial state for :func:`mbsym.simulate` (same as :meth:`initial_state`)."""
@@ -287,6 +298,8 @@ class TurbineModel:
             values.update(platform_mass=t.platform_mass, platform_roll_inertia=t.platform_roll_inertia,
                           platform_pitch_inertia=t.platform_pitch_inertia,
                           platform_yaw_inertia=t.platform_yaw_inertia)
+        # named physical parameters (ElastoDyn keys <-> names: named_parameters.py)
+        values.update({k: v for k, v in parameter_defaults(t, self.dofs).items() if k not in values})
         syms = self.system.parameters(list(values), values=values)
         return dict(zip(values, syms if isinstance(syms, tuple) else (syms,)))
 
@@ -303,7 +316,8 @@ class TurbineModel:
         ref = np.asarray(t.platform_reference, dtype=float)
         if any(isinstance(v, ca.SX) for v in values):
             p = self.p
-            body = RigidBody("platform", mass=p["platform_mass"], com=np.asarray(t.platform_cm) - ref,
+            com = [t.platform_cm[0] - ref[0], t.platform_cm[1] - ref[1], p["platform_cm_height"] - ref[2]]
+            body = RigidBody("platform", mass=p["platform_mass"], com=com,
                              inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
                                       p["platform_yaw_inertia"]])
         else:
@@ -318,10 +332,11 @@ class TurbineModel:
         active = [f for f in _TOWER if self.dofs.get(f)]
         if active:
             sid = tower_shape_integrals(t, dofs=active)
+            ke, de, mass_scale = tower_matrices(t, active, p)
             tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
                                  kinematics="exact", end_rotation_order="elastodyn",
                                  end_angular_velocity="slope_rates",
-                                 stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
+                                 stiffness=p["tower_stiffness_scale"] * ke, damping=de, mass_scale=mass_scale)
         else:
             data = tower_elastodyn_data(t)
             m, h = np.asarray(data.element_mass), np.asarray(data.height)
@@ -417,8 +432,10 @@ class TurbineModel:
             name = f"blade{k + 1}"
             if flags:
                 sid = blade_shape_integrals(t, k, dofs=flags)
+                mats = blade_matrices(t, k, flags, self.p)          # None: blades differ, numeric K, C
                 blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags],
-                                     kinematics="exact")
+                                     kinematics="exact",
+                                     **({} if mats is None else {"stiffness": mats[0], "damping": mats[1]}))
             else:
                 blade = _rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
