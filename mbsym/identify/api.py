@@ -23,7 +23,7 @@ from ..exceptions import DataError, DimensionError, IdentifiabilityWarning, Iden
 from .data import Record, as_records, check_channels
 from .gauss_newton import ShootingRecord, gauss_newton
 from .result import IdentificationResult, correlation_of, covariance, fit_error, warn_identifiability
-from .shooting import choose_substeps, shooting_functions
+from .shooting import ShootingFunctions, choose_substeps, shooting_functions
 
 __all__ = ["Parameter", "identify", "METHODS"]
 
@@ -380,7 +380,6 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
     lam = float("nan")
     if substeps is None:
         substeps, lam = choose_substeps(dyn, x0s[0], Us[0][0], p0, float(max(np.max(r.H) for r in recs)))
-    t_build = time.perf_counter()
     if not (isinstance(threads, int) and threads >= 1):
         raise IdentificationOptionError(f"threads must be an int >= 1; got {threads!r}.")
     fun, cached = shooting_functions(dyn, rows, theta_idx, free0.size, substeps, compile=compile, threads=threads)

@@ -192,7 +192,7 @@ def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndar
         return [o[0] for o in out], [o[1] for o in out], [o[2] for o in out]
 
     lins, rs, gs = relinearize()
-    n_jac, moved, stale_short = 1, 0.0, False
+    n_jac, moved = 1, 0.0
     cost, h = measures(rs, gs)
     filt = [(max(1e4, 1e4 * h), -np.inf)]
     history, success, message, it = [], False, f"no convergence in {max_iter} iterations", 0
