@@ -2,24 +2,24 @@
 
 Contract (kept for acceptance checks)::
 
-    mbsym linearize [DECK.fst] [--rpm R] [--undeflected] [--json] [--method {exact,elastodyn-fd}]
+    mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
                     [--structure-only]
 
-The operating point is the deck's initial state, as OpenFAST linearizes a deck at t = 0 and
-as ``mbsym.linearize(TurbineModel(read_openfast(deck)))`` does: the initial displacements,
-Azimuth, NacYaw, BlPitch and RotSpeed of the ElastoDyn file (``--rpm`` replaces RotSpeed;
-``--undeflected`` zeroes the tower, platform and blade displacements, as OpenFAST's ``_lin0``
-decks). It is generally *not* an equilibrium, and like OpenFAST the first-order model is the
-Jacobian of the nonlinear rhs there. No deck: the built-in NREL 5 MW with its modelled DOFs,
-undeflected, and the NREL 5 MW yaw spring and damper.
+The operating point is the deck's RotSpeed (``--rpm`` replaces it), Azimuth, NacYaw and BlPitch
+with every tower, platform and blade displacement zero, as OpenFAST's linearization of its
+undeflected ``_lin0`` decks and as ``mbsym.linearize(TurbineModel(read_openfast(deck)))`` (the
+turbine's ``linearization_state()``); ``--deflected`` keeps the deck's initial displacements
+(OpenFAST's linearization of the deck itself at t = 0). Neither is generally an equilibrium, and
+like OpenFAST the first-order model is the Jacobian of the nonlinear rhs there. No deck: the
+built-in NREL 5 MW with its modelled DOFs and the NREL 5 MW yaw spring and damper.
 
-``--method exact`` (default, as ``mbsym.linearize``) uses automatic differentiation;
-``--method elastodyn-fd`` takes A by central differences of the rhs with ElastoDyn's own steps
-(:func:`mbsym.linear.elastodyn_steps`), which reproduces OpenFAST's frequencies including its
-finite-step error (0.8 % on a floating platform's pitch frequency, docs/elastodyn_notes.md
-§8.3). M, C, K are exact residual Jacobians at the operating point's own acceleration (so
-``A = [[0, I], [-M⁻¹K, -M⁻¹C]]`` for ``exact``). Rotor speeds whose blade tip would exceed the
-speed of sound are refused (:data:`mbsym.wind.deck.checks.MAX_TIP_SPEED`).
+The default method, of ``mbsym.linearize`` on a turbine too, is ``elastodyn-fd``: A by central
+differences of the rhs with ElastoDyn's own steps (:func:`mbsym.linear.elastodyn_steps`), which
+reproduces OpenFAST's frequencies including its finite-step error (0.8 % on a floating
+platform's pitch frequency, docs/elastodyn_notes.md §8.3). ``--method exact`` uses automatic
+differentiation. M, C, K are exact residual Jacobians at the operating point's own acceleration.
+Rotor speeds whose blade tip would exceed the speed of sound are refused
+(:data:`mbsym.wind.deck.checks.MAX_TIP_SPEED`).
 
 The text output lists the modes, then the states with their units, A, M, C and K. ``--json``
 prints one object: ``states``, ``A``, ``modes`` (``freq_hz``, ``damping_ratio``,
@@ -48,13 +48,14 @@ def add_parser(sub) -> None:
                        description=_plain(__doc__.split("\n\n")[0]))
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst); default: built-in NREL 5 MW")
     p.add_argument("--rpm", type=float, help="rotor speed [rpm] (default: the deck's RotSpeed)")
-    p.add_argument("--undeflected", action="store_true",
-                   help="zero the deck's initial tower, platform and blade displacements (OpenFAST's _lin0 decks)")
+    p.add_argument("--deflected", action="store_true",
+                   help="keep the deck's initial tower, platform and blade displacements (default: all zero, "
+                        "as OpenFAST's _lin0 decks)")
     p.add_argument("--json", action="store_true",
                    help="print states, A, modes, M, C, K, rpm, operating point and units as one JSON object")
-    p.add_argument("--method", choices=("exact", "elastodyn-fd"), default="exact",
-                   help="exact derivatives (default, as mbsym.linearize) or ElastoDyn's central differences "
-                        "(reproduces OpenFAST, including its finite-step error)")
+    p.add_argument("--method", choices=("exact", "elastodyn-fd"), default="elastodyn-fd",
+                   help="ElastoDyn's central differences (default, as mbsym.linearize of a turbine: reproduces "
+                        "OpenFAST, including its finite-step error) or exact derivatives")
     from .simulate import add_structure_only
 
     add_structure_only(p)
@@ -98,11 +99,16 @@ def _model(deck, rpm, *, zero_displacements: bool = False, structure_only: bool 
     return TurbineModel(undeflected(turbine, rpm, zero_displacements=zero_displacements)), str(deck)
 
 
-def linear_report(model, method: str = "exact") -> dict:
-    """The ``--json`` object of a TurbineModel at its default (initial) state (see the module docstring)."""
+def linear_report(model, method: str | None = None, *, deflected: bool = False) -> dict:
+    """The ``--json`` object of a TurbineModel at its linearization state, or with ``deflected`` at its initial
+    state (see the module docstring)."""
     from ..linear import linearize
 
-    lin = linearize(model, qdd0="rhs", method=method)
+    q0 = qd0 = None
+    if deflected:
+        x = model.initial_state()
+        q0, qd0 = x[:model.eom.n_q], x[model.eom.n_q:]
+    lin = linearize(model, q0, qd0, qdd0="rhs", method=method)
     op = lin.operating_point
     units = state_units(model)
     n = len(lin.coordinates)
@@ -111,7 +117,7 @@ def linear_report(model, method: str = "exact") -> dict:
     return {"states": list(lin.states), "A": lin.A.tolist(),
             "modes": [m.as_dict() | {"rigid_body": bool(m.rigid_body), "label": lab} for m, lab in zip(modes, labels)],
             "M": lin.M.tolist(), "C": lin.C.tolist(), "K": lin.K.tolist(),
-            "rpm": float(model.turbine.initial_conditions.rotor_speed * 30.0 / np.pi), "method": method,
+            "rpm": float(model.turbine.initial_conditions.rotor_speed * 30.0 / np.pi), "method": lin.method,
             "operating_point": {"q": dict(zip(lin.coordinates, op["q"].tolist())),
                                 "qd": dict(zip(lin.coordinates, op["qd"].tolist())),
                                 "u": dict(zip(lin.inputs, op["u"].tolist()))},
@@ -165,15 +171,15 @@ def state_units(model) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    model, label = _model(args.deck, args.rpm, zero_displacements=args.undeflected,
+    model, label = _model(args.deck, args.rpm, zero_displacements=not args.deflected,
                           structure_only=args.structure_only)
-    report = linear_report(model, args.method)
+    report = linear_report(model, args.method, deflected=args.deflected)
     if args.json:
         print(json.dumps(report))
         return 0
     print(f"mbsym linearize: {label}")
     print(f"DOFs: {', '.join(model.eom.coordinates)}; rotor speed {report['rpm']:.4g} rpm; method {args.method}; "
-          f"operating point: the deck's initial state{' without displacements' if args.undeflected else ''}")
+          f"operating point: the deck's initial state{'' if args.deflected else ' without displacements'}")
     print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant DOF':<13} label")
     for i, m in enumerate(report["modes"], 1):
         print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']:<13} {m['label']}")

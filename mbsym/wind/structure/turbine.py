@@ -258,6 +258,25 @@ class TurbineModel:
         """ElastoDyn's central-difference steps by coordinate (``method="elastodyn-fd"``, :mod:`.steps`)."""
         return elastodyn_steps(self.turbine, self.eom.coordinates)
 
+    def linearization_method(self) -> str:
+        """Default method of :func:`mbsym.linearize`: ElastoDyn's central differences, as OpenFAST."""
+        return "elastodyn-fd"
+
+    def linearization_state(self) -> np.ndarray:
+        """Default point of :func:`mbsym.linearize` (and ``mbsym linearize``): OpenFAST's undeflected one.
+
+        The deck's rotor speed, azimuth and nacelle yaw with every tower, platform, drivetrain
+        and blade displacement zero (OpenFAST's ``_lin0`` decks).
+        """
+        x = self.initial_state()
+        n = self.eom.n_q
+        keep = {"GeAz", "Yaw"}
+        for i, c in enumerate(self.eom.coordinates):
+            if c not in keep:
+                x[i] = 0.0
+                x[n + i] = 0.0
+        return x
+
     def rotating_frame(self) -> BladeFrame:
         """Multi-blade coordinates of the blade DOFs for azimuth averages; blade-1 azimuth = GeAz + AzimB1Up + π/2."""
         return BladeFrame(self.eom.coordinates, offset=self.turbine.azimuth_blade1_up + np.pi / 2)
