@@ -5,8 +5,7 @@ Describe a system (:class:`System`, bodies, joints, loads), derive its
 CasADi Functions.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+from ._lazy import lazy_attributes
 from .bodies import FlexibleBody, Ground, RigidBody
 from .codegen import CompilationWarning, compile_function
 from .dynamics import Dynamics, as_dynamics
@@ -29,19 +28,23 @@ from .exceptions import (
     IdentifiabilityWarning,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
-from .linear import LinearBatch, LinearModel, Sensitivity, linearize, linearize_batch, sensitivities
-from .modal import Mode, modal_analysis
-from .linear import AzimuthSweep, OperatingPoint, linearize_azimuths, static_equilibrium, steady_rotation
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate
 from .sweep import sweep
 from .identify import IdentificationResult, identify
 
-try:
-    __version__ = version("mbsym")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0.0.0+unknown"
+#: Public names imported on first use (they pull in scipy): name -> modules to look in, first match wins
+#: (``linear`` first, so that the names keep resolving once operating/sensitivity move into mbsym/linear/).
+_LAZY = {
+    **{n: ("linear",) for n in ("LinearBatch", "LinearModel", "Sensitivity", "linearize", "linearize_batch",
+                                "sensitivities")},
+    **{n: ("linear", "modal") for n in ("Mode", "modal_analysis")},
+    **{n: ("linear", "operating") for n in ("AzimuthSweep", "OperatingPoint", "linearize_azimuths",
+                                            "static_equilibrium", "steady_rotation")},
+    "__version__": ("__version__",),
+}
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, globals())
 
 __all__ = [
     "System",

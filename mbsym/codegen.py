@@ -26,21 +26,20 @@ Measured on the CI machine kind (paper45 turbine, 3 DOFs): the RK4 step of
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
-import platform
 import shlex
-import shutil
-import subprocess
 import sys
-import tempfile
+import threading
 import time
 import warnings
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
 import casadi as ca
+
+# hashlib, platform, shutil, subprocess and tempfile are imported where used: `import mbsym` stays light
 
 __all__ = [
     "CompilationWarning",
@@ -52,6 +51,12 @@ __all__ = [
     "function_key",
     "compile_function",
     "clear_disk_cache",
+    "cached_library",
+    "compile_disabled",
+    "compile_in_background",
+    "wait_for_background",
+    "estimate_compile_seconds",
+    "set_identity",
 ]
 
 #: Compiler flags: -O1 compiles large straight-line SX code fast and runs it nearly as fast as -O2/-O3.
@@ -120,11 +125,19 @@ def compiler_command(compiler: str | None = None) -> tuple[str, ...] | None:
     True
     """
     named = compiler or os.environ.get("MBSYM_CC") or os.environ.get("CC")
+    return _resolve_compiler(named or "", os.environ.get("PATH", ""))
+
+
+@functools.lru_cache(maxsize=16)
+def _resolve_compiler(named: str, path_env: str) -> tuple[str, ...] | None:
+    """:func:`compiler_command` for a named compiler ("" = default) and a PATH (cached: ~1 ms of stat calls)."""
+    import shutil
+
     if named:
         words = shlex.split(named)
-        path = shutil.which(words[0]) if words else None
+        path = shutil.which(words[0], path=path_env) if words else None
         return (path, *words[1:]) if path else None
-    path = shutil.which("gcc") or shutil.which("cc")
+    path = shutil.which("gcc", path=path_env) or shutil.which("cc", path=path_env)
     return (path,) if path else None
 
 
@@ -136,11 +149,60 @@ def find_compiler(compiler: str | None = None) -> str | None:
 
 @functools.lru_cache(maxsize=8)
 def _compiler_version(command: tuple[str, ...]) -> str:
+    """First line of ``<compiler> --version``. For a plain compiler path (one word) it is remembered on disk
+    (``compilers.json`` in the cache directory) under the executable's path, size and modification time, so
+    that a new process does not run the compiler (~10 ms) just to look a library up."""
+    import subprocess
+
+    stamp = _executable_stamp(command)
+    known = _read_versions() if stamp else {}
+    if stamp and stamp in known:
+        return known[stamp]
     try:
         out = subprocess.run([*command, "--version"], capture_output=True, text=True, timeout=30)
-        return out.stdout.splitlines()[0] if out.stdout else out.stderr.strip()
+        version = out.stdout.splitlines()[0] if out.stdout else out.stderr.strip()
     except (OSError, subprocess.SubprocessError):
         return "unknown"
+    if stamp:
+        _write_version(stamp, version)
+    return version
+
+
+def _executable_stamp(command: tuple[str, ...]) -> str:
+    """``path|size|mtime_ns`` of a one-word compiler command ("" for wrappers such as ``env cc`` or ``ccache``)."""
+    if len(command) != 1 or Path(command[0]).name in ("env", "ccache", "sccache", "distcc"):
+        return ""
+    try:
+        st = os.stat(command[0])
+    except OSError:
+        return ""
+    return f"{command[0]}|{st.st_size}|{st.st_mtime_ns}"
+
+
+def _read_versions() -> dict:
+    import json
+
+    try:
+        data = json.loads((cache_dir() / "compilers.json").read_text())
+        return data if isinstance(data, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def _write_version(stamp: str, version: str) -> None:
+    import json
+    import tempfile
+
+    folder = cache_dir()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        data = {**_read_versions(), stamp: version}
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".compilers", suffix=".json")
+        with os.fdopen(fd, "w") as fh:
+            json.dump(data, fh)
+        os.replace(tmp, folder / "compilers.json")          # atomic: concurrent writers never corrupt it
+    except OSError:
+        pass
 
 
 def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | Sequence[str] | None = None,
@@ -152,13 +214,122 @@ def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler:
     the compiler command and its version line, the flags, whether the Jacobian
     is included, the CasADi version and the platform (machine, OS).
     """
+    import hashlib
+    import platform
+
     words = tuple(shlex.split(compiler) if isinstance(compiler, str) else (compiler or ()))
     h = hashlib.sha256()
-    for part in (f.serialize(), "\0".join(words), _compiler_version(words) if words else "",
+    identity = _IDENTITY.get(f)
+    for part in (f.serialize() if identity is None else identity, "\0".join(words), _compiler_version(words) if words else "",
                  "\0".join(flags), "jacobian" if jacobian else "", ca.__version__, platform.machine(), sys.platform):
         h.update(part.encode())
         h.update(b"\0")
     return h.hexdigest()
+
+
+def _library_path(f: ca.Function, key: str, directory: str | os.PathLike | None) -> Path:
+    folder = Path(directory).expanduser() if directory is not None else cache_dir()
+    return folder / f"{f.name()}_{key[:20]}.so"
+
+
+def compile_disabled() -> bool:
+    """Whether ``MBSYM_NO_COMPILE`` turns compilation off."""
+    return os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0")
+
+
+def cached_library(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | None = None,
+                   directory: str | os.PathLike | None = None, jacobian: bool = False) -> Path | None:
+    """The library :func:`compile_function` would load for ``f`` from the disk cache, or None (nothing compiled).
+
+    Costs the cache key (serializing ``f``: ~4 ms for the MX RK4 step of paper45); None as well when
+    compilation is off (``MBSYM_NO_COMPILE``) or no compiler is found.
+    """
+    if os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0"):
+        return None
+    cc = compiler_command(compiler)
+    if cc is None:
+        return None
+    library = _library_path(f, _memo_key(f, tuple(str(x) for x in flags), cc, jacobian), directory)
+    return library if library.exists() else None
+
+
+_KEYS: "weakref.WeakKeyDictionary[ca.Function, dict]" = weakref.WeakKeyDictionary()
+_IDENTITY: "weakref.WeakKeyDictionary[ca.Function, str]" = weakref.WeakKeyDictionary()
+
+
+def set_identity(f: ca.Function, identity: str) -> ca.Function:
+    """Key ``f``'s library by ``identity`` instead of its serialization; returns ``f``.
+
+    For Functions built deterministically from a smaller one (mbsym's mapped output blocks: the map
+    wrapper serializes to 3x the size of the output Function it maps). ``identity`` must determine
+    ``f`` completely: the construction (with a version tag) and the serialization of what it wraps.
+    """
+    _IDENTITY[f] = str(identity)
+    return f
+
+
+def _memo_key(f: ca.Function, flags: tuple[str, ...], cc: tuple[str, ...], jacobian: bool) -> str:
+    """:func:`function_key`, remembered per Function object (serializing a large Function takes milliseconds)."""
+    memo = _KEYS.setdefault(f, {})
+    k = (flags, cc, jacobian)
+    if k not in memo:
+        memo[k] = function_key(f, flags, cc, jacobian=jacobian)
+    return memo[k]
+
+
+#: Calibration of :func:`estimate_compile_seconds` on the CI machine kind (gcc -O1): a fixed cost [s] and
+#: seconds per byte of the serialized Function (a proxy of the generated C). Measured on the paper45 RK4 step
+#: (MX, 143 kB serialized): 0.5-0.8 s unloaded (benchmarks/work_precision.py, "compilation" lines).
+COMPILE_FIXED_S, COMPILE_S_PER_BYTE = 0.1, 4e-6
+
+
+def estimate_compile_seconds(f: ca.Function) -> float:
+    """Rough wall time [s] to generate and compile ``f`` (see :data:`COMPILE_S_PER_BYTE`)."""
+    return COMPILE_FIXED_S + COMPILE_S_PER_BYTE * len(f.serialize())
+
+
+_BACKGROUND: dict[str, threading.Thread] = {}
+_BACKGROUND_LOCK = threading.Lock()
+
+
+def compile_in_background(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | None = None,
+                          directory: str | os.PathLike | None = None, jacobian: bool = False) -> bool:
+    """Compile ``f`` into the disk cache in a background thread (no result: later calls find the library).
+
+    Used by the accuracy-driven default of :func:`mbsym.simulate` when compiling does not pay off within
+    the call but would over later ones. The thread is not a daemon: the interpreter waits for it at exit
+    (at most :data:`COMPILE_TIMEOUT_S`), so that the library lands in the cache (a daemon thread would
+    lose its temporary build directory to the interpreter's exit clean-up). Returns whether a
+    compilation was started (not when compilation is off, no compiler exists, or one for ``f`` is
+    already running). Failures are silent (the next call compiles again, or uses the virtual machine).
+    """
+    if os.environ.get("MBSYM_NO_COMPILE", "").strip() not in ("", "0") or compiler_command(compiler) is None:
+        return False
+    key = f"{f.name()}:{id(f)}"
+    with _BACKGROUND_LOCK:
+        running = _BACKGROUND.get(key)
+        if running is not None and running.is_alive():
+            return False
+
+        def work():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", CompilationWarning)
+                try:
+                    compile_function(f, flags=flags, compiler=compiler, directory=directory, jacobian=jacobian)
+                except Exception:  # noqa: BLE001 - a background warm-up must never disturb the caller
+                    pass
+
+        thread = threading.Thread(target=work, name=f"mbsym-compile-{f.name()}", daemon=False)
+        _BACKGROUND[key] = thread
+        thread.start()
+    return True
+
+
+def wait_for_background(timeout: float | None = COMPILE_TIMEOUT_S) -> None:
+    """Wait for the background compilations started by :func:`compile_in_background` (e.g. in benchmarks)."""
+    deadline = None if timeout is None else time.monotonic() + timeout
+    for thread in list(_BACKGROUND.values()):
+        thread.join(None if deadline is None else max(deadline - time.monotonic(), 0.0))
 
 
 def _fallback(f: ca.Function, key: str, t0: float, message: str, warn: bool) -> CompiledFunction:
@@ -216,15 +387,16 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
     if cc is None:
         return _fallback(f, "", t0, "No C compiler found (set MBSYM_CC or CC, or install gcc).", warn=True)
     flags = tuple(str(s) for s in flags)
-    key = function_key(f, flags, cc, jacobian=jacobian)
-    folder = Path(directory).expanduser() if directory is not None else cache_dir()
-    library = folder / f"{f.name()}_{key[:20]}.so"
+    key = _memo_key(f, flags, cc, jacobian)
+    library = _library_path(f, key, directory)
     if library.exists():
         try:
             return CompiledFunction(ca.external(f.name(), str(library)), True, True, key, library,
                                     time.perf_counter() - t0)
         except RuntimeError:
             library.unlink(missing_ok=True)        # exists but does not load (truncated, other ABI): rebuild once
+    import subprocess
+
     try:
         _build(f, cc, flags, library, jacobian)
     except (OSError, subprocess.SubprocessError, RuntimeError) as exc:
@@ -238,6 +410,9 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
 
 def _build(f: ca.Function, cc: tuple[str, ...], flags: tuple[str, ...], library: Path, jacobian: bool) -> None:
     """Generate C in a private temporary directory, compile, move the library into place atomically."""
+    import subprocess
+    import tempfile
+
     library.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix=_TEMP_PREFIX, dir=library.parent) as tmp:
         source = Path(tmp) / f"{f.name()}.c"
@@ -266,6 +441,8 @@ def clear_disk_cache(directory: str | os.PathLike | None = None) -> int:
     compilation): those older than :data:`COMPILE_TIMEOUT_S`, so that a build running
     in another process is left alone.
     """
+    import shutil
+
     folder = Path(directory).expanduser() if directory is not None else cache_dir()
     if not folder.is_dir():
         return 0

@@ -65,7 +65,7 @@ def test_compare_and_plot(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, message", [
     (["simulate", "no_such_deck.fst"], "no_such_deck.fst"),
-    (["simulate", "--tmax", "-1"], "--tmax and --dt must be positive"),
+    (["simulate", "--tmax", "-1"], "--tmax = -1 s must be a positive finite time"),
     (["simulate", "--tmax", "0.1", "--method", "euler"], "euler"),
 ])
 def test_bad_input_exits_nonzero_with_one_line(argv, message, capsys):

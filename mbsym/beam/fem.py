@@ -13,8 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import cumulative_trapezoid
-from scipy.linalg import eigh, null_space
 
 from mbsym.beam.integrals import _check_property, check_stations
 from mbsym.beam.shapes import HermiteShape, ShapeFunction, _hermite_basis
@@ -152,6 +150,9 @@ def cantilever_modes(
     >>> round(float(modes.frequencies_hz[0] * 2 * np.pi), 4)   # 1.875104^2
     3.516
     """
+    from scipy.integrate import cumulative_trapezoid     # imported on use: keeps `import mbsym` light
+    from scipy.linalg import eigh
+
     zs = check_stations(z)
     if abs(zs[0]) > 0:
         raise BeamDataError(f"the first station must be the clamped root z=0; got z[0]={zs[0]:g} m.")
@@ -256,6 +257,8 @@ def fit_elastodyn_polynomial(
     w = np.ones(zz.size) if weights is None else _check_property("weights", weights, zz.size)
     a = (zz[:, None] / L) ** np.arange(2, 7)[None, :] * np.sqrt(w)[:, None]
     # c = c_p + N y with sum(c_p) = 1 and N spanning {sum = 0}; y by SVD least squares
+    from scipy.linalg import null_space                   # imported on use: keeps `import mbsym` light
+
     c_p = np.full(5, 0.2)
     null = null_space(np.ones((1, 5)))
     y = np.linalg.lstsq(a @ null, v * np.sqrt(w) - a @ c_p, rcond=None)[0]

@@ -11,7 +11,6 @@ from typing import Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import cumulative_trapezoid, simpson
 
 from mbsym.beam.shapes import ShapeFunction
 from mbsym.beam.sid import ShapeIntegrals, Taylor, _frequencies, damping_matrix, skew
@@ -92,6 +91,8 @@ def quadrature_weights(z: ArrayLike, rule: Literal["trapezoid", "simpson"] = "tr
         h = np.diff(zz)
         return np.concatenate([[0.0], h]) / 2 + np.concatenate([h, [0.0]]) / 2
     if rule == "simpson":
+        from scipy.integrate import simpson      # imported on use: keeps `import mbsym` light
+
         return simpson(np.eye(zz.size), x=zz, axis=1)
     raise BeamDataError(f"unknown quadrature {rule!r}; expected 'trapezoid', 'simpson' or an array of weights.")
 
@@ -292,6 +293,8 @@ def shape_integrals(
             zf = zf[np.concatenate([[True], np.diff(zf) > 1e-12 * L])]
             m, eix, eiy, th = (np.interp(zf, zz, v) for v in (m, eix, eiy, th))
             zz = zf
+        from scipy.integrate import cumulative_trapezoid      # imported on use (import time of mbsym)
+
         w = quadrature_weights(zz, quadrature)
         m_out = (lambda c: c[-1] - c)(cumulative_trapezoid(m, zz, initial=0.0))
         s_out = (lambda c: c[-1] - c)(cumulative_trapezoid(m * zz, zz, initial=0.0))

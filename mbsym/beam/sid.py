@@ -521,10 +521,14 @@ class ShapeIntegrals:
 
 
 def _frequencies(ke: np.ndarray, me: np.ndarray) -> np.ndarray:
-    """``sqrt(eig(K, M)) / 2 pi`` ascending [Hz]; negative eigenvalues give NaN-free 0."""
-    from scipy.linalg import eigh
+    """``sqrt(eig(K, M)) / 2 pi`` ascending [Hz]; negative eigenvalues give NaN-free 0.
 
-    lam = eigh(ke, me, eigvals_only=True)
+    Cholesky reduction ``L^-1 K L^-T`` with numpy (scipy.linalg is not imported on the model-building
+    path: import time of mbsym).
+    """
+    L = np.linalg.cholesky(me)
+    B = np.linalg.solve(L, np.linalg.solve(L, ke).T)       # L^-1 K L^-T (K symmetric)
+    lam = np.linalg.eigvalsh(0.5 * (B + B.T))
     return np.sqrt(np.clip(lam, 0.0, None)) / (2.0 * np.pi)
 
 

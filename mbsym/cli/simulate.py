@@ -4,13 +4,24 @@ Contract (kept for acceptance checks)::
 
     mbsym simulate [DECK.fst] [--tmax T] [--dt DT] [--out FILE.csv] [--plot FILE.png]
                    [--compare OPENFAST.csv] [--method M] [--rtol R] [--atol A]
-                   [--list-methods] [--stats] [--compile]
+                   [--accuracy EPS] [--list-methods] [--stats] [--compile]
 
 No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.deck.nrel5mw`) with its
 structural DOFs this template models, released from a tower-top displacement of
 0.5 m fore-aft with the rotor at the deck's 10 rpm, yaw held by the NREL 5 MW
-ServoDyn yaw spring and damper (ElastoDyn alone leaves the yaw free). ``--tmax``/``--dt`` default to the
-deck's TMax and DT; output is sampled every ``--dt`` (or the deck's DT_Out).
+ServoDyn yaw spring and damper (ElastoDyn alone leaves the yaw free). ``--tmax`` defaults to the
+deck's TMax; output is sampled every ``--dt`` (default: the deck's DT_Out).
+
+Integration: by default mbsym chooses the method, step and compilation for ``--accuracy``
+(default 1e-3: mean error below 0.1 % of each state's range against the converged solution;
+:mod:`mbsym.simulate.auto`), independently of the output spacing. ``--method`` (with ``--dt``
+as the step of a fixed-step method, default the deck's DT) or ``--rtol``/``--atol`` (cvodes)
+choose the integration explicitly instead.
+
+The header is printed before integrating; progress goes to stderr (on a terminal a bar, else a
+line every 5 s for runs longer than that); Ctrl-C ends the run within a second with
+"interrupted at t = ... s" (exit status 130, no files written). Runs whose result would exceed
+the memory limit (:data:`mbsym.simulate.MEMORY_LIMIT_BYTES`) are refused before integrating.
 """
 
 from __future__ import annotations
@@ -34,16 +45,22 @@ def add_parser(sub) -> None:
                        description=_plain(__doc__.split("\n\n")[0]))
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst); default: built-in NREL 5 MW")
     p.add_argument("--tmax", type=float, help="simulated time [s] (default: the deck's TMax)")
-    p.add_argument("--dt", type=float, help="time step and output spacing [s] (default: the deck's DT and DT_Out)")
+    p.add_argument("--dt", type=float, help="output spacing [s] (default: the deck's DT_Out); with a fixed-step "
+                                            "--method also its step (default: the deck's DT)")
     p.add_argument("--out", metavar="FILE.csv", help="write OpenFAST-named channels as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="write a plot of the DOF channels (overlaid with --compare)")
     p.add_argument("--compare", metavar="OPENFAST.csv", help="OpenFAST CSV output to compare with (ε, R² per channel)")
-    p.add_argument("--method", default="cvodes", help="integration method (see --list-methods; default cvodes)")
-    p.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance of adaptive methods (default 1e-8)")
-    p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance of adaptive methods (default 1e-10)")
+    p.add_argument("--accuracy", type=float, metavar="EPS",
+                   help="error bound for the automatic choice of method, step and compilation: mean |x - x_ref| / "
+                        "range(x_ref) per state against the converged solution (default 1e-3)")
+    p.add_argument("--method", help="integration method instead of the automatic choice (see --list-methods)")
+    p.add_argument("--rtol", type=float, help="relative tolerance of adaptive methods (default 1e-8; alone: cvodes)")
+    p.add_argument("--atol", type=float, help="absolute tolerance of adaptive methods (default 1e-10; alone: cvodes)")
     p.add_argument("--list-methods", action="store_true", help="print the integration methods, one per line, and exit")
     p.add_argument("--stats", action="store_true", help="print the run statistics as one JSON object on the last line")
-    p.add_argument("--compile", action="store_true", help="run the integration as generated C (gcc -O1, cached on disk)")
+    p.add_argument("--compile", action="store_true", default=None,
+                   help="run the integration as generated C (gcc -O1, cached on disk); by default the automatic "
+                        "choice compiles when the library is cached or compiling pays off")
     add_structure_only(p)
 
 
@@ -69,38 +86,99 @@ def builtin_turbine():
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..simulate import METHODS
+    from ..simulate import METHODS, ProgressPrinter, SimulationInterrupted
 
     if args.list_methods:
         print("\n".join(METHODS))
         return 0
-    if args.method not in METHODS:
-        raise ValueError(f"unknown --method {args.method!r}; choose one of {', '.join(METHODS)} (--list-methods)")
+    options = _integration_options(args)
     ref, outputs = _check_files(args)        # fail before any expensive work
     model, label = _model(args.deck, structure_only=args.structure_only)
     outputs.add_inputs(_deck_inputs(model))
-    sim = model.turbine.simulation
-    tmax = args.tmax if args.tmax is not None else sim.total_time
-    dt_out = args.dt if args.dt is not None else sim.output_time_step
-    step = args.dt if args.dt is not None else sim.time_step
-    if not (tmax > 0 and step > 0 and dt_out > 0):
-        raise ValueError(f"--tmax and --dt must be positive; got tmax={tmax}, dt={step}")
-    t_out = np.round(np.arange(0.0, tmax + 0.5 * dt_out, dt_out), 10)
-    t_out = t_out[t_out <= tmax + 1e-9]
+    tmax, t_out, step = _time_grid(args, model.turbine.simulation)
     t0 = time.perf_counter()
     channels = model.output_function()          # derives the equations and the output Function
     prepare = time.perf_counter() - t0
-    result = _simulate(model, tmax, t_out, step, args, METHODS[args.method].kind == "fixed-step")
+    _header(label, model, tmax, options)
+    printer = ProgressPrinter(sys.stderr)
+    try:
+        result = _simulate(model, tmax, t_out, step, options, printer)
+    except SimulationInterrupted as exc:
+        printer.close()
+        print(f"mbsym simulate: {exc} (of {tmax:g} s); nothing written", file=sys.stderr)
+        return 130
+    printer.close()
     series = _series(result, channels)
     stats = dict(result.statistics)
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
-    _summary(label, model, series, stats)
+    _summary(series, stats)
     if ref is not None:
         _report_comparison(series, ref)
     _write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name)
     if args.stats:
         print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
     return 0
+
+
+def _integration_options(args) -> dict:
+    """Keyword arguments of mbsym.simulate from the integration flags (checked before any work)."""
+    from ..exceptions import SimulationOptionError
+    from ..simulate import METHODS
+    from ..simulate.checks import check_accuracy, check_tolerances
+
+    explicit = [f for f, v in (("--method", args.method), ("--rtol", args.rtol), ("--atol", args.atol))
+                if v is not None]
+    if args.accuracy is not None and explicit:
+        raise SimulationOptionError(f"--accuracy chooses the method and step itself; it cannot be combined with "
+                                    f"{', '.join(explicit)}. Give either --accuracy or --method (with --dt or "
+                                    "--rtol/--atol).")
+    if args.method is not None and args.method not in METHODS:
+        raise SimulationOptionError(f"unknown --method {args.method!r}; choose one of {', '.join(METHODS)} "
+                                    "(--list-methods)")
+    if not explicit:
+        return {"accuracy": check_accuracy(1e-3 if args.accuracy is None else args.accuracy),
+                "compile": args.compile}
+    method = args.method or "cvodes"
+    out = {"method": method, "compile": bool(args.compile)}
+    if METHODS[method].kind != "fixed-step":
+        rtol, atol = check_tolerances(1e-8 if args.rtol is None else args.rtol,
+                                      1e-10 if args.atol is None else args.atol)
+        out.update(rtol=rtol, atol=atol)
+    elif args.rtol is not None or args.atol is not None:
+        raise SimulationOptionError(f"--rtol/--atol apply to adaptive methods; --method {method} has a fixed step "
+                                    "(set it with --dt).")
+    return out
+
+
+def _time_grid(args, sim) -> tuple[float, np.ndarray, float]:
+    """``(tmax, output times, step of an explicit fixed-step method)``; names the flag or deck key at fault."""
+    from ..exceptions import SimulationOptionError
+
+    def positive(value, flag_given: bool, flag: str, key: str) -> float:
+        where = flag if flag_given else f"the deck's {key}"
+        fix = f"pass a positive {flag}" if flag_given else f"set {key} in the deck or pass {flag}"
+        if value is None or not (np.isfinite(value) and value > 0):
+            shown = "none" if value is None else f"{value:g}"
+            raise SimulationOptionError(f"{where} = {shown} s must be a positive finite time; {fix}.")
+        return float(value)
+
+    tmax = positive(args.tmax if args.tmax is not None else sim.total_time, args.tmax is not None, "--tmax", "TMax")
+    dt_out = positive(args.dt if args.dt is not None else sim.output_time_step, args.dt is not None, "--dt",
+                      "DT_Out")
+    step = positive(args.dt if args.dt is not None else sim.time_step, args.dt is not None, "--dt", "DT")
+    if dt_out > tmax:
+        a = "--dt" if args.dt is not None else "the deck's DT_Out"
+        b = "--tmax" if args.tmax is not None else "the deck's TMax"
+        raise SimulationOptionError(f"{a} = {dt_out:g} s exceeds {b} = {tmax:g} s: there would be no output after "
+                                    f"t = 0; use an output spacing below the simulated time.")
+    from ..simulate.monitor import check_resources, output_count
+
+    check_resources(output_count(tmax, dt_out), 8, None, tmax)        # before allocating the grid
+    n = int(np.floor(tmax / dt_out + 1e-9))
+    t_out = np.round(np.arange(n + 1) * dt_out, 12)
+    if t_out[-1] < tmax * (1 - 1e-12):
+        t_out = np.append(t_out, tmax)
+    return tmax, t_out, step
 
 
 def _check_files(args):
@@ -157,67 +235,14 @@ def _model(deck, *, structure_only: bool = False):
     return TurbineModel(turbine), str(deck)
 
 
-def _simulate(model, tmax, t_out, step, args, fixed_step: bool):
-    """One call; on a terminal a progress bar. Only fixed-step runs are cut into chunks for it
-    (at multiples of the step, so the result is the same): adaptive methods would restart."""
-    from ..simulate import simulate
+def _simulate(model, tmax, t_out, step, options, printer):
+    """One call of mbsym.simulate; progress on stderr."""
+    from ..simulate import METHODS, simulate
 
-    kw = dict(method=args.method, compile=args.compile)
-    # each method gets only what it uses: the step for fixed-step methods, tolerances otherwise
-    kw.update(dict(dt=step) if fixed_step else dict(rtol=args.rtol, atol=args.atol))
-    if not sys.stdout.isatty():
-        return simulate(model, tmax, t_out=t_out, **kw)
-    if not fixed_step:
-        print(f"[{'.' * 30}]    0.00 / {tmax:.2f} s", end="", flush=True)
-        result = simulate(model, tmax, t_out=t_out, **kw)
-        print(f"\r[{'#' * 30}] {tmax:7.2f} / {tmax:.2f} s")
-        return result
-    return _chunked(model, tmax, t_out, step, kw)
-
-
-def _chunked(model, tmax, t_out, step, kw):
-    from ..simulate import simulate
-
-    n_steps = int(round(tmax / step))
-    edges = np.unique(np.round(np.linspace(0, n_steps, 21)).astype(int)) * step
-    edges[-1] = tmax
-    x0, inputs = model.default_state(), model.default_inputs()
-    parts, stats = [], None
-    for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        grid = t_out[(t_out >= a - 1e-9) & (t_out <= b + 1e-9)] - a
-        grid = np.unique(np.concatenate([[0.0], grid, [b - a]]))
-        shifted = {k: (lambda s, f=v, a=a: f(s + a)) if callable(v) else v for k, v in inputs.items()}
-        r = simulate(model, b - a, x0=x0, inputs=shifted, t_out=grid, **kw)
-        parts.append((r.t + a, r))
-        x0 = r.x[-1]
-        stats = _merge(stats, r.statistics)
-        done = int(30 * (i + 1) / (len(edges) - 1))
-        print(f"\r[{'#' * done}{'.' * (30 - done)}] {b:7.2f} / {tmax:.2f} s", end="", flush=True)
-    print()
-    return _Joined(parts, t_out, stats)
-
-
-class _Joined:
-    """Chunked results on the requested output grid."""
-
-    def __init__(self, parts, t_out, stats):
-        t = np.concatenate([tp for tp, _ in parts])
-        y = np.vstack([r.y for _, r in parts])
-        t, idx = np.unique(np.round(t, 9), return_index=True)
-        keep = np.isin(t, np.round(t_out, 9))
-        self.t, self.y = t[keep], y[idx][keep]
-        self.output_names = parts[0][1].output_names
-        self.statistics = stats
-
-
-def _merge(acc, stats):
-    if acc is None:
-        return dict(stats)
-    out = dict(acc)
-    for k, v in stats.items():
-        if isinstance(v, (int, float)) and not isinstance(v, bool) and k.endswith(("_s", "steps", "n_rhs", "n_jac")):
-            out[k] = out.get(k, 0) + v
-    return out
+    kw = dict(options)
+    if "method" in kw and METHODS[kw["method"]].kind == "fixed-step":
+        kw["dt"] = step                 # an explicit fixed-step method: --dt (or the deck's DT) is its step
+    return simulate(model, tmax, t_out=t_out, progress=printer, **kw)
 
 
 def _series(result, channels):
@@ -228,12 +253,23 @@ def _series(result, channels):
     return TimeSeries(np.asarray(result.t), names, tuple(units[n] for n in names), np.asarray(result.y))
 
 
-def _summary(label, model, series, stats) -> None:
+def _header(label, model, tmax, options) -> None:
+    """What is about to run, printed before integrating."""
+    how = (f"accuracy {options['accuracy']:g} (method, step and compilation chosen automatically)"
+           if "accuracy" in options else f"method {options['method']}")
     print(f"mbsym simulate: {label}")
-    print(f"DOFs: {', '.join(f for f, on in model.dofs.items() if on)}  ({model.eom.n_q} coordinates)")
-    print(f"method {stats.get('method')}: {stats.get('steps')} steps, integration "
+    print(f"DOFs: {', '.join(f for f, on in model.dofs.items() if on)}  ({model.eom.n_q} coordinates); "
+          f"{tmax:g} s, {how}", flush=True)
+
+
+def _summary(series, stats) -> None:
+    compiled = ", compiled" if stats.get("compiled") else ""
+    estimate = stats.get("error_estimate")
+    est = f", error estimate {estimate:.1e}" if isinstance(estimate, float) else ""
+    step = f" of {stats['dt']:.4g} s" if stats.get("dt") else ""
+    print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
           f"{1e3 * float(stats.get('integration_wall_s', 0)):.1f} ms, preparation "
-          f"{1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms, {series.time[-1]:.2f} s simulated\n")
+          f"{1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms{est}, {series.time[-1]:.2f} s simulated\n")
     shown = [n for n in series.names if n.startswith("Q_") or n in ("RotSpeed", "TTDspFA", "TTDspSS", "PtfmPitch")]
     print(f"{'channel':<14} {'unit':<8} {'initial':>12} {'min':>12} {'max':>12} {'final':>12}")
     for n in shown:
@@ -268,7 +304,9 @@ def _print_comparison(rows) -> None:
 
 def _jsonable(v):
     if isinstance(v, (np.floating, np.integer)):
-        return v.item()
+        v = v.item()
+    if isinstance(v, float) and not np.isfinite(v):
+        return None                     # strict JSON has no NaN/inf (e.g. no linear prediction on the BDF path)
     if isinstance(v, (str, int, float, bool)) or v is None:
         return v
     return str(v)

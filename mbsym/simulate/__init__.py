@@ -9,13 +9,18 @@ cache, compiled evaluation switch), ``fixed`` (fixed-step loop in CasADi; rk4),
 ``second_order`` (newmark, generalized-alpha), ``casadi_methods`` (adams,
 cvodes, idas), ``scipy_methods`` (scipy-radau, scipy-bdf), ``result``.
 ``compile=True`` evaluates through :mod:`mbsym.codegen` (generated C, disk cache).
+``auto`` is the accuracy-driven default (method, step and compilation from
+``accuracy``), ``controller`` and ``closed_loop`` run discrete controllers in the loop
+(:class:`DiscreteController`), ``monitor`` handles progress, Ctrl-C and resource limits.
 """
 
 from .api import simulate
 from .base import Method, clear_cache
 from .checks import DIVERGENCE_LIMIT, SimulationOptionError, SimulationOptionWarning
+from .controller import DiscreteController
 from .methods import METHODS, get_method
 from .model import SimulationModel
+from .monitor import MEMORY_LIMIT_BYTES, ProgressPrinter, SimulationInterrupted
 from .result import SimulationResult
 
 __all__ = [
@@ -29,4 +34,8 @@ __all__ = [
     "SimulationOptionWarning",
     "DIVERGENCE_LIMIT",
     "clear_cache",
+    "DiscreteController",
+    "SimulationInterrupted",
+    "ProgressPrinter",
+    "MEMORY_LIMIT_BYTES",
 ]

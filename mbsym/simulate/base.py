@@ -25,24 +25,26 @@ import casadi as ca
 import numpy as np
 
 from ..codegen import compile_function, compiler_command
-from ..equations import EquationsOfMotion
+from ..exceptions import SimulationOptionError
 from .inputs import InputSignal
 
 __all__ = ["Problem", "Trajectory", "Method", "prepared", "clear_cache", "compile_key"]
 
 #: Prepared entries kept per model (the least recently used is dropped first).
 CACHE_SIZE = 16
-_CACHE: "weakref.WeakKeyDictionary[EquationsOfMotion, OrderedDict[Hashable, Any]]" = weakref.WeakKeyDictionary()
+_CACHE: "weakref.WeakKeyDictionary[Any, OrderedDict[Hashable, Any]]" = weakref.WeakKeyDictionary()
 
 
-def prepared(eom: EquationsOfMotion, key: Hashable, build: Callable[[], Any]) -> tuple[Any, bool]:
-    """The object built by ``build()`` for ``(eom, key)``, cached; returns ``(object, cache_hit)``.
+def prepared(owner: Any, key: Hashable, build: Callable[[], Any]) -> tuple[Any, bool]:
+    """The object built by ``build()`` for ``(owner, key)``, cached; returns ``(object, cache_hit)``.
 
-    Least recently used entries are dropped beyond :data:`CACHE_SIZE` per model. The cache holds
-    weak references to the models: entries vanish with them. ``key`` must hold everything that
-    changes the built object (see :meth:`Method.cache_key`).
+    ``owner`` is the model's :attr:`Plant.owner <mbsym.simulate.model.Plant.owner>` (its
+    EquationsOfMotion, or the rhs Function of other dynamics). Least recently used entries are
+    dropped beyond :data:`CACHE_SIZE` per owner. The cache holds weak references to the owners:
+    entries vanish with them. ``key`` must hold everything that changes the built object (see
+    :meth:`Method.cache_key`).
     """
-    entries = _CACHE.setdefault(eom, OrderedDict())
+    entries = _CACHE.setdefault(owner, OrderedDict())
     if key in entries:
         entries.move_to_end(key)
         return entries[key], True
@@ -69,7 +71,9 @@ class Problem:
 
     Attributes
     ----------
-    eom : EquationsOfMotion
+    plant : Plant
+        The model (:class:`mbsym.simulate.model.Plant`): rhs, names, and the EquationsOfMotion
+        when the second-order methods apply.
     x0 : ndarray (n_x,)
         Initial state ``[q; qd]``.
     p : ndarray (n_p,)
@@ -89,9 +93,11 @@ class Problem:
         Tolerances of adaptive methods.
     compile : bool
         Evaluate the method's Functions as compiled C (:mod:`mbsym.codegen`).
+    monitor : RunMonitor or None
+        Progress reports and interruption (:mod:`mbsym.simulate.monitor`); None: silent.
     """
 
-    eom: EquationsOfMotion
+    plant: Any
     x0: np.ndarray
     p: np.ndarray
     inputs: InputSignal
@@ -102,6 +108,17 @@ class Problem:
     rtol: float = 1e-6
     atol: float = 1e-8
     compile: bool = False
+    monitor: Any = None
+
+    @property
+    def eom(self):
+        """The EquationsOfMotion of the plant (None for first-order dynamics that are more than [q; qd])."""
+        return self.plant.eom
+
+    @property
+    def owner(self) -> Any:
+        """Key of the prepared-Function cache (:attr:`Plant.owner <mbsym.simulate.model.Plant.owner>`)."""
+        return self.plant.owner
 
 
 @dataclass
@@ -136,15 +153,26 @@ class Method:
     implicit : bool
         Whether the method solves (non)linear systems with the Jacobian (suited
         to stiff problems).
+    second_order : bool
+        Whether the method integrates the residual form of an EquationsOfMotion
+        (``e(q, qd, qdd) = 0``); such a method refuses first-order dynamics that are
+        more than ``[q; qd]``.
     """
 
     name: ClassVar[str] = ""
     order: ClassVar[int] = 0
     kind: ClassVar[str] = "fixed-step"
     implicit: ClassVar[bool] = False
+    second_order: ClassVar[bool] = False
     default_dt: ClassVar[float] = 0.01
 
     def __init__(self, problem: Problem) -> None:
+        if self.second_order and problem.eom is None:
+            raise SimulationOptionError(
+                f"method {self.name!r} integrates the second-order residual form of an EquationsOfMotion, but "
+                f"{problem.plant.name!r} is first-order dynamics with states {list(problem.plant.states)[:6]}"
+                f"{' ...' if problem.plant.n_x > 6 else ''}; use a first-order method (rk4, adams, cvodes, idas, "
+                "scipy-radau, scipy-bdf) or leave method unset.")
         self.problem = problem
         self._compiler = compile_key(problem.compile)
         #: Whether the libraries compiled for this preparation came from the disk cache (None: none loaded).
@@ -211,18 +239,24 @@ def maybe_compile(f: ca.Function, enabled: bool, *, jacobian: bool = False, with
     return (c.function, c.compiled, c.cache_hit) if with_hit else (c.function, c.compiled)
 
 
-def symbolic_rhs(eom: EquationsOfMotion) -> tuple[type, ca.Function]:
+def _rhs_of(model: Any) -> ca.Function:
+    """The first-order rhs of a Plant or Dynamics (``.rhs``) or an EquationsOfMotion (``.functions.rhs``)."""
+    rhs = getattr(model, "rhs", None)
+    return rhs if isinstance(rhs, ca.Function) else model.functions.rhs
+
+
+def symbolic_rhs(model: Any) -> tuple[type, ca.Function]:
     """The symbol class matching the model's rhs (SX for an SX Function, else MX) and the rhs."""
-    rhs = eom.functions.rhs
+    rhs = _rhs_of(model)
     return (ca.SX if rhs.is_a("SXFunction") else ca.MX), rhs
 
 
-def jacobian_function(eom: EquationsOfMotion) -> ca.Function:
-    """``(x, u, p) -> d rhs / d x`` (n_x, n_x), dense, built from the model's rhs."""
-    sym, rhs = symbolic_rhs(eom)
-    x, u, p = sym.sym("x", eom.n_x), sym.sym("u", eom.n_u), sym.sym("p", eom.n_p)
+def jacobian_function(model: Any) -> ca.Function:
+    """``(x, u, p) -> d rhs / d x`` (n_x, n_x), dense, built from the rhs of a Plant, Dynamics or equations."""
+    sym, rhs = symbolic_rhs(model)
+    x, u, p = (sym.sym(s, rhs.size1_in(i)) for i, s in enumerate("xup"))
     J = ca.densify(ca.jacobian(rhs(x, u, p), x))
-    return ca.Function(f"{eom.name}_rhs_jacobian", [x, u, p], [J], ["x", "u", "p"], ["J"], {"cse": True})
+    return ca.Function(f"{model.name}_rhs_jacobian", [x, u, p], [J], ["x", "u", "p"], ["J"], {"cse": True})
 
 
 class BufferedFunction:
@@ -251,16 +285,16 @@ class BufferedFunction:
         return out if self._shape[1] == 1 else out.reshape(self._shape, order="F")
 
 
-def dense_rhs(eom: EquationsOfMotion) -> ca.Function:
+def dense_rhs(model: Any) -> ca.Function:
     """``(x, u, p) -> xd`` with a dense output (for buffered calls)."""
-    sym, rhs = symbolic_rhs(eom)
-    x, u, p = sym.sym("x", eom.n_x), sym.sym("u", eom.n_u), sym.sym("p", eom.n_p)
-    return ca.Function(f"{eom.name}_rhs_dense", [x, u, p], [ca.densify(rhs(x, u, p))], ["x", "u", "p"], ["xd"])
+    sym, rhs = symbolic_rhs(model)
+    x, u, p = (sym.sym(s, rhs.size1_in(i)) for i, s in enumerate("xup"))
+    return ca.Function(f"{model.name}_rhs_dense", [x, u, p], [ca.densify(rhs(x, u, p))], ["x", "u", "p"], ["xd"])
 
 
-def stability_hint(eom: EquationsOfMotion, problem: Problem, method: str, stability_radius: float) -> str:
+def stability_hint(model: Any, problem: Problem, method: str, stability_radius: float) -> str:
     """Explain a divergence of an explicit method: is the step beyond its stability limit at t = 0?"""
-    J = np.array(jacobian_function(eom)(problem.x0, problem.inputs.at(0.0), problem.p))
+    J = np.array(jacobian_function(model)(problem.x0, problem.inputs.at(0.0), problem.p))
     if not np.all(np.isfinite(J)):
         return "The Jacobian at t = 0 is not finite; check the parameters, inputs and initial state."
     rho = float(np.max(np.abs(np.linalg.eigvals(J)), initial=0.0))

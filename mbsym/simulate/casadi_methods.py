@@ -37,16 +37,15 @@ of samples is reported as ``statistics["input_samples"]``.
 
 from __future__ import annotations
 
-import hashlib
 from typing import Any, ClassVar
 
 import casadi as ca
 import numpy as np
-from scipy.interpolate import make_interp_spline
 
 from ..exceptions import IntegrationError
 from .base import Method, Trajectory, prepared, symbolic_rhs
 from .checks import divergence_message, first_bad_column, raise_diverged
+from .monitor import SimulationInterrupted, sigint_seen
 
 __all__ = ["SundialsMethod", "Cvodes", "Adams", "Idas", "CALLABLE_INTERVALS", "MAX_CALLABLE_INTERVALS"]
 
@@ -84,7 +83,7 @@ class SundialsMethod(Method):
 
     def _model_function(self) -> ca.Function:
         """The model Function inside the DAE (the rhs; the residual for IDAS)."""
-        return self.problem.eom.functions.rhs
+        return self.problem.plant.rhs
 
     @classmethod
     def settings(cls) -> tuple:
@@ -93,7 +92,7 @@ class SundialsMethod(Method):
     def _spline_knots(self) -> tuple[np.ndarray, np.ndarray] | None:
         """Sample times of the callable inputs and the knots of their cubic splines (not-a-knot), or None."""
         pr = self.problem
-        if not (pr.eom.n_u and pr.inputs.callables):
+        if not (pr.plant.n_u and pr.inputs.callables):
             return None
         spacing = float(np.min(np.diff(pr.t_out))) if pr.t_out.size > 1 else pr.tmax
         n = int(np.ceil(pr.tmax / min(spacing, pr.tmax / CALLABLE_INTERVALS) - 1e-9))
@@ -104,6 +103,8 @@ class SundialsMethod(Method):
         """B-spline coefficients of the callable inputs, row-major ``(n_coef, n_callable)`` as casadi.bspline."""
         if self._splines is None:
             return np.zeros(0)
+        from scipy.interpolate import make_interp_spline   # only with callable inputs (import time of mbsym)
+
         t, knots = self._splines
         values = self.problem.inputs(t)[:, list(self.problem.inputs.callables)]
         return make_interp_spline(t, values, k=3, t=knots).c.reshape(-1)
@@ -112,44 +113,46 @@ class SundialsMethod(Method):
         pr = self.problem
         grid, self._out_index = self._grid()
         self._tgrid = grid
-        self._varying = pr.eom.n_u > 0 and not pr.inputs.constant
+        self._varying = pr.plant.n_u > 0 and not pr.inputs.constant
         self._splines = self._spline_knots()
         f = self._model_function()
-        (self._fn, self._compiled), _ = prepared(pr.eom, ("sundials", f.name(), pr.compile, self._compiler),
+        (self._fn, self._compiled), _ = prepared(pr.owner, ("sundials", f.name(), pr.compile, self._compiler),
                                                  lambda: self._compile(f, jacobian=True))
         samples = None if self._splines is None else (pr.inputs.callables, self._splines[0].size, pr.tmax)
+        import hashlib
+
         key = self.cache_key(pr.rtol, pr.atol, self._varying, grid.size, hashlib.sha1(grid.tobytes()).hexdigest(),
                              samples)
-        return prepared(pr.eom, key, lambda: self._build(grid))
+        return prepared(pr.owner, key, lambda: self._build(grid))
 
     def _build(self, grid: np.ndarray) -> ca.Function:
-        eom, pr = self.problem.eom, self.problem
-        sym, _ = symbolic_rhs(eom)
+        plant, pr = self.problem.plant, self.problem
+        sym, _ = symbolic_rhs(plant)
         # a compiled (external) Function and casadi.bspline take MX only
         sym = ca.MX if self._compiled or self._splines is not None else sym
         if self._varying:
             idx = pr.inputs.callables
             n_coef = 0 if self._splines is None else self._splines[0].size * len(idx)
-            pc, t, c = sym.sym("p", eom.n_p + n_coef), sym.sym("t"), sym.sym("c", 2 * eom.n_u + 1)
-            p = pc[: eom.n_p]
-            u = c[: eom.n_u] + c[eom.n_u: 2 * eom.n_u] * (t - c[-1])   # c = [u(t_k); slope; t_k] (tables)
+            pc, t, c = sym.sym("p", plant.n_p + n_coef), sym.sym("t"), sym.sym("c", 2 * plant.n_u + 1)
+            p = pc[: plant.n_p]
+            u = c[: plant.n_u] + c[plant.n_u: 2 * plant.n_u] * (t - c[-1])   # c = [u(t_k); slope; t_k] (tables)
             if idx:                                                     # callables: splines of t
                 knots = self._splines[1]
-                s = ca.bspline(ca.fmin(ca.fmax(t, knots[0]), knots[-1]), pc[eom.n_p:], [knots.tolist()], [3],
+                s = ca.bspline(ca.fmin(ca.fmax(t, knots[0]), knots[-1]), pc[plant.n_p:], [knots.tolist()], [3],
                                len(idx), {})
-                u = ca.vertcat(*[s[idx.index(j)] if j in idx else u[j] for j in range(eom.n_u)])
+                u = ca.vertcat(*[s[idx.index(j)] if j in idx else u[j] for j in range(plant.n_u)])
             dae = {"p": pc, "t": t, "u": c, **self._dae(sym, u, p)}
         else:                                   # constant inputs: extra parameters [p; u]
-            pu = sym.sym("p", eom.n_p + eom.n_u)
-            dae = {"p": pu, **self._dae(sym, pu[eom.n_p:], pu[: eom.n_p])}
+            pu = sym.sym("p", plant.n_p + plant.n_u)
+            dae = {"p": pu, **self._dae(sym, pu[plant.n_p:], pu[: plant.n_p])}
         opts = {"abstol": pr.atol, "reltol": pr.rtol, "max_num_steps": self.max_num_steps,
                 "disable_internal_warnings": True, "show_eval_warnings": False,   # failures raise instead
                 **self.solver_options}
-        return ca.integrator(f"{eom.name}_{self.name}", self.plugin, dae, 0.0, grid, opts)
+        return ca.integrator(f"{plant.name}_{self.name}", self.plugin, dae, 0.0, grid, opts)
 
     def _dae(self, sym, u, p) -> dict:
         """``x``, ``ode`` (and ``z``, ``alg``) of the DAE, given the input and parameter expressions."""
-        x = sym.sym("x", self.problem.eom.n_x)
+        x = sym.sym("x", self.problem.plant.n_x)
         return {"x": x, "ode": self._fn(x, u, p)}
 
     def _call_args(self) -> dict:
@@ -158,7 +161,7 @@ class SundialsMethod(Method):
 
     def _controls(self, grid: np.ndarray) -> np.ndarray:
         """Per-interval input line ``[u(t_k); slope; t_k]``; column j drives (grid[j-1], grid[j]]."""
-        n_u = self.problem.eom.n_u
+        n_u = self.problem.plant.n_u
         u = self.problem.inputs(grid)                                  # (n_grid, n_u)
         u[:, list(self.problem.inputs.callables)] = 0.0                # callables: splines (see _build)
         C = np.zeros((2 * n_u + 1, grid.size))
@@ -170,7 +173,7 @@ class SundialsMethod(Method):
         return C
 
     def _integrate(self, integ: ca.Function) -> Trajectory:
-        pr, eom = self.problem, self.problem.eom
+        pr, plant = self.problem, self.problem.plant
         if self._varying:
             args = {"x0": pr.x0, "p": np.concatenate([pr.p, self._spline_coefficients()]),
                     "u": self._controls(self._tgrid),
@@ -178,14 +181,17 @@ class SundialsMethod(Method):
         else:
             args = {"x0": pr.x0, "p": np.concatenate([pr.p, pr.inputs.at(0.0)]), **self._call_args()}
         try:
-            X = np.array(integ(**args)["xf"])
-        except RuntimeError as exc:
+            with sigint_seen() as interrupted:
+                X = np.array(integ(**args)["xf"])
+        except (RuntimeError, KeyboardInterrupt) as exc:
+            if interrupted or isinstance(exc, KeyboardInterrupt):
+                raise SimulationInterrupted(float(integ.stats().get("tcur", 0.0))) from None
             raise IntegrationError(self._failure(integ, args, exc)) from exc
         stats = integ.stats()
         bad = first_bad_column(X, pr.x0)
         if bad is not None:
             raise_diverged(self.name, float(self._tgrid[bad]), float(stats.get("hlast", np.nan)), X[:, bad],
-                           eom.states, pr.x0)
+                           plant.states, pr.x0)
         extra = {"n_lu": int(stats.get("nlinsetups", 0)), "n_error_test_failures": int(stats.get("netfails", 0)),
                  "compiled": self._compiled,
                  "input_samples": 0 if self._splines is None else self._splines[0].size}
@@ -199,7 +205,7 @@ class SundialsMethod(Method):
 
     def _failure(self, integ: ca.Function, args: dict, exc: RuntimeError) -> str:
         """Explain a CVODES failure: its flag, where it stopped, and the last state it reached."""
-        pr, eom = self.problem, self.problem.eom
+        pr, plant = self.problem, self.problem.plant
         stats = integ.stats()
         t_fail, h = float(stats.get("tcur", np.nan)), float(stats.get("hcur", np.nan))
         text = str(exc)
@@ -221,13 +227,13 @@ class SundialsMethod(Method):
         x_last = X[:, -1]
         bad = first_bad_column(X, pr.x0)
         if bad is not None:
-            return divergence_message(self.name, float(before[bad]), h, X[:, bad], eom.states, pr.x0)
+            return divergence_message(self.name, float(before[bad]), h, X[:, bad], plant.states, pr.x0)
         i = int(np.argmax(np.abs(x_last) / (1.0 + np.abs(pr.x0))))
-        rhs = np.array(eom.functions.rhs(x_last, pr.inputs.at(float(before[-1])), pr.p)).reshape(-1)
-        nonfinite = [eom.states[j] for j in np.flatnonzero(~np.isfinite(rhs))]
+        rhs = np.array(plant.rhs(x_last, pr.inputs.at(float(before[-1])), pr.p)).reshape(-1)
+        nonfinite = [plant.states[j] for j in np.flatnonzero(~np.isfinite(rhs))]
         tail = (f" The rhs is not finite for {nonfinite} there." if nonfinite
                 else " The solution may grow without bound, or the rhs may be undefined (NaN) just beyond this state.")
-        return (f"{head} Last output at t = {before[-1]:.6g} s: state {eom.states[i]!r} = {x_last[i]:.4g} "
+        return (f"{head} Last output at t = {before[-1]:.6g} s: state {plant.states[i]!r} = {x_last[i]:.4g} "
                 f"(largest relative to x0).{tail}")
 
 
@@ -265,7 +271,9 @@ class Idas(SundialsMethod):
     The accelerations are left out of the error test (``suppress_algebraic``):
     they follow from ``q, qd`` and the inputs, and IDAS cannot estimate their
     first-step error (it has no ``d qdd/dt``; from rest under a ramp force
-    the error test failed at ``h ~ 1e-10`` s).
+    the error test failed at ``h ~ 1e-10`` s). First-order dynamics that are more
+    than ``[q; qd]`` (an :class:`mbsym.Dynamics` with extra states) are integrated
+    as the implicit ODE ``xd - f(x, u, p) = 0`` by the same BDF.
     """
 
     name: ClassVar[str] = "idas"
@@ -274,16 +282,24 @@ class Idas(SundialsMethod):
     plugin: ClassVar[str] = "idas"
     solver_options: ClassVar[dict] = {"calc_ic": True, "suppress_algebraic": True}
 
+    @property
+    def _residual_form(self) -> bool:
+        return self.problem.eom is not None
+
     def _dae(self, sym, u, p) -> dict:
+        if not self._residual_form:
+            return super()._dae(sym, u, p)
         eom = self.problem.eom
         n = eom.n_q
         x, z = sym.sym("x", eom.n_x), sym.sym("qdd", n)
         return {"x": x, "z": z, "ode": ca.vertcat(x[n:], z), "alg": self._fn(x[:n], x[n:], z, u, p)}
 
     def _model_function(self) -> ca.Function:
-        return self.problem.eom.functions.residual
+        return self.problem.eom.functions.residual if self._residual_form else self.problem.plant.rhs
 
     def _call_args(self) -> dict:
         pr = self.problem
-        xd = np.array(pr.eom.functions.rhs(pr.x0, pr.inputs.at(0.0), pr.p)).reshape(-1)
+        if not self._residual_form:
+            return {}
+        xd = np.array(pr.plant.rhs(pr.x0, pr.inputs.at(0.0), pr.p)).reshape(-1)
         return {"z0": xd[pr.eom.n_q:]}

@@ -20,6 +20,7 @@ __all__ = [
     "check_tmax",
     "check_step",
     "check_tolerances",
+    "check_accuracy",
     "check_t_out",
     "initial_state",
     "first_bad_column",
@@ -70,7 +71,20 @@ def check_tolerances(rtol, atol) -> tuple[float, float]:
     atol = _positive_number(atol, "atol", "[state units]")
     if rtol < 1e-14:
         raise SimulationOptionError(f"rtol = {rtol:g} is below what double precision can deliver; use rtol >= 1e-14.")
+    if rtol >= 1.0:
+        raise SimulationOptionError(f"rtol = {rtol:g} allows errors as large as the solution itself; a relative "
+                                    "tolerance must be below 1 (e.g. 1e-6).")
     return rtol, atol
+
+
+def check_accuracy(accuracy) -> float:
+    """``accuracy`` of the accuracy-driven default: a number in [1e-10, 0.5] [-]."""
+    value = _positive_number(accuracy, "accuracy", "[-] (relative error, e.g. 1e-3)")
+    if not 1e-10 <= value <= 0.5:
+        raise SimulationOptionError(f"accuracy = {value:g} is outside [1e-10, 0.5]: it bounds the mean error relative "
+                                    "to each state's range (1e-3 = 0.1 %); below 1e-10 double precision and the "
+                                    "step count run out.")
+    return value
 
 
 def check_t_out(t_out, tmax: float) -> np.ndarray:

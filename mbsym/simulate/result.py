@@ -44,10 +44,15 @@ class SimulationResult:
         extras (``rtol``, ``atol``, ``n_lu``; ``input_samples`` of the SUNDIALS
         methods: samples per callable input). Counters a method does not know
         are ``None``.
-    units : dict of str to str
-        Unit of each state, input and output by name (``"m"``, ``"rad/s"`` …; ``"-"`` where
-        the model does not say): states from the joints (:attr:`EquationsOfMotion.units`),
-        outputs from the model's output channels when they carry units.
+    output_units : tuple of str
+        Units of the columns of ``y`` ("" when the model gives none), e.g. OpenFAST's.
+    structural : int or None
+        Number of coordinates ``q`` when ``x`` starts with ``[q; qd]`` (equations of
+        motion, or dynamics composed around them); None for other first-order dynamics,
+        where :attr:`q` and :attr:`qd` are not defined.
+    state_units : dict of str to str
+        Units of the states the model knows (from the joints:
+        :attr:`EquationsOfMotion.units`); see :meth:`unit`.
     """
 
     t: np.ndarray
@@ -58,17 +63,34 @@ class SimulationResult:
     y: np.ndarray
     output_names: tuple[str, ...]
     statistics: dict = field(default_factory=dict)
-    units: dict = field(default_factory=dict)
+    output_units: tuple[str, ...] = ()
+    structural: int | None = -1
+    state_units: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "u", "y"):
             arr = np.array(getattr(self, name), dtype=float)   # a private copy, then read-only
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
+        units = tuple(self.output_units) or ("",) * len(self.output_names)
+        if len(units) != len(self.output_names):
+            raise ValueError(f"output_units has {len(units)} entries for {len(self.output_names)} outputs.")
+        object.__setattr__(self, "output_units", units)
+        if self.structural == -1:                       # not given: x = [q; qd]
+            object.__setattr__(self, "structural", len(self.states) // 2)
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Units of the outputs by name (e.g. ``res.units["RotSpeed"] == "rpm"``)."""
+        return dict(zip(self.output_names, self.output_units))
 
     @property
     def n_q(self) -> int:
-        return len(self.states) // 2
+        """Number of coordinates (see :attr:`structural`)."""
+        if self.structural is None:
+            raise AttributeError("this result is of first-order dynamics without coordinates q (structural is "
+                                 "None): use x, states and state(name).")
+        return self.structural
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -82,7 +104,7 @@ class SimulationResult:
     @property
     def qd(self) -> np.ndarray:
         """Speeds, shape (N, n_q) (a view of ``x``)."""
-        return self.x[:, self.n_q:]
+        return self.x[:, self.n_q: 2 * self.n_q]
 
     @property
     def success(self) -> bool:
@@ -118,8 +140,8 @@ class SimulationResult:
         return cols
 
     def unit(self, name: str) -> str:
-        """Unit of a state, input or output (``"-"`` if unknown)."""
-        return self.units.get(name, "-")
+        """Unit of an output or a state (``"-"`` if the model does not say)."""
+        return self.units.get(name) or self.state_units.get(name) or "-"
 
     def __repr__(self) -> str:
         s = self.statistics
@@ -131,19 +153,6 @@ class SimulationResult:
         return (f"SimulationResult(method={s.get('method')!r}, t = {self.t[0]:g} .. {self.t[-1]:g} s "
                 f"({self.t.size} points, {s.get('steps')} steps); states: {named(self.states)}; "
                 f"inputs: {named(self.inputs, 4)}; outputs: {named(self.output_names, 4)})")
-
-
-def result_units(model, eom, output_names) -> dict[str, str]:
-    """Units by name for a :class:`SimulationResult`: states from ``eom.units``, outputs from the
-    model's output channels (an ``output_function()`` result with ``names`` and ``units``)."""
-    units = dict(getattr(eom, "units", {}) or {})
-    channels = None
-    if model is not eom and callable(getattr(model, "output_function", None)):
-        channels = model.output_function()
-    names, values = getattr(channels, "names", None), getattr(channels, "units", None)
-    if names is not None and values is not None:
-        units.update({n: u for n, u in zip(names, values) if n in output_names})
-    return units
 
 
 def _index(names: tuple[str, ...], name: str, what: str) -> int:

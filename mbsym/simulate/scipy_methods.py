@@ -11,36 +11,40 @@ Python-side step logic: use them as references, not for long runs.
 
 from __future__ import annotations
 
+import time
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.integrate import BDF, OdeSolver, Radau
 
 from ..exceptions import IntegrationError
 from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, prepared
 from .checks import divergence_message, first_bad_column
+from .monitor import CHUNK_WALL_S, SimulationInterrupted
 
 __all__ = ["ScipyMethod", "ScipyRadau", "ScipyBDF"]
 
 
 class ScipyMethod(Method):
-    """Base of the scipy solvers: ``solver`` is an ``OdeSolver`` subclass taking ``jac=``."""
+    """Base of the scipy solvers: ``solver`` names an ``OdeSolver`` subclass of ``scipy.integrate`` taking ``jac=``.
+
+    scipy is imported when a solver runs, not with :mod:`mbsym` (import time).
+    """
 
     kind: ClassVar[str] = "adaptive"
     implicit: ClassVar[bool] = True
-    solver: ClassVar[type[OdeSolver]] = Radau
+    solver: ClassVar[str] = "Radau"
 
     def _prepare(self) -> tuple[Any, bool]:
-        eom, on = self.problem.eom, self.problem.compile
+        plant, on = self.problem.plant, self.problem.compile
 
         def build():
-            (rhs, c1), (jac, c2) = self._compile(dense_rhs(eom)), self._compile(jacobian_function(eom))
+            (rhs, c1), (jac, c2) = self._compile(dense_rhs(plant)), self._compile(jacobian_function(plant))
             return rhs, jac, c1 and c2
 
-        return prepared(eom, ("scipy", on, self._compiler), build)
+        return prepared(self.problem.owner, ("scipy", on, self._compiler), build)
 
     def _integrate(self, functions) -> Trajectory:
-        pr, eom = self.problem, self.problem.eom
+        pr, plant = self.problem, self.problem.plant
         rhs, jac_fn = (BufferedFunction(f, pr.p) for f in functions[:2])
         u_at = pr.inputs.at
 
@@ -51,61 +55,71 @@ class ScipyMethod(Method):
             return jac_fn(x, u_at(t))
 
         t_out = pr.t_out
-        X = np.empty((t_out.size, eom.n_x))
+        X = np.empty((t_out.size, plant.n_x))
         done = np.searchsorted(t_out, 0.0, side="right")
         X[:done] = pr.x0
-        solver = (self.solver(fun, 0.0, pr.x0, t_out[-1], rtol=pr.rtol, atol=pr.atol, jac=jac)
+        import scipy.integrate
+
+        solver_class = getattr(scipy.integrate, self.solver)
+        solver = (solver_class(fun, 0.0, pr.x0, t_out[-1], rtol=pr.rtol, atol=pr.atol, jac=jac)
                   if t_out[-1] > 0 else None)
         steps = 0
-        while solver is not None and solver.status == "running":
-            t_old = solver.t
-            try:
-                message = solver.step()
-            except ValueError as exc:           # scipy's LU refuses a non-finite Jacobian or state
-                self._raise_nonfinite(solver, t_old, exc)
-            steps += 1
-            self._check(solver, message, t_old)
-            upto = np.searchsorted(t_out, solver.t, side="right")
-            if upto > done:
-                X[done:upto] = solver.dense_output()(t_out[done:upto]).T
-                done = upto
+        last_report = time.perf_counter()
+        try:
+            while solver is not None and solver.status == "running":
+                t_old = solver.t
+                try:
+                    message = solver.step()
+                except ValueError as exc:           # scipy's LU refuses a non-finite Jacobian or state
+                    self._raise_nonfinite(solver, t_old, exc)
+                steps += 1
+                self._check(solver, message, t_old)
+                upto = np.searchsorted(t_out, solver.t, side="right")
+                if upto > done:
+                    X[done:upto] = solver.dense_output()(t_out[done:upto]).T
+                    done = upto
+                if pr.monitor is not None and time.perf_counter() - last_report > CHUNK_WALL_S:
+                    pr.monitor.update(float(solver.t))
+                    last_report = time.perf_counter()
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(float(solver.t), (t_out[:done], X[:done].copy())) from None
         if done < t_out.size:     # the last output time exactly at the end
             X[done:] = solver.y
         nfev, njev, nlu = (0, 0, 0) if solver is None else (solver.nfev, solver.njev, solver.nlu)
         success = solver is None or solver.status == "finished"
-        message = (f"scipy {self.solver.__name__} reached the last output time t = {t_out[-1]:g} s." if success
-                   else f"scipy {self.solver.__name__} stopped ({solver.status}) at t = {solver.t:g} s.")
+        message = (f"scipy {self.solver} reached the last output time t = {t_out[-1]:g} s." if success
+                   else f"scipy {self.solver} stopped ({solver.status}) at t = {solver.t:g} s.")
         return Trajectory(X, success, message, steps=steps, n_rhs=nfev, n_jac=njev,
                           extra={"n_lu": nlu, "compiled": functions[2]})
 
-    def _raise_nonfinite(self, solver: OdeSolver, t_old: float, exc: ValueError) -> None:
-        pr, eom = self.problem, self.problem.eom
+    def _raise_nonfinite(self, solver: Any, t_old: float, exc: ValueError) -> None:
+        pr, plant = self.problem, self.problem.plant
         y = np.asarray(solver.y, dtype=float)
         with np.errstate(all="ignore"):
             f = np.asarray(solver.fun(solver.t, y), dtype=float)
         if not np.all(np.isfinite(f)):
             i = int(np.flatnonzero(~np.isfinite(f))[0])
-            what = f"the rhs is not finite (first non-finite derivative: state {eom.states[i]!r}: {f[i]})"
+            what = f"the rhs is not finite (first non-finite derivative: state {plant.states[i]!r}: {f[i]})"
         else:
             what = f"scipy refused the step ({exc})"
         step = getattr(solver, "h_abs", None)
         step_txt = "unknown step size" if step is None else f"step size dt = {step:.6g} s"
         j = int(np.argmax(np.abs(y) / (1.0 + np.abs(pr.x0))))
         raise IntegrationError(f"method {self.name!r} failed at t = {solver.t:.6g} s ({step_txt}): {what}; "
-                               f"state {eom.states[j]!r} = {y[j]:.4g} (largest relative to x0). The rhs may be "
+                               f"state {plant.states[j]!r} = {y[j]:.4g} (largest relative to x0). The rhs may be "
                                "undefined (NaN) just beyond this state.") from exc
 
-    def _check(self, solver: OdeSolver, message: str | None, t_old: float) -> None:
-        pr, eom = self.problem, self.problem.eom
+    def _check(self, solver: Any, message: str | None, t_old: float) -> None:
+        pr, plant = self.problem, self.problem.plant
         y = np.asarray(solver.y)
         if first_bad_column(y[:, None], pr.x0) is not None:
             raise IntegrationError(divergence_message(self.name, float(solver.t), float(solver.t - t_old), y,
-                                                      eom.states, pr.x0))
+                                                      plant.states, pr.x0))
         if solver.status == "failed":
             i = int(np.argmax(np.abs(y) / (1.0 + np.abs(pr.x0))))
             raise IntegrationError(
                 f"method {self.name!r} failed at t = {solver.t:.6g} s (step size {solver.h_abs:.3g} s): {message} "
-                f"State {eom.states[i]!r} = {y[i]:.4g} (largest relative to x0); the solution may grow without "
+                f"State {plant.states[i]!r} = {y[i]:.4g} (largest relative to x0); the solution may grow without "
                 "bound, or the rhs may be undefined (NaN) just beyond this state."
             )
 
@@ -115,7 +129,7 @@ class ScipyRadau(ScipyMethod):
 
     name: ClassVar[str] = "scipy-radau"
     order: ClassVar[int] = 5
-    solver: ClassVar[type[OdeSolver]] = Radau
+    solver: ClassVar[str] = "Radau"
 
 
 class ScipyBDF(ScipyMethod):
@@ -123,4 +137,4 @@ class ScipyBDF(ScipyMethod):
 
     name: ClassVar[str] = "scipy-bdf"
     order: ClassVar[int] = 5
-    solver: ClassVar[type[OdeSolver]] = BDF
+    solver: ClassVar[str] = "BDF"

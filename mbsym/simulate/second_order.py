@@ -68,6 +68,7 @@ class GeneralizedAlpha(FixedStepMethod):
     name: ClassVar[str] = "generalized-alpha"
     order: ClassVar[int] = 2
     implicit: ClassVar[bool] = True
+    second_order: ClassVar[bool] = True
     nodes: ClassVar[tuple[float, ...]] = (1.0,)
     stability_radius: ClassVar[float] = float("inf")
     #: Spectral radius of the amplification matrix at infinite frequency [-].
@@ -153,15 +154,15 @@ class GeneralizedAlpha(FixedStepMethod):
         bad = np.flatnonzero(~(A[0] <= self.newton_tol))        # NaN counts as a failure
         return int(bad[0]) if bad.size else None
 
-    def _raise_aux_failure(self, k: int, A: np.ndarray, Z: np.ndarray, t_grid: np.ndarray) -> None:
+    def _raise_aux_failure(self, k: int, A: np.ndarray, Z: np.ndarray, t_grid: np.ndarray, offset: int = 0) -> None:
         pr = self.problem
-        x = Z[: pr.eom.n_x, k + 1]
+        x = Z[: pr.plant.n_x, k + 1]
         i = int(np.argmax(np.abs(x) / (1.0 + np.abs(pr.x0))))
         raise IntegrationError(
-            f"method {self.name!r} failed at t = {t_grid[k + 1]:.6g} s (step {k + 1} of {pr.n_steps}, step size "
+            f"method {self.name!r} failed at t = {t_grid[k + 1]:.6g} s (step {offset + k + 1} of {pr.n_steps}, step size "
             f"dt = {pr.dt:.6g} s): the Newton iteration did not converge in {self.max_newton_iterations} iterations "
             f"(last correction {A[0, k]:.3g} relative to 1 + |qdd|, tolerance {self.newton_tol:g}). "
-            f"State {pr.eom.states[i]!r} = {x[i]:.4g} (largest relative to x0). Reduce dt; if the failure "
+            f"State {pr.plant.states[i]!r} = {x[i]:.4g} (largest relative to x0). Reduce dt; if the failure "
             "stays, the solution may grow without bound or the residual may be undefined there."
         )
 

@@ -5,47 +5,49 @@ descriptive names); :func:`nrel5mw` returns the NREL 5 MW onshore turbine from
 package data; :mod:`mbsym.wind.structure.elastodyn_nodes` integrates the distributed tower
 and blade properties the way ElastoDyn does, and :mod:`mbsym.wind.structure.elastodyn_bodies`
 turns them into ElastoDyn-equivalent shape integrals for flexible bodies.
+
+Public names are imported on first use (:mod:`mbsym._lazy`): ``import mbsym.wind`` or reading
+a deck does not import the Campbell/MBC analysis (scipy) it does not need. To export a new name,
+add it to ``_LAZY`` (name -> modules to look in) and to ``__all__``.
 """
 
-from .structure.elastodyn_nodes import (
-    BladeModalProperties,
-    BladeNodes,
-    RotorMassProperties,
-    TowerModalProperties,
-    TowerNodes,
-    blade_modal_properties,
-    blade_nodes,
-    mode_shape,
-    rotor_mass_properties,
-    tower_mass,
-    tower_modal_properties,
-    tower_nodes,
-    tower_top_mass,
-)
-from .structure.elastodyn_bodies import (
-    BLADE_DOFS,
-    TOWER_DOFS,
-    ElastoDynBladeData,
-    ElastoDynTowerData,
-    blade_elastodyn_data,
-    blade_shape_integrals,
-    tower_elastodyn_data,
-    tower_shape_integrals,
-)
-from .analysis.campbell_diagram import CampbellDiagram, CampbellMode, campbell, fixed_frame_modes
-from .structure.mbc import coleman_matrices, mbc_second_order, mbc_transform
-from .analysis.fidelity import DEFAULT_LADDER, FidelityLadder, fidelity_ladder
-from .structure.turbine import TurbineModel
-from .deck.nrel5mw import nrel5mw
-from .deck.openfast import KEY_MAP, read_openfast
-from .deck.parameters import (
-    DOF_NAMES,
-    BladeParameters,
-    InitialConditions,
-    SimulationSettings,
-    TowerParameters,
-    TurbineParameters,
-)
+from .._lazy import lazy_attributes
+
+#: Public name -> module(s) defining it (relative to mbsym.wind; the first that has it wins).
+_LAZY = {
+    **dict.fromkeys(
+        ("BladeModalProperties", "BladeNodes", "RotorMassProperties", "TowerModalProperties", "TowerNodes",
+         "blade_modal_properties", "blade_nodes", "mode_shape", "rotor_mass_properties", "tower_mass",
+         "tower_modal_properties", "tower_nodes", "tower_top_mass"),
+        ("structure.elastodyn_nodes",)),
+    **dict.fromkeys(
+        ("BLADE_DOFS", "TOWER_DOFS", "ElastoDynBladeData", "ElastoDynTowerData", "blade_elastodyn_data",
+         "blade_shape_integrals", "tower_elastodyn_data", "tower_shape_integrals"),
+        ("structure.elastodyn_bodies",)),
+    **dict.fromkeys(
+        ("CampbellDiagram", "CampbellMode", "campbell", "fixed_frame_modes"),
+        ("analysis.campbell_diagram",)),
+    **dict.fromkeys(
+        ("coleman_matrices", "mbc_second_order", "mbc_transform"),
+        ("structure.mbc",)),
+    **dict.fromkeys(
+        ("DEFAULT_LADDER", "FidelityLadder", "fidelity_ladder"),
+        ("analysis.fidelity",)),
+    **dict.fromkeys(
+        ("TurbineModel",),
+        ("structure.turbine",)),
+    **dict.fromkeys(
+        ("nrel5mw",),
+        ("deck.nrel5mw",)),
+    **dict.fromkeys(
+        ("KEY_MAP", "read_openfast"),
+        ("deck.openfast",)),
+    **dict.fromkeys(
+        ("DOF_NAMES", "BladeParameters", "InitialConditions", "SimulationSettings", "TowerParameters",
+         "TurbineParameters"),
+        ("deck.parameters",)),
+}
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, globals())
 
 __all__ = [
     "TurbineModel",

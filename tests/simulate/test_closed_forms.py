@@ -56,15 +56,25 @@ def test_default_tolerances(osc, method):
 
 
 def test_rk4_default_output_grid_is_every_step(osc):
-    res = simulate(osc, 1.0, x0=[0.1, 0.0])
+    res = simulate(osc, 1.0, x0=[0.1, 0.0], method="rk4")
     np.testing.assert_allclose(res.t, np.linspace(0.0, 1.0, 101), rtol=0, atol=1e-12)
     assert res.statistics["steps"] == 100 and res.statistics["n_rhs"] == 400 and res.statistics["dt"] == 0.01
+
+
+def test_default_path_outputs_every_10_ms_with_its_own_step(osc):
+    """Without method/dt: outputs every 0.01 s as the former default, integrated with a larger step
+    chosen for accuracy 1e-3 (closed form: the damped oscillator, omega_n = 5 rad/s)."""
+    res = simulate(osc, 1.0, x0=[0.1, 0.0])
+    np.testing.assert_allclose(res.t, np.linspace(0.0, 1.0, 101), rtol=0, atol=1e-12)
+    assert res.statistics["method"] == "rk4" and res.statistics["dt"] > 0.01
+    x_ref, _ = sdof_response(res.t, M, C, K, x0=0.1)
+    assert np.mean(np.abs(res.state("x") - x_ref)) / np.ptp(x_ref) < 1e-3
 
 
 def test_rk4_off_grid_outputs_use_hermite_interpolation(osc):
     """Output times between steps (cubic Hermite, O(dt^4)) agree with the closed form as the steps do."""
     t_out = np.sort(np.random.default_rng(0).uniform(0.0, TMAX, 50))
-    res = simulate(osc, TMAX, x0=[0.1, -0.3], t_out=t_out)
+    res = simulate(osc, TMAX, x0=[0.1, -0.3], t_out=t_out, method="rk4")
     x_ref, v_ref = sdof_response(t_out, M, C, K, x0=0.1, v0=-0.3)
     _check(res, x_ref, v_ref, "rk4")
     np.testing.assert_array_equal(res.t, t_out)

@@ -1,0 +1,219 @@
+"""Discrete controllers in the loop of :func:`mbsym.simulate`, with zero-order hold.
+
+A :class:`DiscreteController` runs every ``dt`` seconds, at ``t_k = k dt``: it reads the
+measurements ``y_k`` (model outputs or states, by name) at ``t_k``, updates its state and sets
+the inputs it actuates, which are then held until ``t_{k+1}``::
+
+    (xc_{k+1}, u_k) = law(xc_k, y_k)        u(t) = u_k on [t_k, t_{k+1})
+
+The plant is integrated between samples by RK4 sub-steps (``m`` per sample; the step never
+straddles a sample time, where the held inputs jump). Inputs not actuated by the controller
+(e.g. the wind speed as a time series) follow ``inputs=`` as without a controller. A value given
+in ``inputs=`` for an actuated input is its value before the first sample (what measurements
+with direct feedthrough see at t = 0).
+
+Two kinds of law:
+
+- a CasADi ``Function (xc, y) -> (xc_next, u)``: the whole closed loop is **one generated
+  loop**, a ``mapaccum`` over controller samples whose body is the law followed by the ``m``
+  RK4 sub-steps of the plant with ``u`` held (compiled to C with the rest when compilation is on);
+- a Python callable ``law(t, xc, y) -> (xc_next, u)`` (a DISCON library through ctypes, an
+  NMPC step), called once per sample between compiled plant loops.
+
+The result holds the plant states, the inputs as applied (held values included) and, appended
+to the outputs, the controller states (after each sample: the value on ``[t_k, t_{k+1})`` is
+``xc_{k+1}``), named ``state_names``.
+
+Between output times the states are cubic Hermite interpolants of each sub-step (with the
+derivative at a sample's end taken with that sample's held input: one extra rhs evaluation per
+sample). The integration itself lives in :mod:`mbsym.simulate.closed_loop`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..exceptions import DimensionError, SimulationOptionError
+
+__all__ = ["DiscreteController", "BoundController", "bind_controller"]
+
+
+class DiscreteController:
+    """A discrete-time controller with zero-order hold, for ``mbsym.simulate(..., controller=...)``.
+
+    Parameters
+    ----------
+    law : casadi.Function or callable
+        ``Function (xc, y) -> (xc_next, u)`` with column vectors ``xc (n_xc)``, ``y
+        (len(measurements))``, ``u (len(actuates))``: kept inside the generated loop. Or a Python
+        callable ``law(t, xc, y) -> (xc_next, u)`` [t in s; arrays], called once per sample.
+    dt : float
+        Sample time [s].
+    x0 : array (n_xc), optional
+        Initial controller state (default zeros; a Function law fixes n_xc).
+    measurements : sequence of str, keyword-only
+        Names of the model outputs or states that form ``y``, in order (outputs are looked up
+        first).
+    actuates : sequence of str, keyword-only
+        Names of the model inputs set by ``u``, in order.
+    state_names : sequence of str, optional, keyword-only
+        Names of the controller states in the result (default ``<name>.x0``, ``<name>.x1``, ...).
+    name : str, optional, keyword-only
+        Default ``"controller"``.
+
+    Raises
+    ------
+    SimulationOptionError
+        A sample time that is not a positive finite number.
+    DimensionError
+        Sizes of the Function, x0 and the names that do not agree; duplicate names.
+    TypeError
+        A law that is neither a casadi.Function nor callable.
+
+    Examples
+    --------
+    A discrete integral controller driving a first-order plant ``x' = -x + u`` to ``y = 1``:
+
+    >>> import casadi as ca, mbsym as mb
+    >>> x, u, p = ca.SX.sym("x"), ca.SX.sym("u"), ca.SX.sym("p", 0)
+    >>> plant = mb.Dynamics(ca.Function("f", [x, u, p], [-x + u]), states=["x"], inputs=["u"])
+    >>> xc, y = ca.SX.sym("xc"), ca.SX.sym("y")
+    >>> law = ca.Function("I", [xc, y], [xc + 0.1 * (1 - y), xc + 0.1 * (1 - y)])
+    >>> ctrl = DiscreteController(law, 0.1, measurements=["x"], actuates=["u"])
+    >>> res = mb.simulate(plant, 20.0, controller=ctrl)
+    >>> round(float(res.state("x")[-1]), 3)
+    1.0
+    """
+
+    def __init__(self, law: ca.Function | Callable, dt: float, x0: Sequence[float] | None = None, *,
+                 measurements: Sequence[str], actuates: Sequence[str], state_names: Sequence[str] | None = None,
+                 name: str = "controller") -> None:
+        if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(float(dt)) or float(dt) <= 0:
+            raise SimulationOptionError(f"controller sample time dt must be a positive finite number [s]; got {dt!r}.")
+        self.dt = float(dt)
+        self.name = str(name)
+        self.measurements = _unique(measurements, "measurements")
+        self.actuates = _unique(actuates, "actuates")
+        if not self.actuates:
+            raise DimensionError("actuates must name at least one model input the controller sets.")
+        if isinstance(law, ca.Function):
+            n_xc = self._check_function(law, x0)
+            self.is_function = True
+        elif callable(law):
+            n_xc = 0 if x0 is None else np.size(x0)
+            self.is_function = False
+        else:
+            raise TypeError(f"law must be a casadi.Function (xc, y) -> (xc_next, u) or a callable "
+                            f"law(t, xc, y) -> (xc_next, u); got {type(law).__name__}.")
+        self.law = law
+        self.x0 = _vector(np.zeros(n_xc) if x0 is None else x0, n_xc, "x0")
+        names = [f"{self.name}.x{i}" for i in range(n_xc)] if state_names is None else list(state_names)
+        self.state_names = _unique(names, "state_names")
+        if len(self.state_names) != n_xc:
+            raise DimensionError(f"state_names has {len(self.state_names)} names for {n_xc} controller states.")
+
+    @property
+    def n_xc(self) -> int:
+        return self.x0.size
+
+    def _check_function(self, f: ca.Function, x0) -> int:
+        if f.n_in() != 2 or f.n_out() != 2:
+            raise DimensionError(f"the controller Function must be (xc, y) -> (xc_next, u); {f.name()!r} has "
+                                 f"{f.n_in()} inputs and {f.n_out()} outputs.")
+        n_xc = f.numel_in(0)
+        if f.numel_out(0) != n_xc:
+            raise DimensionError(f"the controller Function takes a state of {n_xc} values but returns "
+                                 f"{f.numel_out(0)} as xc_next.")
+        if f.numel_in(1) != len(self.measurements):
+            raise DimensionError(f"the controller Function takes y of {f.numel_in(1)} values; measurements names "
+                                 f"{len(self.measurements)}: {list(self.measurements)}.")
+        if f.numel_out(1) != len(self.actuates):
+            raise DimensionError(f"the controller Function returns u of {f.numel_out(1)} values; actuates names "
+                                 f"{len(self.actuates)}: {list(self.actuates)}.")
+        if x0 is not None and np.size(x0) != n_xc:
+            raise DimensionError(f"x0 has {np.size(x0)} values; the controller Function's state has {n_xc}.")
+        return n_xc
+
+    def __repr__(self) -> str:
+        kind = f"Function {self.law.name()!r}" if self.is_function else "Python callable"
+        return (f"DiscreteController({self.name!r}, {kind}, dt={self.dt:g} s, n_xc={self.n_xc}, "
+                f"measurements={list(self.measurements)}, actuates={list(self.actuates)})")
+
+
+def _unique(names: Sequence[str], what: str) -> tuple[str, ...]:
+    if isinstance(names, str):
+        raise TypeError(f"{what} must be a sequence of names, e.g. [{names!r}]; got the string {names!r}.")
+    out = tuple(str(n) for n in names)
+    if len(set(out)) != len(out):
+        raise DimensionError(f"{what} names must be unique; got {list(out)}.")
+    return out
+
+
+def _vector(value, n: int, what: str) -> np.ndarray:
+    try:
+        v = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise DimensionError(f"controller {what} must be {n} numbers; got {value!r}.") from None
+    if v.size != n or not np.all(np.isfinite(v)):
+        raise DimensionError(f"controller {what} must be {n} finite numbers; got {v.tolist()}.")
+    return v
+
+
+# ------------------------------------------------------------------------------------------- binding
+@dataclass
+class BoundController:
+    """A controller attached to a plant: index maps and the measurement Function."""
+
+    ctrl: DiscreteController
+    act: np.ndarray               # indices of the actuated inputs in u
+    measure: ca.Function          # (x, u, p) -> y
+    substep_dt: float | None      # step given explicitly (method "rk4", dt), else None
+    n_columns: int
+
+
+def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float) -> BoundController:
+    """Check ``controller`` against ``plant`` and the options; build the measurement Function."""
+    if not isinstance(controller, DiscreteController):
+        raise TypeError(f"controller must be an mbsym.simulate.DiscreteController; got {type(controller).__name__}.")
+    if method not in (None, "rk4"):
+        raise SimulationOptionError(f"a controller runs with RK4 sub-steps between its samples; method {method!r} is "
+                                    "not supported with controller= (leave method unset, or use 'rk4').")
+    c = controller
+    missing = [n for n in c.actuates if n not in plant.inputs]
+    if missing:
+        raise DimensionError(f"the controller actuates {missing}, which are not inputs of the model; its inputs are "
+                             f"{list(plant.inputs)}.")
+    unknown = [n for n in c.measurements if n not in plant.output_names and n not in plant.states]
+    if unknown:
+        raise DimensionError(f"the controller measures {unknown}, which are neither outputs nor states of the model; "
+                             f"outputs: {list(plant.output_names)[:20]}, states: {list(plant.states)[:20]}.")
+    clash = [n for n in c.state_names if n in plant.output_names]
+    if clash:
+        raise DimensionError(f"controller state names {clash} are also model outputs; pass other state_names.")
+    h = None
+    if dt is not None:
+        m = c.dt / dt
+        if abs(m - round(m)) > 1e-9 * max(m, 1.0):
+            raise SimulationOptionError(f"dt = {dt:g} s must divide the controller sample time {c.dt:g} s (the RK4 "
+                                        "steps must not straddle a sample, where the held inputs jump); choose "
+                                        f"dt = {c.dt:g} / m or leave method and dt unset.")
+        h = c.dt / round(m)
+    return BoundController(c, np.array([plant.inputs.index(n) for n in c.actuates], dtype=int),
+                           _measurement_function(plant, c.measurements), h, c.n_xc)
+
+
+def _measurement_function(plant, names: Sequence[str]) -> ca.Function:
+    x, u, p = (ca.MX.sym(s, n) for s, n in (("x", plant.n_x), ("u", plant.n_u), ("p", plant.n_p)))
+    y_all = None
+    if any(n in plant.output_names for n in names):
+        y_all = ca.vertcat(*[ca.vec(v) for v in plant.output_function.call([x, u, p])])
+    rows = [y_all[plant.output_names.index(n)] if n in plant.output_names else x[plant.states.index(n)]
+            for n in names]
+    y = ca.vertcat(*rows) if rows else ca.MX(0, 1)
+    return ca.Function(f"{plant.name}_measurements", [x, u, p], [y], ["x", "u", "p"], ["y"])
