@@ -18,6 +18,7 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "ControlDefinitionError",
 ]
 
 
@@ -59,3 +60,7 @@ class SolverError(MbsymError, RuntimeError):
 
 class SimulationOptionError(MbsymError, ValueError):
     """An option of :func:`mbsym.simulate` (time span, step, tolerances, output times) is invalid."""
+
+
+class ControlDefinitionError(MbsymError, ValueError):
+    """An optimal-control or estimation problem is ill-defined (unknown signal name, bad weight, horizon or bound)."""

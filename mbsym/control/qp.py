@@ -1,0 +1,129 @@
+"""The QP of a stage problem at a linearization point, assembled from one mapped stage Function.
+
+One SX *stage QP Function* returns, at a stage's linearization point, the dynamics
+value and Jacobian, the path constraints and their Jacobian, the Gauss–Newton
+Hessian ``2 JᵣᵀJᵣ`` (plus the exact Hessian of general cost terms) and the
+gradient ``2 Jᵣᵀr``. It is ``map``-ped over the horizon inside one MX *preparation
+Function* that assembles the sparse QP with variables and constraints in stage
+order, so structure-exploiting QP solvers (``hpipm``, ``fatrop``) see ``N``,
+``nx``, ``nu``, ``ng``. :func:`conic` creates the QP solver with those options.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import casadi as ca
+
+from ..exceptions import ControlDefinitionError
+from .nlp import split_w
+from .stages import StageProblem
+
+__all__ = ["QP_SOLVERS", "preparation_function", "gauss_newton_hessian", "conic"]
+
+#: CasADi conic plugins usable for the QPs; ``hpipm`` and ``fatrop`` exploit the stage structure.
+QP_SOLVERS = ("hpipm", "qrqp", "osqp", "daqp", "qpoases", "fatrop")
+
+
+def _stage_qp(P: StageProblem, hessian_only: bool = False) -> tuple[ca.Function, ca.Function, ca.Function | None]:
+    """SX (or MX) Functions of the stage, terminal and initial QP data (or only their Hessians)."""
+    sym = ca.SX if P.path.is_a("SXFunction") and P.terminal.is_a("SXFunction") else ca.MX
+    x, u, d, p = sym.sym("x", P.n_x), sym.sym("u", P.n_u), sym.sym("d", P.n_d), sym.sym("p", P.n_p)
+    f, c, r, l_ = P.path(x, u, d, p)
+    v = ca.vertcat(x, u)
+    Jr = ca.jacobian(r, v)
+    H = 2 * ca.mtimes(Jr.T, Jr) + ca.hessian(l_, v)[0]
+    grad = 2 * ca.mtimes(Jr.T, r) + ca.gradient(l_, v)
+    outs = [f, ca.jacobian(f, v), c, ca.jacobian(c, v), H, grad, ca.sumsqr(r) + l_]
+    names = ["f", "Jf", "c", "Jc", "H", "g", "cost"]
+    keep = [4] if hessian_only else range(len(outs))
+    stage = ca.Function("stage_qp", [x, u, d, p], [ca.densify(outs[i]) for i in keep],
+                        ["x", "u", "d", "p"], [names[i] for i in keep])
+    cN, rN, lN = P.terminal(x, d, p)
+    JrN = ca.jacobian(rN, x)
+    outs = [cN, ca.jacobian(cN, x), 2 * ca.mtimes(JrN.T, JrN) + ca.hessian(lN, x)[0],
+            2 * ca.mtimes(JrN.T, rN) + ca.gradient(lN, x), ca.sumsqr(rN) + lN]
+    names = ["c", "Jc", "H", "g", "cost"]
+    keep = [2] if hessian_only else range(len(outs))
+    term = ca.Function("terminal_qp", [x, d, p], [ca.densify(outs[i]) for i in keep], ["x", "d", "p"],
+                       [names[i] for i in keep])
+    init = None
+    if P.initial is not None:
+        r0 = P.initial(x, p)
+        J0 = ca.jacobian(r0, x)
+        outs = [2 * ca.mtimes(J0.T, J0), 2 * ca.mtimes(J0.T, r0), ca.sumsqr(r0)]
+        keep = [0] if hessian_only else range(3)
+        init = ca.Function("initial_qp", [x, p], [ca.densify(outs[i]) for i in keep], ["x", "p"],
+                           [["H", "g", "cost"][i] for i in keep])
+    return stage, term, init
+
+
+def preparation_function(P: StageProblem) -> ca.Function:
+    """``(w, D, p, lbw, ubw, lbg, ubg) -> (H, g, A, lba, uba, lbdw, ubdw, cost, violation)``: the QP at ``w``."""
+    stage, term, init = _stage_qp(P)
+    N, nx, nu = P.N, P.n_x, P.n_u
+    nv, n_w = nx + nu, P.layout.n_w
+    w, D, p = ca.MX.sym("w", n_w), ca.MX.sym("D", P.n_d, N + 1), ca.MX.sym("p", P.n_p)
+    bounds = [ca.MX.sym(s, n) for s, n in (("lbw", n_w), ("ubw", n_w), ("lbg", P.layout.n_g), ("ubg", P.layout.n_g))]
+    X, U, xN = split_w(P, w)
+    F, JF, C, JC, H, G, COST = stage.map(N, "serial")(X, U, D[:, :N], ca.repmat(p, 1, N))
+    cN, JcN, HN, gN, costN = term(xN, D[:, N], p)
+    hess = [H[:, k * nv:(k + 1) * nv] for k in range(N)] + [HN]
+    grad, cost = ca.vertcat(ca.vec(G), gN), ca.sum2(COST) + costN
+    if init is not None:
+        H0, g0, cost0 = init(X[:, 0], p)
+        hess[0] = hess[0] + ca.diagcat(H0, ca.MX(nu, nu))
+        grad = grad + ca.vertcat(g0, ca.MX(n_w - nx, 1))
+        cost = cost + cost0
+    rows = []
+    for k in range(N):
+        left, right = ca.MX(nx, k * nv), ca.MX(nx, n_w - (k + 1) * nv - nx)
+        rows.append(ca.horzcat(left, -JF[:, k * nv:(k + 1) * nv], ca.MX.eye(nx), right))
+        rows.append(ca.horzcat(ca.MX(P.n_c, k * nv), JC[:, k * nv:(k + 1) * nv], ca.MX(P.n_c, n_w - (k + 1) * nv)))
+    rows.append(ca.horzcat(ca.MX(P.n_cN, N * nv), JcN))
+    X_next = ca.horzcat(X[:, 1:], xN) if N > 1 else xN
+    gval = ca.vertcat(ca.vec(ca.vertcat(X_next - F, C)), cN)
+    lbw, ubw, lbg, ubg = bounds
+    viol = ca.mmax(ca.vertcat(0, lbg - gval, gval - ubg, lbw - w, w - ubw))
+    return ca.Function("sqp_preparation", [w, D, p, *bounds],
+                       [ca.diagcat(*hess), grad, ca.vertcat(*rows), lbg - gval, ubg - gval, lbw - w, ubw - w, cost,
+                        viol],
+                       ["w", "D", "p", "lbw", "ubw", "lbg", "ubg"],
+                       ["H", "g", "A", "lba", "uba", "lbdw", "ubdw", "cost", "violation"])
+
+
+def gauss_newton_hessian(P: StageProblem) -> ca.Function:
+    """``(w, D, p) -> H``: the block-diagonal Gauss–Newton Hessian of the whole cost (plus general-cost Hessians)."""
+    stage, term, init = _stage_qp(P, hessian_only=True)
+    N, nx, nu = P.N, P.n_x, P.n_u
+    w, D, p = ca.MX.sym("w", P.layout.n_w), ca.MX.sym("D", P.n_d, N + 1), ca.MX.sym("p", P.n_p)
+    X, U, xN = split_w(P, w)
+    H = stage.map(N, "serial")(X, U, D[:, :N], ca.repmat(p, 1, N))
+    blocks = [H[:, k * (nx + nu):(k + 1) * (nx + nu)] for k in range(N)] + [term(xN, D[:, N], p)]
+    if init is not None:
+        blocks[0] = blocks[0] + ca.diagcat(init(X[:, 0], p), ca.MX(nu, nu))
+    return ca.Function("gauss_newton_hessian", [w, D, p], [ca.diagcat(*blocks)], ["w", "D", "p"], ["H"])
+
+
+def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: Mapping[str, Any]) -> ca.Function:
+    opts: dict[str, Any] = {"error_on_fail": False}
+    N = P.N
+    structure = {"N": N, "nx": [P.n_x] * (N + 1), "nu": [P.n_u] * N + [0], "ng": [P.n_c] * N + [P.n_cN]}
+    if name == "hpipm":
+        # speed_abs: the other modes stall on the ±1e8 bounds CasADi puts on unbounded variables (see docs)
+        opts.update(structure, hpipm={"mode": "speed_abs", "iter_max": 50})
+    elif name == "fatrop":
+        opts.update(structure, structure_detection="manual")
+    elif name == "qrqp":
+        opts.update(print_iter=False, print_header=False, print_info=False, max_iter=200)
+    elif name == "osqp":
+        opts.update(osqp={"verbose": False, "eps_abs": 1e-8, "eps_rel": 1e-8, "max_iter": 10000, "polish": True},
+                    warm_start_primal=True)
+    elif name == "qpoases":
+        opts.update(printLevel="none", sparse=True)
+    elif name != "daqp":
+        raise ControlDefinitionError(f"qp_solver must be one of {list(QP_SOLVERS)}; got {name!r}.")
+    for key, value in dict(options).items():       # user options override ours (dicts merged one level)
+        opts[key] = {**opts[key], **value} if isinstance(value, Mapping) and isinstance(opts.get(key), dict) \
+            else value
+    return ca.conic(f"qp_{name}", name, {"h": H, "a": A}, opts)
