@@ -14,15 +14,18 @@ from __future__ import annotations
 from typing import Any, Mapping
 
 import casadi as ca
+import numpy as np
+import scipy.sparse as sps
 
 from ..exceptions import ControlDefinitionError
 from .nlp import split_w
 from .stages import StageProblem
 
-__all__ = ["QP_SOLVERS", "preparation_function", "gauss_newton_hessian", "conic"]
+__all__ = ["QP_SOLVERS", "preparation_function", "gauss_newton_hessian", "conic", "QPCall"]
 
-#: CasADi conic plugins usable for the QPs; ``hpipm`` and ``fatrop`` exploit the stage structure.
-QP_SOLVERS = ("hpipm", "qrqp", "osqp", "daqp", "qpoases", "fatrop")
+#: CasADi conic plugins usable for the QPs; ``hpipm`` exploits the stage structure. (CasADi's ``fatrop`` conic
+#: aborts with an internal assertion, ``objective_scale==1``, in casadi 3.8.2: not offered.)
+QP_SOLVERS = ("hpipm", "qrqp", "osqp", "daqp", "qpoases")
 
 
 def _stage_qp(P: StageProblem, hessian_only: bool = False) -> tuple[ca.Function, ca.Function, ca.Function | None]:
@@ -112,8 +115,6 @@ def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: M
     if name == "hpipm":
         # speed_abs: the other modes stall on the ±1e8 bounds CasADi puts on unbounded variables (see docs)
         opts.update(structure, hpipm={"mode": "speed_abs", "iter_max": 50})
-    elif name == "fatrop":
-        opts.update(structure, structure_detection="manual")
     elif name == "qrqp":
         opts.update(print_iter=False, print_header=False, print_info=False, max_iter=200)
     elif name == "osqp":
@@ -127,3 +128,81 @@ def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: M
         opts[key] = {**opts[key], **value} if isinstance(value, Mapping) and isinstance(opts.get(key), dict) \
             else value
     return ca.conic(f"qp_{name}", name, {"h": H, "a": A}, opts)
+
+
+class QPCall:
+    """A conic called on preallocated numpy arrays: an MX wrapper run through ``Function.buffer()``.
+
+    The wrapper takes ``H`` and ``A`` by their nonzeros (their fixed sparsity), so no
+    ``DM`` is built per call (building a 1600-nonzero DM from numpy takes ~2 ms).
+    Calling the conic's own buffer is not an option: CasADi 3.8's hpipm interface
+    stops writing its results from the second buffered call on (measured).
+
+    The result is accepted only if the solver reports success *and* the step is
+    finite and satisfies the QP's bounds and constraints (qrqp was seen reporting
+    success on a solution violating a bound by 4.3).
+
+    Parameters
+    ----------
+    qp : casadi.Function
+        The conic.
+    data : dict of ndarray
+        ``"H"``, ``"A"`` (nonzeros), ``"g"``, ``"lba"``, ``"uba"``, ``"lbx"``, ``"ubx"``; read at every call.
+    """
+
+    FEAS_TOL = 1e-6
+
+    def __init__(self, qp: ca.Function, data: dict) -> None:
+        H, A = ca.MX.sym("H", qp.sparsity_in("h")), ca.MX.sym("A", qp.sparsity_in("a"))
+        n, m = qp.sparsity_in("h").size1(), qp.sparsity_in("a").size1()
+        vecs = [ca.MX.sym(s, k) for s, k in (("g", n), ("lba", m), ("uba", m), ("lbx", n), ("ubx", n))]
+        res = qp(h=H, g=vecs[0], a=A, lba=vecs[1], uba=vecs[2], lbx=vecs[3], ubx=vecs[4])
+        self._wrapper = ca.Function(f"{qp.name()}_call", [H, A, *vecs],
+                                    [res["x"], res["cost"], res["lam_a"], res["lam_x"]])
+        self.qp, self.data = qp, data
+        self.x, self.cost, self.lam_a, self.lam_x = np.zeros(n), np.zeros(1), np.zeros(m), np.zeros(n)
+        self._buf, self._run = self._wrapper.buffer()
+        for i, key in enumerate(("H", "A", "g", "lba", "uba", "lbx", "ubx")):
+            self._buf.set_arg(i, memoryview(data[key]))
+        for i, arr in enumerate((self.x, self.cost, self.lam_a, self.lam_x)):
+            self._buf.set_res(i, memoryview(arr))
+        sp = qp.sparsity_in("a")
+        self._A = sps.csc_matrix((data["A"], np.array(sp.row()), np.array(sp.colind())), shape=(m, n), copy=False)
+        self._mem: int | None = None
+
+    def __call__(self) -> tuple[bool, str, int]:
+        """Solve into :attr:`x`; ``(accepted, status, iterations)``."""
+        self.x[:] = 0.0
+        self._run()
+        stats = self._stats()
+        iters = int(stats.get("iter_count", -1) or 0)
+        if not bool(stats.get("success", False)):
+            return False, f"qp_failed: {stats.get('return_status', stats.get('unified_return_status', '?'))}", iters
+        if not np.all(np.isfinite(self.x)):
+            return False, "nan", iters
+        viol = self.violation()
+        if viol > self.FEAS_TOL * (1.0 + np.max(np.abs(self.x))):
+            return False, f"qp_failed: reported success, but the step violates the QP constraints by {viol:.2g}", iters
+        return True, "success", iters
+
+    def violation(self) -> float:
+        """Largest violation of the QP's bounds and linear constraints by :attr:`x`."""
+        d, x = self.data, self.x
+        Ax = self._A @ x
+        return float(max(np.max(d["lbx"] - x, initial=0.0), np.max(x - d["ubx"], initial=0.0),
+                         np.max(d["lba"] - Ax, initial=0.0), np.max(Ax - d["uba"], initial=0.0)))
+
+    def _stats(self) -> dict:
+        """The conic's statistics of the wrapper's call (its memory is found once, then reused)."""
+        if self._mem is None:
+            found = []
+            for k in range(64):
+                try:
+                    self.qp.stats(k)
+                    found.append(k)
+                except RuntimeError:
+                    continue
+            self._mem = max(found) if found else -1
+        if self._mem < 0:
+            return {"success": True, "iter_count": -1}
+        return self.qp.stats(self._mem)

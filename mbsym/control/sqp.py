@@ -35,7 +35,7 @@ import numpy as np
 from ..codegen import compile_function
 from ..exceptions import ControlDefinitionError
 from .nlp import merit_function
-from .qp import QP_SOLVERS, conic, preparation_function
+from .qp import QP_SOLVERS, QPCall, conic, preparation_function
 from .stages import StageProblem
 
 __all__ = ["GaussNewtonSQP", "QP_SOLVERS", "SolveResult"]
@@ -113,7 +113,6 @@ class GaussNewtonSQP:
         self._H_sp, self._A_sp = prep.sparsity_out(0), prep.sparsity_out(2)
         self._qp = conic(qp_solver, problem, self._H_sp, self._A_sp, qp_options or {})
         self.qp_solver = qp_solver
-        self._buffered = qp_solver != "hpipm"
         self._alloc()
         self.w = np.zeros(self.layout.n_w)
         self._prepared = False
@@ -130,18 +129,10 @@ class GaussNewtonSQP:
             self._prep_buf.set_arg(i, memoryview(self._in[f.name_in(i)]))
         for i in range(f.n_out()):
             self._prep_buf.set_res(i, memoryview(self._out[f.name_out(i)]))
-        self._dw = np.zeros(self.layout.n_w)
-        self._qp_cost = np.zeros(1)
-        self._x_guess = np.zeros(self.layout.n_w)
-        self._qp_buf, self._qp_run = q.buffer()
-        feed = {"h": "H", "g": "g", "a": "A", "lba": "lba", "uba": "uba", "lbx": "lbdw", "ubx": "ubdw"}
-        for qn, pn in feed.items():
-            self._qp_buf.set_arg(q.index_in(qn), memoryview(self._out[pn]))
-        self._qp_buf.set_arg(q.index_in("x0"), memoryview(self._x_guess))
-        self._qp_out = {"x": self._dw, "cost": self._qp_cost, "lam_a": np.zeros(self.layout.n_g),
-                        "lam_x": np.zeros(self.layout.n_w)}
-        for name, arr in self._qp_out.items():          # every output: hpipm writes lam_a unconditionally
-            self._qp_buf.set_res(q.index_out(name), memoryview(arr))
+        self._qp_call = QPCall(q, {"H": self._out["H"], "A": self._out["A"], "g": self._out["g"],
+                                   "lba": self._out["lba"], "uba": self._out["uba"], "lbx": self._out["lbdw"],
+                                   "ubx": self._out["ubdw"]})
+        self._dw = self._qp_call.x
 
     # ---------------------------------------------------------------- phases
     def set_iterate(self, w: np.ndarray) -> None:
@@ -176,32 +167,12 @@ class GaussNewtonSQP:
         if not (np.all(np.isfinite(self._out["H"])) and np.all(np.isfinite(self._out["g"]))
                 and np.all(np.isfinite(self._out["A"])) and np.all(np.isfinite(self._out["lba"]))):
             return False, "nan", 0, time.perf_counter() - t0
-        self._dw[:] = 0.0
-        stats = self._solve_qp()
-        ok = bool(stats.get("success", False))
-        iters = int(stats.get("iter_count", 0) or 0)
+        ok, status, iters = self._qp_call()
         if not ok:
-            reason = stats.get("return_status", stats.get("unified_return_status", "?"))
-            return False, f"qp_failed: {reason}", iters, time.perf_counter() - t0
-        if not np.all(np.isfinite(self._dw)):
-            return False, "nan", iters, time.perf_counter() - t0
+            return False, status, iters, time.perf_counter() - t0
         if apply:
             self.w += self._dw
         return True, "success", iters, time.perf_counter() - t0
-
-    def _solve_qp(self) -> dict:
-        """One QP solve into ``self._dw``; the conic's statistics."""
-        if self._buffered:
-            self._qp_run()
-            return self._qp_buf.stats()
-        o, q = self._out, self._qp        # hpipm: a plain call (its buffered calls stop writing results)
-        res = q.call({"h": ca.DM(self._H_sp, o["H"]), "g": o["g"], "a": ca.DM(self._A_sp, o["A"]), "lba": o["lba"],
-                      "uba": o["uba"], "lbx": o["lbdw"], "ubx": o["ubdw"]})
-        self._dw[:] = np.asarray(res["x"]).reshape(-1)
-        self._qp_cost[0] = float(res["cost"])
-        self._qp_out["lam_a"][:] = np.asarray(res["lam_a"]).reshape(-1)
-        self._qp_out["lam_x"][:] = np.asarray(res["lam_x"]).reshape(-1)
-        return q.stats()
 
     @property
     def step_norm(self) -> float:
@@ -262,7 +233,7 @@ class GaussNewtonSQP:
                            {"preparation": t_prep, "feedback": t_fb})
 
     def _multiplier_norm(self) -> float:
-        lam = np.concatenate([self._qp_out["lam_a"], self._qp_out["lam_x"]])
+        lam = np.concatenate([self._qp_call.lam_a, self._qp_call.lam_x])
         return float(np.max(np.abs(lam))) if lam.size and np.all(np.isfinite(lam)) else 0.0
 
     def _merit(self, w, D, p, bounds, mu: float) -> tuple[float, float]:
