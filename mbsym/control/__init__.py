@@ -5,6 +5,8 @@ General layer: works on anything :func:`mbsym.as_dynamics` accepts (never import
 """
 
 from .discretize import Discretization, discretize
+from .estimation import EKF, UKF, EstimationModel
+from .mhe import MHE
 from .nlpsolvers import NLP_SOLVERS, NlpSolver
 from .nmpc import NMPC, SOLVERS, StepStats
 from .ocp import OCP, Transcription
@@ -17,6 +19,10 @@ __all__ = [
     "Transcription",
     "NMPC",
     "StepStats",
+    "MHE",
+    "EKF",
+    "UKF",
+    "EstimationModel",
     "SOLVERS",
     "QP_SOLVERS",
     "NLP_SOLVERS",

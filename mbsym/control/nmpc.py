@@ -182,21 +182,18 @@ class NMPC:
 
     # ------------------------------------------------------------ parameters
     def _update(self, p, preview, reference) -> bool:
-        """Take new parameters/previews/references; True if anything changed."""
-        changed = False
-        if p is not None:
-            new = self._tr.dynamics.parameter_vector(p)
-            changed |= not np.array_equal(new, self._p)
-            self._p = new
+        """Take new parameters/previews/references (all checked before any is stored); True if anything changed."""
+        new_p = self._tr.dynamics.parameter_vector(p) if p is not None else self._p
+        new_D = self._D
         if preview is not None or reference is not None:
-            new = self._tr.stage_parameters(preview, reference) if reference is not None or preview is not None \
-                else self._D
+            new_D = self._tr.stage_parameters(preview, reference)
+            nd = len(self._tr.disturbances)
             if preview is None:        # keep the previous disturbance rows
-                new[: len(self._tr.disturbances)] = self._D[: len(self._tr.disturbances)]
-            if reference is None:
-                new[len(self._tr.disturbances):] = self._D[len(self._tr.disturbances):]
-            changed |= not np.array_equal(new, self._D)
-            self._D = new
+                new_D[:nd] = self._D[:nd]
+            if reference is None:      # keep the previous references
+                new_D[nd:] = self._D[nd:]
+        changed = not (np.array_equal(new_p, self._p) and np.array_equal(new_D, self._D))
+        self._p, self._D = new_p, new_D
         return changed
 
     def prepare(self, *, p: Mapping[str, float] | None = None, preview: Mapping[str, Any] | None = None,

@@ -89,8 +89,8 @@ def preparation_function(P: StageProblem) -> ca.Function:
     lbw, ubw, lbg, ubg = bounds
     viol = ca.mmax(ca.vertcat(0, lbg - gval, gval - ubg, lbw - w, w - ubw))
     return ca.Function("sqp_preparation", [w, D, p, *bounds],
-                       [ca.diagcat(*hess), grad, ca.vertcat(*rows), lbg - gval, ubg - gval, lbw - w, ubw - w, cost,
-                        viol],
+                       [ca.diagcat(*hess), ca.densify(grad), ca.vertcat(*rows), ca.densify(lbg - gval),
+                        ca.densify(ubg - gval), ca.densify(lbw - w), ca.densify(ubw - w), cost, viol],
                        ["w", "D", "p", "lbw", "ubw", "lbg", "ubg"],
                        ["H", "g", "A", "lba", "uba", "lbdw", "ubdw", "cost", "violation"])
 
