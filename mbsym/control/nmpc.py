@@ -96,6 +96,11 @@ def make_solver(problem, solver: str, *, qp_solver: str, hessian: str, max_iter:
 class NMPC:
     """Nonlinear model-predictive controller on an :class:`~mbsym.control.ocp.OCP`.
 
+    On a failed step the next input of the previous plan is applied; after
+    :attr:`MAX_FALLBACKS` failures in a row (or before any success) the last input
+    is held and the next step starts again from a fresh initial guess (for
+    ``"rti"``: with the globalized warm-up).
+
     Parameters
     ----------
     ocp : OCP
@@ -139,6 +144,9 @@ class NMPC:
     (True, 'success')
     """
 
+    #: Consecutive failed steps served from the previous plan before starting over.
+    MAX_FALLBACKS = 5
+
     def __init__(self, ocp: OCP, *, solver: str = "rti", qp_solver: str = "hpipm", hessian: str = "exact",
                  max_iter: int | None = None, tol: float = 1e-8, warmup_iterations: int = 200,
                  p: Mapping[str, float] | None = None, u_prev=None, solver_options: Mapping[str, Any] | None = None,
@@ -168,6 +176,7 @@ class NMPC:
         self._prepared_for: tuple | None = None
         self.stats: list[StepStats] = []
         self.failures = 0
+        self._streak = 0                           # consecutive failures
 
     # ------------------------------------------------------------ description
     ocp = property(lambda self: self._ocp, doc="The optimal control problem.")
@@ -243,7 +252,7 @@ class NMPC:
         prep = times.get("preparation", 0.0)
         fb = times.get("feedback", times.get("solver", 0.0))
         st = StepStats(time.perf_counter() - t0, prep, fb, result.iterations, result.qp_iterations,
-                       result.status if not fallback else f"fallback ({result.status})", result.success,
+                       result.status if not fallback else f"fallback ({result.status})", not fallback,
                        result.cost, result.violation, fallback)
         self.stats.append(st)
         return u
@@ -279,18 +288,19 @@ class NMPC:
     def _apply(self, result: SolveResult) -> tuple[np.ndarray, bool]:
         """The input to apply and the next warm start; on failure the previous plan, shifted."""
         L, nc = self._P.layout, len(self._tr.controls)
-        fallback = not result.success
-        if result.success:
-            self._plan = result.w.copy()
-        elif self._plan is not None:
+        ok = result.success and bool(np.all(np.isfinite(result.w)))
+        fallback = not ok
+        if ok:
+            self._plan, self._streak = result.w.copy(), 0
+        else:
             self.failures += 1
+            self._streak += 1
+            if self._plan is None or self._streak > self.MAX_FALLBACKS:
+                # nothing (left) to fall back on: hold the last input; the next step initializes again
+                self._w = self._plan = None
+                return self._u_prev.copy(), True
             self._plan = L.shift(self._plan)        # its next planned input is the fallback
-        else:                                        # nothing to fall back on: hold the last input, start over
-            self.failures += 1
-            self._w = None
-            self._u_prev = self._u_prev.copy()
-            return self._u_prev.copy(), fallback
-        u = L.split(self._plan)[1][:nc, 0].copy()
+        u = np.clip(L.split(self._plan)[1][:nc, 0], self._P.lbu[:nc], self._P.ubu[:nc])   # QP tolerance
         self._w = L.shift(self._plan)
         if isinstance(self._engine, NlpSolver) and result.success:
             self._engine.shift_multipliers()
@@ -319,4 +329,4 @@ class NMPC:
             self._u_prev = vector(u_prev, len(self._tr.controls), "u_prev", self._tr.controls)
         self._w = self._plan = None
         self._prepared_for = None
-        self.stats, self.failures = [], 0
+        self.stats, self.failures, self._streak = [], 0, 0

@@ -93,6 +93,7 @@ class OCP:
         self._rate_weights: dict[str, float] = {}
         self._costs: list[tuple[Any, Any]] = []
         self._bounds: dict[str, tuple[float, float]] = {}
+        self._soft: dict[str, tuple[float, float]] = {}
         self._rate_limits: dict[str, tuple[float, float]] = {}
         self._constraints: list[tuple[Any, np.ndarray, np.ndarray, bool, str]] = []
         self._references: dict[str, float] = {}
@@ -227,19 +228,40 @@ class OCP:
             symbolic_call(terminal, [x, p], "terminal cost", 1)
 
     # ------------------------------------------------------------ constraints
-    def bound(self, name: str, lower: float | None = None, upper: float | None = None) -> "OCP":
+    def bound(self, name: str, lower: float | None = None, upper: float | None = None, *,
+              soft: float | tuple[float, float] | None = None) -> "OCP":
         """Bound a state, a control or an output (``None``: unbounded on that side).
 
-        State bounds apply at stages 1..N (the initial state is measured),
+        Hard state bounds apply at stages 1..N (the initial state is measured),
         control bounds at 0..N-1, output bounds at every stage where a control
         can change them.
+
+        ``soft=w`` or ``soft=(w1, w2)`` (states and outputs only) makes the bound
+        soft: a slack ``σ ≥ 0`` per stage relaxes it (``lower − σ ≤ s ≤ upper + σ``)
+        at the cost ``w1 σ + w2 σ²`` (``w`` alone: ``w1 = w2 = w``). With ``w1``
+        above the constraint's multiplier the bound is still met whenever it can
+        be (exact penalty); otherwise the problem stays feasible instead of failing.
+        Soft bounds apply at stages 0..N-1.
         """
         kind, _ = self._resolve(name)
         if kind == "u" and name.split(":")[-1] not in self._controls:
             raise ControlDefinitionError(f"{name!r} is a disturbance (previewed input), not a control: it cannot "
                                          f"be bounded.")
         lo, hi = bound_pair(lower, upper, 1, f"bound of {name!r}")
+        weights = None
+        if soft is not None:
+            if kind == "u":
+                raise ControlDefinitionError(f"control bounds are always feasible: {name!r} cannot be soft.")
+            pair = soft if isinstance(soft, (tuple, list)) else (soft, soft)
+            if len(pair) != 2:
+                raise ControlDefinitionError(f"soft must be a weight or (linear, quadratic) weights; got {soft!r}.")
+            weights = tuple(finite_number(w, f"soft weight of {name!r}", nonnegative=True) for w in pair)
+            if sum(weights) <= 0:
+                raise ControlDefinitionError(f"soft weights of {name!r} must not both be 0.")
         self._bounds[name] = (float(lo[0]), float(hi[0]))
+        self._soft.pop(name, None)
+        if weights is not None:
+            self._soft[name] = weights
         return self
 
     def limit_rate(self, name: str, lower: float | None = None, upper: float | None = None) -> "OCP":
@@ -282,6 +304,8 @@ class Transcription:
     default_references : dict
     rate_controls : tuple of str
         Controls carried as extra states (previous value) for rate terms.
+    n_slacks : int
+        Slack variables of soft bounds (stage controls after the model's controls).
     discretization : Discretization
     dynamics : Dynamics
     dt : float
@@ -296,6 +320,7 @@ class Transcription:
     discretization: Discretization
     dynamics: Dynamics
     dt: float
+    n_slacks: int = 0
 
     @property
     def n_controls(self) -> int:
@@ -324,7 +349,7 @@ class Transcription:
         P = self.problem
         u = np.clip(np.asarray(u, dtype=float), P.lbu[: self.n_controls], P.ubu[: self.n_controls])
         v = self.discretization.initial_v(x_aug[: self.dynamics.n_x])
-        ud = np.concatenate([u, v])
+        ud = np.concatenate([u, np.zeros(self.n_slacks), v])
         X = np.tile(np.asarray(x_aug, dtype=float).reshape(-1, 1), (1, P.N + 1))
         return P.layout.join(X, np.tile(ud.reshape(-1, 1), (1, P.N)))
 
@@ -351,15 +376,17 @@ class _Builder:
         if ocp.discretization.sym is ca.MX or (d.outputs is not None and symbolic_function(d.outputs)[1] is ca.MX):
             self.sym = ca.MX
         self.rate_controls = tuple(n for n in ocp.controls if n in ocp._rate_weights or n in ocp._rate_limits)
+        self.soft = tuple(ocp._soft)
         self.references = tuple(dict.fromkeys(n for t in ocp._terms for n in t.names))
 
     def build(self) -> Transcription:
         o, d, S = self.o, self.o.dynamics, self.sym
-        n_c, n_v = len(o.controls), o.discretization.n_v
+        n_c, n_v, n_s = len(o.controls), o.discretization.n_v, len(self.soft)
         nxa = d.n_x + len(self.rate_controls)
-        self.xa, self.ud = S.sym("x", nxa), S.sym("u", n_c + n_v)
+        self.xa, self.ud = S.sym("x", nxa), S.sym("u", n_c + n_s + n_v)
         self.d, self.p = S.sym("d", len(o.disturbances) + len(self.references)), S.sym("p", d.n_p)
-        x, uc, v = self.xa[: d.n_x], self.ud[:n_c], self.ud[n_c:]
+        x, uc, v = self.xa[: d.n_x], self.ud[:n_c], self.ud[n_c + n_s:]
+        self.slack = self.ud[n_c:n_c + n_s]
         self.u_full = self._full_input(uc, self.d[: len(o.disturbances)])
         self.y = d.outputs(x, self.u_full, self.p) if d.outputs is not None else S(0, 1)
         u_nominal = ca.DM(d.u0[[d.inputs.index(n) for n in o.controls]]) if n_c else S(0, 1)
@@ -383,16 +410,18 @@ class _Builder:
             N=o.horizon, path=path, terminal=term, initial=None,
             lbx=np.concatenate([self._bound_vec(d.states, "x"), np.full(len(self.rate_controls), -np.inf)]),
             ubx=np.concatenate([self._bound_vec(d.states, "x", upper=True), np.full(len(self.rate_controls), np.inf)]),
-            lbu=np.concatenate([self._bound_vec(o.controls, "u"), np.full(n_v, -np.inf)]),
-            ubu=np.concatenate([self._bound_vec(o.controls, "u", upper=True), np.full(n_v, np.inf)]),
+            lbu=np.concatenate([self._bound_vec(o.controls, "u"), np.zeros(n_s), np.full(n_v, -np.inf)]),
+            ubu=np.concatenate([self._bound_vec(o.controls, "u", upper=True), np.full(n_s, np.inf),
+                                np.full(n_v, np.inf)]),
             lbc=lc, ubc=uc_, c0_rows=c0, lbcN=lcN, ubcN=ucN,
             names={"x": list(d.states) + [f"{n}_prev" for n in self.rate_controls],
-                   "u": list(o.controls) + [f"collocation_{i}" for i in range(n_v)],
+                   "u": list(o.controls) + [f"slack:{n}" for n in self.soft]
+                   + [f"collocation_{i}" for i in range(n_v)],
                    "d": list(o.disturbances) + [f"ref:{n}" for n in self.references], "p": list(d.parameters),
                    "c": c_names})
         return Transcription(problem, o.controls, o.disturbances, self.references,
                              {n: o._references.get(n, 0.0) for n in self.references}, self.rate_controls,
-                             o.discretization, d, o.dt)
+                             o.discretization, d, o.dt, n_s)
 
     def _full_input(self, uc, dist):
         o, d = self.o, self.o.dynamics
@@ -418,6 +447,9 @@ class _Builder:
         for n, w in self.o._rate_weights.items():
             if not terminal:
                 parts.append(np.sqrt(w) * rate[n])
+        if not terminal:
+            parts += [np.sqrt(self.o._soft[n][1]) * self.slack[i] for i, n in enumerate(self.soft)
+                      if self.o._soft[n][1] > 0]
         return ca.vertcat(*parts) if parts else self.sym(0, 1)
 
     def _general_cost(self, *, terminal: bool):
@@ -428,13 +460,16 @@ class _Builder:
             if fn is not None:
                 args = [x, self.p] if terminal else [x, self.u_full, self.p]
                 total = total + symbolic_call(fn, args, "terminal cost" if terminal else "stage cost", 1)
+        if not terminal:
+            for i, n in enumerate(self.soft):
+                total = total + self.o._soft[n][0] * self.slack[i]
         return total
 
     def _bound_vec(self, names: Sequence[str], kind: str, upper: bool = False) -> np.ndarray:
         out = np.full(len(names), np.inf if upper else -np.inf)
         for key, (lo, hi) in self.o._bounds.items():
             k, i = self.o._resolve(key)
-            if k == kind:
+            if k == kind and key not in self.o._soft:
                 j = list(names).index(self.o.dynamics.inputs[i] if k == "u" else self.o.dynamics.states[i])
                 out[j] = hi if upper else lo
         return out
@@ -449,11 +484,21 @@ class _Builder:
             hi.append(np.zeros(G.numel()))
             names += [f"collocation_{i}" for i in range(G.numel())]
         for key, (l_, h_) in o._bounds.items():
-            if o._resolve(key)[0] == "y":
+            if o._resolve(key)[0] == "y" and key not in o._soft:
                 rows.append(self._signal(key))
                 lo.append([l_])
                 hi.append([h_])
                 names.append(key)
+        for i, key in enumerate(self.soft):
+            l_, h_ = o._bounds[key]
+            s = self._signal(key)
+            for value, (lo_, hi_), tag in ((s + self.slack[i], (l_, np.inf), "lower"),
+                                           (s - self.slack[i], (-np.inf, h_), "upper")):
+                if np.isfinite(lo_) or np.isfinite(hi_):
+                    rows.append(value)
+                    lo.append([lo_])
+                    hi.append([hi_])
+                    names.append(f"soft {tag}:{key}")
         for n, (l_, h_) in o._rate_limits.items():
             rows.append(rate[n])
             lo.append([l_])
@@ -473,7 +518,7 @@ class _Builder:
         rows, lo, hi = [], [], []
         for key, (l_, h_) in o._bounds.items():
             kind, i = o._resolve(key)
-            if kind == "y" and not o._output_uses_controls(i):
+            if kind == "y" and key not in o._soft and not o._output_uses_controls(i):
                 rows.append(self._signal(key, terminal=True))
                 lo.append([l_])
                 hi.append([h_])

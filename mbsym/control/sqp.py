@@ -164,8 +164,9 @@ class GaussNewtonSQP:
             sl = self.layout.x_index(0)
             self._out["lbdw"][sl] = self._out["ubdw"][sl] = x0 - self.w[sl]
         self._prepared = False
-        if not (np.all(np.isfinite(self._out["H"])) and np.all(np.isfinite(self._out["g"]))
-                and np.all(np.isfinite(self._out["A"])) and np.all(np.isfinite(self._out["lba"]))):
+        o = self._out
+        if not (np.all(np.isfinite(o["H"])) and np.all(np.isfinite(o["g"])) and np.all(np.isfinite(o["A"]))
+                and not np.any(np.isnan(o["lba"])) and not np.any(np.isnan(o["uba"]))):
             return False, "nan", 0, time.perf_counter() - t0
         ok, status, iters = self._qp_call()
         if not ok:
@@ -246,7 +247,7 @@ class GaussNewtonSQP:
         return float(cost) + mu * float(viol), float(viol)
 
     def _line_search(self, D, p, bounds, mu: float) -> float:
-        """Backtracking (Armijo, factor 1/2) on ``cost + μ ‖violation‖₁`` along the last QP step."""
+        """Backtracking (Armijo, factor 1/2) on ``cost + μ ‖violation‖₁`` along the QP step."""
         phi0, viol0 = self._merit(self.w, D, p, bounds, mu)
         slope = float(self._out["g"] @ self._dw) - mu * viol0
         alpha = 1.0
