@@ -81,6 +81,12 @@ class Discretization:
         ``(x, v, u, p) -> G`` (``n_v`` equations, empty for RK4).
     sym : type
         ``casadi.SX`` or ``casadi.MX``: the symbols the maps were built with.
+    sensitivity : casadi.Function or None
+        RK4 only, when chained: ``(x, u, p) -> (x_next, ∂x_next/∂x, ∂x_next/∂u)`` by
+        forward propagation through the RK4 stages with calls to ``rhs`` and its
+        Jacobian (MX glue). Its code holds one copy of the rhs Jacobian instead of
+        the expanded Jacobian of the whole step (18.7k instead of 144k SX
+        instructions for a 7-DOF chain): smaller generated code, shorter builds.
     """
 
     method: str
@@ -90,6 +96,7 @@ class Discretization:
     step: ca.Function
     equations: ca.Function
     sym: type
+    sensitivity: ca.Function | None = None
 
     def initial_v(self, x: np.ndarray) -> np.ndarray:
         """A guess of the method's variables: every collocation state equal to ``x``."""
@@ -97,8 +104,12 @@ class Discretization:
         return np.tile(x, self.n_v // x.size) if self.n_v else np.zeros(0)
 
 
+#: ``sensitivities="auto"`` chains the RK4 Jacobian when the rhs has more SX instructions than this.
+CHAIN_THRESHOLD = 500
+
+
 def discretize(rhs: ca.Function, dt: float, *, method: str = "rk4", substeps: int = 1,
-               degree: int = 3) -> Discretization:
+               degree: int = 3, sensitivities: str = "auto") -> Discretization:
     """Discretize ``rhs (x, u, p) -> xd`` over a sample of ``dt`` seconds.
 
     Parameters
@@ -113,6 +124,10 @@ def discretize(rhs: ca.Function, dt: float, *, method: str = "rk4", substeps: in
         Sub-steps per sample (≥ 1).
     degree : int, keyword-only
         Collocation degree (Radau nodes), default 3.
+    sensitivities : {"auto", "chained", "inline"}, keyword-only
+        RK4: build :attr:`Discretization.sensitivity` (``"chained"``), or let
+        automatic differentiation expand the step (``"inline"``); ``"auto"`` chains
+        for right-hand sides above :data:`CHAIN_THRESHOLD` instructions or in MX.
 
     Returns
     -------
@@ -150,9 +165,41 @@ def discretize(rhs: ca.Function, dt: float, *, method: str = "rk4", substeps: in
     else:
         v = sym.sym("v", substeps * degree * nx)
         xk, eqs = _collocation(f, x, v, u, p, h, degree, nx, substeps)
+    if sensitivities not in ("auto", "chained", "inline"):
+        raise ControlDefinitionError(f"sensitivities must be 'auto', 'chained' or 'inline'; got {sensitivities!r}.")
     step = ca.Function("discrete_step", [x, v, u, p], [xk], ["x", "v", "u", "p"], ["x_next"])
     equations = ca.Function("collocation_equations", [x, v, u, p], [eqs], ["x", "v", "u", "p"], ["G"])
-    return Discretization(method, float(dt), int(substeps), v.numel(), step, equations, sym)
+    chain = method == "rk4" and (sensitivities == "chained" or (
+        sensitivities == "auto" and (sym is ca.MX or f.n_instructions() > CHAIN_THRESHOLD)))
+    sens = _rk4_sensitivity(f, h, substeps) if chain else None
+    return Discretization(method, float(dt), int(substeps), v.numel(), step, equations, sym, sens)
+
+
+def _rk4_sensitivity(f: ca.Function, h: float, substeps: int) -> ca.Function:
+    """RK4 step and its Jacobian by forward propagation; rhs and rhs Jacobian stay called Functions."""
+    nx, nu, np_ = (f.size1_in(i) for i in range(3))
+    xs, us, ps = (ca.SX.sym(s, n) for s, n in (("x", nx), ("u", nu), ("p", np_))) if f.is_a("SXFunction") \
+        else (ca.MX.sym(s, n) for s, n in (("x", nx), ("u", nu), ("p", np_)))
+    fx = f(xs, us, ps)
+    jac = ca.Function("rhs_jacobian", [xs, us, ps], [fx, ca.jacobian(fx, xs), ca.jacobian(fx, us)],
+                      ["x", "u", "p"], ["f", "fx", "fu"])
+    x, u, p = ca.MX.sym("x", nx), ca.MX.sym("u", nu), ca.MX.sym("p", np_)
+    X, Sx, Su = x, ca.MX.eye(nx), ca.MX(nx, nu)
+
+    def stage(Xs, Sxs, Sus):
+        k, A, B = jac(Xs, u, p)
+        return k, ca.mtimes(A, Sxs), ca.mtimes(A, Sus) + B
+
+    for _ in range(substeps):
+        k1, a1, b1 = stage(X, Sx, Su)
+        k2, a2, b2 = stage(X + h / 2 * k1, Sx + h / 2 * a1, Su + h / 2 * b1)
+        k3, a3, b3 = stage(X + h / 2 * k2, Sx + h / 2 * a2, Su + h / 2 * b2)
+        k4, a4, b4 = stage(X + h * k3, Sx + h * a3, Su + h * b3)
+        X = X + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        Sx = Sx + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+        Su = Su + h / 6 * (b1 + 2 * b2 + 2 * b3 + b4)
+    return ca.Function("rk4_sensitivity", [x, u, p], [X, ca.densify(Sx), ca.densify(Su)], ["x", "u", "p"],
+                       ["x_next", "dx", "du"])
 
 
 def _rk4(f: ca.Function, x, u, p, h: float):

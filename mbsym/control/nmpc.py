@@ -61,6 +61,8 @@ class StepStats:
         Largest constraint violation there.
     fallback : bool
         True when the applied input came from the previous shifted solution.
+    qp_solver_s : float
+        Time inside the QP solver as it reports it (``t_wall_solver``) [s]; 0 when unknown.
     """
 
     wall_s: float
@@ -73,6 +75,7 @@ class StepStats:
     cost: float
     violation: float
     fallback: bool
+    qp_solver_s: float = 0.0
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -253,7 +256,7 @@ class NMPC:
         fb = times.get("feedback", times.get("solver", 0.0))
         st = StepStats(time.perf_counter() - t0, prep, fb, result.iterations, result.qp_iterations,
                        result.status if not fallback else f"fallback ({result.status})", not fallback,
-                       result.cost, result.violation, fallback)
+                       result.cost, result.violation, fallback, times.get("qp_solver", 0.0))
         self.stats.append(st)
         return u
 

@@ -63,6 +63,10 @@ class OCP:
         Multiple shooting with RK4 (default) or direct collocation (Radau IIA, degree 3).
     substeps : int, keyword-only
         Integration sub-steps (or collocation intervals) per stage.
+    sensitivities : {"auto", "chained", "inline"}, keyword-only
+        How the SQP solvers get the RK4 stage Jacobian (see
+        :func:`~mbsym.control.discretize.discretize`): chained forward
+        sensitivities keep the generated code small for large models.
 
     Raises
     ------
@@ -81,14 +85,15 @@ class OCP:
     """
 
     def __init__(self, model: Any, *, horizon: int, dt: float, controls: Sequence[str] | None = None,
-                 method: str = "rk4", substeps: int = 1) -> None:
+                 method: str = "rk4", substeps: int = 1, sensitivities: str = "auto") -> None:
         self._dyn: Dynamics = as_dynamics(model)
         self._N = positive_int(horizon, "horizon")
         self._dt = finite_number(dt, "dt [s]", positive=True)
         dyn = self._dyn
         self._controls = check_names(dyn.inputs if controls is None else controls, dyn.inputs, "controls")
         self._disturbances = tuple(n for n in dyn.inputs if n not in self._controls)
-        self._disc = discretize(dyn.rhs, self._dt, method=method, substeps=positive_int(substeps, "substeps"))
+        self._disc = discretize(dyn.rhs, self._dt, method=method, substeps=positive_int(substeps, "substeps"),
+                                sensitivities=sensitivities)
         self._terms: list[_Term] = []
         self._rate_weights: dict[str, float] = {}
         self._costs: list[tuple[Any, Any]] = []
@@ -406,6 +411,7 @@ class _Builder:
                            [cN, self._residual(terminal=True, rate={}), self._general_cost(terminal=True)],
                            ["x", "d", "p"], ["c", "r", "l"])
         c0 = np.array([ca.depends_on(c[i], self.ud) for i in range(c.numel())], dtype=bool)
+        dyn_jac = self._dynamics_jacobian() if o.discretization.sensitivity is not None else None
         problem = StageProblem(
             N=o.horizon, path=path, terminal=term, initial=None,
             lbx=np.concatenate([self._bound_vec(d.states, "x"), np.full(len(self.rate_controls), -np.inf)]),
@@ -418,10 +424,32 @@ class _Builder:
                    "u": list(o.controls) + [f"slack:{n}" for n in self.soft]
                    + [f"collocation_{i}" for i in range(n_v)],
                    "d": list(o.disturbances) + [f"ref:{n}" for n in self.references], "p": list(d.parameters),
-                   "c": c_names})
+                   "c": c_names}, dynamics_jacobian=dyn_jac)
         return Transcription(problem, o.controls, o.disturbances, self.references,
                              {n: o._references.get(n, 0.0) for n in self.references}, self.rate_controls,
                              o.discretization, d, o.dt, n_s)
+
+    def _dynamics_jacobian(self) -> ca.Function:
+        """``(x, u, d, p) -> (f, ∂f/∂[x; u])`` from the chained RK4 sensitivities (MX glue, no expansion)."""
+        o, d = self.o, self.o.dynamics
+        n_c, nxa, nud = len(o.controls), self.xa.numel(), self.ud.numel()
+        xa, ud, dd, p = (ca.MX.sym(s, n) for s, n in (("x", nxa), ("u", nud), ("d", self.d.numel()),
+                                                       ("p", d.n_p)))
+        uc = ud[:n_c]
+        dist = dd[: len(o.disturbances)]
+        u_full = ca.vertcat(*[uc[o.controls.index(n)] if n in o.controls else dist[o.disturbances.index(n)]
+                              for n in d.inputs]) if d.n_u else ca.MX(0, 1)
+        x_next, Sx, Su = o.discretization.sensitivity(xa[: d.n_x], u_full, p)
+        ctrl_cols = ca.horzcat(*[Su[:, d.inputs.index(n)] for n in o.controls]) if n_c else ca.MX(d.n_x, 0)
+        top = ca.horzcat(Sx, ca.MX(d.n_x, nxa - d.n_x), ctrl_cols, ca.MX(d.n_x, nud - n_c))
+        rows = [top]
+        for n in self.rate_controls:              # u_prev⁺ = u
+            e = ca.DM.zeros(1, nxa + nud)
+            e[0, nxa + o.controls.index(n)] = 1.0
+            rows.append(ca.MX(e))
+        f = ca.vertcat(x_next, *[uc[o.controls.index(n)] for n in self.rate_controls])
+        return ca.Function("ocp_dynamics_jacobian", [xa, ud, dd, p], [f, ca.densify(ca.vertcat(*rows))],
+                           ["x", "u", "d", "p"], ["f", "J"])
 
     def _full_input(self, uc, dist):
         o, d = self.o, self.o.dynamics

@@ -15,7 +15,6 @@ from typing import Any, Mapping
 
 import casadi as ca
 import numpy as np
-import scipy.sparse as sps
 
 from ..exceptions import ControlDefinitionError
 from .nlp import split_w
@@ -37,11 +36,18 @@ def _stage_qp(P: StageProblem, hessian_only: bool = False) -> tuple[ca.Function,
     Jr = ca.jacobian(r, v)
     H = 2 * ca.mtimes(Jr.T, Jr) + ca.hessian(l_, v)[0]
     grad = 2 * ca.mtimes(Jr.T, r) + ca.gradient(l_, v)
-    outs = [f, ca.jacobian(f, v), c, ca.jacobian(c, v), H, grad, ca.sumsqr(r) + l_]
+    outs = [f, None, c, ca.jacobian(c, v), H, grad, ca.sumsqr(r) + l_]
+    if P.dynamics_jacobian is None:
+        outs[1] = ca.jacobian(f, v)
+    else:       # the stage map's Jacobian from chained sensitivities; the rest by AD of the small parts
+        rest = ca.Function("stage_rest", [x, u, d, p], [ca.densify(o) for o in outs[2:]])
+        x, u, d, p = (ca.MX.sym(s, n) for s, n in (("x", P.n_x), ("u", P.n_u), ("d", P.n_d), ("p", P.n_p)))
+        outs = [*P.dynamics_jacobian(x, u, d, p), *rest(x, u, d, p)]
     names = ["f", "Jf", "c", "Jc", "H", "g", "cost"]
     keep = [4] if hessian_only else range(len(outs))
     stage = ca.Function("stage_qp", [x, u, d, p], [ca.densify(outs[i]) for i in keep],
                         ["x", "u", "d", "p"], [names[i] for i in keep])
+    x, d, p = (sym.sym(s, n) for s, n in (("x", P.n_x), ("d", P.n_d), ("p", P.n_p)))
     cN, rN, lN = P.terminal(x, d, p)
     JrN = ca.jacobian(rN, x)
     outs = [cN, ca.jacobian(cN, x), 2 * ca.mtimes(JrN.T, JrN) + ca.hessian(lN, x)[0],
@@ -156,19 +162,23 @@ class QPCall:
         H, A = ca.MX.sym("H", qp.sparsity_in("h")), ca.MX.sym("A", qp.sparsity_in("a"))
         n, m = qp.sparsity_in("h").size1(), qp.sparsity_in("a").size1()
         vecs = [ca.MX.sym(s, k) for s, k in (("g", n), ("lba", m), ("uba", m), ("lbx", n), ("ubx", n))]
-        res = qp(h=H, g=vecs[0], a=A, lba=vecs[1], uba=vecs[2], lbx=vecs[3], ubx=vecs[4])
+        g, lba, uba, lbx, ubx = vecs
+        res = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbx, ubx=ubx)
+        x = res["x"]
+        Ax = ca.mtimes(A, x)
+        viol = ca.mmax(ca.vertcat(0, lbx - x, x - ubx, lba - Ax, Ax - uba))       # checked in C, not numpy
         self._wrapper = ca.Function(f"{qp.name()}_call", [H, A, *vecs],
-                                    [res["x"], res["cost"], res["lam_a"], res["lam_x"]])
+                                    [x, res["cost"], res["lam_a"], res["lam_x"], viol])
         self.qp, self.data = qp, data
         self.x, self.cost, self.lam_a, self.lam_x = np.zeros(n), np.zeros(1), np.zeros(m), np.zeros(n)
+        self._viol = np.zeros(1)
         self._buf, self._run = self._wrapper.buffer()
         for i, key in enumerate(("H", "A", "g", "lba", "uba", "lbx", "ubx")):
             self._buf.set_arg(i, memoryview(data[key]))
-        for i, arr in enumerate((self.x, self.cost, self.lam_a, self.lam_x)):
+        for i, arr in enumerate((self.x, self.cost, self.lam_a, self.lam_x, self._viol)):
             self._buf.set_res(i, memoryview(arr))
-        sp = qp.sparsity_in("a")
-        self._A = sps.csc_matrix((data["A"], np.array(sp.row()), np.array(sp.colind())), shape=(m, n), copy=False)
         self._mem: int | None = None
+        self.solver_time = 0.0
 
     def __call__(self) -> tuple[bool, str, int]:
         """Solve into :attr:`x`; ``(accepted, status, iterations)``."""
@@ -176,21 +186,19 @@ class QPCall:
         self._run()
         stats = self._stats()
         iters = int(stats.get("iter_count", -1) or 0)
+        self.solver_time = float(stats.get("t_wall_solver", 0.0) or 0.0)
         if not bool(stats.get("success", False)):
             return False, f"qp_failed: {stats.get('return_status', stats.get('unified_return_status', '?'))}", iters
         if not np.all(np.isfinite(self.x)):
             return False, "nan", iters
-        viol = self.violation()
-        if viol > self.FEAS_TOL * (1.0 + np.max(np.abs(self.x))):
+        viol = float(self._viol[0])
+        if not viol <= self.FEAS_TOL * (1.0 + np.max(np.abs(self.x))):
             return False, f"qp_failed: reported success, but the step violates the QP constraints by {viol:.2g}", iters
         return True, "success", iters
 
     def violation(self) -> float:
-        """Largest violation of the QP's bounds and linear constraints by :attr:`x`."""
-        d, x = self.data, self.x
-        Ax = self._A @ x
-        return float(max(np.max(d["lbx"] - x, initial=0.0), np.max(x - d["ubx"], initial=0.0),
-                         np.max(d["lba"] - Ax, initial=0.0), np.max(Ax - d["uba"], initial=0.0)))
+        """Largest violation of the QP's bounds and linear constraints by :attr:`x` (last call)."""
+        return float(self._viol[0])
 
     def _stats(self) -> dict:
         """The conic's statistics of the wrapper's call (its memory is found once, then reused)."""

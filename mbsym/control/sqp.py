@@ -196,7 +196,7 @@ class GaussNewtonSQP:
         t_prep = 0.0 if self._prepared else self.prepare(D, p, bounds)
         ok, status, qp_it, t_fb = self.feedback(x0)
         return SolveResult(self.w.copy(), ok, status, 1, self.cost, self.violation, qp_it,
-                           {"preparation": t_prep, "feedback": t_fb})
+                           {"preparation": t_prep, "feedback": t_fb, "qp_solver": self._qp_call.solver_time})
 
     def solve(self, D, p, bounds, x0=None, *, max_iter: int = 50, tol: float = 1e-8,
               line_search: bool = True) -> SolveResult:

@@ -100,11 +100,12 @@ class StageProblem:
         Path-constraint rows imposed at stage 0 (rows that ``u₀`` cannot change are
         dropped there: the initial state is given).
     lbcN, ubcN : array (ncN)
-    gauss_newton_exact : bool
-        True when the cost has no general part (the Gauss–Newton Hessian is then
-        the exact Hessian of the cost).
     names : dict
         ``"x"``, ``"u"``, ``"d"``, ``"p"``: names of every entry (messages, results).
+    dynamics_jacobian : casadi.Function or None
+        ``(x, u, d, p) -> (f, ∂f/∂[x; u])`` computed without expanding the stage map
+        (chained RK4 sensitivities); the Gauss–Newton SQP uses it instead of
+        differentiating ``path``.
     """
 
     N: int
@@ -121,6 +122,7 @@ class StageProblem:
     lbcN: np.ndarray
     ubcN: np.ndarray
     names: dict = field(default_factory=dict)
+    dynamics_jacobian: ca.Function | None = None
 
     def __post_init__(self) -> None:
         checks = [("lbx", self.n_x), ("ubx", self.n_x), ("lbu", self.n_u), ("ubu", self.n_u), ("lbc", self.n_c),
