@@ -20,7 +20,7 @@ import tempfile
 import time
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import casadi as ca
 
@@ -28,14 +28,19 @@ from ..codegen import COMPILE_TIMEOUT_S, CompilationWarning, cache_dir, compiler
 
 __all__ = ["compiled_nlpsol", "NLP_FLAGS"]
 
-#: Compiler flags of NLP solver Functions. Exact Hessians of a stage make large straight-line C (2.9 MB for a
-#: 6-state pendulum with RK4, N = 40): gcc -O1 needs ~80 s of CPU for it, -O0 ~6 s (measured on this machine kind).
-NLP_FLAGS: tuple[str, ...] = ("-O0",)
+#: Compiler flags of NLP solver Functions. CasADi's own horizon derivatives of a mapped stage are large (2.9 MB of
+#: C for the cart pendulum with RK4, N = 40: ~80 s of gcc CPU at -O1, ~6 s at -O0); the stage-level Functions of
+#: :mod:`mbsym.control.nlpfunctions` that NlpSolver compiles instead are small enough for -O1.
+NLP_FLAGS: tuple[str, ...] = ("-O1",)
 
 
 def compiled_nlpsol(name: str, plugin: str, nlp: dict, options: dict[str, Any], *, compile: bool = True,
-                    flags: tuple[str, ...] | None = None) -> tuple[ca.Function, bool, float]:
+                    flags: tuple[str, ...] | None = None,
+                    functions: Callable[[ca.Function], list] | None = None) -> tuple[ca.Function, bool, float]:
     """An ``nlpsol`` whose derivative Functions run compiled C when possible.
+
+    ``functions(solver)``, if given, returns the Functions to compile in place of
+    the solver's own (same names and signatures, plus the oracle ``"nlp"``).
 
     Returns
     -------
@@ -58,9 +63,13 @@ def compiled_nlpsol(name: str, plugin: str, nlp: dict, options: dict[str, Any], 
     with tempfile.TemporaryDirectory(prefix="mbsym_cg_", dir=folder) as tmp:
         source = Path(tmp) / f"{name}_nlp.c"
         cg = ca.CodeGenerator(source.name, {"with_header": False})
-        cg.add(solver.oracle())                      # "nlp": the loader looks for it
-        for fname in solver.get_function():          # nlp_f, nlp_g, nlp_grad_f, nlp_jac_g, nlp_hess_l, ...
-            cg.add(solver.get_function(fname))
+        if functions is not None:
+            for fn in functions(solver):
+                cg.add(fn)
+        else:
+            cg.add(solver.oracle())                  # "nlp": the loader looks for it
+            for fname in solver.get_function():      # nlp_f, nlp_g, nlp_grad_f, nlp_jac_g, nlp_hess_l, ...
+                cg.add(solver.get_function(fname))
         cg.generate(tmp + os.sep)
         text = source.read_text()
         key = _key(text, cc, flags)

@@ -24,6 +24,7 @@ import numpy as np
 from ..exceptions import ControlDefinitionError
 from ._compile import compiled_nlpsol
 from .nlp import horizon_nlp
+from .nlpfunctions import nlp_functions
 from .qp import QP_SOLVERS, gauss_newton_hessian
 from .sqp import SolveResult
 from .stages import StageProblem
@@ -75,8 +76,9 @@ class NlpSolver:
         for key, value in dict(options or {}).items():
             opts[key] = {**opts[key], **value} if isinstance(value, Mapping) and isinstance(opts.get(key), dict) \
                 else value
-        self._solver, self.compiled, _ = compiled_nlpsol(f"mpc_{solver}", solver, self._nlp.as_dict(), opts,
-                                                         compile=compile)
+        self._solver, self.compiled, _ = compiled_nlpsol(
+            f"mpc_{solver}", solver, self._nlp.as_dict(), opts, compile=compile,
+            functions=lambda ref: nlp_functions(problem, self._nlp, ref, hessian=hessian))
         self._lam_g = np.zeros(problem.layout.n_g)
         self._lam_x = np.zeros(problem.layout.n_w)
         self.build_time = time.perf_counter() - t0

@@ -130,3 +130,11 @@ def test_chained_sensitivities_equal_inline():
         assert (ocp.discretization.sensitivity is not None) == (mode == "chained")
         us.append(NMPC(ocp, solver="sqp", compile=False).step(x0))
     np.testing.assert_allclose(us[0], us[1], atol=1e-10)
+
+
+@pytest.mark.parametrize("solver", ["ipopt", "fatrop"])
+def test_compiled_nlp_functions_match_reference(solver, reference):
+    """Compiled stage-level NLP Functions (mbsym.control.nlpfunctions) give the Riccati control (1e-6)."""
+    mpc = NMPC(make_ocp(), solver=solver, compile=True)
+    assert mpc.compiled
+    np.testing.assert_allclose(mpc.step(X0), reference, atol=1e-6)
