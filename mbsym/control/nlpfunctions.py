@@ -35,10 +35,18 @@ def _stage_functions(P: StageProblem, hessian: str):
     else:
         Jr = ca.jacobian(r, v)
         H = sigma * (2 * ca.mtimes(Jr.T, Jr) + ca.hessian(l_, v)[0])
-    stage = (ca.Function("nlp_stage", [x, u, d, p],
-                         [ca.densify(o) for o in (f, c, cost, ca.gradient(cost, v), ca.jacobian(f, v),
-                                                  ca.jacobian(c, v))]),
-             ca.Function("nlp_stage_hessian", [x, u, d, p, sigma, lf, lc], [ca.densify(H)]))
+    if P.dynamics_jacobian is not None and hessian == "gauss-newton":   # no second derivatives of the map:
+        rest = ca.Function("nlp_stage_rest", [x, u, d, p],                # its Jacobian from chained sensitivities
+                           [ca.densify(o) for o in (c, cost, ca.gradient(cost, v), ca.jacobian(c, v))])
+        xm, um, dm, pm = (ca.MX.sym(s, n) for s, n in (("x", P.n_x), ("u", P.n_u), ("d", P.n_d), ("p", P.n_p)))
+        fm, Jfm = P.dynamics_jacobian(xm, um, dm, pm)
+        cm, costm, gm, Jcm = rest(xm, um, dm, pm)
+        values = ca.Function("nlp_stage", [xm, um, dm, pm], [fm, cm, costm, gm, Jfm, Jcm])
+    else:
+        values = ca.Function("nlp_stage", [x, u, d, p],
+                             [ca.densify(o) for o in (f, c, cost, ca.gradient(cost, v), ca.jacobian(f, v),
+                                                      ca.jacobian(c, v))])
+    stage = (values, ca.Function("nlp_stage_hessian", [x, u, d, p, sigma, lf, lc], [ca.densify(H)]))
     lN = sym.sym("lN", P.n_cN)
     cN, rN, lNc = P.terminal(x, d, p)
     costN = ca.sumsqr(rN) + lNc
