@@ -138,7 +138,8 @@ def run_ours(name: str, solver: str, steps: int | None = None) -> dict:
     ref = RPM_RATED if name == "rotor_tower" else 0.5
     return {"solver": solver, "build_s": build, "compiled": mpc.compiled, "first_s": mpc.stats[0].wall_s,
             "median_s": float(np.median(walls)), "max_s": float(walls.max()), "p99_s": float(np.percentile(walls, 99)),
-            "failures": mpc.failures, "steps": n_steps, "track_rms": float(np.sqrt(np.mean((np.array(track) - ref) ** 2))),
+            "failures": mpc.failures, "steps": n_steps,
+            "track_rms": float(np.sqrt(np.mean((np.array(track) - ref) ** 2))),
             "iterations_median": float(np.median([s.iterations for s in mpc.stats[1:]]))}
 
 
@@ -179,7 +180,6 @@ def run_acados(name: str, steps: int | None = None) -> dict:
         m.disc_dyn_expr = f                            # our stage map as it is (augmented states)
         oc.solver_options.integrator_type = "DISCRETE"
     else:                                              # acados' own RK4 with forward sensitivities
-        nc_ = tr.n_controls
         dist = d[: len(tr.disturbances)]
         u_full = ca.vertcat(*[u[tr.controls.index(n)] if n in tr.controls else dist[tr.disturbances.index(n)]
                               for n in dyn.inputs])
@@ -189,7 +189,6 @@ def run_acados(name: str, steps: int | None = None) -> dict:
         oc.solver_options.integrator_type = "ERK"
         oc.solver_options.sim_method_num_stages = 4
         oc.solver_options.sim_method_num_steps = tr.discretization.substeps
-        del nc_
     oc.solver_options.nlp_solver_type = "SQP_RTI"
     oc.solver_options.hessian_approx = "GAUSS_NEWTON"
     oc.solver_options.qp_solver = "PARTIAL_CONDENSING_HPIPM"

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..exceptions import ControlDefinitionError
 from ._checks import bound_pair, positive_int
-from .estimation import EKF, EstimationModel, noise_matrix
+from .estimation import EKF, EstimationModel
 from .nlpsolvers import NlpSolver
 from .nmpc import StepStats, make_solver
 from .stages import StageProblem
@@ -126,7 +126,8 @@ class MHE:
         lb, ub = np.full(self.model.n_z, -np.inf), np.full(self.model.n_z, np.inf)
         for name, pair in dict(bounds or {}).items():
             if name not in self.model.names:
-                raise ControlDefinitionError(f"bounds name unknown entry {name!r}; entries are {list(self.model.names)}.")
+                raise ControlDefinitionError(f"bounds name unknown entry {name!r}; entries are "
+                                             f"{list(self.model.names)}.")
             if not isinstance(pair, (tuple, list)) or len(pair) != 2:
                 raise ControlDefinitionError(f"bounds[{name!r}] must be (lower, upper); got {pair!r}.")
             lo, hi = bound_pair(pair[0], pair[1], 1, f"bounds of {name!r}")

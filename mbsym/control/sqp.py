@@ -29,7 +29,6 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-import casadi as ca
 import numpy as np
 
 from ..codegen import compile_function

@@ -47,7 +47,8 @@ def test_prepare_then_feedback_equals_step():
     """RTI split: prepare() before the measurement, then step(); same input as a plain step (1e-12)."""
     x = np.array([0.0, 0.2, 0.0, 0.0, 0.0, 0.0])
     a, b = NMPC(balance_ocp(), compile=False), NMPC(balance_ocp(), compile=False)
-    ua, ub = a.step(x), b.step(x)
+    ua = a.step(x)
+    b.step(x)
     x = plant_step(x, ua, 0.05)
     b.prepare()
     assert b.stats[-1].preparation_s >= 0.0
