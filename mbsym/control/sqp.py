@@ -116,6 +116,8 @@ class GaussNewtonSQP:
         self.w = np.zeros(self.layout.n_w)
         self._prepared = False
         self._merit_fn = None
+        if self.compiled:               # the line search's merit Function, compiled now rather than mid-solve
+            self._merit_fn = compile_function(merit_function(problem)).function
         self.build_time = time.perf_counter() - t0
 
     def _alloc(self) -> None:
