@@ -77,7 +77,8 @@ def test_filters_equal_kalman_on_linear_model(cls, tol, data):
         np.testing.assert_allclose(f.P, ref[k][1], atol=tol)
 
 
-def test_mhe_recovers_state_noise_free():
+@pytest.mark.parametrize("solver", ["sqp", "ipopt"])
+def test_mhe_recovers_state_noise_free(solver):
     """Noise-free data, wrong prior (weak): the estimate at the last sample equals the true state (1e-6)."""
     dyn = cart_double_pendulum()
     disc = discretize(dyn.rhs, DT)
@@ -86,7 +87,7 @@ def test_mhe_recovers_state_noise_free():
     mhe = MHE(dyn, dt=DT, window=10, measurements=["cart", "angle2", "a1"],
               process_noise={"s_d": 0.01, "a1_d": 0.01, "a2_d": 0.01},
               measurement_noise={"cart": 1e-3, "angle2": 1e-3, "a1": 1e-3}, x0=np.zeros(6),
-              P0={n: 10.0 for n in dyn.states}, solver="sqp", compile=False)
+              P0={n: 10.0 for n in dyn.states}, solver=solver, compile=False)
     u_last = np.zeros(1)
     for k in range(25):
         y = dyn.output_value(x, u_last)
