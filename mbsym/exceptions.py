@@ -32,6 +32,7 @@ __all__ = [
     "DataError",
     "IdentificationOptionError",
     "IdentifiabilityWarning",
+    "ControlDefinitionError",
 ]
 
 
@@ -125,3 +126,5 @@ class IdentificationOptionError(MbsymError, ValueError):
 
 class IdentifiabilityWarning(UserWarning):
     """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
+class ControlDefinitionError(MbsymError, ValueError):
+    """An optimal-control or estimation problem is ill-defined (unknown signal name, bad weight, horizon or bound)."""
