@@ -18,14 +18,22 @@ from .exceptions import (
     ModelDefinitionError,
     OpenFASTFormatError,
     ParameterError,
+    ExportError,
     SimulationOptionError,
     SingularMassMatrixError,
     SolverError,
+    SweepError,
+    ControlDefinitionError,
+    DataError,
+    IdentificationOptionError,
+    IdentifiabilityWarning,
 )
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
 from .simulate import SimulationResult, simulate
+from .sweep import sweep
+from .identify import IdentificationResult, identify
 
 #: Public names imported on first use (they pull in scipy): name -> modules to look in, first match wins
 #: (``linear`` first, so that the names keep resolving once operating/sensitivity move into mbsym/linear/).
@@ -66,6 +74,8 @@ __all__ = [
     "linearize_azimuths",
     "simulate",
     "SimulationResult",
+    "identify",
+    "IdentificationResult",
     "compile_function",
     "CompilationWarning",
     "LinearModel",
@@ -85,5 +95,12 @@ __all__ = [
     "IntegrationError",
     "SolverError",
     "SimulationOptionError",
+    "ExportError",
+    "SweepError",
+    "ControlDefinitionError",
+    "sweep",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
     "__version__",
 ]

@@ -56,6 +56,7 @@ __all__ = [
     "compile_in_background",
     "wait_for_background",
     "estimate_compile_seconds",
+    "set_identity",
 ]
 
 #: Compiler flags: -O1 compiles large straight-line SX code fast and runs it nearly as fast as -O2/-O3.
@@ -218,7 +219,8 @@ def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler:
 
     words = tuple(shlex.split(compiler) if isinstance(compiler, str) else (compiler or ()))
     h = hashlib.sha256()
-    for part in (f.serialize(), "\0".join(words), _compiler_version(words) if words else "",
+    identity = _IDENTITY.get(f)
+    for part in (f.serialize() if identity is None else identity, "\0".join(words), _compiler_version(words) if words else "",
                  "\0".join(flags), "jacobian" if jacobian else "", ca.__version__, platform.machine(), sys.platform):
         h.update(part.encode())
         h.update(b"\0")
@@ -252,6 +254,18 @@ def cached_library(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, comp
 
 
 _KEYS: "weakref.WeakKeyDictionary[ca.Function, dict]" = weakref.WeakKeyDictionary()
+_IDENTITY: "weakref.WeakKeyDictionary[ca.Function, str]" = weakref.WeakKeyDictionary()
+
+
+def set_identity(f: ca.Function, identity: str) -> ca.Function:
+    """Key ``f``'s library by ``identity`` instead of its serialization; returns ``f``.
+
+    For Functions built deterministically from a smaller one (mbsym's mapped output blocks: the map
+    wrapper serializes to 3x the size of the output Function it maps). ``identity`` must determine
+    ``f`` completely: the construction (with a version tag) and the serialization of what it wraps.
+    """
+    _IDENTITY[f] = str(identity)
+    return f
 
 
 def _memo_key(f: ca.Function, flags: tuple[str, ...], cc: tuple[str, ...], jacobian: bool) -> str:

@@ -16,8 +16,11 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
-from .exceptions import DimensionError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError
+from .exceptions import (
+    DimensionError, MassPropertyError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError,
+)
 from .kane import Derivation
+from .mass_properties import MassPropertyCheck, indefinite_problem
 from .symbols import check_finite_number
 
 __all__ = ["EquationsOfMotion", "EomFunctions"]
@@ -79,14 +82,16 @@ class EquationsOfMotion:
     array([[1.]])
     """
 
-    def __init__(self, d: Derivation, *, name: str = "mbsym") -> None:
+    def __init__(self, d: Derivation, *, name: str = "mbsym", units: Mapping[str, str] | None = None) -> None:
         self._name = name
+        self._units = {c: (units or {}).get(c, "-") for c in d.names["coordinate"]}
         self._coordinates = tuple(d.names["coordinate"])
         self._inputs = tuple(d.names["input"])
         self._parameters = tuple(d.names["parameter"])
         self._defaults = MappingProxyType(dict(d.defaults))
         self._derivation = d
         self._functions = _build_functions(d, name)
+        self._mass_check = MassPropertyCheck(list(d.bodies.values()), d.p, self._parameters)
 
     # ------------------------------------------------------------ description
     @property
@@ -125,6 +130,13 @@ class EquationsOfMotion:
     def states(self) -> tuple[str, ...]:
         """Names of ``x = [q; qd]``."""
         return self._coordinates + self.speeds
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Unit of each state by name: coordinates ``"m"`` or ``"rad"`` (``"-"`` if unknown), speeds per s."""
+        out = dict(self._units)
+        out.update({f"{c}_d": (f"{u}/s" if u != "-" else "-") for c, u in self._units.items()})
+        return out
 
     @property
     def inputs(self) -> tuple[str, ...]:
@@ -193,14 +205,43 @@ class EquationsOfMotion:
         n_locked = len(d.names.get("locked", ()))
         x = ca.vertcat(kin.q_all, kin.qd_all)
         xd = ca.vertcat(kin.qd_all, d.qdd, qdd_p, ca.SX.zeros(n_locked))   # locked coordinates never move
-        a = ca.jtimes(v, x, xd)
-        wd = ca.jtimes(frame.w, x, xd)
+        a = kin.rate(v, x, xd)
+        wd = kin.rate(kin.frame(b).w, x, xd)
+        r, v, a, wd = kin.resolve([r, v, a, wd])
         if n_locked:                                        # held at zero, as in the equations
             lz = ca.vertcat(kin.q_all[-n_locked:], kin.qd_all[-n_locked:])
-            r, v, a = ca.substitute([r, v, a], [lz], [ca.SX.zeros(2 * n_locked)])
+            r, v, a, wd = ca.substitute([r, v, a, wd], [lz], [ca.SX.zeros(2 * n_locked)])
         return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.u, d.p],
                            [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "u", "p"],
                            ["r", "R", "v", "w", "a", "wd"], {"cse": True})
+
+    # ------------------------------------------------------------ export
+    def export_c(self, directory, **options):
+        """Write the model's functions as standalone C with a minimal ``main.c``.
+
+        See :func:`mbsym.export.export_c` (options: ``name``, ``functions``, ``main``).
+        """
+        from .export import export_c
+
+        return export_c(self, directory, **options)
+
+    def export_python(self, path, **options):
+        """Write the model's functions as a numpy-only Python module called like :attr:`functions`.
+
+        See :func:`mbsym.export.export_python` (option: ``functions``).
+        """
+        from .export import export_python
+
+        return export_python(self, path, **options)
+
+    def latex(self, **options) -> str:
+        """The mass matrix and forcing of a small model in LaTeX, with the model's symbol names.
+
+        See :func:`mbsym.export.latex` (options: ``form``, ``digits``, ``max_terms``).
+        """
+        from .export import latex
+
+        return latex(self, **options)
 
     # ------------------------------------------------------------ numeric
     def parameter_vector(self, p: Mapping[str, float] | None = None) -> np.ndarray:
@@ -210,6 +251,9 @@ class EquationsOfMotion:
         ------
         ParameterError
             If a name is unknown, a value is missing (no default) or not finite.
+        MassPropertyError
+            If the values give a rigid body a negative mass or an unphysical inertia
+            (:mod:`mbsym.mass_properties`).
         """
         p = {} if p is None else p
         if not isinstance(p, Mapping):
@@ -226,8 +270,10 @@ class EquationsOfMotion:
                 f"missing values for parameters {missing} (they have no default); pass them in p, "
                 f"e.g. p={{{', '.join(repr(n) + ': ...' for n in missing)}}}."
             )
-        return np.array([check_finite_number(p[n] if n in p else self._defaults[n], f"parameter {n!r}")
-                         for n in self._parameters], dtype=float)
+        vec = np.array([check_finite_number(p[n] if n in p else self._defaults[n], f"parameter {n!r}")
+                        for n in self._parameters], dtype=float)
+        self._mass_check(vec)       # unphysical mass properties (e.g. a negative mass) -> MassPropertyError
+        return vec
 
     def _vec(self, value, n: int, what: str, names) -> np.ndarray:
         if isinstance(value, Mapping):
@@ -374,7 +420,11 @@ class EquationsOfMotion:
 
 
 def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
-    """Raise SingularMassMatrixError naming the coordinates of M's null space."""
+    """Raise SingularMassMatrixError naming the coordinates of M's null space, or
+    MassPropertyError if M has a clearly negative eigenvalue (not positive definite)."""
+    indefinite = indefinite_problem(M, names)
+    if indefinite:
+        raise MassPropertyError(indefinite)
     w, vecs = np.linalg.eigh(0.5 * (M + M.T))
     scale = max(float(np.max(np.abs(w))), 1e-300)
     bad = np.flatnonzero(w <= rtol * scale)

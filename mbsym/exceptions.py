@@ -20,6 +20,19 @@ __all__ = [
     "SimulationOptionError",
     "WindInputError",
     "ControllerError",
+    "MassPropertyError",
+    "UnsupportedFeatureError",
+    "ArgumentTypeError",
+    "OptionError",
+    "OutputFileError",
+    "MbsymWarning",
+    "ModelWarning",
+    "ExportError",
+    "SweepError",
+    "DataError",
+    "IdentificationOptionError",
+    "IdentifiabilityWarning",
+    "ControlDefinitionError",
 ]
 
 
@@ -69,3 +82,49 @@ class WindInputError(MbsymError, ValueError):
 
 class ControllerError(MbsymError, RuntimeError):
     """A controller could not be loaded, configured or called (e.g. a DISCON library failed)."""
+class MassPropertyError(ModelDefinitionError, ParameterError):
+    """Mass properties are not physical: a negative mass, an inertia tensor that is not symmetric
+    positive semi-definite or violates the triangle inequality, or a mass matrix that is not
+    positive definite. Raised at construction (numeric values) and when parameter values are bound."""
+
+
+class UnsupportedFeatureError(ModelDefinitionError):
+    """The input asks for physics mbsym does not model (e.g. an OpenFAST module switched on)."""
+
+
+class ArgumentTypeError(MbsymError, TypeError):
+    """An argument has the wrong type (e.g. a string where a list of names is expected)."""
+
+
+class OptionError(MbsymError, ValueError):
+    """An option (keyword argument or command-line flag) has an invalid value."""
+
+
+class OutputFileError(MbsymError, OSError):
+    """An output file cannot be written where asked, or would overwrite an input."""
+
+
+class MbsymWarning(UserWarning):
+    """Base class of the warnings issued by mbsym."""
+
+
+class ModelWarning(MbsymWarning):
+    """The model will not behave as its input seems to ask (a feature ignored, a DOF unrestrained)."""
+class ExportError(MbsymError, ValueError):
+    """A model cannot be exported as asked (an operation with no C/Python/LaTeX form, a model too large for LaTeX)."""
+
+
+class SweepError(MbsymError, ValueError):
+    """A sweep is ill-defined: unknown case keys, bad options, an executor that cannot be used."""
+class DataError(MbsymError, ValueError):
+    """Measured or reference data are unusable: a channel is missing, values are not finite, times do not increase."""
+
+
+class IdentificationOptionError(MbsymError, ValueError):
+    """An option of :func:`mbsym.identify` (method, tolerances, weights, bounds, initial values) is invalid."""
+
+
+class IdentifiabilityWarning(UserWarning):
+    """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
+class ControlDefinitionError(MbsymError, ValueError):
+    """An optimal-control or estimation problem is ill-defined (unknown signal name, bad weight, horizon or bound)."""

@@ -75,6 +75,8 @@ class _Kinematics:
         zero = ca.SX.zeros(3, 1)
         self.frames: dict[int, Frame] = {id(ground): Frame(zero, ca.SX.eye(3), zero, zero)}
         self.order: list[Body] = []
+        # attachment orientations that turn with a declared angular velocity (see _turning)
+        self._held: list[tuple[ca.SX, ca.SX, ca.SX]] = []
         pending = list(system.joints)
         while pending:
             ready = [j for j in pending if id(j.parent) in self.frames]
@@ -99,13 +101,18 @@ class _Kinematics:
         P = self.frames[id(joint.parent)]
         pos, R_att = joint.parent.attachment(joint.offset)
         s = P.R @ pos
-        R_J = P.R @ R_att @ joint.rotation
         r_J = P.r + s
-        w_J = P.w + P.R @ self._rel_omega(R_att)
+        w_att = joint.parent.attachment_angular_velocity(joint.offset, self.speed)
+        if w_att is None:
+            w_att = self._rel_omega(R_att)
+        else:
+            R_att = self._turning(joint.child.name, R_att, w_att)
+        R_J = P.R @ R_att @ joint.rotation
+        w_J = P.w + P.R @ w_att
         v_J = P.v + ca.cross(P.w, s) + P.R @ self._dt(pos)
         d, R_rel = joint.relative()
         dg = R_J @ d
-        w_rel = joint.angular_velocity(lambda c: self._speed[c.element_hash()])
+        w_rel = joint.angular_velocity(self.speed)
         if w_rel is None:
             w_rel = self._rel_omega(R_rel)
         return Frame(
@@ -114,6 +121,37 @@ class _Kinematics:
             v=v_J + ca.cross(w_J, dg) + R_J @ self._dt(d),
             w=w_J + R_J @ w_rel,
         )
+
+    def _turning(self, name: str, R_att: ca.SX, w_att: ca.SX) -> ca.SX:
+        """A placeholder for an attachment orientation that turns with a declared angular velocity.
+
+        When a body declares the angular velocity of an attachment (e.g. ElastoDyn's tower top:
+        the slope rates), the frames above it move with that angular velocity, and so do their
+        accelerations, as in ElastoDyn: a vector ``ρ`` fixed in the attachment frame changes at
+        ``ω × ρ`` with the declared ``ω``, not at the rate of the orientation matrix ``R_att(q)``.
+        The orientation is therefore held as a symbol while differentiating, with the rate
+        ``[w_att~] R_att`` (:meth:`rate`), and replaced by ``R_att(q)`` afterwards (:meth:`resolve`).
+        """
+        held = ca.SX.sym(f"R_attachment_{name}", 3, 3)
+        self._held.append((held, R_att, skew(w_att) @ held))
+        return held
+
+    def rate(self, expr: ca.SX, x: ca.SX, xd: ca.SX) -> ca.SX:
+        """Time derivative of ``expr`` along ``x' = xd``, held attachment orientations turning as declared."""
+        out = ca.jtimes(expr, x, xd)
+        for held, _, held_rate in self._held:
+            out += ca.jtimes(expr, ca.vec(held), ca.vec(held_rate))
+        return out
+
+    def resolve(self, exprs: list[ca.SX]) -> list[ca.SX]:
+        """``exprs`` with every held attachment orientation replaced by its value ``R_att(q)``."""
+        if not self._held:
+            return list(exprs)
+        return ca.substitute(list(exprs), [h for h, _, _ in self._held], [v for _, v, _ in self._held])
+
+    def speed(self, coordinate: ca.SX) -> ca.SX:
+        """Speed symbol of a coordinate (or prescribed coordinate) symbol."""
+        return self._speed[coordinate.element_hash()]
 
     def q_index(self, coordinate: ca.SX) -> int:
         """Index of a coordinate symbol in q."""
@@ -164,7 +202,7 @@ def derive(system) -> Derivation:
     J = ca.jacobian(Vall, qd)
     Jl = ca.jacobian(Vall, qdl)             # partial velocities of the locked speeds (reactions)
     # velocity-dependent accelerations; prescribed coordinates add their accelerations
-    A0 = ca.jtimes(Vall, kin.q_all, kin.qd_all)
+    A0 = kin.rate(Vall, kin.q_all, kin.qd_all)
     if presc:
         A0 += ca.jtimes(Vall, qdp, qddp)
 
@@ -191,9 +229,10 @@ def derive(system) -> Derivation:
     F_all, Vpot, power = _apply_loads(system, kin, q, ca.vertcat(qd, qdl), ca.vertcat(F, E_locked), Vpot)
     F, E_locked = F_all[:n], F_all[n:]
     power += p_body
+    M, F, T, Vpot, power, E_locked = kin.resolve([M, F, T, Vpot, power, E_locked])
     M = ca.tril2symm(ca.tril(M))
     reactions = None
-    frames = {b.name: kin.frame(b) for b in kin.order}
+    frames = {b.name: Frame(*kin.resolve([f.r, f.R, f.v, f.w])) for b in kin.order for f in [kin.frame(b)]}
     if locked:                              # held at zero: the reaction is minus the locked rows' residual
         reactions = -E_locked
         zero = ca.SX.zeros(2 * ql.numel(), 1)

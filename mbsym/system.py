@@ -387,7 +387,33 @@ class System:
         from .kane import derive
 
         self.validate()
-        return EquationsOfMotion(derive(self), name=name)
+        return EquationsOfMotion(derive(self), name=name, units=self.coordinate_units())
+
+    def coordinate_units(self) -> dict[str, str]:
+        """Unit of each coordinate by name: ``"rad"`` if its joint rotates with it, ``"m"`` if the joint
+        translates (or for a flexible body's elastic coordinates, amplitudes of displacement shapes),
+        ``"-"`` if unknown (not yet used by a joint)."""
+        units = {}
+        for joint in self._joints:
+            d, R = joint.relative()
+            for c in joint.coordinates:
+                entry = self._symbols.lookup(c)
+                if entry is not None and entry.kind == "coordinate":
+                    units.setdefault(entry.name, "rad" if ca.depends_on(ca.vec(R), c) else "m")
+            for c in joint.child.elastic_coordinates:
+                entry = self._symbols.lookup(c)
+                if entry is not None:
+                    units.setdefault(entry.name, "m")
+        return {n: units.get(n, "-") for n in self._symbols.names("coordinate")}
+
+    def __repr__(self) -> str:
+        g = [float(v) for v in ca.evalf(self._gravity).full().ravel()] if self._gravity.is_constant() else "symbolic"
+        units = self.coordinate_units()
+        coords = ", ".join(f"{n} [{u}]" for n, u in units.items())
+        counts = {k: len(self._symbols.names(k)) for k in ("parameter", "input")}
+        return (f"System(gravity={g} m/s^2, coordinates: {coords or 'none'}; {counts['parameter']} parameters, "
+                f"{counts['input']} inputs, {len(self._bodies)} bodies, {len(self._joints)} joints, "
+                f"{len(self._loads)} loads)")
 
 
 def _one_or_tuple(items: list):

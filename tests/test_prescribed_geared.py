@@ -60,7 +60,7 @@ def test_geared_generator_inertia():
     sys = mb.System()
     th = sys.coordinates("th")
     frame = mb.RigidBody("frame", mass=0.0)
-    rotor = mb.RigidBody("rotor", mass=10.0, inertia=[4.0, 1.0, 1.0])
+    rotor = mb.RigidBody("rotor", mass=10.0, inertia=[4.0, 2.0, 2.0])
     gen = mb.RigidBody("gen", mass=5.0, inertia=[0.02, 0.01, 0.01])
     sys.add_joint(mb.Fixed(sys.ground, frame))
     sys.add_joint(mb.Revolute(frame, rotor, axis=[1, 0, 0], coordinate=th))

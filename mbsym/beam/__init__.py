@@ -13,6 +13,7 @@ from mbsym.beam.fem import BeamModes, cantilever_modes, fit_elastodyn_polynomial
 from mbsym.beam.integrals import quadrature_weights, shape_integrals
 from mbsym.beam.loads import DistributedLoadIntegrals, distributed_load_integrals
 from mbsym.beam.lumped import lumped_shape_integrals
+from mbsym.beam.nodes import LumpedNodes, NodeMoments
 from mbsym.beam.shapes import CallableShape, HermiteShape, PolynomialShape, ShapeFunction
 from mbsym.beam.sid import ShapeIntegrals, Taylor, damping_matrix, skew
 from mbsym.beam.stiffening import (
@@ -32,6 +33,8 @@ __all__ = [
     "BeamModes",
     "shape_integrals",
     "lumped_shape_integrals",
+    "LumpedNodes",
+    "NodeMoments",
     "distributed_load_integrals",
     "DistributedLoadIntegrals",
     "quadrature_weights",

@@ -12,7 +12,11 @@ in the body frame (beam along body ``z`` from its root, the body origin), with
 ``Ax(J)`` a symmetric ``n_e x n_e`` matrix, the axial shortening (ElastoDyn's
 ``AxRedBld`` / ``AxRedTFA``: ``Ax_ij(J) ~ int_0^{z_J} Phi_i' . Phi_j' dz``).
 :func:`lumped_shape_integrals` turns such a body into a :class:`ShapeIntegrals`
-whose integrals are all discrete sums over the nodes (and an optional tip mass).
+whose integrals are all discrete sums over the nodes (and an optional tip mass): the
+field to first order in ``q``, with the axial shortening as geometric stiffness (below). The
+returned integrals also keep the nodes (``ShapeIntegrals.nodes``), with which
+``FlexibleBody(..., kinematics="exact")`` uses the field exactly, at every order in ``q``
+(:mod:`mbsym.bodies.lumped_terms`; ElastoDyn's blades and tower at large deflections).
 
 Geometric stiffness from the axial shortening
 ---------------------------------------------
@@ -56,6 +60,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mbsym.beam.integrals import _inertial_terms
+from mbsym.beam.nodes import LumpedNodes
 from mbsym.beam.sid import ShapeIntegrals, Taylor, _frequencies
 from mbsym.exceptions import BeamDataError
 
@@ -183,6 +188,9 @@ def lumped_shape_integrals(
     Returns
     -------
     ShapeIntegrals
+        With ``nodes`` (:class:`~mbsym.beam.nodes.LumpedNodes`: the point masses, a tip mass
+        as the last node), so that ``FlexibleBody(..., kinematics="exact")`` can use the exact
+        node positions instead of the first-order integrals and geometric stiffness.
 
     Raises
     ------
@@ -240,5 +248,14 @@ def lumped_shape_integrals(
         me=t["me"], gr=t["gr"], ge=t["ge"], oe=t["oe"], ke=ke, de=de, kg_t=kg_t, kg_r=kg_r,
         kg_omega=kg_omega, kg_tip=kg_tip, end_position=np.array([0.0, 0.0, L]),
         end_displacement=tip_u.T, end_rotation=psi, frequencies_hz=_frequencies(ke, t["me"]),
-        mtt2=t["mtt2"],
+        mtt2=t["mtt2"], nodes=_nodes(zz, m, phi, ax, L, m_tip, tip_u, ax_tip),
     )
+
+
+def _nodes(z, m, phi, ax, length, m_tip, tip_u, ax_tip) -> LumpedNodes:
+    """The point masses (a tip mass as the last node) with their exact displacement field."""
+    if m_tip > 0:
+        z, m = np.append(z, length), np.append(m, m_tip)
+        phi = np.concatenate([phi, tip_u[:, None, :]], axis=1)
+        ax = np.concatenate([ax, ax_tip[:, :, None]], axis=2)
+    return LumpedNodes(z, m, phi[..., :2], ax, ax_tip)

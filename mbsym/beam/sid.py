@@ -301,6 +301,10 @@ class ShapeIntegrals:
         Optional second-order term of ``M_thetatheta`` [kg]:
         ``mtt2[i, j] = -int skew(Phi_i) skew(Phi_j) dm``, so that
         ``M_thetatheta(q_e) = mtt(q_e) + sum_ij q_i q_j mtt2[i, j]`` exactly.
+    nodes : mbsym.beam.nodes.LumpedNodes or None
+        Optional point masses with their exact displacement field (lumped bodies, e.g.
+        ElastoDyn's blades and tower): lets a :class:`~mbsym.FlexibleBody` use
+        ``kinematics="exact"`` (Kane terms from the exact node positions, every order in ``q_e``).
     """
 
     mass: float
@@ -324,6 +328,7 @@ class ShapeIntegrals:
     end_rotation: np.ndarray
     frequencies_hz: np.ndarray
     mtt2: np.ndarray | None = None
+    nodes: object | None = None
 
     def __post_init__(self) -> None:
         for name in _expected_shapes(0):
@@ -360,6 +365,8 @@ class ShapeIntegrals:
                                 f"order0 {fshape(n)} and order1 ({n}, *{fshape(n)})")
         if self.mtt2 is not None and self.mtt2.shape != (n, n, 3, 3):
             problems.append(f"mtt2: shape {self.mtt2.shape}, expected {(n, n, 3, 3)}")
+        if self.nodes is not None and getattr(self.nodes, "n_e", None) != n:
+            problems.append(f"nodes: expected LumpedNodes with n_e={n}, got {self.nodes!r}")
         if problems:
             raise DimensionError(f"ShapeIntegrals with n_e={n} is inconsistent: " + "; ".join(problems))
         if not (np.isfinite(self.mass) and self.mass > 0):
@@ -509,6 +516,7 @@ class ShapeIntegrals:
             end_position=self.end_position, end_displacement=self.end_displacement[:, idx],
             end_rotation=self.end_rotation[:, idx], frequencies_hz=freqs,
             mtt2=None if self.mtt2 is None else sq(self.mtt2),
+            nodes=None if self.nodes is None else self.nodes.select(idx),
         )
 
 

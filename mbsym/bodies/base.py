@@ -41,6 +41,15 @@ class Body:
         """
         return offset, ca.SX.eye(3)
 
+    def attachment_angular_velocity(self, offset: ca.SX, speed) -> ca.SX | None:
+        """Angular velocity [rad/s] of an attachment frame relative to this body, body axes.
+
+        ``speed(c)`` returns the speed symbol of coordinate ``c``. ``None`` (the default) lets
+        the kinematics use ``vee(Ṙ Rᵀ)`` of the attachment orientation; bodies whose convention
+        defines it otherwise (ElastoDyn's tower top) override this.
+        """
+        return None
+
     def symbolic_values(self) -> list[ca.SX]:
         """Expressions the body carries (mass, geometry), for symbol checks."""
         return []

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import casadi as ca
+import numpy as np
 
 from ..exceptions import DimensionError
 from ..kinematics import _scalar, as_matrix3, as_vector3
@@ -27,6 +28,18 @@ class RigidBody(Body):
         Inertia tensor about the centre of mass in body axes [kg m^2]: a 3x3
         array, 3 principal values ``(Jxx, Jyy, Jzz)``, or 6 values
         ``(Jxx, Jyy, Jzz, Jxy, Jyz, Jxz)``. Default: zero (a point mass).
+    lumped_inertia : bool, optional, keyword-only
+        ``True`` for an *equivalent* inertia that is not one rigid body's, e.g. a geared
+        generator's inertia times the gear ratio squared added about a rotor's shaft: the
+        triangle inequality is then not checked (symmetry and positive semi-definiteness are).
+
+    Raises
+    ------
+    MassPropertyError
+        A negative mass, or an inertia that is not symmetric positive semi-definite or whose
+        principal moments violate the triangle inequality (an inertia about one axis only is
+        accepted). Expressions of parameters are checked when values are bound
+        (:mod:`mbsym.mass_properties`).
 
     Examples
     --------
@@ -36,11 +49,17 @@ class RigidBody(Body):
     'nacelle'
     """
 
-    def __init__(self, name: str, mass, com=(0.0, 0.0, 0.0), inertia=None) -> None:
+    def __init__(self, name: str, mass, com=(0.0, 0.0, 0.0), inertia=None, *, lumped_inertia: bool = False) -> None:
         super().__init__(name)
+        if not isinstance(lumped_inertia, bool):
+            from ..exceptions import ArgumentTypeError
+
+            raise ArgumentTypeError(f"lumped_inertia must be True or False; got {lumped_inertia!r}.")
+        self.lumped_inertia = lumped_inertia
         self._mass = _scalar(mass, f"mass of body {name!r}")
         self._com = as_vector3(com, f"com of body {name!r}")
         self._inertia = _inertia_matrix(inertia, name)
+        self._check_numeric_parts()
 
     @property
     def mass(self) -> ca.SX:
@@ -59,6 +78,14 @@ class RigidBody(Body):
 
     def symbolic_values(self) -> list[ca.SX]:
         return [self._mass, self._com, self._inertia]
+
+    def _check_numeric_parts(self) -> None:
+        """Refuse numeric mass properties no rigid body has (symbolic ones: when parameters are bound)."""
+        from ..mass_properties import check_rigid_body
+
+        mass = float(ca.evalf(self._mass)) if self._mass.is_constant() else 0.0
+        inertia = np.array(ca.evalf(self._inertia)) if self._inertia.is_constant() else np.zeros((3, 3))
+        check_rigid_body(mass, inertia, self.name, triangle=not self.lumped_inertia)
 
 
 def _inertia_matrix(inertia, name: str) -> ca.SX:

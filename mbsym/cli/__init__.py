@@ -1,16 +1,26 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
+``mbsym identify``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
+Warnings are printed on stderr as one line each, ``mbsym <command>: warning: <message>``.
 """
 
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+import warnings
 from typing import Sequence
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "plain"]
+
+
+def plain(text: str) -> str:
+    """Help text without reStructuredText markup: ``:func:`x``` and ````x```` become ``x``."""
+    text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", text)
+    return text.replace("``", "")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,12 +55,14 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="derive, check and simulate the double pendulum of the quick start")
     demo.add_argument("--tmax", type=float, default=5.0, help="simulated time [s] (default 5)")
     from .campbell import add_parser as add_campbell
+    from .identify import add_parser as add_identify
     from .linearize import add_parser as add_linearize
     from .simulate import add_parser as add_simulate
 
     add_simulate(sub)
     add_linearize(sub)
     add_campbell(sub)
+    add_identify(sub)
     return parser
 
 
@@ -67,24 +79,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     try:
-        if args.command == "demo":
-            from ..demo import run_demo
-
-            if not args.tmax > 0:
-                raise ValueError(f"--tmax must be positive; got {args.tmax}")
-            run_demo(tmax=args.tmax)
-        elif args.command == "simulate":
-            from .simulate import run
-
-            return run(args)
-        elif args.command == "linearize":
-            from .linearize import run as run_linearize
-
-            return run_linearize(args)
-        elif args.command == "campbell":
-            from .campbell import run as run_campbell
-
-            return run_campbell(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            warnings.showwarning = _one_line_warning(args.command)
+            return _dispatch(args)
     except BrokenPipeError:         # e.g. `mbsym simulate --stats | head`: not an error of ours
         sys.stderr.close()
         return 0
@@ -92,7 +90,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         message = " ".join(str(exc).split())
         print(f"mbsym {args.command}: error: {message}", file=sys.stderr)
         return 2
-    return 0
+
+
+def _one_line_warning(command: str):
+    def show(message, category, filename, lineno, file=None, line=None):  # noqa: ARG001 - warnings hook
+        print(f"mbsym {command}: warning: {' '.join(str(message).split())}", file=sys.stderr)
+    return show
+
+
+def _dispatch(args) -> int:
+    if args.command == "demo":
+        from ..demo import run_demo
+        from ..exceptions import OptionError
+
+        if not args.tmax > 0:
+            raise OptionError(f"--tmax must be positive; got {args.tmax}")
+        run_demo(tmax=args.tmax)
+        return 0
+    if args.command == "simulate":
+        from .simulate import run
+    elif args.command == "linearize":
+        from .linearize import run
+    elif args.command == "identify":
+        from .identify import run
+    else:
+        from .campbell import run
+    return run(args)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -2,25 +2,32 @@
 
 Contract (kept for acceptance checks)::
 
-    mbsym linearize [DECK.fst] [--rpm R] [--json] [--method {elastodyn-fd,exact}]
+    mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
+                    [--structure-only]
 
-The operating point is the one of OpenFAST's linearization with zero initial
-deflections: the deck's RotSpeed (or ``--rpm``), its Azimuth, NacYaw and BlPitch, and
-every tower and platform displacement zero. It is generally *not* an equilibrium (the
-rotor-nacelle overhang pulls the tower forward), and like OpenFAST the first-order model
-is the Jacobian of the nonlinear rhs there. No deck: the built-in NREL 5 MW with its
-modelled DOFs and the NREL 5 MW yaw spring and damper.
+The operating point is the deck's RotSpeed (``--rpm`` replaces it), Azimuth, NacYaw and BlPitch
+with every tower, platform and blade displacement zero, as OpenFAST's linearization of its
+undeflected ``_lin0`` decks and as ``mbsym.linearize(TurbineModel(read_openfast(deck)))`` (the
+turbine's ``linearization_state()``); ``--deflected`` keeps the deck's initial displacements
+(OpenFAST's linearization of the deck itself at t = 0). Neither is generally an equilibrium, and
+like OpenFAST the first-order model is the Jacobian of the nonlinear rhs there. No deck: the
+built-in NREL 5 MW with its modelled DOFs and the NREL 5 MW yaw spring and damper.
 
-``--method elastodyn-fd`` (default) takes A by central differences of the rhs with
-ElastoDyn's own steps (:func:`mbsym.linear.elastodyn_steps`), which reproduces OpenFAST's
-frequencies including its finite-step error (0.8 % on a floating platform's pitch
-frequency, docs/elastodyn_notes.md §8.3); ``--method exact`` uses automatic
-differentiation. M, C, K are exact residual Jacobians at the operating point's own
-acceleration (so ``A = [[0, I], [-M⁻¹K, -M⁻¹C]]`` for ``exact``).
+The default method, of ``mbsym.linearize`` on a turbine too, is ``elastodyn-fd``: A by central
+differences of the rhs with ElastoDyn's own steps (:func:`mbsym.linear.elastodyn_steps`), which
+reproduces OpenFAST's frequencies including its finite-step error (0.8 % on a floating
+platform's pitch frequency, docs/elastodyn_notes.md §8.3). ``--method exact`` uses automatic
+differentiation. M, C, K are exact residual Jacobians at the operating point's own acceleration.
+Rotor speeds whose blade tip would exceed the speed of sound are refused
+(:data:`mbsym.wind.deck.checks.MAX_TIP_SPEED`).
 
-``--json`` prints one object: ``states``, ``A``, ``modes`` (``freq_hz``,
-``damping_ratio``, ``dominant_dof``; rigid-body modes with ``freq_hz`` 0), ``M``,
-``C``, ``K``.
+The text output lists the modes, then the states with their units, A, M, C and K. ``--json``
+prints one object: ``states``, ``A``, ``modes`` (``freq_hz``, ``damping_ratio``,
+``dominant_dof`` (largest shape entry), ``rigid_body``, ``label`` (assigned one to one by kinetic
+energy, :func:`mode_labels`: "1st tower fore-aft" vs "2nd tower fore-aft"); rigid-body modes
+with ``freq_hz`` 0), ``M``, ``C``, ``K``,
+and ``rpm``, ``method``, ``operating_point`` (``q``, ``qd``, ``u`` by name, SI units) and
+``units`` (of the states, of M, C, K rows/columns and of the frequencies).
 """
 
 from __future__ import annotations
@@ -31,34 +38,54 @@ import json
 
 import numpy as np
 
+from . import plain as _plain
+
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("linearize", help="linearize an OpenFAST deck at its undeflected initial state; print modes",
-                       description=__doc__.split("\n\n")[0])
+                       description=_plain(__doc__.split("\n\n")[0]))
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst); default: built-in NREL 5 MW")
     p.add_argument("--rpm", type=float, help="rotor speed [rpm] (default: the deck's RotSpeed)")
-    p.add_argument("--json", action="store_true", help="print states, A, modes, M, C, K as one JSON object")
-    p.add_argument("--method", choices=("elastodyn-fd", "exact"), default="elastodyn-fd",
-                   help="A by ElastoDyn's central differences (default, as OpenFAST) or exact derivatives")
+    p.add_argument("--deflected", action="store_true",
+                   help="keep the deck's initial tower, platform and blade displacements (default: all zero, "
+                        "as OpenFAST's _lin0 decks)")
+    p.add_argument("--json", action="store_true",
+                   help="print states, A, modes, M, C, K, rpm, operating point and units as one JSON object")
+    p.add_argument("--method", choices=("exact", "elastodyn-fd"), default="elastodyn-fd",
+                   help="ElastoDyn's central differences (default, as mbsym.linearize of a turbine: reproduces "
+                        "OpenFAST, including its finite-step error) or exact derivatives")
+    from .simulate import add_structure_only
+
+    add_structure_only(p)
 
 
-def undeflected(turbine, rpm: float | None = None):
-    """The deck's turbine with zero tower and platform displacements (and ``rpm`` if given)."""
+def undeflected(turbine, rpm: float | None = None, *, zero_displacements: bool = True):
+    """The deck's turbine with zero tower, platform and blade displacements (and ``rpm`` if given).
+
+    Raises
+    ------
+    OptionError
+        ``rpm`` negative, not finite, or with a supersonic blade tip
+        (:func:`mbsym.wind.deck.checks.check_rotor_speed`).
+    """
+    from ..wind.deck.checks import check_rotor_speed
+
     ic = turbine.initial_conditions
-    changes = dict(tower_top_fa_displacement=0.0, tower_top_ss_displacement=0.0, platform_surge=0.0,
-                   platform_sway=0.0, platform_heave=0.0, platform_roll=0.0, platform_pitch=0.0, platform_yaw=0.0,
-                   blade_oop_tip_deflection=0.0, blade_ip_tip_deflection=0.0, teeter_angle=0.0)
+    changes = {}
+    if zero_displacements:
+        changes = dict(tower_top_fa_displacement=0.0, tower_top_ss_displacement=0.0, platform_surge=0.0,
+                       platform_sway=0.0, platform_heave=0.0, platform_roll=0.0, platform_pitch=0.0, platform_yaw=0.0,
+                       blade_oop_tip_deflection=0.0, blade_ip_tip_deflection=0.0, teeter_angle=0.0)
     if rpm is not None:
-        if not (np.isfinite(rpm) and rpm >= 0):
-            raise ValueError(f"--rpm must be a finite rotor speed >= 0 [rpm]; got {rpm}")
-        changes["rotor_speed"] = rpm * np.pi / 30.0
+        changes["rotor_speed"] = check_rotor_speed(rpm, turbine.tip_radius) * np.pi / 30.0
     return dataclasses.replace(turbine, initial_conditions=dataclasses.replace(ic, **changes))
 
 
-def _model(deck, rpm):
+def _model(deck, rpm, *, zero_displacements: bool = False, structure_only: bool = False):
     from ..wind import nrel5mw, read_openfast
+    from ..wind.deck.checks import check_modules
     from ..wind.structure.turbine import NON_BLADE_DOFS, TurbineModel
     from .simulate import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING
 
@@ -67,31 +94,98 @@ def _model(deck, rpm):
         dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
         return model, "NREL 5 MW onshore (built-in)"
-    return TurbineModel(undeflected(read_openfast(deck), rpm)), str(deck)
+    turbine = read_openfast(deck)
+    check_modules(turbine, structure_only=structure_only)
+    return TurbineModel(undeflected(turbine, rpm, zero_displacements=zero_displacements)), str(deck)
 
 
-def linear_report(model, method: str = "elastodyn-fd") -> dict:
-    """The ``--json`` object of a TurbineModel at its default (initial) state."""
+def linear_report(model, method: str | None = None, *, deflected: bool = False) -> dict:
+    """The ``--json`` object of a TurbineModel at its linearization state, or with ``deflected`` at its initial
+    state (see the module docstring)."""
     from ..linear import linearize
 
-    lin = linearize(model, qdd0="rhs", method=method)
-    return {"states": list(lin.states), "A": lin.A.tolist(), "modes": [m.as_dict() for m in lin.modes()],
-            "M": lin.M.tolist(), "C": lin.C.tolist(), "K": lin.K.tolist()}
+    q0 = qd0 = None
+    if deflected:
+        x = model.initial_state()
+        q0, qd0 = x[:model.eom.n_q], x[model.eom.n_q:]
+    lin = linearize(model, q0, qd0, qdd0="rhs", method=method)
+    op = lin.operating_point
+    units = state_units(model)
+    n = len(lin.coordinates)
+    modes = lin.modes()
+    labels = mode_labels(lin.M, modes, lin.coordinates)
+    return {"states": list(lin.states), "A": lin.A.tolist(),
+            "modes": [m.as_dict() | {"rigid_body": bool(m.rigid_body), "label": lab} for m, lab in zip(modes, labels)],
+            "M": lin.M.tolist(), "C": lin.C.tolist(), "K": lin.K.tolist(),
+            "rpm": float(model.turbine.initial_conditions.rotor_speed * 30.0 / np.pi), "method": lin.method,
+            "operating_point": {"q": dict(zip(lin.coordinates, op["q"].tolist())),
+                                "qd": dict(zip(lin.coordinates, op["qd"].tolist())),
+                                "u": dict(zip(lin.inputs, op["u"].tolist()))},
+            "units": {"states": units, "coordinates": units[:n], "freq_hz": "Hz", "damping_ratio": "-", "rpm": "rpm",
+                      "M": "kg, kg m or kg m^2 (row i, column j: force unit of q_i / acceleration unit of q_j)",
+                      "C": "force unit of q_i / speed unit of q_j", "K": "force unit of q_i / unit of q_j",
+                      "A": "d(state_i rate)/d(state_j), SI"}}
+
+
+def mode_labels(M: np.ndarray, modes, coordinates) -> list[str]:
+    """A label per mode ("1st tower fore-aft", "2nd tower fore-aft", …), assigned one to one.
+
+    Each oscillatory mode's kinetic energy is split over the coordinates, coordinate ``i``
+    carrying ``|Re(conj(v_i) (M v)_i)|``; an optimal one-to-one assignment of modes to
+    coordinates (the generator azimuth excluded: it is the rotor's rigid-body rotation) names
+    each mode, so the 2nd tower mode is not called after TFA1 although TFA1 dominates its
+    shape. Rigid-body modes are "rigid body (<dominant DOF>)".
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    from ..wind.analysis.campbell_diagram import DOF_LABELS
+    from ..wind.structure.dofs import blade_dof
+
+    def words(name: str) -> str:
+        blade = blade_dof(name)
+        kinds = {"F1": "1st flap", "E1": "1st edge", "F2": "2nd flap"}
+        return f"blade {blade[0]} {kinds[blade[1]]}" if blade else DOF_LABELS.get(name, name)
+
+    labels = [f"rigid body ({m.dominant_dof})" if m.rigid_body else words(m.dominant_dof) for m in modes]
+    osc = [k for k, m in enumerate(modes) if not m.rigid_body]
+    cols = [i for i, c in enumerate(coordinates) if c != "GeAz"]
+    if not osc or not cols:
+        return labels
+    S = np.zeros((len(osc), len(cols)))
+    for r, k in enumerate(osc):
+        v = np.asarray(modes[k].shape)
+        share = np.abs((v.conj() * (M @ v)).real)[cols]
+        S[r] = share / share.sum() if share.sum() > 0 else share
+    rows, assigned = linear_sum_assignment(S, maximize=True)
+    for r, c in zip(rows, assigned):
+        labels[osc[r]] = words(coordinates[cols[c]])
+    return labels
+
+
+def state_units(model) -> list[str]:
+    """Units of the states ``[q; qd]`` of a TurbineModel (m or rad; m/s or rad/s), from its Q_/QD_ channels."""
+    channels = model.output_function()
+    units = dict(zip(channels.names, channels.units))
+    coords = model.eom.coordinates
+    return ([units.get(f"Q_{c}", "?") for c in coords] + [units.get(f"QD_{c}", "?") for c in coords])
 
 
 def run(args: argparse.Namespace) -> int:
-    model, label = _model(args.deck, args.rpm)
-    report = linear_report(model, args.method)
+    model, label = _model(args.deck, args.rpm, zero_displacements=not args.deflected,
+                          structure_only=args.structure_only)
+    report = linear_report(model, args.method, deflected=args.deflected)
     if args.json:
         print(json.dumps(report))
         return 0
-    rpm = model.turbine.initial_conditions.rotor_speed * 30.0 / np.pi
     print(f"mbsym linearize: {label}")
-    print(f"DOFs: {', '.join(model.eom.coordinates)}; rotor speed {rpm:.4g} rpm; method {args.method}")
-    print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  dominant DOF")
+    print(f"DOFs: {', '.join(model.eom.coordinates)}; rotor speed {report['rpm']:.4g} rpm; method {args.method}; "
+          f"operating point: the deck's initial state{'' if args.deflected else ' without displacements'}")
+    print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant DOF':<13} label")
     for i, m in enumerate(report["modes"], 1):
-        kind = "  (rigid body)" if m["freq_hz"] == 0.0 else ""
-        print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']}{kind}")
+        print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']:<13} {m['label']}")
+    states = [f"{s} [{u}]" for s, u in zip(report["states"], report["units"]["states"])]
+    print(f"\nstates: {', '.join(states)}")
     with np.printoptions(precision=5, linewidth=120):
-        print(f"\nstates {report['states']}\nA =\n{np.array(report['A'])}")
+        for name in ("A", "M", "C", "K"):
+            print(f"{name} ({report['units'][name]}) =\n{np.array(report[name])}")
     return 0

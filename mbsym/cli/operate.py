@@ -34,6 +34,7 @@ import argparse
 import json
 import sys
 import time
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -61,8 +62,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def wants_operation(args: argparse.Namespace) -> bool:
-    """Whether ``mbsym simulate`` runs an operating turbine (flags, or a deck with AeroDyn)."""
-    if any(getattr(args, k, None) is not None for k in ("wind", "controller", "discon", "discon_input")):
+    """Whether ``mbsym simulate`` runs an operating turbine (flags, or a deck with AeroDyn).
+
+    Raises
+    ------
+    SimulationOptionError
+        ``--structure-only`` together with an operating flag.
+    """
+    flags = [f"--{k.replace('_', '-')}" for k in ("wind", "controller", "discon", "discon_input")
+             if getattr(args, k, None) is not None]
+    if getattr(args, "structure_only", False):
+        if flags:
+            from ..exceptions import SimulationOptionError
+
+            raise SimulationOptionError(f"--structure-only runs the ElastoDyn structure alone (no wind, no "
+                                        f"controller); it cannot be combined with {', '.join(flags)}.")
+        return False
+    if flags:
         return True
     if args.deck is None:
         return False
@@ -74,15 +90,16 @@ def wants_operation(args: argparse.Namespace) -> bool:
 def run_operation(args: argparse.Namespace) -> int:
     """Run ``mbsym simulate`` for an operating turbine (see the module docstring)."""
     from ..simulate import ProgressPrinter, SimulationInterrupted
-    from .simulate import _check_files, _print_comparison
+    from .simulate import _check_files, _report_comparison
 
     options = _integration(args)
-    ref = _check_files(args)
+    ref, outputs = _check_files(args)
     t0 = time.perf_counter()
     deck = _deck(args)
     kind = _controller_kind(args, deck)
     wind, wind_label = _wind(args, deck)
     tmax, t_out = _grid(args, deck, wind)
+    outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = _controller(kind, args, deck)       # bad controller files fail before the model is built
     try:
         model = _model(deck)
@@ -115,22 +132,8 @@ def run_operation(args: argparse.Namespace) -> int:
                  real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
     _summary(series, stats)
     if ref is not None:
-        from ..wind.analysis.compare import compare, not_compared
-
-        _print_comparison(compare(series, ref))
-        missing = not_compared(series, ref)
-        if missing:
-            print(f"not compared (not produced by this model): {', '.join(missing)}")
-    if args.out:
-        from ..wind.analysis.compare import write_csv
-
-        write_csv(args.out, series)
-        print(f"wrote {args.out} ({len(series.time)} rows, {len(series.names)} channels)")
-    if args.plot:
-        from ..wind.analysis.compare import overlay_plot
-
-        overlay_plot(args.plot, series, ref, channels=list(SUMMARY_CHANNELS), title=deck.label)
-        print(f"wrote {args.plot}")
+        _report_comparison(series, ref)
+    _write_outputs(outputs, series, ref, deck.label)
     if args.stats:
         from .simulate import _jsonable
 
@@ -139,6 +142,32 @@ def run_operation(args: argparse.Namespace) -> int:
 
 
 # ------------------------------------------------------------------------------------------- pieces
+def _input_files(args, deck) -> list[tuple[str, str]]:
+    """Files the run reads (the deck's, the wind file, the controller's input)."""
+    files = [(f"deck's {name}", path) for name, path in (getattr(deck.turbine, "source_files", {}) or {}).items()]
+    if args.wind is not None and Path(args.wind).is_file():
+        files.append(("--wind", args.wind))
+    for flag, path in (("--discon-input", args.discon_input), ("deck's DISCON.IN", deck.discon_in)):
+        if path is not None:
+            files.append((flag, str(path)))
+    return files
+
+
+def _write_outputs(outputs, series, ref, label: str) -> None:
+    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
+    from ..wind.analysis.compare import overlay_plot, write_csv
+
+    with outputs:
+        if "--out" in outputs._final:
+            write_csv(outputs.temporary("--out"), series)
+        if "--plot" in outputs._final:
+            overlay_plot(outputs.temporary("--plot"), series, ref, channels=list(SUMMARY_CHANNELS), title=label)
+        written = outputs.commit()
+    for path in written:
+        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
+        print(f"wrote {path}{extra}")
+
+
 def _integration(args) -> dict:
     """Integration keywords of simulate_turbine from the flags (checked before any work)."""
     from ..exceptions import SimulationOptionError

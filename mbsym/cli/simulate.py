@@ -31,8 +31,11 @@ import dataclasses
 import json
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+from . import plain as _plain
 
 __all__ = ["add_parser", "run"]
 
@@ -40,7 +43,7 @@ __all__ = ["add_parser", "run"]
 def add_parser(sub) -> None:
     p = sub.add_parser("simulate", help="simulate an OpenFAST deck (default: built-in NREL 5 MW): a free decay, or "
                                         "operating in a wind (--wind, or a deck with AeroDyn)",
-                       description=__doc__.split("\n\n")[0])
+                       description=_plain(__doc__.split("\n\n")[0]))
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst); default: built-in NREL 5 MW")
     p.add_argument("--tmax", type=float, help="simulated time [s] (default: the deck's TMax)")
     p.add_argument("--dt", type=float, help="output spacing [s] (default: the deck's DT_Out); with a fixed-step "
@@ -59,9 +62,17 @@ def add_parser(sub) -> None:
     p.add_argument("--compile", action="store_true", default=None,
                    help="run the integration as generated C (gcc -O1, cached on disk); by default the automatic "
                         "choice compiles when the library is cached or compiling pays off")
+    add_structure_only(p)
     from .operate import add_arguments
 
     add_arguments(p)            # the operating turbine: --wind, --controller, --discon, --discon-input (cli/operate.py)
+
+
+def add_structure_only(p) -> None:
+    """The ``--structure-only`` flag (simulate, linearize, campbell)."""
+    p.add_argument("--structure-only", action="store_true",
+                   help="run a deck that switches on modules mbsym does not model (CompAero, CompServo, CompHydro, "
+                        "...) as the ElastoDyn structure alone, with a warning (default: refuse such decks)")
 
 
 #: NREL 5 MW baseline ServoDyn yaw spring [N m/rad] and damper [N m s/rad] (YawSpr, YawDamp of the
@@ -89,8 +100,9 @@ def run(args: argparse.Namespace) -> int:
     if wants_operation(args):       # wind, aerodynamics, actuators, controller (cli/operate.py)
         return run_operation(args)
     options = _integration_options(args)
-    ref = _check_files(args)        # fail before any expensive work
-    model, label = _model(args.deck)
+    ref, outputs = _check_files(args)        # fail before any expensive work
+    model, label = _model(args.deck, structure_only=args.structure_only)
+    outputs.add_inputs(_deck_inputs(model))
     tmax, t_out, step = _time_grid(args, model.turbine.simulation)
     t0 = time.perf_counter()
     channels = model.output_function()          # derives the equations and the output Function
@@ -109,22 +121,8 @@ def run(args: argparse.Namespace) -> int:
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
     _summary(series, stats)
     if ref is not None:
-        from ..wind.analysis.compare import compare, not_compared
-
-        _print_comparison(compare(series, ref))
-        missing = not_compared(series, ref)
-        if missing:
-            print(f"not compared (not produced by this model): {', '.join(missing)}")
-    if args.out:
-        from ..wind.analysis.compare import write_csv
-
-        write_csv(args.out, series)
-        print(f"wrote {args.out} ({len(series.time)} rows, {len(series.names)} channels)")
-    if args.plot:
-        from ..wind.analysis.compare import overlay_plot
-
-        overlay_plot(args.plot, series, ref, title=label)
-        print(f"wrote {args.plot}")
+        _report_comparison(series, ref)
+    _write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name)
     if args.stats:
         print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
     return 0
@@ -192,28 +190,44 @@ def _time_grid(args, sim) -> tuple[float, np.ndarray, float]:
 
 
 def _check_files(args):
-    """Read --compare and check --out/--plot destinations before simulating."""
-    from pathlib import Path
+    """Read --compare and check the --out/--plot destinations before simulating (:mod:`._files`)."""
+    from ._files import Outputs
 
+    outputs = Outputs([("--compare", args.compare), ("deck", args.deck)])
+    if args.out is not None:
+        outputs.add("--out", args.out)
+    if args.plot is not None:
+        outputs.add("--plot", args.plot, image=True)
     ref = None
     if args.compare:
         from ..wind.analysis.compare import read_csv
 
         ref = read_csv(args.compare)
-    for flag, path in (("--out", args.out), ("--plot", args.plot)):
-        if path and not Path(path).resolve().parent.is_dir():
-            raise ValueError(f"{flag} {path}: the directory {Path(path).resolve().parent} does not exist")
-    if args.plot:
-        from matplotlib.figure import Figure
-
-        kinds = Figure().canvas.get_supported_filetypes()
-        suffix = Path(args.plot).suffix.lstrip(".").lower()
-        if suffix not in kinds:
-            raise ValueError(f"--plot {args.plot}: unsupported image type {suffix!r}; use one of {', '.join(sorted(kinds))}")
-    return ref
+    return ref, outputs
 
 
-def _model(deck):
+def _deck_inputs(model) -> list[tuple[str, str]]:
+    """The deck's files (never overwritten by an output)."""
+    files = getattr(model.turbine, "source_files", {}) or {}
+    return [(f"deck's {name}", path) for name, path in files.items()]
+
+
+def _write_outputs(outputs, series, ref, label: str) -> None:
+    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
+    from ..wind.analysis.compare import overlay_plot, write_csv
+
+    with outputs:
+        if "--out" in outputs._final:
+            write_csv(outputs.temporary("--out"), series)
+        if "--plot" in outputs._final:
+            overlay_plot(outputs.temporary("--plot"), series, ref, title=label)
+        written = outputs.commit()
+    for path in written:
+        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
+        print(f"wrote {path}{extra}")
+
+
+def _model(deck, *, structure_only: bool = False):
     from ..wind import read_openfast
     from ..wind.structure.turbine import NON_BLADE_DOFS, TurbineModel
 
@@ -222,7 +236,10 @@ def _model(deck):
         dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
         return model, "NREL 5 MW onshore (built-in, rigid blades), tower top released from 0.5 m fore-aft"
+    from ..wind.deck.checks import check_modules
+
     turbine = read_openfast(deck)
+    check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)
 
 
@@ -269,10 +286,26 @@ def _summary(series, stats) -> None:
         print(f"{n:<14} {unit:<8} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y[-1]:12.5g}")
 
 
+def _report_comparison(series, ref) -> None:
+    """The ε/R² table, then what was not compared: channels, time ranges, non-finite samples."""
+    from ..wind.analysis.compare import compare, coverage_notes, not_compared
+
+    rows = compare(series, ref)
+    _print_comparison(rows)
+    missing = not_compared(series, ref)
+    if missing:
+        print(f"not compared (not produced by this model): {', '.join(missing)}")
+    for note in coverage_notes(series, ref):
+        print(f"note: {note}")
+    excluded = [f"{r['channel']} ({r['n_excluded']})" for r in rows if r["n_excluded"]]
+    if excluded:
+        print(f"note: samples left out where a value is not finite (NaN/inf): {', '.join(excluded)}")
+
+
 def _print_comparison(rows) -> None:
     print(f"\n{'channel':<14} {'ε [%]':>9} {'R²':>10} {'max |Δ|':>12}")
     for r in rows:
-        eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.3f}"
+        eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.4f}"
         r2 = "-" if np.isnan(r["r2"]) else f"{r['r2']:.6f}"
         print(f"{r['channel']:<14} {eps:>9} {r2:>10} {r['max_abs_diff']:12.4g}")
 

@@ -35,7 +35,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..equations import EquationsOfMotion, check_nonsingular
-from ..exceptions import DimensionError, SolverError
+from ..exceptions import ArgumentTypeError, DimensionError, OptionError, SolverError
 from .fd import elastodyn_steps, fd_rhs
 from .functions import jacobian_function, linear_function
 from .model import LinearModel
@@ -52,20 +52,21 @@ METHODS = ("exact", "fd", "elastodyn-fd")
 def resolve_steps(target: Target, method: str, steps) -> np.ndarray | None:
     """Per-state finite-difference steps (n_x), or None for the exact method."""
     if method not in METHODS:
-        raise ValueError(f"unknown linearization method {method!r}; choose one of {list(METHODS)}.")
+        raise OptionError(f"unknown linearization method {method!r}; choose one of {list(METHODS)}.")
     eom = target.eom
     if method == "exact":
         if steps is not None:
-            raise TypeError("steps= is used only with method='fd' (finite differences).")
+            raise ArgumentTypeError("steps= is used only with method='fd' (finite differences).")
         return None
     if method == "elastodyn-fd":
         if steps is not None:
-            raise TypeError("method='elastodyn-fd' uses ElastoDyn's own steps; for other steps use method='fd'.")
+            raise ArgumentTypeError("method='elastodyn-fd' uses ElastoDyn's own steps; for other steps use method='fd'.")
         table = elastodyn_steps(target.owner if target.owner is not None else eom)
         h = np.array([table[c] for c in eom.coordinates])
         return np.concatenate([h, h])
     if steps is None:
-        raise TypeError("method='fd' needs steps=: a dict by coordinate (speeds use the same step) or n_x numbers.")
+        raise ArgumentTypeError("method='fd' needs steps=: a dict by coordinate (speeds use the same step) or n_x "
+                                "numbers.")
     if isinstance(steps, Mapping):
         return _step_dict(steps, eom)
     h = np.asarray(steps, dtype=float).reshape(-1)
@@ -101,7 +102,7 @@ def resolve_qdd(eom: EquationsOfMotion, qdd0, n_points: int | None = None):
     if qdd0 is None or (isinstance(qdd0, str) and qdd0 == "rhs"):
         return qdd0
     if isinstance(qdd0, str):
-        raise ValueError(f"qdd0 must be None, 'rhs' or {eom.n_q} numbers; got {qdd0!r}.")
+        raise OptionError(f"qdd0 must be None, 'rhs' or {eom.n_q} numbers; got {qdd0!r}.")
     if n_points is None:
         return eom._vec(qdd0, eom.n_q, "qdd0", eom.coordinates)
     return rows(qdd0, n_points, eom.n_q, "qdd0")
@@ -119,21 +120,24 @@ def rows(value, n_points: int, width: int, what: str) -> np.ndarray:
 
 
 def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None = None, *, qdd0=None,
-              outputs: Sequence[str] | str | None = None, method: str = "exact", steps=None) -> LinearModel:
+              outputs: Sequence[str] | str | None = None, method: str | None = None, steps=None) -> LinearModel:
     """Linearize the equations of motion about an operating point.
 
     Parameters
     ----------
     model : EquationsOfMotion or model object
         An object with ``eom`` (e.g. :class:`~mbsym.wind.structure.turbine.TurbineModel`)
-        supplies the defaults through its hooks ``default_state()``,
-        ``default_inputs()`` (evaluated at t = 0), ``default_parameters()`` and the
-        output channels of ``output_function()``.
+        supplies the defaults through its hooks ``linearization_state()`` (else
+        ``default_state()``), ``linearization_method()``, ``default_inputs()``
+        (evaluated at t = 0), ``default_parameters()`` and the output channels of
+        ``output_function()``. A wind turbine linearizes as ``mbsym linearize`` and
+        OpenFAST do: at the deck's rotor speed with every displacement zero, by
+        ElastoDyn's central differences.
     q0 : sequence of n_q, dict by name, or OperatingPoint, optional
-        Coordinates [m, rad] (default: the model's default state, else zero). An
+        Coordinates [m, rad] (default: the model's linearization state, else zero). An
         :class:`~mbsym.linear.OperatingPoint` supplies q, qd, u and p at once.
     qd0 : sequence of n_q or dict, optional
-        Speeds (default: the model's default state, else zero).
+        Speeds (default: the model's linearization state, else zero).
     u0 : sequence of n_u or dict by name, optional
         Inputs (default: the model's default inputs at t = 0, else zero).
     p : dict, optional
@@ -146,8 +150,9 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
         Output channels of the model (e.g. ``"TTDspFA"``, ``"QD2_TFA1"``,
         ``"RotSpeed"``, ``"GenSpeed"``; OpenFAST headers ``"TTDspFA_[m]"`` work too)
         or state names: gives ``Cy``, ``Dy``.
-    method : {"exact", "fd", "elastodyn-fd"}, keyword-only
-        ``"exact"``: automatic differentiation. ``"fd"``: A (and Cy) by central
+    method : {"exact", "fd", "elastodyn-fd"} or None, keyword-only
+        Default None: the model's own (hook ``linearization_method()``: ``"elastodyn-fd"``
+        for a wind turbine), else ``"exact"``. ``"exact"``: automatic differentiation. ``"fd"``: A (and Cy) by central
         differences of the nonlinear rhs (and outputs) with ``steps`` (dict by
         coordinate, the speed uses the same number, or n_x numbers). ``"elastodyn-fd"``:
         ``"fd"`` with ElastoDyn's own steps (:func:`elastodyn_steps`), which
@@ -183,9 +188,11 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
     target = Target(model)
     eom, n = target.eom, target.eom.n_q
     q0, qd0, u0, p = _from_operating_point(q0, qd0, u0, p)
-    q, qd = target.state(q0, qd0)
+    q, qd = target.state(q0, qd0, hook="linearization_state")
     uu, pp = target.inputs(u0), target.parameters(p)
     qdd_in = resolve_qdd(eom, qdd0)
+    if method is None:
+        method = target._hook("linearization_method") or "exact"
     h = resolve_steps(target, method, steps)
     sel = resolve_outputs(target, outputs)
     M, C, K, Q, A, B, xd = (np.array(v) for v in linear_function(eom)(q, qd, uu, pp))
@@ -206,7 +213,7 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
     op = {"q": q, "qd": qd, "qdd": qdd, "u": uu, "x": x, "xd": xd, "y": y0,
           "p": dict(zip(eom.parameters, pp.tolist()))}
     return LinearModel(M, C, K, Q.reshape(n, eom.n_u), A, B.reshape(2 * n, eom.n_u), eom.coordinates,
-                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method)
+                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method, units=dict(eom.units))
 
 
 def _from_operating_point(q0, qd0, u0, p):

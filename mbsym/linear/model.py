@@ -6,7 +6,33 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["LinearModel", "natural_frequencies"]
+__all__ = ["LinearModel", "Frequencies", "natural_frequencies"]
+
+
+class Frequencies(tuple):
+    """``(freq_hz, damping_ratio)`` of :meth:`LinearModel.frequencies`, labelled.
+
+    Unpacks as the pair ``f, zeta = lin.frequencies()``; also has the attributes ``freq_hz``
+    [Hz], ``damping_ratio`` [-] and ``labels`` (the coordinate carrying most of each entry's
+    kinetic energy), and prints as a table.
+    """
+
+    def __new__(cls, freq_hz: np.ndarray, damping_ratio: np.ndarray, labels) -> "Frequencies":
+        obj = super().__new__(cls, (freq_hz, damping_ratio))
+        obj.labels = tuple(labels)
+        return obj
+
+    @property
+    def freq_hz(self) -> np.ndarray:
+        return self[0]
+
+    @property
+    def damping_ratio(self) -> np.ndarray:
+        return self[1]
+
+    def __repr__(self) -> str:
+        rows = [f"{f:12.6g} Hz  zeta {z:9.4g}  {lab}" for f, z, lab in zip(self[0], self[1], self.labels)]
+        return "Frequencies(\n" + "\n".join(rows) + "\n)"
 
 
 @dataclass(frozen=True)
@@ -34,6 +60,8 @@ class LinearModel:
     output_units : tuple of str
     method : str
         ``"exact"``, ``"fd"`` or ``"elastodyn-fd"`` (how A and Cy were obtained).
+    units : dict of str to str
+        Unit of each state by name (``"m"``, ``"rad/s"`` …; empty if unknown).
     """
 
     M: np.ndarray
@@ -51,6 +79,7 @@ class LinearModel:
     Dy: np.ndarray | None = None
     output_units: tuple[str, ...] = ()
     method: str = "exact"
+    units: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.Cy is None:
@@ -58,15 +87,41 @@ class LinearModel:
         if self.Dy is None:
             object.__setattr__(self, "Dy", np.zeros((0, len(self.inputs))))
 
-    def frequencies(self) -> tuple[np.ndarray, np.ndarray]:
-        """Natural frequencies [Hz] and damping ratios [-] of the eigenvalues of A.
+    def frequencies(self) -> "Frequencies":
+        """Natural frequencies [Hz] and damping ratios [-] of the eigenvalues of A, labelled.
 
         One entry per complex-conjugate pair (and per real eigenvalue), sorted by
-        frequency; rigid-body (zero) eigenvalues give frequency 0. See
-        :meth:`modes` for one entry per mode with its shape.
+        frequency; rigid-body (zero) eigenvalues give frequency 0. Unpacks as
+        ``f, zeta = lin.frequencies()``; ``.labels`` names the coordinate carrying most
+        of each entry's kinetic energy (``|Re(conj(v_i) (M v)_i)|``). See :meth:`modes`
+        for one entry per mode with its shape.
         """
-        freq, zeta = natural_frequencies(self.A[np.newaxis])
-        return freq[0], zeta[0]
+        lam, V = np.linalg.eig(self.A)
+        keep = np.flatnonzero(np.imag(lam) >= 0)
+        wn = np.abs(lam[keep])
+        order = keep[np.argsort(wn, kind="stable")]
+        lam = lam[order]
+        wn = np.abs(lam)
+        zeta = np.where(wn > 0, -np.real(lam) / np.where(wn > 0, wn, 1.0), 1.0)
+        n = len(self.coordinates)
+        labels = []
+        for k in order:
+            v = V[:n, k]
+            share = np.abs((v.conj() * (self.M @ v)).real) if self.M.shape == (n, n) else np.abs(v)
+            labels.append(self.coordinates[int(np.argmax(share))] if n else "")
+        return Frequencies(wn / (2 * np.pi), zeta, labels)
+
+    def __repr__(self) -> str:
+        def named(names, limit=6):
+            shown = [f"{s} [{self.units.get(s, '-')}]" for s in names[:limit]]
+            return ", ".join(shown) + (f", … ({len(names)} in all)" if len(names) > limit else "") or "none"
+
+        f = self.frequencies()
+        modes = ", ".join(f"{fr:.4g} Hz ({lab})" for fr, lab in list(zip(f[0], f.labels))[:6])
+        outs = ", ".join(f"{o} [{u}]" for o, u in zip(self.outputs, self.output_units)) or "none"
+        return (f"LinearModel(method={self.method!r}; states: {named(self.coordinates)} and their speeds; "
+                f"inputs: {', '.join(self.inputs[:4]) or 'none'}{' …' if len(self.inputs) > 4 else ''}; "
+                f"outputs: {outs}; frequencies: {modes}{' …' if len(f[0]) > 6 else ''})")
 
     def modes(self, *, rigid_tol: float = 1e-4) -> list:
         """Modes of A (:func:`mbsym.modal.modal_analysis`): frequency, damping, shape, dominant DOF."""

@@ -20,7 +20,7 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-from ..exceptions import DimensionError, ModelDefinitionError
+from ..exceptions import DimensionError, ModelDefinitionError, OptionError
 from ._cache import cached
 from .functions import jacobian_function
 from .point import OperatingPoint
@@ -233,8 +233,9 @@ def steady_rotation(model, speed: float, *, coordinate: str | None = None, u0=No
     target = Target(model)
     eom = target.eom
     name, prescribed = _rotating_coordinate(target, coordinate)
-    if not np.isfinite(speed) or int(n_azimuth) < 1:
-        raise ValueError(f"speed must be finite and n_azimuth >= 1; got speed={speed!r}, n_azimuth={n_azimuth!r}.")
+    if not _finite_number(speed) or not _finite_number(n_azimuth) or int(n_azimuth) < 1:
+        raise OptionError(f"speed must be finite [rad/s] and n_azimuth >= 1; got speed={speed!r}, "
+                          f"n_azimuth={n_azimuth!r}.")
     q_guess, _ = target.state(q0, None)
     uu, pp = target.inputs(u0), target.parameters(p)
     qd = np.zeros(eom.n_q)
@@ -262,3 +263,11 @@ def steady_rotation(model, speed: float, *, coordinate: str | None = None, u0=No
         msg = f"steady rotation of {name} at {speed:.6g} rad/s" + (f"; held without stiffness: {held}" if held else "")
     return OperatingPoint(q, qd, np.zeros(eom.n_q), uu, dict(zip(eom.parameters, pp.tolist())), eom.coordinates,
                           eom.inputs, tuple(held_all), residual, ok, msg)
+
+
+def _finite_number(value) -> bool:
+    """Whether ``value`` is a finite real number (bool excluded)."""
+    try:
+        return not isinstance(value, bool) and bool(np.isfinite(float(value)))
+    except (TypeError, ValueError):
+        return False

@@ -11,7 +11,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..equations import EquationsOfMotion
-from ..exceptions import DimensionError
+from ..exceptions import ArgumentTypeError, DimensionError
 
 __all__ = ["Target", "named"]
 
@@ -25,18 +25,21 @@ class Target:
         elif isinstance(getattr(model, "eom", None), EquationsOfMotion):
             self.eom, self.owner = model.eom, model
         else:
-            raise TypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is one; "
-                            f"got {type(model).__name__}.")
+            raise ArgumentTypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is "
+                                    f"one; got {type(model).__name__}.")
 
     def _hook(self, name: str):
         f = getattr(self.owner, name, None) if self.owner is not None else None
         return f() if callable(f) else None
 
-    def state(self, q0, qd0) -> tuple[np.ndarray, np.ndarray]:
+    def state(self, q0, qd0, *, hook: str = "default_state") -> tuple[np.ndarray, np.ndarray]:
+        """``(q, qd)``: given values, else the owner's ``hook`` (falling back to ``default_state``), else zeros."""
         eom, n = self.eom, self.eom.n_q
         x = np.zeros(eom.n_x)
         if q0 is None or qd0 is None:
-            default = self._hook("default_state")
+            default = self._hook(hook)
+            if default is None and hook != "default_state":
+                default = self._hook("default_state")
             if default is not None:
                 from ..simulate.checks import initial_state
 

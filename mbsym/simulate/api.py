@@ -8,7 +8,9 @@ from typing import Any, Callable, Mapping, Sequence, Union
 
 import numpy as np
 
+from ..equations import EquationsOfMotion
 from ..exceptions import SimulationOptionError
+from ..mass_properties import check_mass_matrix
 from .base import Problem
 from .checks import (SimulationOptionWarning, check_accuracy, check_step, check_t_out, check_tmax, check_tolerances,
                      initial_state)
@@ -56,12 +58,13 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         Initial state (``[q; qd]`` [m, rad; m/s, rad/s] for equations of motion), in the
         order of the model's states, or a dict by state name whose missing states keep the
         model's default. Default: the model's default state, else zeros.
-    inputs : None, array (n_u) or dict, optional
+    inputs : None, array (n_u), dict or callable, optional
         ``u(t)``: None (the model's default inputs, else zero), constants in the order of the
         model's inputs, or a dict by input name (missing inputs take the model's default,
         else zero) of numbers, tables ``(grid, values)`` or values on a shared grid ``{"t":
         grid, "F": values}`` (interpolated linearly, never extrapolated), or callables
-        ``f(t)`` [t in s]. See :mod:`mbsym.simulate.inputs`.
+        ``f(t)`` [t in s]; or one callable ``f(t) -> n_u values`` for all inputs. See
+        :mod:`mbsym.simulate.inputs`.
     p : dict, optional
         Parameter values by name; the model's defaults fill the gaps.
     method : str, optional
@@ -178,6 +181,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if plant.default_u and (inputs is None or isinstance(inputs, Mapping)):
         inputs = {**plant.default_u, **(inputs or {})}
     signal = input_signal(inputs, plant.inputs, tmax)
+    if plant.eom is not None:                        # M > 0 at x0 before integrating
+        check_mass_matrix(plant.eom, x_init[: plant.eom.n_q], signal.at(0.0), p_vec)
     ctrl = None
     if controller is not None:
         from .controller import bind_controller
@@ -215,7 +220,14 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if extra is not None:
         Y = np.hstack([Y, extra.y])
         names, units = names + extra.names, units + extra.units
-    return SimulationResult(times, X, plant.states, U, plant.inputs, Y, names, stats, units, plant.n_q)
+    return SimulationResult(times, X, plant.states, U, plant.inputs, Y, names, stats, units, plant.n_q,
+                            _state_units(model))
+
+
+def _state_units(model) -> dict[str, str]:
+    """Units of the structural states (``EquationsOfMotion.units``) of a model, if it has equations."""
+    eom = model if isinstance(model, EquationsOfMotion) else getattr(model, "eom", None)
+    return dict(eom.units) if isinstance(eom, EquationsOfMotion) else {}
 
 
 def _grid(cls, tmax: float, dt, t_out, auto: bool, plant: Plant, ctrl) -> tuple:

@@ -126,11 +126,13 @@ def rk4_stability_limit(eigenvalues: np.ndarray) -> float:
     """Largest step [s] with ``|P(λh)| <= 1`` for every eigenvalue with ``Re λ <= 0`` (inf if none limits).
 
     Bisection along each eigenvalue's ray at once (RK4's region reaches 2.79 on the negative real
-    axis and 2.83 on the imaginary one); eigenvalues near zero (rigid-body modes) do not limit.
+    axis and 2.83 on the imaginary one). Growing modes (``Re λ > 0``: no step makes them decay)
+    and eigenvalues near zero (``|λ| <= 1e-6 |λ|max``: rigid-body modes, whose finite-difference
+    eigenvalues scatter about zero with either sign) do not limit.
     """
     lam = np.asarray(eigenvalues, dtype=complex)
     rho = float(np.max(np.abs(lam), initial=0.0))
-    lam = lam[(lam.real <= 1e-6 * rho) & (np.abs(lam) > 1e-9 * max(rho, 1e-300))]
+    lam = lam[(lam.real <= 0.0) & (np.abs(lam) > 1e-6 * max(rho, 1e-300))]
     if lam.size == 0:
         return math.inf
     lo, hi = np.zeros(lam.size), np.full(lam.size, 3.0) / np.abs(lam)

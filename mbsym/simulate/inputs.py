@@ -9,6 +9,8 @@ Accepted forms (``names`` are the model's input names, ``eom.inputs``):
 
 - ``None``: every input is zero;
 - an array of ``n_u`` numbers: constant inputs in order ``names``;
+- a callable ``f(t) -> n_u numbers`` [t in s] (a bare function of time for all inputs, in
+  order ``names``; called once per time);
 - a dict by input name (missing inputs are zero) whose values are
 
   - a number: constant;
@@ -30,7 +32,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..exceptions import DimensionError
+from ..exceptions import ArgumentTypeError, DimensionError
 
 __all__ = ["InputSignal", "input_signal"]
 
@@ -77,10 +79,11 @@ class _Function:
 
     def at(self, t: float) -> float:
         try:
-            v = np.asarray(self.f(t), dtype=float)
+            out = self.f(t)
         except Exception as exc:
             exc.add_note(f"(while evaluating input {self.name!r} at t = {t:g} s)")
             raise
+        v = _numbers(out, f"input {self.name!r}: f(t)", t)
         if v.size != 1:
             raise DimensionError(f"input {self.name!r}: f(t) must return one number; got shape {v.shape} "
                                  f"at t = {t:g} s.")
@@ -92,6 +95,54 @@ class _Function:
             raise DimensionError(f"input {self.name!r} is not finite at t = {np.atleast_1d(t)[i]:g} s "
                                  f"(value {np.atleast_1d(v)[i]}); inputs must be finite.")
         return v
+
+
+def _numbers(out, what: str, t: float) -> np.ndarray:
+    """``out`` as a float array, or ArgumentTypeError naming what returned it."""
+    if isinstance(out, (str, bytes)):
+        raise ArgumentTypeError(f"{what} returned {out!r} (a string) at t = {t:g} s; it must return numbers.")
+    try:
+        return np.asarray(out, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"{what} returned {out!r} ({type(out).__name__}) at t = {t:g} s; it must return "
+                                "numbers.") from None
+
+
+class _Component:
+    """Input ``j`` of a bare callable ``f(t) -> n_u values`` (one call per time, shared by the inputs)."""
+
+    def __init__(self, vector: "_VectorFunction", j: int) -> None:
+        self.vector, self.j = vector, j
+
+    def sample(self, t: np.ndarray) -> np.ndarray:
+        return np.array([self.vector.at(ti)[self.j] for ti in np.asarray(t, dtype=float).reshape(-1)]).reshape(t.shape)
+
+    def at(self, t: float) -> float:
+        return float(self.vector.at(t)[self.j])
+
+
+class _VectorFunction:
+    def __init__(self, f: Callable, names: tuple[str, ...]) -> None:
+        self.f, self.names = f, names
+        self._t: float | None = None
+        self._v = np.zeros(len(names))
+
+    def at(self, t: float) -> np.ndarray:
+        t = float(t)
+        if t != self._t:
+            try:
+                out = self.f(t)
+            except Exception as exc:
+                exc.add_note(f"(while evaluating inputs(t) at t = {t:g} s)")
+                raise
+            v = _numbers(out, "inputs(t)", t).reshape(-1)
+            if v.size != len(self.names):
+                raise DimensionError(f"inputs(t) returned {v.size} values at t = {t:g} s; expected {len(self.names)} "
+                                     f"in order {list(self.names)}.")
+            if not np.all(np.isfinite(v)):
+                raise DimensionError(f"inputs(t) is not finite at t = {t:g} s ({v.tolist()}); inputs must be finite.")
+            self._t, self._v = t, v
+        return self._v
 
 
 class InputSignal:
@@ -123,7 +174,7 @@ class InputSignal:
     @property
     def callables(self) -> tuple[int, ...]:
         """Indices of the inputs given as callables ``f(t)`` (known only through samples)."""
-        return tuple(j for j, ch in enumerate(self._channels) if isinstance(ch, _Function))
+        return tuple(j for j, ch in enumerate(self._channels) if isinstance(ch, (_Function, _Component)))
 
     def __call__(self, t) -> np.ndarray:
         """Inputs at the times ``t`` [s] (1-D), shape ``(len(t), n_u)``."""
@@ -155,13 +206,16 @@ def input_signal(inputs, names: Sequence[str], tmax: float) -> InputSignal:
         return InputSignal(names, zeros, np.zeros(0))
     if isinstance(inputs, Mapping):
         return _from_dict(inputs, names, tmax)
-    if callable(inputs) or isinstance(inputs, (str, bytes)):
-        raise TypeError(f"inputs must be None, an array of {len(names)} numbers or a dict by input name "
+    if callable(inputs):
+        vector = _VectorFunction(inputs, names)
+        return InputSignal(names, [_Component(vector, j) for j in range(len(names))], np.zeros(0))
+    if isinstance(inputs, (str, bytes)):
+        raise ArgumentTypeError(f"inputs must be None, an array of {len(names)} numbers or a dict by input name "
                         f"{list(names)}; got {type(inputs).__name__}. Give callables per input: {{'name': f}}.")
     try:
         u = np.asarray(inputs, dtype=float).reshape(-1)
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"inputs must be None, an array of {len(names)} numbers or a dict by input name; "
+        raise ArgumentTypeError(f"inputs must be None, an array of {len(names)} numbers or a dict by input name; "
                         f"got {inputs!r}.") from exc
     if u.size != len(names):
         raise DimensionError(f"inputs has {u.size} entries; expected {len(names)} in order {list(names)}.")
@@ -194,7 +248,7 @@ def _from_dict(inputs: Mapping, names: tuple[str, ...], tmax: float) -> InputSig
 
 def _channel(value, name: str, shared: np.ndarray | None, tmax: float):
     if isinstance(value, bool):
-        raise TypeError(f"input {name!r}: got a bool; give a number, a table or a callable f(t).")
+        raise ArgumentTypeError(f"input {name!r}: got a bool; give a number, a table or a callable f(t).")
     if isinstance(value, _NUMBER) or (isinstance(value, np.ndarray) and value.ndim == 0):
         v = float(value)
         if not np.isfinite(v):
@@ -208,7 +262,7 @@ def _channel(value, name: str, shared: np.ndarray | None, tmax: float):
         grid = _grid(value[0], tmax, f"the grid of input {name!r}")
         return _Table(grid, _values(value[1], grid, name))
     if isinstance(value, (str, bytes, Mapping)):
-        raise TypeError(f"input {name!r}: unsupported value of type {type(value).__name__}; give a number, "
+        raise ArgumentTypeError(f"input {name!r}: unsupported value of type {type(value).__name__}; give a number, "
                         "a pair (grid, values), values on the shared grid 't', or a callable f(t).")
     if shared is None:
         raise DimensionError(f"input {name!r} is an array but no time grid is given; pass "

@@ -109,11 +109,18 @@ def evaluate_outputs(owner: Any, f: ca.Function | None, X: np.ndarray, U: np.nda
 
 
 def _mapped_block(f: ca.Function, block: int) -> ca.Function:
-    """``(X (n_x, B), U (n_u, B), P (n_p, B)) -> Y (n_y, B)``: ``f`` mapped over B columns, outputs stacked."""
+    """``(X (n_x, B), U (n_u, B), P (n_p, B)) -> Y (n_y, B)``: ``f`` mapped over B columns, outputs stacked.
+
+    Its disk-cache key is that of ``f`` and this construction (:func:`mbsym.codegen.set_identity`): the
+    map wrapper serializes to about 3x the size of ``f``, and a new process pays that to find the library.
+    """
+    from .. import codegen
+
     serial = f.map(block, "serial")
     X, U, P = (ca.MX.sym(s, f.size1_in(i), block) for i, s in enumerate(("X", "U", "p")))
     Y = ca.vertcat(*[ca.reshape(ca.densify(r), -1, block) for r in serial.call([X, U, P])])
-    return ca.Function(f"{f.name()}_outputs{block}", [X, U, P], [Y])
+    g = ca.Function(f"{f.name()}_outputs{block}", [X, U, P], [Y])
+    return codegen.set_identity(g, f"mbsym output block v1|{block}|serial|{f.serialize()}")
 
 
 class _BlockOutputs:

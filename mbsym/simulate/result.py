@@ -50,6 +50,9 @@ class SimulationResult:
         Number of coordinates ``q`` when ``x`` starts with ``[q; qd]`` (equations of
         motion, or dynamics composed around them); None for other first-order dynamics,
         where :attr:`q` and :attr:`qd` are not defined.
+    state_units : dict of str to str
+        Units of the states the model knows (from the joints:
+        :attr:`EquationsOfMotion.units`); see :meth:`unit`.
     """
 
     t: np.ndarray
@@ -62,6 +65,7 @@ class SimulationResult:
     statistics: dict = field(default_factory=dict)
     output_units: tuple[str, ...] = ()
     structural: int | None = -1
+    state_units: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "u", "y"):
@@ -135,11 +139,20 @@ class SimulationResult:
                 cols[name] = arr[:, j]
         return cols
 
+    def unit(self, name: str) -> str:
+        """Unit of an output or a state (``"-"`` if the model does not say)."""
+        return self.units.get(name) or self.state_units.get(name) or "-"
+
     def __repr__(self) -> str:
         s = self.statistics
-        return (f"SimulationResult(method={s.get('method')!r}, t=[{self.t[0]:g} .. {self.t[-1]:g}] s "
-                f"({self.t.size} points), states={list(self.states)}, inputs={list(self.inputs)}, "
-                f"outputs={len(self.output_names)}, steps={s.get('steps')})")
+
+        def named(names, limit=8):
+            shown = [f"{n} [{self.unit(n)}]" for n in names[:limit]]
+            return ", ".join(shown) + (f", … ({len(names)} in all)" if len(names) > limit else "") or "none"
+
+        return (f"SimulationResult(method={s.get('method')!r}, t = {self.t[0]:g} .. {self.t[-1]:g} s "
+                f"({self.t.size} points, {s.get('steps')} steps); states: {named(self.states)}; "
+                f"inputs: {named(self.inputs, 4)}; outputs: {named(self.output_names, 4)})")
 
 
 def _index(names: tuple[str, ...], name: str, what: str) -> int:

@@ -29,7 +29,7 @@ _LAZY = {
         ("analysis.campbell_diagram",)),
     **dict.fromkeys(
         ("coleman_matrices", "mbc_second_order", "mbc_transform"),
-        ("structure.mbc", "analysis.mbc")),
+        ("structure.mbc",)),
     **dict.fromkeys(
         ("DEFAULT_LADDER", "FidelityLadder", "fidelity_ladder"),
         ("analysis.fidelity",)),

@@ -105,9 +105,10 @@ def free_body_residual(q, qd, qdd, *, mass, com, inertia, gravity, forces=(), to
 
 
 def random_spd(rng: np.random.Generator, scale: float = 1.0) -> np.ndarray:
-    """A random symmetric positive definite 3x3 matrix (eigenvalues in [0.2, 1.2] * scale)."""
+    """A random inertia tensor: symmetric positive definite, eigenvalues in [0.6, 1.2] * scale, so that
+    the principal moments satisfy the triangle inequality of a rigid body (J1 <= J2 + J3)."""
     Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    return scale * (Q @ np.diag(0.2 + rng.random(3)) @ Q.T)
+    return scale * (Q @ np.diag(0.6 + 0.6 * rng.random(3)) @ Q.T)
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:

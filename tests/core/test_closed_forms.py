@@ -36,7 +36,7 @@ def test_simple_pendulum_with_inertia():
     sys = mb.System(gravity=[0.0, 0.0, -G])
     q = sys.coordinates("q")
     m, l, J = sys.parameters("m l J", values={"m": 1.7, "l": 0.8})
-    sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b", mass=m, com=[0, 0, -l], inertia=[0.3, J, 0.2]),
+    sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b", mass=m, com=[0, 0, -l], inertia=[0.2, J, 0.2]),
                               axis=[0, 1, 0], coordinate=q))
     eom = sys.equations()
     p = {"J": 0.05}
@@ -254,7 +254,7 @@ def test_torque_free_body_conserves_angular_momentum():
 
 
 # --------------------------------------------------------------------------- heavy symmetric top
-TOP = dict(m=1.5, L=0.4, A=0.02, C=0.05)   # com at L on the symmetry axis; A, C about the com
+TOP = dict(m=1.5, L=0.4, A=0.03, C=0.05)   # com at L on the symmetry axis; A, C about the com (C <= 2A)
 
 
 def _top():
@@ -411,6 +411,6 @@ def test_force_in_axes_of_another_body():
         np.testing.assert_allclose(eom.forcing(q, qd), F_ref, **TIGHT)
 
 def test_random_inertia_helper_is_spd():
-    """Guard for the reference helper used by other modules (eigenvalues in [0.2, 1.2])."""
+    """Guard for the reference helper used by other modules (eigenvalues in [0.6, 1.2]: a rigid body's)."""
     w = np.linalg.eigvalsh(random_spd(np.random.default_rng(0)))
-    assert w.min() >= 0.2 - 1e-12 and w.max() <= 1.2 + 1e-12
+    assert w.min() >= 0.6 - 1e-12 and w.max() <= 1.2 + 1e-12 and w[2] <= w[0] + w[1]

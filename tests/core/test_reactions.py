@@ -63,7 +63,7 @@ def test_spinning_rotor_on_locked_tilt_is_gyroscopic():
     sys = mb.System()
     yaw, spin = sys.coordinates("yaw spin")
     tilt = sys.locked("tilt")
-    Jx, Jt = 5.0, 2.0
+    Jx, Jt = 5.0, 2.5                  # a disc: Jx = 2 Jt (a rigid body has Jx <= 2 Jt)
     base = mb.RigidBody("base", 1.0, inertia=(1.0, 1.0, 1.0))
     frame = mb.RigidBody("frame", 0.5, inertia=(0.1, 0.1, 0.1))
     rotor = mb.RigidBody("rotor", 3.0, inertia=(Jx, Jt, Jt))

@@ -45,7 +45,7 @@ def double_pendulum() -> mb.EquationsOfMotion:
     q1, q2 = sys.coordinates("q1 q2")
     m1, m2, l1, l2 = sys.parameters("m1 m2 l1 l2", values=[2.0, 1.0, 1.0, 0.5])
     tau = sys.inputs("tau")
-    b1 = mb.RigidBody("b1", mass=m1, com=[0, 0, -l1], inertia=(0.1, 0.2, 0.05))
+    b1 = mb.RigidBody("b1", mass=m1, com=[0, 0, -l1], inertia=(0.15, 0.2, 0.05))
     b2 = mb.RigidBody("b2", mass=m2, com=[0, 0, -l2], inertia=(0.05, 0.03, 0.02))
     sys.add_joint(mb.Revolute(sys.ground, b1, axis=[0, 1, 0], coordinate=q1))
     sys.add_joint(mb.Revolute(b1, b2, axis=[0, 1, 0], coordinate=q2, offset=[0, 0, -l1]))

@@ -63,6 +63,17 @@ def test_rk4_stability_limits():
     assert rk4_stability_limit(np.array([0.0, 1e-12])) == np.inf                           # rigid-body modes
 
 
+def test_rigid_body_and_growing_modes_do_not_limit_the_step():
+    """A free rotor's finite-difference eigenvalues scatter about zero with either sign (±5e-7 1/s next to
+    a 2.05 1/s tower mode on paper45): they must not limit RK4's step, nor must a growing mode (no step
+    makes it decay). Reference: RK4's imaginary-axis limit 2√2/|λ| for the tower mode alone."""
+    tower = np.array([-7e-3 + 2.05j, -7e-3 - 2.05j])
+    alone = rk4_stability_limit(tower)
+    assert alone == pytest.approx(2 * np.sqrt(2) / 2.05, rel=2e-2)
+    assert rk4_stability_limit(np.concatenate([tower, [4.95e-7, -4.95e-7]])) == alone
+    assert rk4_stability_limit(np.concatenate([tower, [0.3]])) == alone
+
+
 def test_nonlinear_pendulum_is_refined_by_the_check():
     """Released at 2 rad the linearization is unstable (cos 2 < 0) and mispredicts the step; the step-doubling
     check catches it and refines until the estimate meets the accuracy."""

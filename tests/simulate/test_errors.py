@@ -65,7 +65,7 @@ def test_bad_parameters(osc):
     ({"F": "sin"}, TypeError, "unsupported value of type str"),
     ({"F": True}, TypeError, "bool"),
     ("F", TypeError, "dict by input name"),
-    (lambda t: 1.0, TypeError, "per input"),
+    (lambda t: "1.0", mb.exceptions.ArgumentTypeError, "a string"),      # a bare callable is accepted (issue 11)
 ])
 def test_bad_inputs(osc, inputs, err, match):
     with pytest.raises(err, match=match):

@@ -215,7 +215,7 @@ def test_sweep_equals_a_per_azimuth_linearize_loop():
         psi = 2 * np.pi * j / n_az                     # blade-1 azimuth (AzimB1Up = 0)
         q = op.q.copy()
         q[i] = psi - np.pi / 2
-        lin = mb.linearize(model, q, op.qd, op.u, op.p)
+        lin = mb.linearize(model, q, op.qd, op.u, op.p, method="exact")
         A += mbc_transform(lin.A, groups, psi, om) / n_az
         T1 = coleman_matrices(n, groups, psi).T1
         M += T1.T @ lin.M @ T1 / n_az
@@ -227,7 +227,9 @@ def test_azimuth_convention_and_blade1_offset():
     """Blade-1 azimuth = ElastoDyn's Azimuth output, q_GeAz + AzimB1Up + π/2 (notes §5, §6): the
     operating point at azimuth ψ has q_GeAz = ψ - AzimB1Up - π/2 and the Azimuth channel reads ψ
     (1e-9 deg). A constant AzimB1Up only rotates the cyclic (cos, sin) pair (Coleman), so every
-    frequency, damping ratio and label is unchanged (1e-9)."""
+    frequency, damping ratio and label is unchanged (1e-9). Exact derivatives: ElastoDyn's large
+    finite steps (0.21 m on the flap DOFs) sample the exact lumped-blade kinematics' nonlinear terms
+    at other physical azimuths and move the damping by ~2e-7 relative, an artefact of the steps."""
     t = nrel5mw()
     shifted = dataclasses.replace(t, azimuth_blade1_up=0.5)
     model = TurbineModel(shifted, dofs=["YawDOF", "GenDOF", "FlapDOF1"], yaw_spring=9.02832e9)
@@ -236,13 +238,13 @@ def test_azimuth_convention_and_blade1_offset():
     ch = model.output_function()
     y = np.array(ch.function(np.concatenate([op.q, op.qd]), op.u, model.eom.parameter_vector({}))).ravel()
     assert y[ch.names.index("Azimuth")] == pytest.approx(np.rad2deg(2.0), abs=1e-9)
-    kw = dict(n_azimuth=6, p={"gravity": 0.0})
+    kw = dict(n_azimuth=6, p={"gravity": 0.0}, method="exact")
     a = campbell(TurbineModel(t, dofs=["YawDOF", "GenDOF", "FlapDOF1"], yaw_spring=9.02832e9), [4.0, 12.0], **kw)
     b = campbell(model, [4.0, 12.0], **kw)
     assert a.labels == b.labels
     for ma, mb_ in zip(a.modes, b.modes):
         np.testing.assert_allclose(mb_.freq_hz, ma.freq_hz, rtol=1e-9)
-        np.testing.assert_allclose(mb_.damping_ratio, ma.damping_ratio, rtol=1e-7, atol=1e-12)
+        np.testing.assert_allclose(mb_.damping_ratio, ma.damping_ratio, rtol=1e-9, atol=1e-12)
 
 
 def test_operating_point_zero_support_displacements_keeps_blade_deflections():

@@ -285,7 +285,7 @@ def _rotor_body(turbine) -> mb.RigidBody:
     com = sum(m * p for m, p in points) / mass
     inertia = sum(m * ((p - com) @ (p - com) * np.eye(3) - np.outer(p - com, p - com)) for m, p in points)
     inertia[0, 0] += turbine.hub_inertia + turbine.generator_inertia * turbine.gearbox_ratio**2
-    return mb.RigidBody("rotor", mass=mass, com=com, inertia=inertia)
+    return mb.RigidBody("rotor", mass=mass, com=com, inertia=inertia, lumped_inertia=True)   # + generator x GBRatio^2
 
 
 def _paper44_model(turbine):

@@ -162,9 +162,12 @@ class CampbellDiagram:
         fig, ax = plt.subplots(figsize=(8, 6))
         shown = [m for m in self.modes if np.nanmax(np.nan_to_num(m.freq_hz, nan=0.0)) > 0]
         fmax = max([np.nanmax(m.freq_hz) for m in shown], default=1.0)
-        colors = plt.get_cmap("tab20").colors
-        for i, m in enumerate(shown):
-            ax.plot(self.rpm, m.freq_hz, "o-", ms=3, lw=1.2, color=colors[i % len(colors)], label=m.label)
+        colors = plt.get_cmap("tab10").colors
+        families = list(dict.fromkeys(mode_family(m.label)[0] for m in shown))
+        for m in shown:
+            family, style = mode_family(m.label)
+            ax.plot(self.rpm, m.freq_hz, marker=_MARKERS[style], linestyle=style, ms=3, lw=1.3,
+                    color=colors[families.index(family) % len(colors)], label=m.label)
         rpm = np.linspace(0.0, max(float(np.max(self.rpm)), 1e-9), 50)
         for n in excitations:
             ax.plot(rpm, n * rpm / 60.0, "--", color="0.6", lw=0.8)
@@ -180,6 +183,27 @@ class CampbellDiagram:
         fig.tight_layout()
         fig.savefig(path, dpi=120)
         plt.close(fig)
+
+
+#: Line style of each kind of mode in :meth:`CampbellDiagram.plot` (and its marker).
+WHIRL_STYLES = {"collective": "-", "forward whirl": "--", "backward whirl": ":"}
+_MARKERS = {"-": "o", "--": "^", ":": "v"}
+
+
+def mode_family(label: str) -> tuple[str, str]:
+    """``(family, line style)`` of a mode label: blade modes share their family's colour, with a
+    solid line for collective, dashed for forward and dotted for backward whirl; every other
+    mode is a family of its own (solid).
+
+    Examples
+    --------
+    >>> mode_family("1st edge backward whirl"), mode_family("1st tower fore-aft")
+    (('1st edge', ':'), ('1st tower fore-aft', '-'))
+    """
+    for kind, style in WHIRL_STYLES.items():
+        if label.endswith(" " + kind):
+            return label[: -len(kind) - 1], style
+    return label, "-"
 
 
 def campbell_model(turbine: TurbineParameters, dofs: Sequence[str] | None = None):

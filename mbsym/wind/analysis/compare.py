@@ -5,10 +5,16 @@ The error metrics are those of the paper (Sect. 4.5) and of our validation:
 - ``ε = mean|y − y_ref| / (max y_ref − min y_ref)``,
 - ``R² = 1 − Σ (y − y_ref)² / Σ (y_ref − mean y_ref)²``,
 
-evaluated on the reference's time grid (ours interpolated linearly). Angles that
-OpenFAST wraps (``Azimuth`` in deg, ``Q_GeAz`` in rad) are compared through the
-wrapped difference, so a sample on either side of a wrap does not count as a
-full-turn error.
+evaluated on the reference's time grid (ours interpolated linearly) where the two
+overlap. Angles that OpenFAST wraps (``Azimuth`` in deg, ``Q_GeAz`` in rad) are
+compared through the wrapped difference, so a sample on either side of a wrap does
+not count as a full-turn error.
+
+Nothing is dropped silently: a reference whose times are not finite and strictly
+increasing is refused (:func:`read_csv`), samples where either series is not finite
+are left out and counted (``n_excluded`` of each :func:`compare` row), and
+:func:`coverage_notes` says when the two time ranges differ (only the overlap is
+compared).
 """
 
 from __future__ import annotations
@@ -21,7 +27,8 @@ import numpy as np
 
 from ...exceptions import DimensionError, OpenFASTFormatError
 
-__all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "not_compared", "overlay_plot", "WRAPPED"]
+__all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "not_compared", "coverage_notes",
+           "overlay_plot", "WRAPPED", "time_decimals"]
 
 #: Channels OpenFAST wraps, with their period in their own unit.
 WRAPPED = {"Azimuth": 360.0, "Q_GeAz": 2 * np.pi}
@@ -57,8 +64,25 @@ def read_csv(path: str | Path) -> TimeSeries:
         raise OpenFASTFormatError(f"{path}: not a numeric CSV table after the header ({exc}).") from exc
     if data.shape[1] != len(header):
         raise OpenFASTFormatError(f"{path}: {len(header)} header columns but {data.shape[1]} data columns.")
+    _check_time(path, data[:, 0])
     names, units = zip(*(_split_header(h) for h in header[1:])) if len(header) > 1 else ((), ())
     return TimeSeries(data[:, 0], tuple(names), tuple(units), data[:, 1:])
+
+
+def _check_time(path: Path, t: np.ndarray) -> None:
+    """Refuse a time column that is not finite and strictly increasing (naming the first bad line)."""
+    if t.size == 0:
+        raise OpenFASTFormatError(f"{path}: no data rows after the header.")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise OpenFASTFormatError(f"{path}, line {bad[0] + 2}: time is {t[bad[0]]}; every row needs a finite time. "
+                                  "Remove or fix that row.")
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        i = back[0] + 1
+        raise OpenFASTFormatError(f"{path}, line {i + 2}: time {t[i]:g} s does not increase (previous row "
+                                  f"{t[i - 1]:g} s); the rows must be in strictly increasing time without "
+                                  "duplicates. Sort the file (or remove the repeated rows).")
 
 
 def _split_header(h: str) -> tuple[str, str]:
@@ -68,14 +92,30 @@ def _split_header(h: str) -> tuple[str, str]:
     return h, "-"
 
 
+def time_decimals(t) -> int:
+    """Decimals that keep every time of ``t`` [s] distinct and exact to 1e-3 of the smallest step
+    (at least 4, OpenFAST's layout; at most 15)."""
+    t = np.asarray(t, dtype=float)
+    steps = np.diff(t)
+    steps = steps[steps > 0]
+    if steps.size == 0:
+        return 4
+    return int(min(15, max(4, np.ceil(-np.log10(steps.min())) + 3)))
+
+
 def write_csv(path: str | Path, series: TimeSeries) -> None:
-    """Write ``Time_[s]`` and ``<channel>_[<unit>]`` columns as OpenFAST's CSV layout."""
+    """Write ``Time_[s]`` and ``<channel>_[<unit>]`` columns as OpenFAST's CSV layout.
+
+    Times get enough decimals for the smallest step (:func:`time_decimals`), values 12
+    significant digits.
+    """
     header = ["Time_[s]"] + [f"{n}_[{u}]" for n, u in zip(series.names, series.units)]
+    digits = time_decimals(series.time)
     with Path(path).open("w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(header)
         for t, row in zip(series.time, series.data):
-            w.writerow([f"{t:.4f}"] + [f"{v:.12g}" for v in row])
+            w.writerow([f"{t:.{digits}f}"] + [f"{v:.12g}" for v in row])
 
 
 def error_metrics(t: np.ndarray, y: np.ndarray, t_ref: np.ndarray, y_ref: np.ndarray, *,
@@ -95,12 +135,27 @@ def error_metrics(t: np.ndarray, y: np.ndarray, t_ref: np.ndarray, y_ref: np.nda
 
 def _metrics(t, y, t_ref, y_ref, period) -> tuple[float, float, float]:
     """(ε, R², max |Δ|), all on the same overlapping grid and wrapped difference."""
+    return _metrics_counted(t, y, t_ref, y_ref, period)[:3]
+
+
+def _metrics_counted(t, y, t_ref, y_ref, period) -> tuple[float, float, float, int, int]:
+    """(ε, R², max |Δ|, compared samples, samples left out as not finite)."""
     t, y, t_ref, y_ref = (np.asarray(a, dtype=float) for a in (t, y, t_ref, y_ref))
     keep = (t_ref >= t[0] - 1e-9) & (t_ref <= t[-1] + 1e-9)
     if not np.any(keep):
         raise DimensionError(f"no overlap between the simulated time [{t[0]:g}, {t[-1]:g}] s and the "
                              f"reference [{t_ref[0]:g}, {t_ref[-1]:g}] s.")
     t_ref, y_ref = t_ref[keep], y_ref[keep]
+    ours_ok = np.isfinite(y)
+    finite = np.isfinite(y_ref)
+    if not ours_ok.all():       # our non-finite samples poison their neighbourhood in the interpolation
+        finite &= np.interp(t_ref, t, (~ours_ok).astype(float)) == 0.0
+        t, y = t[ours_ok], y[ours_ok]
+    n_excluded = int(np.count_nonzero(~finite))
+    t_ref, y_ref = t_ref[finite], y_ref[finite]
+    if t_ref.size == 0 or t.size == 0:
+        nan = float("nan")
+        return nan, nan, nan, 0, n_excluded
     if period is not None:
         yi = np.interp(t_ref, t, np.unwrap(y, period=period))
         diff = (yi - y_ref + period / 2) % period - period / 2
@@ -109,14 +164,18 @@ def _metrics(t, y, t_ref, y_ref, period) -> tuple[float, float, float]:
     max_diff = float(np.max(np.abs(diff)))
     rng = float(np.ptp(y_ref))
     if rng <= 1e-12 * max(1.0, float(np.max(np.abs(y_ref)))):
-        return float("nan"), float("nan"), max_diff
+        return float("nan"), float("nan"), max_diff, int(t_ref.size), n_excluded
     eps = float(np.mean(np.abs(diff)) / rng)
     r2 = float(1.0 - np.sum(diff**2) / np.sum((y_ref - y_ref.mean()) ** 2))
-    return eps, r2, max_diff
+    return eps, r2, max_diff, int(t_ref.size), n_excluded
 
 
 def compare(ours: TimeSeries, ref: TimeSeries) -> list[dict]:
     """Metrics for every channel present in both series (reference order).
+
+    Each row: ``channel``, ``unit``, ``epsilon``, ``r2``, ``max_abs_diff``, ``n_compared``
+    (reference samples in the common time range) and ``n_excluded`` (samples left out because
+    either series is not finite there). :func:`coverage_notes` describes the time ranges.
 
     Raises
     ------
@@ -129,10 +188,28 @@ def compare(ours: TimeSeries, ref: TimeSeries) -> list[dict]:
                              f"reference ({list(ref.names)[:6]}...); compare with OpenFAST output of the same DOFs.")
     rows = []
     for name in common:
-        eps, r2, max_diff = _metrics(ours.time, ours.channel(name), ref.time, ref.channel(name), WRAPPED.get(name))
+        eps, r2, max_diff, n, excluded = _metrics_counted(ours.time, ours.channel(name), ref.time, ref.channel(name),
+                                                          WRAPPED.get(name))
         rows.append({"channel": name, "unit": ref.units[ref.names.index(name)], "epsilon": eps, "r2": r2,
-                     "max_abs_diff": max_diff})
+                     "max_abs_diff": max_diff, "n_compared": n, "n_excluded": excluded})
     return rows
+
+
+def coverage_notes(ours: TimeSeries, ref: TimeSeries) -> list[str]:
+    """Sentences saying which part of each series the comparison leaves out (empty if none)."""
+    a, b = max(ours.time[0], ref.time[0]), min(ours.time[-1], ref.time[-1])
+    tol = 1e-9 * max(1.0, abs(b))
+    notes = []
+    if ours.time[-1] > b + tol:
+        notes.append(f"the simulation runs to {ours.time[-1]:g} s but the reference ends at {ref.time[-1]:g} s: "
+                     f"compared on [{a:g}, {b:g}] s only")
+    elif ref.time[-1] > b + tol:
+        notes.append(f"the reference runs to {ref.time[-1]:g} s but the simulation ends at {ours.time[-1]:g} s: "
+                     f"compared on [{a:g}, {b:g}] s only")
+    if ours.time[0] < a - tol or ref.time[0] < a - tol:
+        notes.append(f"the comparison starts at {a:g} s (simulation from {ours.time[0]:g} s, reference from "
+                     f"{ref.time[0]:g} s)")
+    return notes
 
 
 def not_compared(ours: TimeSeries, ref: TimeSeries) -> list[str]:
@@ -140,9 +217,24 @@ def not_compared(ours: TimeSeries, ref: TimeSeries) -> list[str]:
     return [n for n in ref.names if n not in ours.names]
 
 
+def _constant(ours: TimeSeries, ref: TimeSeries | None, name: str) -> bool:
+    """Whether a channel stays constant in both series (a flat, empty-looking panel)."""
+    series = [ours.channel(name)] + ([ref.channel(name)] if ref is not None and name in ref.names else [])
+    for y in series:
+        y = y[np.isfinite(y)]
+        if y.size and np.ptp(y) > 1e-12 * max(1.0, float(np.max(np.abs(y)))):
+            return False
+    return True
+
+
 def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = None, *,
                  channels: list[str] | None = None, title: str = "") -> None:
-    """PNG of the chosen channels (default: all DOF channels Q_* and RotSpeed), ours vs OpenFAST."""
+    """PNG of the chosen channels, ours vs OpenFAST.
+
+    Default channels: the DOF channels ``Q_*``, RotSpeed and PtfmPitch that move (constant
+    ones, e.g. a held DOF, are left out). ``title`` is printed as given (the CLI passes the
+    deck's file name, not its absolute path).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -151,6 +243,8 @@ def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = No
     if channels is None:
         channels = [n for n in ours.names if n.startswith("Q_") or n in ("RotSpeed", "PtfmPitch")]
         channels = [c for c in channels if ref is None or c in ref.names] or list(ours.names[:4])
+        moving = [c for c in channels if not _constant(ours, ref, c)]
+        channels = moving or channels[:1]       # constant channels make empty panels: leave them out
     fig, axes = plt.subplots(len(channels), 1, figsize=(8, 1.9 * len(channels) + 0.6), sharex=True, squeeze=False)
     for ax, name in zip(axes[:, 0], channels):
         if ref is not None and name in ref.names:

@@ -34,8 +34,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ...exceptions import OpenFASTFormatError
+from . import checks
 from ._format import (
-    _REQ, _Check, _convert, _Deck, _Key, _read_keys, _read_table_columns, _resolve, _TableSpec,
+    _REQ, _Check, _canon, _convert, _Deck, _Key, _read_keys, _read_table_columns, _resolve, _TableSpec,
 )
 from .parameters import (
     DOF_NAMES, BladeParameters, InitialConditions, SimulationSettings, TowerParameters,
@@ -202,6 +203,25 @@ KEY_MAP: dict[str, dict[str, str]] = _key_map()
 
 
 
+#: Largest magnitude of a number in the ElastoDyn, tower and blade files: beyond it the
+#: computations overflow (e.g. TowerHt 1e300 squared in the mode-shape curvatures).
+MAX_MAGNITUDE = 1e30
+
+
+def _check_magnitudes(deck: _Deck) -> None:
+    """Report numbers too large to compute with (keys and table cells)."""
+    for entry in deck.entries.values():
+        values = _convert("floats", entry.values)[0] if entry.values else None
+        if values and any(abs(v) > MAX_MAGNITUDE for v in values):
+            deck.problem(entry.line, entry.key, f"{' '.join(entry.values)} is too large to compute with (|value| > "
+                         f"{MAX_MAGNITUDE:g}); check the exponent.")
+    for name, table in deck.tables.items():
+        for line, row in zip(table.lines, table.rows):
+            if any(v is not None and abs(v) > MAX_MAGNITUDE for v in row):
+                deck.problem(line, name, f"a value of the {name} table is too large to compute with (|value| > "
+                             f"{MAX_MAGNITUDE:g}); check the exponent.")
+
+
 def _check_sum(deck: _Deck, name: str, coefficients: list[float | None]) -> None:
     if any(c is None for c in coefficients):
         return
@@ -244,6 +264,7 @@ def _read_distributed(path: Path, keys: tuple[_Key, ...], spec: _TableSpec,
                       point_masses: bool = False) -> dict[str, Any]:
     """Read a tower or blade file into constructor arguments; raise on problems."""
     deck = _Deck(path, (spec, _POINT_MASS_TABLE) if point_masses else (spec,))
+    _check_magnitudes(deck)
     deck.value(_k(spec.count_key, "", "int", check=_AT_LEAST_1))
     out = _read_keys(deck, keys)
     _read_table_columns(deck, spec, out)
@@ -304,6 +325,11 @@ def _check_elastodyn(ed: _Deck, v: dict[str, Any]) -> None:
         if hub_height <= v["tip_radius"]:
             fail("TipRad", "TowerHt + Twr2Shft + OverHang*SIN(ShftTilt) must be greater than "
                  "TipRad (the blades would hit the ground). Fix the geometry.")
+        speed, radius = v["initial_conditions"]["rotor_speed"], v["tip_radius"]
+        if speed * radius > checks.MAX_TIP_SPEED:
+            fail("RotSpeed", f"the blade tip would move at {speed * radius:.4g} m/s (RotSpeed x TipRad), beyond the "
+                 f"speed of sound ({checks.MAX_TIP_SPEED:g} m/s); at most "
+                 f"{checks.max_rotor_speed_rpm(radius):.4g} rpm for TipRad {radius:g} m. Fix RotSpeed (in rpm).")
         cm_x, cm_y = v["nacelle_cm"][0], v["nacelle_cm"][1]
         if v["nacelle_yaw_inertia"] < v["nacelle_mass"] * (cm_x**2 + cm_y**2):
             fail("NacYIner", "must not be less than NacMass*(NacCMxn^2 + NacCMyn^2). Fix it.")
@@ -315,6 +341,7 @@ def _read_elastodyn(ed: _Deck, sim: dict[str, Any]) -> dict[str, Any]:
     entry = ed.entries.get("numbl")
     n_blades = _convert("int", entry.values)[0] if entry else None
     n_blades = n_blades if n_blades in (1, 2, 3) else 3  # a bad NumBl is reported below
+    _check_magnitudes(ed)
     v = _read_keys(ed, _ED_KEYS, n_blades)
     if sim["gravity"] is None:
         sim["gravity"] = ed.value(_k("Gravity", "", default=None, check=_NONNEG))
@@ -367,6 +394,15 @@ def read_openfast(path: str | Path) -> TurbineParameters:
         If a file is missing, a key is missing or malformed, or a value fails
         ElastoDyn's checks; the message names the file, line and key.
 
+    Warns
+    -----
+    ModelWarning
+        Settings ElastoDyn ignores (TeetDOF on a rotor that is not two-bladed: turned off,
+        as ElastoDyn does) or warns about, and platform DOFs nothing holds
+        (:func:`mbsym.wind.deck.checks.deck_notes`). Modules the deck switches on are not
+        checked here (reading is not modelling): see
+        :func:`mbsym.wind.deck.checks.check_modules`.
+
     Examples
     --------
     >>> from mbsym.wind import read_openfast
@@ -406,11 +442,28 @@ def read_openfast(path: str | Path) -> TurbineParameters:
                 _BLADE_SHAPES))
         blades.append(cache[blade_path.resolve()])
     sim["extra"] = fst.extra()
+    sources.update(_module_files(fst, sim))
+    v["dofs"], notes = checks.ignored_dofs(v["dofs"], v["number_of_blades"])
     ic = v.pop("initial_conditions")
     ic["blade_pitch"] = tuple(ic["blade_pitch"])
     for name in ("precone", "tip_mass", "pitch_bearing_inertia", "blade_pitch_inertia",
                  "nacelle_cm", "platform_cm", "platform_reference"):
         v[name] = tuple(v[name])
-    return TurbineParameters(
+    turbine = TurbineParameters(
         simulation=SimulationSettings(**sim), initial_conditions=InitialConditions(**ic),
         tower=tower, blades=tuple(blades), extra=ed.extra(), source_files=sources, **v)
+    for note in notes + checks.deck_notes(turbine):
+        checks.warn(f"{fst_path.name}: {note}.", stacklevel=2)
+    return turbine
+
+
+def _module_files(fst: _Deck, sim: dict[str, Any]) -> dict[str, str]:
+    """Paths of the input files of the modules the deck switches on (not read here), by module
+    (:data:`mbsym.wind.deck.checks.MODULE_FILES`), resolved against the deck's directory."""
+    out = {}
+    for key, name, attr in checks.MODULE_FILES.values():
+        entry = fst.entries.get(_canon(key))
+        if sim.get(attr) and entry is not None and entry.values and entry.values[0].lower() != "unused":
+            path = Path(entry.values[0].replace("\\", "/"))
+            out[name] = str(path if path.is_absolute() else fst.path.parent / path)
+    return out

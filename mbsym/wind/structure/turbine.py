@@ -4,13 +4,15 @@
 freedom a deck enables (or a list of ElastoDyn flag names), following ElastoDyn's
 kinematic chain (docs/elastodyn_notes.md §4) in IEC axes (x downwind, z up):
 
-ground → platform (Sg, Sw, Hv translations; R, P, Y rotation vector with ElastoDyn's
-small-rotation matrix and fixed-axis rates) → tower (flexible: TwFA/TwSS modes on
-ElastoDyn's nodes, or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
+ground → platform (Sg, Sw, Hv translations; R, P, Y as ElastoDyn v5's yaw–pitch–roll
+Euler sequence with Euler-rate angular velocity, :mod:`.platform`) → tower (flexible:
+TwFA/TwSS modes on ElastoDyn's nodes at their exact positions, the top turning with the
+slope rates; or rigid) → yaw bearing and nacelle (YawDOF) → tilted shaft →
 generator (geared, GenDOF azimuth) and low-speed shaft → hub (DrTrDOF torsion) →
 coned and pitched blades (ElastoDyn's frame ``j``; flexible with FlapDOF1, FlapDOF2 and
 EdgeDOF: lumped node masses with the twisted, curvature-integrated mode shapes of
-:func:`~mbsym.wind.structure.elastodyn_bodies.blade_shape_integrals`, ElastoDyn's stiffness and
+:func:`~mbsym.wind.structure.elastodyn_bodies.blade_shape_integrals` at their exact positions
+``z + Φq − ½qᵀAxq`` (``FlexibleBody(kinematics="exact")``), ElastoDyn's stiffness and
 damping; rigid point-mass blades otherwise).
 
 A disabled DOF keeps its initial value; a disabled GenDOF with a nonzero initial rotor
@@ -29,7 +31,6 @@ the instantaneous rotor motion, as in ElastoDyn (notes §2.2).
 
 from __future__ import annotations
 
-import warnings
 from typing import Callable, Sequence
 
 import casadi as ca
@@ -39,7 +40,19 @@ from ... import FlexibleBody, RigidBody, System
 from ...bodies.base import Body
 from ...exceptions import ModelDefinitionError
 from ...joints import Fixed, Joint, Revolute
-from ...kinematics import elastodyn_rotation, rotation
+from ...kinematics import rotation
+from .dof_tables import (
+    BLADE_FLAGS,
+    MODELLED_DOFS,
+    NON_BLADE_DOFS,
+    PLATFORM_FLAGS as _PLATFORM,
+    STATE_ORDER,
+    SUPPORTED_DOFS,
+    TOWER_FLAGS as _TOWER,
+    blade_coordinate,
+    resolve_dofs as _resolve_dofs,
+    unsupported_features,
+)
 from .elastodyn_bodies import (
     BLADE_DOFS,
     ElastoDynBladeData,
@@ -49,59 +62,18 @@ from .elastodyn_bodies import (
     tower_shape_integrals,
 )
 from .elastodyn_nodes import rotor_mass_properties
+from .initial_conditions import initial_blade_deflection
 from .mbc import BladeFrame
+from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
+from .platform import PlatformJoint
 from .steps import elastodyn_steps
-from ..deck.parameters import DOF_NAMES, TurbineParameters
+from ..deck.parameters import TurbineParameters
+
+#: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
+TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
 
 __all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
            "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
-
-#: ElastoDyn flag -> coordinate name, in ElastoDyn's state order (notes §7).
-STATE_ORDER = {
-    "PtfmSgDOF": "Sg", "PtfmSwDOF": "Sw", "PtfmHvDOF": "Hv", "PtfmRDOF": "R", "PtfmPDOF": "P",
-    "PtfmYDOF": "Y", "TwFADOF1": "TFA1", "TwSSDOF1": "TSS1", "TwFADOF2": "TFA2", "TwSSDOF2": "TSS2",
-    "YawDOF": "Yaw", "GenDOF": "GeAz", "DrTrDOF": "DrTr",
-}
-#: Platform, tower, yaw and drivetrain flags (the 13 non-blade flags, state order): with only
-#: these the blades are rigid.
-NON_BLADE_DOFS = tuple(STATE_ORDER)
-#: Former name of :data:`NON_BLADE_DOFS`, kept for compatibility (it is *not* every flag the
-#: template models: see :data:`MODELLED_DOFS`).
-SUPPORTED_DOFS = NON_BLADE_DOFS
-#: Blade flags in ElastoDyn's state order (all blades' F1, then E1, then F2) and the
-#: suffix of their coordinates (``B<k>F1`` …).
-BLADE_FLAGS = {"FlapDOF1": "F1", "EdgeDOF": "E1", "FlapDOF2": "F2"}
-#: Every flag the template models: 13 non-blade flags + 3 blade flags (22 DOFs for 3 blades).
-MODELLED_DOFS = NON_BLADE_DOFS + tuple(BLADE_FLAGS)
-#: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
-TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
-_PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
-_TOWER = ("TwFADOF1", "TwSSDOF1", "TwFADOF2", "TwSSDOF2")
-
-
-class PlatformJoint(Joint):
-    """ElastoDyn's platform: translations along ground axes, rotation vector (roll, pitch, yaw)
-    turned into a rotation by :func:`mbsym.kinematics.elastodyn_rotation`, and angular velocity
-    equal to the rotation-vector rates in ground axes (ElastoDyn's fixed-axis convention).
-
-    Parameters
-    ----------
-    values : sequence of 6
-        (surge, sway, heave [m], roll, pitch, yaw [rad]): a coordinate symbol for an enabled
-        DOF, a number (the fixed initial value) for a disabled one.
-    """
-
-    def __init__(self, parent: Body, child: Body, *, values: Sequence, offset=(0.0, 0.0, 0.0)) -> None:
-        coords = [v for v in values if isinstance(v, ca.SX)]
-        super().__init__(parent, child, offset=offset, coordinates=coords)
-        self.values = [v if isinstance(v, ca.SX) else ca.SX(float(v)) for v in values]
-
-    def relative(self) -> tuple[ca.SX, ca.SX]:
-        return ca.vertcat(*self.values[:3]), elastodyn_rotation(ca.vertcat(*self.values[3:]))
-
-    def angular_velocity(self, speed) -> ca.SX:
-        rates = [speed(v) if v.is_symbolic() else ca.SX(0) for v in self.values[3:]]
-        return ca.vertcat(*rates)
 
 
 class TurbineModel:
@@ -251,6 +223,16 @@ class TurbineModel:
         out.update(self.prescribed)
         return out
 
+    def resolve_parameter(self, key: str):
+        """Named parameter ``key`` (ElastoDyn key such as ``"TwrFADmp(1)"`` or descriptive name) of this model.
+
+        Returns the :class:`~mbsym.wind.structure.named_parameters.NamedParameter` (name, unit,
+        ``factor`` = key value / model value); raises ParameterError if unknown or absent.
+        """
+        from .named_parameters import resolve
+
+        return resolve(self.eom.parameters, key, dofs=self.dofs)
+
     # ------------------------------------------------------------------ simulation protocol
     def default_state(self) -> np.ndarray:
         """Initial state for :func:`mbsym.simulate` (same as :meth:`initial_state`)."""
@@ -273,10 +255,37 @@ class TurbineModel:
         """OpenFAST channel names of :meth:`output_function`."""
         return self.output_function().names
 
+    def __repr__(self) -> str:
+        t = self.turbine
+        dofs = [f for f, on in self.dofs.items() if on]
+        source = t.source_files.get("fst", "built-in") if t.source_files else "built-in"
+        return (f"TurbineModel({source.rsplit('/', 1)[-1]}: {len(t.blades)} blades, tip radius {t.tip_radius:g} m, "
+                f"hub height {t.hub_height:.4g} m, rotor speed {t.initial_conditions.rotor_speed * 30 / np.pi:.4g} rpm; "
+                f"DOFs {dofs or 'none'})")
+
     # ------------------------------------------------------------------ linearization hooks
     def linearization_steps(self) -> dict[str, float]:
         """ElastoDyn's central-difference steps by coordinate (``method="elastodyn-fd"``, :mod:`.steps`)."""
         return elastodyn_steps(self.turbine, self.eom.coordinates)
+
+    def linearization_method(self) -> str:
+        """Default method of :func:`mbsym.linearize`: ElastoDyn's central differences, as OpenFAST."""
+        return "elastodyn-fd"
+
+    def linearization_state(self) -> np.ndarray:
+        """Default point of :func:`mbsym.linearize` (and ``mbsym linearize``): OpenFAST's undeflected one.
+
+        The deck's rotor speed, azimuth and nacelle yaw with every tower, platform, drivetrain
+        and blade displacement zero (OpenFAST's ``_lin0`` decks).
+        """
+        x = self.initial_state()
+        n = self.eom.n_q
+        keep = {"GeAz", "Yaw"}
+        for i, c in enumerate(self.eom.coordinates):
+            if c not in keep:
+                x[i] = 0.0
+                x[n + i] = 0.0
+        return x
 
     def rotating_frame(self) -> BladeFrame:
         """Multi-blade coordinates of the blade DOFs for azimuth averages; blade-1 azimuth = GeAz + AzimB1Up + π/2."""
@@ -318,6 +327,8 @@ class TurbineModel:
             values.update(platform_mass=t.platform_mass, platform_roll_inertia=t.platform_roll_inertia,
                           platform_pitch_inertia=t.platform_pitch_inertia,
                           platform_yaw_inertia=t.platform_yaw_inertia)
+        # named physical parameters (ElastoDyn keys <-> names: named_parameters.py)
+        values.update({k: v for k, v in parameter_defaults(t, self.dofs).items() if k not in values})
         syms = self.system.parameters(list(values), values=values)
         return dict(zip(values, syms if isinstance(syms, tuple) else (syms,)))
 
@@ -334,7 +345,8 @@ class TurbineModel:
         ref = np.asarray(t.platform_reference, dtype=float)
         if any(isinstance(v, ca.SX) for v in values):
             p = self.p
-            body = RigidBody("platform", mass=p["platform_mass"], com=np.asarray(t.platform_cm) - ref,
+            com = [t.platform_cm[0] - ref[0], t.platform_cm[1] - ref[1], p["platform_cm_height"] - ref[2]]
+            body = RigidBody("platform", mass=p["platform_mass"], com=com,
                              inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
                                       p["platform_yaw_inertia"]])
         else:
@@ -349,10 +361,11 @@ class TurbineModel:
         active = [f for f in _TOWER if self.dofs.get(f)]
         if active:
             sid = tower_shape_integrals(t, dofs=active)
-            top_mass = self._rotor_mass() + p["nacelle_mass"] + p["yaw_bearing_mass"]
+            ke, de, mass_scale = tower_matrices(t, active, p)
             tower = FlexibleBody("tower", sid, [self.coords[STATE_ORDER[f]] for f in active],
-                                 top_mass=top_mass, end_rotation_order="elastodyn",
-                                 stiffness=p["tower_stiffness_scale"] * ca.DM(sid.ke))
+                                 kinematics="exact", end_rotation_order="elastodyn",
+                                 end_angular_velocity="slope_rates",
+                                 stiffness=p["tower_stiffness_scale"] * ke, damping=de, mass_scale=mass_scale)
         else:
             data = tower_elastodyn_data(t)
             m, h = np.asarray(data.element_mass), np.asarray(data.height)
@@ -458,7 +471,10 @@ class TurbineModel:
             name = f"blade{k + 1}"
             if flags:
                 sid = blade_shape_integrals(t, k, dofs=flags)
-                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags])
+                mats = blade_matrices(t, k, flags, self.p)          # None: blades differ, numeric K, C
+                blade = FlexibleBody(name, sid, [self.coords[blade_coordinate(k, f)] for f in flags],
+                                     kinematics="exact",
+                                     **({} if mats is None else {"stiffness": mats[0], "damping": mats[1]}))
             else:
                 blade = _rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
@@ -519,74 +535,6 @@ def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
     return np.column_stack([j1, j2, i3])
 
 
-def blade_coordinate(blade: int, flag: str) -> str:
-    """Coordinate name of a blade DOF: ``blade_coordinate(0, "FlapDOF1") == "B1F1"`` (blade 0-based)."""
-    return f"B{blade + 1}{BLADE_FLAGS[flag]}"
-
-
-def initial_blade_deflection(tip_displacement, pitch: float, target, dofs: dict[str, bool], *,
-                             blade: int = 1) -> dict[str, float]:
-    """Blade DOF values giving the tip deflection ``target`` = (OoPDefl, IPDefl) [m] (notes §5).
-
-    ElastoDyn's rule (``InitBlDefl``): with a flap DOF (FlapDOF1, else FlapDOF2) solve the 2x2
-    system of its and the edge mode's coned-frame tip components; the other flap mode is 0.
-    Without a flap DOF, least squares on the edge mode. ElastoDyn solves the 2x2 system even
-    when EdgeDOF is off and freezes the edge mode at the solved value; a disabled DOF has no
-    coordinate here, so the flap mode is then fitted alone (least squares) and a warning says so.
-
-    Parameters
-    ----------
-    tip_displacement : array (3, 2)
-        Tip (j1, j2) components of a unit F1, F2, E1 DOF (``ElastoDynBladeData.tip_displacement``).
-    pitch : float
-        Blade pitch [rad].
-    target : sequence of 2
-        (OoPDefl, IPDefl) [m].
-    dofs : dict
-        ElastoDyn flags -> enabled.
-
-    Returns
-    -------
-    dict
-        ``{"FlapDOF1": q, "FlapDOF2": q, "EdgeDOF": q}`` [m]; disabled DOFs are 0.
-
-    Examples
-    --------
-    >>> from mbsym.wind import nrel5mw
-    >>> from mbsym.wind.structure.elastodyn_bodies import blade_elastodyn_data
-    >>> ut = blade_elastodyn_data(nrel5mw()).tip_displacement
-    >>> q = initial_blade_deflection(ut, 0.0, [1.0, 0.0], {"FlapDOF1": True, "EdgeDOF": True})
-    >>> {k: round(v, 4) for k, v in q.items()}
-    {'FlapDOF1': 0.9876, 'FlapDOF2': 0.0, 'EdgeDOF': 0.1268}
-    """
-    ut = np.asarray(tip_displacement, dtype=float)
-    c, s = np.cos(pitch), np.sin(pitch)
-    A = np.vstack([ut[:, 0] * c + ut[:, 1] * s, -ut[:, 0] * s + ut[:, 1] * c])    # (2, 3): OoP, IP per DOF
-    target = np.asarray(target, dtype=float)
-    out = {f: 0.0 for f in BLADE_DOFS}
-    flap = next((f for f in ("FlapDOF1", "FlapDOF2") if dofs.get(f)), None)
-    edge = BLADE_DOFS.index("EdgeDOF")
-    if flap is None:
-        if dofs.get("EdgeDOF"):
-            a = A[:, edge]
-            out["EdgeDOF"] = float(a @ target / (a @ a))
-        return out
-    i = BLADE_DOFS.index(flap)
-    pair = A[:, [i, edge]]
-    if dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
-        out[flap], out["EdgeDOF"] = (float(v) for v in np.linalg.solve(pair, target))
-        return out
-    a = A[:, i]
-    out[flap] = float(a @ target / (a @ a))
-    if not dofs.get("EdgeDOF") and abs(np.linalg.det(pair)) > 1e-12:
-        frozen = np.linalg.solve(pair, target)
-        if abs(frozen[1]) > 1e-12:
-            warnings.warn(f"blade {blade}: ElastoDyn would freeze the disabled edge mode at q_E1 = {frozen[1]:.6g} m "
-                          f"to meet OoPDefl/IPDefl; mbsym keeps it at 0 and fits {flap} alone "
-                          f"(q = {out[flap]:.6g} m).", UserWarning, stacklevel=3)
-    return out
-
-
 def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
     """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
     m = np.append(np.asarray(data.element_mass), data.tip_mass)
@@ -595,91 +543,3 @@ def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
     zc = float(m @ z / mass)
     i_xx = float(m @ (z - zc) ** 2)
     return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
-
-
-def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
-    """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
-
-    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs),
-    platform products of inertia (with platform DOFs), gearbox losses (GBoxEff < 100 %,
-    with GenDOF: ElastoDyn's friction terms in the generator equation) and, for two-bladed
-    rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
-    inertia (``Hubg1Iner = Hubg2Iner = (HubIner - HubMass (UndSling - HubCM)²) / cos² Delta3``
-    about the shaft and the teeter axis; the template has HubIner about the shaft only).
-
-    Parameters
-    ----------
-    turbine : TurbineParameters
-    dofs : dict
-        ElastoDyn flag -> enabled.
-
-    Returns
-    -------
-    list of str
-        One message per unsupported feature (empty if none), saying what to change.
-
-    Examples
-    --------
-    >>> import dataclasses
-    >>> from mbsym.wind import nrel5mw
-    >>> t = dataclasses.replace(nrel5mw(), gearbox_efficiency=0.95)
-    >>> unsupported_features(t, {"GenDOF": True})
-    ['GBoxEff = 95 % (gearbox friction in the generator-azimuth equation): set GBoxEff = 100 or disable GenDOF']
-    """
-    out = []
-    on = {f for f, v in dofs.items() if v}
-    platform, tower = on & set(_PLATFORM), on & set(_TOWER)
-    cmass = np.asarray(turbine.tower.point_mass, dtype=float)
-    if (platform or tower) and np.any(cmass != 0):
-        out.append(f"tower concentrated masses (NTwCMass = {cmass.size}: TwCMass {cmass.tolist()} kg at "
-                   f"TwCMassHtFract {np.asarray(turbine.tower.point_mass_fraction).tolist()}): set NTwCMass = 0 "
-                   "or disable the tower and platform DOFs")
-    products = (turbine.platform_xy_inertia, turbine.platform_yz_inertia, turbine.platform_xz_inertia)
-    if platform and any(abs(x) > 0 for x in products):
-        out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "
-                   "set them to 0 or disable the platform DOFs")
-    if "GenDOF" in on and turbine.gearbox_efficiency < 1.0:
-        out.append(f"GBoxEff = {100 * turbine.gearbox_efficiency:.6g} % (gearbox friction in the generator-azimuth "
-                   "equation): set GBoxEff = 100 or disable GenDOF")
-    if turbine.number_of_blades == 2:
-        out += _two_blade_features(turbine, bool(platform or tower or "YawDOF" in on))
-    return out
-
-
-def _two_blade_features(t: TurbineParameters, support_moves: bool) -> list[str]:
-    """Teetering-hub data of a two-bladed deck that the template (hub at the apex, no teeter) ignores."""
-    out = []
-    if t.undersling != 0:
-        out.append(f"UndSling = {t.undersling:.6g} m (2-bladed rotor off the teeter pin): set UndSling = 0")
-    if t.delta3 != 0:
-        out.append(f"Delta3 = {np.rad2deg(t.delta3):.6g} deg (teeter axis; divides the hub inertia by cos^2 Delta3): "
-                   "set Delta3 = 0")
-    if t.initial_conditions.teeter_angle != 0:
-        out.append(f"TeetDefl = {np.rad2deg(t.initial_conditions.teeter_angle):.6g} deg (a fixed teeter angle): "
-                   "set TeetDefl = 0")
-    g1 = (t.hub_inertia - t.hub_mass * (t.undersling - t.hub_cm) ** 2) / np.cos(t.delta3) ** 2
-    if not np.isclose(g1, t.hub_inertia, rtol=1e-12, atol=0.0) or (support_moves and g1 != 0):
-        out.append(f"2-bladed hub inertia: ElastoDyn's Hubg1Iner = Hubg2Iner = {g1:.6g} kg m^2 about the shaft and "
-                   f"the teeter axis; the template has HubIner = {t.hub_inertia:.6g} kg m^2 about the shaft only "
-                   "(set HubIner = 0, or disable the tower, platform and yaw DOFs and make "
-                   "HubMass (UndSling - HubCM)^2 = 0)")
-    return out
-
-
-def _resolve_dofs(turbine: TurbineParameters, dofs: Sequence[str] | None) -> tuple[dict[str, bool], list[str]]:
-    """Enabled flags (every modelled flag -> bool) and a message for requested flags that are not modelled."""
-    if dofs is None:
-        chosen = {f for f, on in turbine.dofs.items() if on}
-    else:
-        if isinstance(dofs, str):
-            raise TypeError(f"dofs must be a list of ElastoDyn flag names, e.g. ['TwFADOF1', 'GenDOF']; got {dofs!r}.")
-        chosen = set(dofs)
-        unknown = sorted(chosen - set(DOF_NAMES))
-        if unknown:
-            raise ModelDefinitionError(f"unknown ElastoDyn DOF flags {unknown}; valid flags are {list(DOF_NAMES)}.")
-    unsupported = sorted(chosen - set(MODELLED_DOFS))
-    problems = []
-    if unsupported:
-        problems.append(f"DOFs {unsupported} are not modelled by this template yet (supported: {list(MODELLED_DOFS)}); "
-                        "disable them (dofs=[...]) to build the rest")
-    return {f: (f in chosen) for f in MODELLED_DOFS}, problems
