@@ -14,3 +14,9 @@ from .model import AERO_PARAMETERS, COMMANDS, OPERATING_DOFS, OperatingTurbine
 
 __all__ = ["OperatingTurbine", "OPERATING_DOFS", "COMMANDS", "AERO_PARAMETERS", "ActuatorSettings",
            "ACTUATOR_PARAMETERS", "smooth_clip", "OPERATION_CHANNELS"]
+
+# --- trim and operating points (branch trim; kept as a separate block for easy merges) ---
+from .steady_control import Regime, SteadyControl  # noqa: E402
+from .trim import TrimPoint, Trimmer, trim  # noqa: E402
+
+__all__ += ["SteadyControl", "Regime", "TrimPoint", "Trimmer", "trim"]
