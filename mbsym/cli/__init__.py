@@ -1,4 +1,5 @@
-"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``.
+"""Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
+``mbsym operating-points``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -51,6 +52,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_simulate(sub)
     add_linearize(sub)
     add_campbell(sub)
+    from .operating_points import add_parser as add_operating_points
+
+    add_operating_points(sub)
     return parser
 
 
@@ -85,6 +89,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .campbell import run as run_campbell
 
             return run_campbell(args)
+        elif args.command == "operating-points":
+            from .operating_points import run as run_operating_points
+
+            return run_operating_points(args)
     except BrokenPipeError:         # e.g. `mbsym simulate --stats | head`: not an error of ours
         sys.stderr.close()
         return 0

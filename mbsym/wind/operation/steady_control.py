@@ -434,6 +434,24 @@ class SteadyControl:
             out.append("speed below the pitch reference: the pitch would leave PC_MaxPit")
         return out
 
+    def region(self, regime: Regime, s: dict[str, float], *, tol: float = 1e-6) -> str:
+        """The usual region name of a solved regime: ``"1"``, ``"1.5"``, ``"2"``, ``"2.5"``, ``"3"``.
+
+        Region 2 with the speed held at ``VS_RefSpd`` (the reference capped) is ``"2.5"``, at
+        ``VS_MinOMSpd`` ``"1.5"``; a regime with the torque at its limit below the pitch loop's
+        reference (speed floating) is ``"2.5"``.
+        """
+        w = s["speed"]
+        if regime.pitch in ("track", "max"):
+            return "3"
+        if regime.torque in ("track", "k2"):
+            if w >= self.rated_generator_speed * (1 - tol):
+                return "2.5"
+            if w <= self.min_generator_speed * (1 + tol):
+                return "1.5"
+            return "2"
+        return {"hold_min": "1.5", "hold_rated": "2.5", "arsat": "2.5", "upper": "2.5", "lower": "1"}[regime.torque]
+
     # ------------------------------------------------------------------ lookups
     def _lookup(self, name: str, grid, values):
         cache = self.__dict__.setdefault("_lookups", {})
