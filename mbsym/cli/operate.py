@@ -23,7 +23,7 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   when the deck's ServoDyn runs a DISCON library, ``baseline`` without a deck, else ``none``.
 * Integration: one RK4 step per controller sample (``--method rk4 --dt`` changes the step, a
   divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller);
-  compiled to C when a compiler is available (``--compile`` forces it).
+  compiled to C from 2000 controller samples on (``--compile`` forces it).
 * ``--tmax`` defaults to the deck's TMax (built-in: the length of a tabulated wind, else 60 s);
   ``--dt`` is the output spacing (default: the deck's DT_Out; built-in 0.05 s).
 """
@@ -155,10 +155,8 @@ def _integration(args) -> dict:
         out["method"] = "rk4"
         if args.dt is not None:
             out["dt"] = float(args.dt)
-    from .. import codegen
-
-    out["compile"] = True if args.compile else (codegen.compiler_command() is not None
-                                                and not codegen.compile_disabled())
+    if args.compile:
+        out["compile"] = True
     return out
 
 
@@ -245,7 +243,7 @@ def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
         if controller is not None and "method" not in options else f"method {options.get('method', 'auto')}"
     print(f"mbsym simulate: {deck.label} operating in {wind_label}")
     print(f"DOFs: {dofs}; rotor {model.rotor.source}, {inflow}; controller {ctrl}")
-    print(f"{tmax:g} s, {how}{', compiled' if options.get('compile') else ''}", flush=True)
+    print(f"{tmax:g} s, {how}", flush=True)
 
 
 def _summary(series, stats) -> None:

@@ -8,8 +8,8 @@ channel        unit    definition
 =============  ======  ==================================================================
 Wind1VelX      m/s     hub-height wind (input)
 RtVAvgxh       m/s     relative wind along the shaft ``U_rel`` (AeroDyn's disk average)
-RtTSR          \-      ``Ω R / U_rel`` (``U_rel`` floored at ``RotorAero.u_min``)
-RtAeroCp/Ct/Cq \-      coefficients of the applied loads referred to ``U_rel``
+RtTSR          -       ``Ω R / U_rel`` (``U_rel`` floored at ``RotorAero.u_min``)
+RtAeroCp/Ct/Cq -       coefficients of the applied loads referred to ``U_rel``
 RtAeroFxh      N       aerodynamic thrust applied to the hub (along the shaft)
 RtAeroMxh      N-m     aerodynamic torque applied to the hub (about the shaft)
 RtAeroPwr      W       ``Ω · RtAeroMxh``

@@ -169,6 +169,11 @@ def compose(model) -> Dynamics:
     outputs = ca.Function(f"{model.name}_outputs", [g.x, g.u, g.p], [y], ["x", "u", "p"], ["y"], opts)
     model._parts["aero_torque"] = ca.Function(f"{model.name}_aero_torque", [g.x, g.u, g.p], [g.torque],
                                               ["x", "u", "p"], ["Q"], opts)
+    from .controllers import MEASUREMENTS
+    measured = [y[names.index(n)] for n in MEASUREMENTS]
+    model._parts["measurements"] = ca.Function(f"{model.name}_measurements", [g.x, g.u, g.p],
+                                               [ca.vertcat(*measured)], ["x", "u", "p"], ["y"], opts)
+    model._parts["measurement_units"] = tuple(units[names.index(n)] for n in MEASUREMENTS)
     if hasattr(g, "inflow_steady"):
         model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
                                                     [g.inflow_steady], ["x", "u", "p"], ["z"], opts)

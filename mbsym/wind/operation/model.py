@@ -177,6 +177,23 @@ class OperatingTurbine:
             self._dynamics = compose(self)
         return self._dynamics
 
+    def measurement_dynamics(self) -> Dynamics:
+        """The same dynamics with only the controllers' measurements as outputs (cheap to evaluate in a loop).
+
+        Outputs :data:`~.controllers.MEASUREMENTS` (OpenFAST units); every channel is evaluated
+        afterwards from the states (:func:`~.simulation.simulate_turbine` does).
+        """
+        if "measurement_dynamics" not in self._parts:
+            from .controllers import MEASUREMENTS
+
+            d = self.dynamics()
+            self._parts["measurement_dynamics"] = Dynamics(
+                d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters, defaults=dict(d.defaults),
+                outputs=self._parts["measurements"], output_names=MEASUREMENTS,
+                output_units=self._parts["measurement_units"], x0=d.x0, u0=d.u0, name=f"{d.name}_measured",
+                eom=d.eom)
+        return self._parts["measurement_dynamics"]
+
     # ------------------------------------------------------------------ initial states
     def initial_state(self, wind_speed: float | None = None, *, rotor_speed: float | None = None,
                       pitch: float | None = None, torque: float | None = None,
