@@ -279,8 +279,11 @@ class SteadyControl:
 
     # ------------------------------------------------------------------ laws (numbers or CasADi expressions)
     def min_pitch(self, wind_estimate: Any) -> Any:
-        """``β_min(Û)`` [rad]: fine pitch, or the peak-shaving schedule at the estimate (at least fine pitch)."""
-        if not self.peak_shaving:
+        """``β_min(Û)`` [rad]: fine pitch, or the peak-shaving schedule at the estimate (at least fine pitch).
+
+        Without pitch control (``PC_ControlMode 0``: "fix to fine pitch") always the fine pitch.
+        """
+        if not self.peak_shaving or not self.pitch_control:
             return self.fine_pitch + 0.0 * wind_estimate
         return ca.fmax(self._lookup("ps", self.min_pitch_wind_speeds, self.min_pitch_schedule)(wind_estimate),
                        self.fine_pitch)
@@ -425,7 +428,7 @@ class SteadyControl:
         if self.torque_mode == 1 and k in ("k2", "hold_min", "hold_rated", "arsat") and \
                 b >= s["min_pitch"] + self.region3_pitch_margin + b_tol:
             out.append("pitch above β_min + PC_Switch: region 3")
-        p = regime.pitch
+        p = regime.pitch if self.pitch_control else "fixed"        # PC_ControlMode 0: pitch fixed at fine pitch
         if p == "min" and w > s["pitch_reference"] + w_tol:
             out.append(f"speed {w:.6g} rad/s above the pitch reference {s['pitch_reference']:.6g}: the pitch would rise")
         if p == "track" and not s["min_pitch"] - b_tol <= b <= self.pitch_max + b_tol:
@@ -444,6 +447,8 @@ class SteadyControl:
         w = s["speed"]
         if regime.pitch in ("track", "max"):
             return "3"
+        if not self.pitch_control and regime.torque == "upper" and w >= self.rated_generator_speed * (1 - tol):
+            return "3"                      # fixed pitch: torque at its limit, the rotor above rated speed
         if regime.torque in ("track", "k2"):
             if w >= self.rated_generator_speed * (1 - tol):
                 return "2.5"

@@ -381,9 +381,10 @@ class Trimmer:
                 tries.insert(0 if k == 0 else 1, (order[k], np.asarray(z_start, dtype=float)))
         attempts = []
         for regime, z0 in tries:
+            note = "" if z0 is None else " (from the neighbouring point)"
             z0 = self.guess(regime, U) if z0 is None else z0
             result = self._attempt(regime, z0, U)
-            attempts.append(result[1])
+            attempts.append(result[1] + note)
             if result[0] is not None:
                 z, it = result[0]
                 return self._point(U, z, regime, True, f"region {regime.name}: {regime.description}", it,
@@ -425,6 +426,8 @@ class Trimmer:
         channels = MappingProxyType(dict(zip(dyn.output_names, y.tolist())))
         units = MappingProxyType(dict(zip(dyn.output_names, dyn.output_units)))
         region = self.control.region(regime, s) if regime else ""
+        if success:
+            message += _table_note(self.model.rotor.table, channels)
         shaving = bool(regime is not None and regime.pitch == "min" and s["min_pitch"] > self.control.fine_pitch + 1e-9)
         return TrimPoint(U, bool(success), message, regime.name if regime else "", x, u,
                          MappingProxyType(dict(zip(dyn.parameters, p.tolist()))), s["estimate"], s["min_pitch"],
@@ -448,6 +451,18 @@ class Trimmer:
             points.append(point)
             start = (point.regime, self.unknowns(point)) if point.success else None
         return points
+
+
+def _table_note(table, channels) -> str:
+    """A note when the point lies outside the rotor's performance table (the surfaces are extrapolated)."""
+    lam, beta = channels.get("RtTSR", float("nan")), math.radians(channels.get("BldPitch1", float("nan")))
+    out = []
+    if not table.tsr[0] <= lam <= table.tsr[-1]:
+        out.append(f"TSR {lam:.3g} outside [{table.tsr[0]:g}, {table.tsr[-1]:g}]")
+    if not table.pitch[0] - 1e-12 <= beta <= table.pitch[-1] + 1e-12:
+        out.append(f"pitch {math.degrees(beta):.3g} deg outside [{math.degrees(table.pitch[0]):g}, "
+                   f"{math.degrees(table.pitch[-1]):g}] deg")
+    return f" (outside the rotor's performance table: {', '.join(out)}; the surfaces are extrapolated)" if out else ""
 
 
 def _check_gearbox(model, control: SteadyControl) -> None:

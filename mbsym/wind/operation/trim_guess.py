@@ -109,7 +109,8 @@ def rotor_guess(model, control, regime, wind_speed: float, par: dict[str, float]
         beta, ok = _bisect(lambda b: rotor.torque(w, b) - n * t, beta_min, pitch_hi)
         return RotorGuess(w, beta, t, ok)
     lo = max(w_min, 1e-3) if kind[0] == "lower" else min(w_rated, w_pitch)
-    hi = 2.0 * w_pitch if kind[0] == "lower" or kind[1] == "max" else max(w_rated, w_pitch)
+    floats = kind[0] == "lower" or kind[1] == "max" or not c.pitch_control     # nothing caps the speed
+    hi = 3.0 * max(w_pitch, w_rated) if floats else max(w_rated, w_pitch)
     if hi <= lo:
         hi = lo * 1.05
     w, ok = _bisect(lambda w: rotor.torque(w, beta) - n * torque_at(w), lo, hi)
