@@ -184,7 +184,14 @@ class AeroCampbell:
                 return m
         raise KeyError(f"no mode labelled {label!r}; labels are {[m.label for m in self.modes]}.")
 
+    def plot(self, path, *, title: str | None = None) -> None:
+        """Write frequency and damping over wind speed to ``path`` (:func:`~.trim_plot.plot_aero_campbell`)."""
+        from .trim_plot import plot_aero_campbell
+
+        plot_aero_campbell(self, path, title=title)
+
     def to_dict(self) -> dict:
+        """``{"wind_speed", "rpm", "modes": [{"label", "freq_hz", "damping_ratio"}, ...]}`` (NaN -> None)."""
         def clean(a):
             return [None if not np.isfinite(v) else float(v) for v in a]
 

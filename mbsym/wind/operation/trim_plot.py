@@ -6,7 +6,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["plot_operating_points", "PLOT_CHANNELS"]
+__all__ = ["plot_operating_points", "plot_aero_campbell", "PLOT_CHANNELS"]
 
 #: Panels: channel, axis label (OpenFAST units; RtAeroFxh shown in kN).
 PLOT_CHANNELS = (("RotSpeed", "RotSpeed [rpm]", 1.0), ("BldPitch1", "BldPitch1 [deg]", 1.0),
@@ -48,6 +48,29 @@ def plot_operating_points(points, path, *, reference: Mapping[str, Sequence[floa
     axes[0].legend(fontsize=8, loc="lower right")
     axes[-1].set_xlabel("hub-height wind speed [m/s]")
     axes[0].set_title(title or f"Operating points: {points.label}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_aero_campbell(diagram, path, *, title: str | None = None) -> None:
+    """Frequency [Hz] and damping ratio [%] of the labelled modes over wind speed (:class:`~.trim_linear.AeroCampbell`)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax_f, ax_z) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    for i, m in enumerate(diagram.modes):
+        ax_f.plot(diagram.wind_speed, m.freq_hz, "o-", ms=3, color=f"C{i}", label=m.label)
+        ax_z.plot(diagram.wind_speed, 100 * np.asarray(m.damping_ratio), "o-", ms=3, color=f"C{i}")
+    ax_f.set_ylabel("frequency [Hz]")
+    ax_z.set_ylabel("damping ratio [%]")
+    ax_z.set_xlabel("hub-height wind speed [m/s]")
+    for ax in (ax_f, ax_z):
+        ax.grid(True, alpha=0.3)
+    ax_f.legend(fontsize=8)
+    ax_f.set_title(title or "Modes at the operating points, with aerodynamics and actuators", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
