@@ -387,7 +387,7 @@ class Trimmer:
             attempts.append(result[1] + note)
             if result[0] is not None:
                 z, it = result[0]
-                return self._point(U, z, regime, True, f"region {regime.name}: {regime.description}", it,
+                return self._point(U, z, regime, True, f"{regime.description} (regime {regime.name})", it,
                                    time.perf_counter() - t0, tuple(attempts))
         z0 = self.guess(order[0], U)
         return self._point(U, z0, None, False, "no steady regime of the controller fits: " + "; ".join(attempts),
