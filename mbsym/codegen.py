@@ -26,14 +26,9 @@ Measured on the CI machine kind (paper45 turbine, 3 DOFs): the RK4 step of
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
-import platform
 import shlex
-import shutil
-import subprocess
 import sys
-import tempfile
 import threading
 import time
 import warnings
@@ -43,6 +38,8 @@ from pathlib import Path
 from typing import Sequence
 
 import casadi as ca
+
+# hashlib, platform, shutil, subprocess and tempfile are imported where used: `import mbsym` stays light
 
 __all__ = [
     "CompilationWarning",
@@ -133,6 +130,8 @@ def compiler_command(compiler: str | None = None) -> tuple[str, ...] | None:
 @functools.lru_cache(maxsize=16)
 def _resolve_compiler(named: str, path_env: str) -> tuple[str, ...] | None:
     """:func:`compiler_command` for a named compiler ("" = default) and a PATH (cached: ~1 ms of stat calls)."""
+    import shutil
+
     if named:
         words = shlex.split(named)
         path = shutil.which(words[0], path=path_env) if words else None
@@ -149,11 +148,60 @@ def find_compiler(compiler: str | None = None) -> str | None:
 
 @functools.lru_cache(maxsize=8)
 def _compiler_version(command: tuple[str, ...]) -> str:
+    """First line of ``<compiler> --version``. For a plain compiler path (one word) it is remembered on disk
+    (``compilers.json`` in the cache directory) under the executable's path, size and modification time, so
+    that a new process does not run the compiler (~10 ms) just to look a library up."""
+    import subprocess
+
+    stamp = _executable_stamp(command)
+    known = _read_versions() if stamp else {}
+    if stamp and stamp in known:
+        return known[stamp]
     try:
         out = subprocess.run([*command, "--version"], capture_output=True, text=True, timeout=30)
-        return out.stdout.splitlines()[0] if out.stdout else out.stderr.strip()
+        version = out.stdout.splitlines()[0] if out.stdout else out.stderr.strip()
     except (OSError, subprocess.SubprocessError):
         return "unknown"
+    if stamp:
+        _write_version(stamp, version)
+    return version
+
+
+def _executable_stamp(command: tuple[str, ...]) -> str:
+    """``path|size|mtime_ns`` of a one-word compiler command ("" for wrappers such as ``env cc`` or ``ccache``)."""
+    if len(command) != 1 or Path(command[0]).name in ("env", "ccache", "sccache", "distcc"):
+        return ""
+    try:
+        st = os.stat(command[0])
+    except OSError:
+        return ""
+    return f"{command[0]}|{st.st_size}|{st.st_mtime_ns}"
+
+
+def _read_versions() -> dict:
+    import json
+
+    try:
+        data = json.loads((cache_dir() / "compilers.json").read_text())
+        return data if isinstance(data, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def _write_version(stamp: str, version: str) -> None:
+    import json
+    import tempfile
+
+    folder = cache_dir()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        data = {**_read_versions(), stamp: version}
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".compilers", suffix=".json")
+        with os.fdopen(fd, "w") as fh:
+            json.dump(data, fh)
+        os.replace(tmp, folder / "compilers.json")          # atomic: concurrent writers never corrupt it
+    except OSError:
+        pass
 
 
 def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | Sequence[str] | None = None,
@@ -165,6 +213,9 @@ def function_key(f: ca.Function, flags: Sequence[str] = DEFAULT_FLAGS, compiler:
     the compiler command and its version line, the flags, whether the Jacobian
     is included, the CasADi version and the platform (machine, OS).
     """
+    import hashlib
+    import platform
+
     words = tuple(shlex.split(compiler) if isinstance(compiler, str) else (compiler or ()))
     h = hashlib.sha256()
     for part in (f.serialize(), "\0".join(words), _compiler_version(words) if words else "",
@@ -330,6 +381,8 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
                                     time.perf_counter() - t0)
         except RuntimeError:
             library.unlink(missing_ok=True)        # exists but does not load (truncated, other ABI): rebuild once
+    import subprocess
+
     try:
         _build(f, cc, flags, library, jacobian)
     except (OSError, subprocess.SubprocessError, RuntimeError) as exc:
@@ -343,6 +396,9 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
 
 def _build(f: ca.Function, cc: tuple[str, ...], flags: tuple[str, ...], library: Path, jacobian: bool) -> None:
     """Generate C in a private temporary directory, compile, move the library into place atomically."""
+    import subprocess
+    import tempfile
+
     library.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix=_TEMP_PREFIX, dir=library.parent) as tmp:
         source = Path(tmp) / f"{f.name()}.c"
@@ -371,6 +427,8 @@ def clear_disk_cache(directory: str | os.PathLike | None = None) -> int:
     compilation): those older than :data:`COMPILE_TIMEOUT_S`, so that a build running
     in another process is left alone.
     """
+    import shutil
+
     folder = Path(directory).expanduser() if directory is not None else cache_dir()
     if not folder.is_dir():
         return 0

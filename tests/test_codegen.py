@@ -249,6 +249,6 @@ def osc_model():
 
 
 def test_compile_must_be_bool(osc_model):
-    with pytest.raises(TypeError, match="compile must be True or False"):
+    with pytest.raises(TypeError, match="compile must be True, False or None"):
         simulate(osc_model, 1.0, compile="yes")
 

@@ -84,10 +84,15 @@ def run_operation(args: argparse.Namespace) -> int:
     kind = _controller_kind(args, deck)
     wind, wind_label = _wind(args, deck)
     tmax, t_out = _grid(args, deck, wind)
-    model = deck.model()
-    dyn = model.dynamics()
-    x0 = _initial_state(model, deck, wind)
-    controller, handle = _controller(kind, args, deck)
+    controller, handle = _controller(kind, args, deck)       # bad controller files fail before the model is built
+    try:
+        model = _model(deck)
+        dyn = model.dynamics()
+        x0 = _initial_state(model, deck, wind)
+    except BaseException:
+        if handle is not None:
+            handle.close()
+        raise
     prepare = time.perf_counter() - t0
     _header(deck, model, kind, controller, wind_label, tmax, options)
     printer = ProgressPrinter(sys.stderr)
@@ -160,10 +165,26 @@ def _integration(args) -> dict:
     return out
 
 
+#: The built-in operating model, built once per process (derivation and surfaces take seconds).
+_BUILTIN: dict = {}
+
+
 def _deck(args):
     from ..wind.operation.deck import builtin_deck, operating_deck
 
-    return builtin_deck() if args.deck is None else operating_deck(args.deck)
+    if args.deck is not None:
+        return operating_deck(args.deck)
+    if "deck" not in _BUILTIN:
+        deck = builtin_deck()
+        model = deck.model()
+        _BUILTIN.update(deck=deck, model=model)
+    return _BUILTIN["deck"]
+
+
+def _model(deck):
+    if deck.path is None and _BUILTIN.get("deck") is deck:
+        return _BUILTIN["model"]
+    return deck.model()
 
 
 def _controller_kind(args, deck) -> str:

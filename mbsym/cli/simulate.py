@@ -279,7 +279,9 @@ def _print_comparison(rows) -> None:
 
 def _jsonable(v):
     if isinstance(v, (np.floating, np.integer)):
-        return v.item()
+        v = v.item()
+    if isinstance(v, float) and not np.isfinite(v):
+        return None                     # strict JSON has no NaN/inf (e.g. no linear prediction on the BDF path)
     if isinstance(v, (str, int, float, bool)) or v is None:
         return v
     return str(v)

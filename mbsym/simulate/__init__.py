@@ -10,7 +10,7 @@ cache, compiled evaluation switch), ``fixed`` (fixed-step loop in CasADi; rk4),
 cvodes, idas), ``scipy_methods`` (scipy-radau, scipy-bdf), ``result``.
 ``compile=True`` evaluates through :mod:`mbsym.codegen` (generated C, disk cache).
 ``auto`` is the accuracy-driven default (method, step and compilation from
-``accuracy``), ``controller`` runs discrete controllers in the loop
+``accuracy``), ``controller`` and ``closed_loop`` run discrete controllers in the loop
 (:class:`DiscreteController`), ``monitor`` handles progress, Ctrl-C and resource limits.
 """
 

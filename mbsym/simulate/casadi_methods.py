@@ -37,7 +37,6 @@ of samples is reported as ``statistics["input_samples"]``.
 
 from __future__ import annotations
 
-import hashlib
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -46,6 +45,7 @@ import numpy as np
 from ..exceptions import IntegrationError
 from .base import Method, Trajectory, prepared, symbolic_rhs
 from .checks import divergence_message, first_bad_column, raise_diverged
+from .monitor import SimulationInterrupted, sigint_seen
 
 __all__ = ["SundialsMethod", "Cvodes", "Adams", "Idas", "CALLABLE_INTERVALS", "MAX_CALLABLE_INTERVALS"]
 
@@ -119,6 +119,8 @@ class SundialsMethod(Method):
         (self._fn, self._compiled), _ = prepared(pr.owner, ("sundials", f.name(), pr.compile, self._compiler),
                                                  lambda: self._compile(f, jacobian=True))
         samples = None if self._splines is None else (pr.inputs.callables, self._splines[0].size, pr.tmax)
+        import hashlib
+
         key = self.cache_key(pr.rtol, pr.atol, self._varying, grid.size, hashlib.sha1(grid.tobytes()).hexdigest(),
                              samples)
         return prepared(pr.owner, key, lambda: self._build(grid))
@@ -179,8 +181,11 @@ class SundialsMethod(Method):
         else:
             args = {"x0": pr.x0, "p": np.concatenate([pr.p, pr.inputs.at(0.0)]), **self._call_args()}
         try:
-            X = np.array(integ(**args)["xf"])
-        except RuntimeError as exc:
+            with sigint_seen() as interrupted:
+                X = np.array(integ(**args)["xf"])
+        except (RuntimeError, KeyboardInterrupt) as exc:
+            if interrupted or isinstance(exc, KeyboardInterrupt):
+                raise SimulationInterrupted(float(integ.stats().get("tcur", 0.0))) from None
             raise IntegrationError(self._failure(integ, args, exc)) from exc
         stats = integ.stats()
         bad = first_bad_column(X, pr.x0)

@@ -63,6 +63,30 @@ class PreparedLoop:
         trigger()
         return tuple(o.reshape(self.n, -1).T for o in outs)      # column-major (n_x, n) as a view
 
+    def runner(self, p: np.ndarray):
+        """A fast ``run(z0, U, h) -> (Z, aux)`` for many calls with the same ``p`` (one buffer, reused arrays;
+        the returned arrays are overwritten by the next call: copy what you keep)."""
+        z = np.zeros(self.step.size1_in(0))
+        U = np.zeros(self.step.size1_in(1) * self.step.size2_in(1) * self.n)
+        P, H = np.ascontiguousarray(p, dtype=float).copy(), np.zeros(1)
+        outs = [np.empty(self.n * self.step.numel_out(i)) for i in range(2)]
+        buf, trigger = self.loop.buffer()
+        for i, a in enumerate((z, U, P, H)):
+            buf.set_arg(i, memoryview(a))
+        for i, o in enumerate(outs):
+            buf.set_res(i, memoryview(o))
+        views = tuple(o.reshape(self.n, -1).T for o in outs)
+        n_u = self.step.size1_in(1)
+
+        def run(z0: np.ndarray, Uc: np.ndarray, h: float, _keep=(buf, outs)):      # the buffer must stay alive
+            z[:] = z0
+            U.reshape(-1, n_u).T[:] = Uc                       # (n_u, n_c n) column-major into the buffer
+            H[0] = h
+            trigger()
+            return views
+
+        return run
+
 
 class FixedStepMethod(Method):
     """Base of one-step methods with a constant step.

@@ -20,10 +20,12 @@ seconds (5 s), so that batch jobs show they are alive.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
+import threading
 import time
-from typing import Callable, TextIO
+from typing import Callable, Iterator, TextIO
 
 import numpy as np
 
@@ -129,6 +131,37 @@ class ProgressPrinter:
             self._drawn = False
 
 
+@contextlib.contextmanager
+def sigint_seen() -> Iterator[list]:
+    """Record whether SIGINT (Ctrl-C) arrives during the block (CasADi's SUNDIALS interfaces turn it into a
+    solver failure without saying so); the previous handler still runs. Yields a list, non-empty once seen.
+    Outside the main thread (no signal handlers there) nothing is recorded."""
+    import signal
+
+    seen: list = []
+    if threading.current_thread() is not threading.main_thread():
+        yield seen
+        return
+    previous = signal.getsignal(signal.SIGINT)
+
+    def handler(signum, frame):
+        seen.append(time.perf_counter())
+        if callable(previous):
+            previous(signum, frame)
+        elif previous == signal.SIG_DFL:
+            raise KeyboardInterrupt
+
+    try:
+        signal.signal(signal.SIGINT, handler)
+    except (ValueError, OSError):           # not allowed here (embedded interpreter): record nothing
+        yield seen
+        return
+    try:
+        yield seen
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def memory_limit() -> float:
     """:data:`MEMORY_LIMIT_BYTES`, or ``$MBSYM_MEMORY_LIMIT`` [bytes] when set."""
     env = os.environ.get("MBSYM_MEMORY_LIMIT", "").strip()
@@ -142,7 +175,8 @@ def memory_limit() -> float:
     return float(MEMORY_LIMIT_BYTES)
 
 
-def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: float) -> float:
+def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: float, *,
+                    fewer_steps: str = "use a larger step dt") -> float:
     """Refuse runs whose result or step count is beyond the limits; return the estimated result size [bytes].
 
     Parameters
@@ -155,6 +189,8 @@ def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: flo
         Number of integration steps of a fixed-step method (None for adaptive methods).
     tmax : float
         End time [s] (for the message).
+    fewer_steps : str, optional, keyword-only
+        How to take fewer steps, for the message.
 
     Raises
     ------
@@ -174,7 +210,7 @@ def check_resources(n_out: int, n_columns: int, n_steps: float | None, tmax: flo
     if n_steps is not None and n_steps > MAX_STEPS:
         raise SimulationOptionError(
             f"the run would take {n_steps:.4g} integration steps (more than {MAX_STEPS:.3g}, hours of computing); "
-            f"shorten tmax = {tmax:g} s or use a larger step dt.")
+            f"shorten tmax = {tmax:g} s or {fewer_steps}.")
     return need
 
 

@@ -11,6 +11,7 @@ Python-side step logic: use them as references, not for long runs.
 
 from __future__ import annotations
 
+import time
 from typing import Any, ClassVar
 
 import numpy as np
@@ -18,6 +19,7 @@ import numpy as np
 from ..exceptions import IntegrationError
 from .base import BufferedFunction, Method, Trajectory, dense_rhs, jacobian_function, prepared
 from .checks import divergence_message, first_bad_column
+from .monitor import CHUNK_WALL_S, SimulationInterrupted
 
 __all__ = ["ScipyMethod", "ScipyRadau", "ScipyBDF"]
 
@@ -62,18 +64,25 @@ class ScipyMethod(Method):
         solver = (solver_class(fun, 0.0, pr.x0, t_out[-1], rtol=pr.rtol, atol=pr.atol, jac=jac)
                   if t_out[-1] > 0 else None)
         steps = 0
-        while solver is not None and solver.status == "running":
-            t_old = solver.t
-            try:
-                message = solver.step()
-            except ValueError as exc:           # scipy's LU refuses a non-finite Jacobian or state
-                self._raise_nonfinite(solver, t_old, exc)
-            steps += 1
-            self._check(solver, message, t_old)
-            upto = np.searchsorted(t_out, solver.t, side="right")
-            if upto > done:
-                X[done:upto] = solver.dense_output()(t_out[done:upto]).T
-                done = upto
+        last_report = time.perf_counter()
+        try:
+            while solver is not None and solver.status == "running":
+                t_old = solver.t
+                try:
+                    message = solver.step()
+                except ValueError as exc:           # scipy's LU refuses a non-finite Jacobian or state
+                    self._raise_nonfinite(solver, t_old, exc)
+                steps += 1
+                self._check(solver, message, t_old)
+                upto = np.searchsorted(t_out, solver.t, side="right")
+                if upto > done:
+                    X[done:upto] = solver.dense_output()(t_out[done:upto]).T
+                    done = upto
+                if pr.monitor is not None and time.perf_counter() - last_report > CHUNK_WALL_S:
+                    pr.monitor.update(float(solver.t))
+                    last_report = time.perf_counter()
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(float(solver.t), (t_out[:done], X[:done].copy())) from None
         if done < t_out.size:     # the last output time exactly at the end
             X[done:] = solver.y
         nfev, njev, nlu = (0, 0, 0) if solver is None else (solver.nfev, solver.njev, solver.nlu)

@@ -4,7 +4,7 @@
 
 * ElastoDyn: the structure, its DOFs and initial conditions;
 * AeroDyn 15 (``CompAero = 2``): the rotor surfaces by mbsym's BEM
-  (:meth:`RotorAero.from_openfast`, a few seconds) and its dynamic-inflow setting
+  (:meth:`RotorAero.from_openfast`, a few seconds, on first use) and its dynamic-inflow setting
   (:func:`~.dynamic_inflow.dbemt_settings`); without AeroDyn, the built-in NREL 5 MW rotor
   is *not* substituted: the deck is refused for operation;
 * InflowWind (``CompInflow = 1``): the hub-height wind (steady or uniform wind file);
@@ -43,7 +43,8 @@ class OperatingDeck:
     Attributes
     ----------
     turbine : TurbineParameters
-    rotor : RotorAero
+    rotor_source : RotorAero or Path
+        The rotor, or the ``.fst`` whose AeroDyn gives it (computed on first use of :attr:`rotor`).
     dofs : tuple of str or None
         The DOFs to model (None: the deck's own).
     dynamic_inflow : bool
@@ -66,7 +67,7 @@ class OperatingDeck:
     """
 
     turbine: TurbineParameters
-    rotor: RotorAero
+    rotor_source: "RotorAero | Path"
     dofs: tuple[str, ...] | None
     dynamic_inflow: bool
     dbemt: tuple[int, float] | None
@@ -79,6 +80,13 @@ class OperatingDeck:
     uses_library: bool
     label: str
     path: Path | None = None
+
+    @property
+    def rotor(self) -> RotorAero:
+        """The rotor aerodynamics (mbsym's BEM surfaces of the deck's AeroDyn: a few seconds, once)."""
+        if not isinstance(self.rotor_source, RotorAero):
+            object.__setattr__(self, "rotor_source", RotorAero.from_openfast(self.rotor_source))
+        return self.rotor_source
 
     def model(self, *, dofs: Sequence[str] | None = None, **options) -> OperatingTurbine:
         """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's)."""
@@ -159,7 +167,6 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
                                   "AeroFile); an operating simulation needs the rotor's aerodynamics. Add AeroDyn "
                                   "or run without a deck (built-in NREL 5 MW).")
     aerodyn = read_aerodyn(aerodyn_file, n_blades=turbine.number_of_blades)
-    rotor = RotorAero.from_openfast(path)
     dbemt = dbemt_settings(aerodyn)
     servodyn, glue_dt = deck_servodyn(path)
     inflow = deck_inflowwind(path)
@@ -177,7 +184,7 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
             if discon_in.is_file():
                 discon = read_discon_in(discon_in)
     actuators = ActuatorSettings.from_deck(servodyn, discon)
-    return OperatingDeck(turbine=turbine, rotor=rotor, dofs=None, dynamic_inflow=dbemt is not None, dbemt=dbemt,
+    return OperatingDeck(turbine=turbine, rotor_source=path, dofs=None, dynamic_inflow=dbemt is not None, dbemt=dbemt,
                          actuators=actuators, controller_dt=float(dt), servodyn=servodyn, inflow=inflow,
                          discon_in=discon_in, library=library, uses_library=uses_library, label=str(path),
                          path=path)
@@ -194,7 +201,7 @@ def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:
     from .nrel5mw import NREL5MW_CONTROLLER_DT
 
     dbemt = dbemt_settings(nrel5mw_aerodyn())
-    return OperatingDeck(turbine=nrel5mw(), rotor=nrel5mw_rotor(), dofs=tuple(dofs), dynamic_inflow=dbemt is not None,
+    return OperatingDeck(turbine=nrel5mw(), rotor_source=nrel5mw_rotor(), dofs=tuple(dofs), dynamic_inflow=dbemt is not None,
                          dbemt=dbemt, actuators=ActuatorSettings.nrel5mw(), controller_dt=NREL5MW_CONTROLLER_DT,
                          servodyn=None, inflow=None, discon_in=None, library=None, uses_library=False,
                          label="NREL 5 MW onshore (built-in)")

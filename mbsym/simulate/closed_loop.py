@@ -1,0 +1,437 @@
+"""Integration of a plant with a :class:`~mbsym.simulate.controller.DiscreteController` in the loop.
+
+See :mod:`mbsym.simulate.controller` for the conventions (samples, zero-order hold, results).
+:func:`run_closed_loop` chooses the RK4 sub-steps per sample (given, or for ``accuracy`` from the
+plant's linearized spectrum, checked by step doubling on the sub-steps), then runs either one
+generated ``mapaccum`` over samples (CasADi law) or a Python loop over samples around a compiled
+plant loop (Python law); long runs are chunked for progress and Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..exceptions import DimensionError, IntegrationError
+from .base import BufferedFunction, Problem, dense_rhs, maybe_compile, prepared
+from .checks import first_bad_column, raise_diverged
+from .controller import BoundController, DiscreteController
+from .fixed import RK4, PreparedLoop
+from .monitor import CHUNK_WALL_S, SimulationInterrupted
+
+__all__ = ["run_closed_loop", "CALLABLE_BATCH"]
+
+#: Samples per batch of a Python law: inputs sampled and outputs interpolated per batch (Ctrl-C and progress
+#: are handled between batches; a Ctrl-C inside the law ends the run at once).
+CALLABLE_BATCH = 256
+
+
+# ------------------------------------------------------------------------------------------- runs
+@dataclass
+class Extra:
+    """Columns the closed loop adds to a result: inputs as applied, controller states."""
+
+    u: np.ndarray
+    y: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+
+
+def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, accuracy, dt, compile, monitor):
+    """Integrate plant + controller; ``(X on times, statistics, Extra)``."""
+    from .auto import BACKGROUND_COMPILE_MIN_S, CHECK_SAMPLES, MAX_REFINEMENTS, epsilon, plant_step
+    from .monitor import check_resources
+
+    c = bc.ctrl
+    u_init = signal.at(0.0)
+    t0 = time.perf_counter()
+    if bc.substep_dt is not None:
+        m, reason = int(round(c.dt / bc.substep_dt)), f"rk4, dt = {bc.substep_dt:.4g} s (given)"
+    elif accuracy is None:
+        m = max(1, int(math.ceil(c.dt / RK4.default_dt - 1e-9)))
+        reason = f"rk4, {m} sub-step(s) of at most {RK4.default_dt} s per sample"
+    else:
+        ps = plant_step(plant, x0, u_init, p, tmax, accuracy, h_max=c.dt)
+        h = min(ps.h_accuracy, 0.95 * ps.h_stability, c.dt) if math.isfinite(ps.h_accuracy) else c.dt / 4
+        m = max(1, int(math.ceil(c.dt / h - 1e-9)))
+        reason = (f"rk4, {m} sub-step(s) of {c.dt / m:.4g} s per {c.dt:g} s sample, from the linearized spectrum "
+                  f"at t = 0 (|λ|max = {ps.rho:.3g} 1/s)")
+    select_s = time.perf_counter() - t0
+    loop = _ClosedLoop(bc, plant, x0, p, signal, tmax)
+    check_resources(times.size, 1, float(loop.samples) * m, tmax,
+                    fewer_steps="use a longer controller sample time or fewer sub-steps")
+    on, compile_reason = _compilation(loop, m, compile, accuracy is not None, BACKGROUND_COMPILE_MIN_S)
+    res = loop.run(times, m, on, monitor)
+    wall = res.stats["integration_wall_s"]
+    estimate = None
+    for attempt in range(MAX_REFINEMENTS + 1 if accuracy is not None else 0):
+        # step doubling on the sub-steps (the samples stay): half of them when possible, else twice as many
+        if m >= 2 and m % 2 == 0:
+            sub = slice(None, None, max(1, int(math.ceil(times.size / CHECK_SAMPLES))))
+            chk = loop.run(times[sub], m // 2, on, None)
+            estimate = epsilon(res.x[sub], chk.x) / 15.0
+        else:                                           # the finer run is the answer
+            chk = loop.run(times, 2 * m, on, None)
+            estimate = epsilon(chk.x, res.x) / 15.0
+            res, m = chk, 2 * m
+        wall += chk.stats["integration_wall_s"]
+        if estimate <= accuracy or attempt == MAX_REFINEMENTS:
+            break
+        grow = (estimate / (0.7 * accuracy)) ** 0.25 if math.isfinite(estimate) else 4.0
+        m = 2 * int(math.ceil(m * min(max(grow, 1.2), 10.0) / 2))      # even: the next check halves it
+        reason += f"; refined to {m} sub-steps after the check estimated ε = {estimate:.2g}"
+        res = loop.run(times, m, on, monitor)
+        wall += res.stats["integration_wall_s"]
+    stats = res.stats
+    stats["integration_wall_s"] = wall
+    if estimate is not None:
+        stats.update(error_estimate=estimate, accuracy=accuracy, check="step doubling (sub-steps per sample)")
+        if estimate > accuracy:
+            stats["message"] += f" The error estimate {estimate:.2g} is above the requested accuracy {accuracy:g}."
+    stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
+                 controller_samples=res.samples, substeps=m, dt=res.h)
+    stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
+    return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc)
+
+
+def _compilation(loop: "_ClosedLoop", m: int, compile, auto: bool, threshold: float) -> tuple[bool, str]:
+    if compile is not None:
+        return bool(compile), f"compile={compile}"
+    if not auto:
+        return False, "virtual machine (explicit method)"
+    from .. import codegen
+
+    if loop.bc.ctrl.is_function:
+        f = loop.body(m)
+        vm = loop.sample_seconds(f) * loop.samples * 1.5
+    else:                                   # a Python law: the plant's RK4 step is what may be compiled
+        f = loop.rk4.symbolic_step()
+        vm = loop.rk4._step_seconds(f, loop.x0) * loop.samples * m * 1.5
+    if vm <= threshold:
+        return False, f"virtual machine: ~{1e3 * vm:.3g} ms"
+    if codegen.compile_disabled() or codegen.compiler_command() is None:
+        return False, "virtual machine: compilation unavailable"
+    if codegen.cached_library(f) is not None:
+        return True, "compiled: its library is in the disk cache"
+    cost = codegen.estimate_compile_seconds(f)
+    if vm > cost:
+        return True, f"compiled: ~{vm:.2g} s in the virtual machine against ~{cost:.2g} s of compiling"
+    codegen.compile_in_background(f)
+    return False, f"virtual machine: ~{1e3 * vm:.3g} ms, below ~{cost:.2g} s of compiling; compiling in the background"
+
+
+@dataclass
+class _Run:
+    x: np.ndarray
+    u: np.ndarray
+    xc: np.ndarray
+    stats: dict
+    samples: int
+    h: float
+
+
+class _ClosedLoop:
+    """The sampled-data loop of one simulate() call (see the module docstring)."""
+
+    def __init__(self, bc: BoundController, plant, x0, p, signal, tmax) -> None:
+        self.bc, self.plant, self.x0, self.p, self.signal, self.tmax = bc, plant, x0, p, signal, tmax
+        c = bc.ctrl
+        self.samples = max(int(math.ceil(tmax / c.dt - 1e-9)), 1)
+        self.u_init = signal.at(0.0)[bc.act]
+        dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
+        self.rk4 = RK4(dummy)
+
+    # ---------------------------------------------------------------- the generated body
+    def body(self, m: int) -> ca.Function:
+        """``(z = [x; xc; u_held], Uexo (n_u, 3m), p, h) -> (z_next, aux)``: law, then m RK4 sub-steps."""
+        plant, bc = self.plant, self.bc
+
+        def build():
+            step = self.rk4.symbolic_step()
+            inner = step.mapaccum(f"{step.name()}_sub{m}", m, [0], [0])
+            n_x, n_u, n_a, n_xc = plant.n_x, plant.n_u, bc.act.size, bc.ctrl.n_xc
+            z, U = ca.MX.sym("z", n_x + n_xc + n_a), ca.MX.sym("U", n_u, 3 * m)
+            p, h = ca.MX.sym("p", plant.n_p), ca.MX.sym("h")
+            x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:]
+            keep, put = _masks(n_u, bc.act)
+            u_meas = ca.mtimes(keep, U[:, 0]) + ca.mtimes(put, ua_prev)
+            y = bc.measure(x, u_meas, p)
+            xc1, ua = bc.ctrl.law(xc, y)
+            Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
+            Xs, K1 = inner(x, Uh, ca.repmat(p, 1, m), ca.repmat(h, 1, m))
+            k_end = plant.rhs(Xs[:, -1], Uh[:, -1], p)
+            z_next = ca.vertcat(Xs[:, -1], xc1, ua)
+            aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
+            return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, h], [z_next, aux],
+                               ["z", "U", "p", "h"], ["z_next", "aux"])
+
+        return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
+                                           bc.ctrl.measurements, m), build)[0]
+
+    def sample_seconds(self, f: ca.Function) -> float:
+        """Wall time of one sample of the body ``f`` [s] (buffered calls, best of two)."""
+        z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        U = np.repeat(self.signal.at(0.0)[:, None], f.size2_in(1), axis=1)
+        args = [z, np.asfortranarray(U).reshape(-1, order="F"), np.ascontiguousarray(self.p, dtype=float),
+                np.array([self.bc.ctrl.dt])]
+        outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
+        buf, trigger = f.buffer()
+        for i, a in enumerate(args):
+            buf.set_arg(i, memoryview(a))
+        for i, o in enumerate(outs):
+            buf.set_res(i, memoryview(o))
+        best = math.inf
+        for _ in range(2):
+            t0 = time.perf_counter()
+            trigger()
+            best = min(best, time.perf_counter() - t0)
+        return best
+
+    # ---------------------------------------------------------------- running
+    def run(self, times: np.ndarray, m: int, compiled: bool, monitor) -> _Run:
+        t0 = time.perf_counter()
+        if self.bc.ctrl.is_function:
+            body, on = self.body(m), False
+            body, on = maybe_compile(body, compiled)
+            prep = time.perf_counter() - t0
+            out = self._run_function(body, times, m, monitor)
+        else:
+            step, on = self.rk4.symbolic_step(), False
+            step, on = maybe_compile(step, compiled)
+            loop = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
+                            lambda: PreparedLoop(step, m, on))[0]
+            rhs = BufferedFunction(maybe_compile(dense_rhs(self.plant), compiled)[0] if compiled
+                                   else dense_rhs(self.plant), self.p)
+            meas = BufferedFunction(self.bc.measure, self.p)
+            prep = time.perf_counter() - t0
+            out = self._run_callable(loop, rhs, meas, times, m, monitor)
+        out.stats.update(prepare_wall_s=prep, compiled=on, method="rk4", cache_hit=None, disk_cache_hit=None,
+                         success=True, n_jac=0)
+        return out
+
+    def _sample_grid(self, k0: int, k1: int) -> tuple[np.ndarray, np.ndarray]:
+        """Start times and lengths of samples k0..k1-1 (the last one ends at tmax)."""
+        c = self.bc.ctrl
+        start = np.arange(k0, k1) * c.dt
+        end = np.minimum(start + c.dt, self.tmax)
+        return start, end - start
+
+    def _exogenous(self, start: np.ndarray, length: np.ndarray, m: int) -> np.ndarray:
+        """Inputs at the RK4 stage times of every sub-step, (n_u, 3 m n_samples)."""
+        j = np.arange(m)[:, None] + np.array([0.0, 0.5, 1.0])[None, :]          # (m, 3) in sub-steps
+        t = start[:, None, None] + (length / m)[:, None, None] * j[None, :, :]
+        return self.signal(t.reshape(-1)).T
+
+    def _run_function(self, body: ca.Function, times, m, monitor) -> _Run:
+        n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_xc
+        z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        collector = _Collector(self, times, m)
+        K, k0, per, wall = self.samples, 0, 0.0, 0.0
+        try:
+            while k0 < K:
+                L = _first_chunk(self, body) if k0 == 0 else _chunk(K - k0, per)
+                loop = _sample_loop(self.plant.owner, body, L)
+                start, length = self._sample_grid(k0, k0 + L)
+                U = self._exogenous(start, length, m)
+                t1 = time.perf_counter()
+                Zn, A = loop.run(z, U, self.p, length / m)
+                dt_run = time.perf_counter() - t1
+                wall += dt_run
+                per = max(dt_run / L, 1e-8)
+                Xs = A[: n_x * m].reshape(n_x, m, L, order="F")
+                K1 = A[n_x * m: 2 * n_x * m].reshape(n_x, m, L, order="F")
+                k_end = A[2 * n_x * m: 2 * n_x * m + n_x]
+                xc = A[2 * n_x * m + n_x: 2 * n_x * m + n_x + n_xc]
+                ua = A[2 * n_x * m + n_x + n_xc:]
+                collector.add(k0, z[:n_x], Xs, K1, k_end, xc, ua, start, length)
+                z = Zn[:, -1].copy()
+                k0 += L
+                if monitor is not None:
+                    monitor.update(float(min(k0 * self.bc.ctrl.dt, self.tmax)))
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(min(k0 * self.bc.ctrl.dt, self.tmax), collector.partial()) from None
+        return collector.result(wall, m)
+
+    def _run_callable(self, loop: PreparedLoop, rhs, meas, times, m, monitor) -> _Run:
+        """One Python call of the law per sample; samples batched in chunks for inputs and outputs."""
+        c, n_x, act = self.bc.ctrl, self.plant.n_x, self.bc.act
+        x, xc, ua = self.x0.copy(), c.x0.copy(), self.u_init.copy()
+        collector = _Collector(self, times, m)
+        step = loop.runner(self.p)
+        wall, k0, j, last_report = 0.0, 0, 0, time.perf_counter()
+        try:
+            while k0 < self.samples:
+                L = min(CALLABLE_BATCH, self.samples - k0)
+                start, length = self._sample_grid(k0, k0 + L)
+                U_all = self._exogenous(start, length, m)            # (n_u, 3 m L)
+                Xs, K1 = np.empty((n_x, m, L)), np.empty((n_x, m, L))
+                KE, XC, UA = np.empty((n_x, L)), np.empty((c.n_xc, L)), np.empty((act.size, L))
+                x_start = x.copy()
+                t1 = time.perf_counter()
+                for j in range(L):
+                    U = U_all[:, 3 * m * j: 3 * m * (j + 1)]
+                    u_meas = U[:, 0].copy()
+                    u_meas[act] = ua
+                    y = meas(x, u_meas).reshape(-1)
+                    xc, ua = _call_law(c, float(start[j]), xc, y)
+                    U[act, :] = ua[:, None]
+                    Zn, K = step(x, U, float(length[j]) / m)
+                    Xs[:, :, j], K1[:, :, j] = Zn, K
+                    KE[:, j] = rhs(Zn[:, -1], U[:, -1])
+                    XC[:, j], UA[:, j] = xc, ua
+                    x = Zn[:, -1].copy()
+                wall += time.perf_counter() - t1
+                collector.add(k0, x_start, Xs, K1, KE, XC, UA, start, length)
+                k0, j = k0 + L, 0
+                if monitor is not None and time.perf_counter() - last_report > CHUNK_WALL_S:
+                    monitor.update(float(min(k0 * c.dt, self.tmax)))
+                    last_report = time.perf_counter()
+        except KeyboardInterrupt:
+            if k0 < self.samples and j > 0:                  # the samples of this batch done before Ctrl-C
+                collector.add(k0, x_start, Xs[:, :, :j], K1[:, :, :j], KE[:, :j], XC[:, :j], UA[:, :j], start[:j],
+                              length[:j])
+            raise SimulationInterrupted(min((k0 + j) * c.dt, self.tmax), collector.partial()) from None
+        return collector.result(wall, m)
+
+
+def _first_chunk(loop: _ClosedLoop, body: ca.Function) -> int:
+    """Samples of the first chunk: all of them unless one sample's timed cost says they take > 0.3 s."""
+    return loop.samples if loop.samples <= 64 else _chunk(loop.samples, loop.sample_seconds(body))
+
+
+def _chunk(remaining: int, per_sample: float) -> int:
+    """All remaining samples if they take about a chunk's time, else a power of two (16..4096) of them."""
+    fit = CHUNK_WALL_S / max(per_sample, 1e-9)
+    if remaining <= 1.5 * fit:
+        return remaining
+    return int(min(max(16, 2 ** int(math.log2(max(fit, 1.0)))), 4096, remaining))
+
+
+def _sample_loop(owner, body: ca.Function, n: int) -> "_SampleLoop":
+    return prepared(owner, ("closed-loop samples", id(body), n), lambda: _SampleLoop(body, n))[0]
+
+
+class _SampleLoop:
+    """``mapaccum`` of the closed-loop body over n samples, each with its own sub-step length h."""
+
+    def __init__(self, body: ca.Function, n: int) -> None:
+        self.n = n
+        self.body = body
+        loop = body.mapaccum(f"{body.name()}_loop{n}", n, [0], [0])
+        z, U = ca.MX.sym("z", body.size1_in(0)), ca.MX.sym("U", body.size1_in(1), body.size2_in(1) * n)
+        p, H = ca.MX.sym("p", body.size1_in(2)), ca.MX.sym("H", 1, n)
+        self.loop = ca.Function(f"{body.name()}_loop{n}", [z, U, p, H], loop(z, U, ca.repmat(p, 1, n), H))
+
+    def run(self, z0, U, p, H):
+        args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
+                np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(H, dtype=float)]
+        outs = [np.empty(self.n * self.body.numel_out(i)) for i in range(2)]
+        buf, trigger = self.loop.buffer()
+        for i, a in enumerate(args):
+            buf.set_arg(i, memoryview(a))
+        for i, o in enumerate(outs):
+            buf.set_res(i, memoryview(o))
+        trigger()
+        return tuple(o.reshape(self.n, -1).T for o in outs)
+
+
+def _masks(n_u: int, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``keep`` (n_u, n_u): zero on actuated rows; ``put`` (n_u, n_a): places u_ctrl on them."""
+    keep = np.eye(n_u)
+    keep[act, act] = 0.0
+    put = np.zeros((n_u, act.size))
+    put[act, np.arange(act.size)] = 1.0
+    return keep, put
+
+
+def _call_law(c: DiscreteController, t: float, xc: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if c.is_function:
+        xc1, ua = c.law(xc, y)
+        return np.asarray(xc1, dtype=float).reshape(-1), np.asarray(ua, dtype=float).reshape(-1)
+    out = c.law(t, xc.copy(), y.copy())
+    if not (isinstance(out, (tuple, list)) and len(out) == 2):
+        raise DimensionError(f"controller {c.name!r}: law(t, xc, y) must return (xc_next, u); got {type(out).__name__} "
+                             f"at t = {t:g} s.")
+    try:
+        xc1 = np.asarray(out[0], dtype=float).reshape(-1)
+        ua = np.asarray(out[1], dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise DimensionError(f"controller {c.name!r}: law returned non-numeric values at t = {t:g} s.") from None
+    if xc1.size != c.n_xc or ua.size != len(c.actuates):
+        raise DimensionError(f"controller {c.name!r}: law(t, xc, y) returned xc_next of {xc1.size} and u of {ua.size} "
+                             f"values at t = {t:g} s; expected {c.n_xc} and {len(c.actuates)} ({list(c.actuates)}).")
+    if not (np.all(np.isfinite(xc1)) and np.all(np.isfinite(ua))):
+        raise IntegrationError(f"controller {c.name!r} returned non-finite values at t = {t:g} s: xc_next = "
+                               f"{xc1.tolist()}, u = {ua.tolist()}.")
+    return xc1, ua
+
+
+class _Collector:
+    """Outputs of a closed-loop run at the requested times, chunk by chunk (Hermite within each sub-step)."""
+
+    def __init__(self, loop: _ClosedLoop, times: np.ndarray, m: int) -> None:
+        self.loop, self.times, self.m = loop, times, m
+        n_x, c = loop.plant.n_x, loop.bc.ctrl
+        self.x = np.empty((times.size, n_x))
+        self.u = np.empty((times.size, loop.plant.n_u))
+        self.xc = np.empty((times.size, c.n_xc))
+        self.done = 0
+        self.steps = 0
+        self.h = c.dt / m
+
+    def add(self, k0, x_start, Xs, K1, k_end, xc, ua, start, length) -> None:
+        """Samples k0.. of one chunk: sub-step end states Xs (n_x, m, L), start derivatives K1, end derivatives."""
+        lp, m = self.loop, self.m
+        n_x, L = Xs.shape[0], Xs.shape[2]
+        bad = first_bad_column(Xs.reshape(n_x, -1, order="F"), lp.x0)
+        if bad is not None:
+            j = bad // m
+            raise_diverged("rk4", float(start[j] + (bad % m + 1) * length[j] / m), float(length[j] / m),
+                           Xs.reshape(n_x, -1, order="F")[:, bad], lp.plant.states, lp.x0,
+                           where=f"controller sample {k0 + j + 1} of {lp.samples}")
+        self.steps += L * m
+        t_end = float(start[-1] + length[-1])
+        last = k0 + L == lp.samples
+        hi = self.times.size if last else int(np.searchsorted(self.times, t_end * (1 - 1e-12), side="left"))
+        if hi <= self.done:
+            return
+        t = self.times[self.done:hi]
+        # sample and sub-step of each output time
+        j = np.clip(np.searchsorted(start, t * (1 + 1e-12) + 1e-12, side="right") - 1, 0, L - 1)
+        h = length[j] / m
+        s_abs = (t - start[j]) / h
+        i = np.clip(np.floor(s_abs + 1e-9).astype(int), 0, m - 1)
+        s = np.clip(s_abs - i, 0.0, 1.0)[:, None]
+        XL = np.where((i == 0)[:, None], x_start_rows(x_start, Xs, j), Xs[:, np.maximum(i - 1, 0), j].T)
+        XR = Xs[:, i, j].T
+        FL = K1[:, i, j].T
+        FR = np.where((i == m - 1)[:, None], k_end[:, j].T, K1[:, np.minimum(i + 1, m - 1), j].T)
+        hh = h[:, None]
+        s2, s3 = s * s, s * s * s
+        self.x[self.done:hi] = ((2 * s3 - 3 * s2 + 1) * XL + (s3 - 2 * s2 + s) * hh * FL
+                                + (3 * s2 - 2 * s3) * XR + (s3 - s2) * hh * FR)
+        U = lp.signal(t)
+        U[:, lp.bc.act] = ua[:, j].T
+        self.u[self.done:hi] = U
+        self.xc[self.done:hi] = xc[:, j].T
+        self.done = hi
+
+    def partial(self):
+        return self.times[: self.done], self.x[: self.done].copy()
+
+    def result(self, wall: float, m: int) -> _Run:
+        lp = self.loop
+        stats = {"steps": self.steps, "n_rhs": self.steps * 4 + lp.samples, "integration_wall_s": wall,
+                 "message": f"{lp.samples} controller samples of {lp.bc.ctrl.dt:g} s, {m} RK4 sub-step(s) each, "
+                            f"up to t = {lp.tmax:g} s."}
+        return _Run(self.x, self.u, self.xc, stats, lp.samples, lp.bc.ctrl.dt / m)
+
+
+def x_start_rows(x_start: np.ndarray, Xs: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """State at the start of samples ``j`` of a chunk: x_start for the first, else the previous sample's end."""
+    prev = Xs[:, -1, np.maximum(j - 1, 0)].T
+    return np.where((j == 0)[:, None], x_start[None, :], prev)
