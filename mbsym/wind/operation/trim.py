@@ -21,6 +21,11 @@ mean of the right-hand side over ``n_azimuth`` equally spaced azimuths (as
 :func:`mbsym.linear.steady_rotation`): the mean deflection. The default chooses by
 evaluating the model at two azimuths.
 
+**Coordinates without stiffness** (a yaw bearing without spring, an unmoored platform) have no
+equilibrium value: they are held at the deck's value and their acceleration must vanish there;
+if it does not (a free yaw carries the rotor's reaction torque) the point fails with a message
+saying so, never silently.
+
 **Solution.** Each regime of the controller gives a square system; Newton's method with the
 exact Jacobian (CasADi AD of the same graph) and a backtracking line search solves it from
 a guess on the rotor surfaces (:mod:`.trim_guess`) or, over a sweep of wind speeds, from the
@@ -50,6 +55,10 @@ __all__ = ["TrimPoint", "Trimmer", "trim", "TRIM_TOLERANCE"]
 #: Default Newton tolerance: the largest residual row, scaled to the change of the unknowns that
 #: would remove it, relative to their size.
 TRIM_TOLERANCE = 1e-10
+#: A coordinate is held for lack of stiffness below this fraction of the largest stiffness (per unit mass).
+NEUTRAL_RATIO = 1e-3
+#: Largest acceleration [m/s² or rad/s²] a coordinate held for lack of stiffness may keep at a trim.
+HELD_TOLERANCE = 1e-6
 _RPM = 30.0 / math.pi
 _TORQUE_KINDS = ("track", "upper", "lower", "k2", "hold_min", "hold_rated", "arsat")
 _PITCH_KINDS = ("min", "track", "max")
@@ -200,8 +209,12 @@ class Trimmer:
             if name not in dyn.output_names:
                 raise ModelDefinitionError(f"the model has no output channel {name!r}.")
         self.i_az = dyn.states.index("GeAz")
-        self.free = [i for i in range(dyn.n_x) if i != self.i_az]
         self.i_speed = dyn.states.index("GeAz_d") if model.spins_freely else None
+        n_q = model.structure.eom.n_q
+        self.held = self._neutral_coordinates()
+        self.x_base = dyn.x0                        # held coordinates keep these values (the deck's)
+        self.free = [i for i in range(dyn.n_x) if i != self.i_az and i not in self.held]
+        self.eq_rows = [i for i in range(dyn.n_x) if i != self.i_az and i - n_q not in self.held]
         self.i_u = {n: dyn.inputs.index(n) for n in ("Wind1VelX", "BlPitchCom", "GenTqCom")}
         self.estimates = self.control.wind_estimator in (1, 2)
         self.n_z = len(self.free) + 2 + (0 if model.spins_freely else 1) + (1 if self.estimates else 0)
@@ -210,7 +223,7 @@ class Trimmer:
     def _split(self, z, az, U):
         """``(x, u, p, Û)`` expressions from the unknowns ``z`` (SX), azimuth and wind."""
         dyn, n_f = self.dyn, len(self.free)
-        x = ca.SX.zeros(dyn.n_x)
+        x = ca.SX(ca.DM(self.x_base))
         for k, i in enumerate(self.free):
             x[i] = z[k]
         x[self.i_az] = az
@@ -246,7 +259,7 @@ class Trimmer:
         beta_min = c.min_pitch(u_est)
         shift = c.shift(beta_c, beta_min, power)
         t_ref, p_ref = c.torque_reference(u_est, power, shift), c.pitch_reference(shift)
-        rows = [rhs[self.free]]
+        rows = [rhs[self.eq_rows]]
         t_eq = [c.torque_equation(Regime("", k, "min", ""), speed=gen_speed, torque=torque_c, reference=t_ref)
                 for k in _TORQUE_KINDS]
         p_eq = [c.pitch_equation(Regime("", "track", k, ""), speed=gen_speed, pitch=beta_c, min_pitch=beta_min,
@@ -270,6 +283,28 @@ class Trimmer:
                                    [ca.vertcat(gen_speed, rot_speed, power, beta_min, t_ref, p_ref, u_est)])
         ys = dyn.outputs.map(n_az)(xs, ca.repmat(u, 1, n_az), ca.repmat(p, 1, n_az))
         self.point_values = ca.Function("trim_point", [z, U, az0], [x, u, p, rhs, ca.sum2(ys) / n_az])
+
+    def _neutral_coordinates(self) -> list[int]:
+        """Coordinates (not the rotor azimuth) without stiffness, held at the deck's value as
+        :func:`mbsym.linear.static_equilibrium` does (a free yaw, an unmoored platform surge).
+
+        In still air at the deck's state with the rotor turning, their row and column of
+        ∂(accelerations)/∂(coordinates) stay below :data:`NEUTRAL_RATIO` of the largest entry (a yaw
+        bearing without spring sees ~1e-4 of the tower's from gravity alone).
+        """
+        dyn, eom = self.dyn, self.model.structure.eom
+        n_q = eom.n_q
+        x0 = dyn.x0
+        if self.i_speed is not None:
+            x0[self.i_speed] = 1.0
+        p = dict(zip(dyn.parameters, self.p.tolist()))
+        if "air_density" in p:
+            p["air_density"] = 1e-12
+        x = ca.SX.sym("x", dyn.n_x)
+        acc = dyn.rhs(x, dyn.u0, dyn.parameter_vector(p))[n_q:2 * n_q]
+        K = np.abs(np.asarray(ca.Function("stiffness", [x], [ca.jacobian(acc, x[:n_q])])(x0), dtype=float))
+        small = K <= NEUTRAL_RATIO * max(float(K.max(initial=0.0)), 1e-300)
+        return [i for i, c in enumerate(eom.coordinates) if c != "GeAz" and small[i].all() and small[:, i].all()]
 
     def _azimuth_independent(self) -> bool:
         """Whether the rhs at a spinning state differs between two azimuths by less than 1e-9 (relative)."""
@@ -309,7 +344,7 @@ class Trimmer:
             if name != "GeAz_d":
                 x[dyn.states.index(name)] = 0.0
         for i, name in enumerate(model.structure.eom.coordinates):
-            if name not in ("GeAz",):
+            if name != "GeAz" and i not in self.held:
                 x[i] = 0.0
         extra = [g.pitch, g.torque] + ([] if model.spins_freely else [g.rotor_speed])
         extra += [wind_speed] if self.estimates else []
@@ -406,10 +441,20 @@ class Trimmer:
         if not ok:
             return None, f"region {regime.name}: Newton did not converge (scaled residual {err:.2g})"
         s = self._signals(z, U)
-        why = self.control.violations(regime, s)
+        why = self.control.violations(regime, s) + self._held_forces(z, U)
         if why:
             return None, f"region {regime.name}: " + ", ".join(why)
         return (z, it), f"region {regime.name}: accepted"
+
+    def _held_forces(self, z: np.ndarray, U: float) -> list[str]:
+        """Held coordinates whose acceleration does not vanish (no equilibrium with them held)."""
+        if not self.held:
+            return []
+        eom = self.model.structure.eom
+        rhs = np.asarray(self.point_values(z, U, 0.0)[3], dtype=float).reshape(-1)
+        bad = [(eom.coordinates[k], rhs[eom.n_q + k]) for k in self.held if abs(rhs[eom.n_q + k]) > HELD_TOLERANCE]
+        return [f"{c} has no stiffness and carries a net acceleration {a:.3g} (m/s² or rad/s²): no equilibrium; "
+                "add a spring (e.g. yaw_spring= of the OperatingTurbine) or disable the DOF" for c, a in bad]
 
     def _signals(self, z: np.ndarray, U: float) -> dict[str, float]:
         v = np.asarray(self.signals(z, U, 0.0), dtype=float).reshape(-1)

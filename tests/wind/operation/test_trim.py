@@ -218,3 +218,19 @@ def test_estimator_bias_from_a_low_cp_table(toy_model):
     r = brentq(lambda r: scale * r * r * cq(7.0) - cq(7.0 * r), 1.0, 1.5)
     assert point.wind_estimate == pytest.approx(r * us, rel=1e-4)
     assert point["RotSpeed"] / RPM == pytest.approx(7.0 * r * us / RADIUS, rel=1e-4)
+
+
+def test_free_yaw_without_spring_is_reported_not_solved():
+    """A yaw bearing without spring has no equilibrium under the rotor's reaction torque: held, and reported."""
+    import warnings
+
+    from mbsym.wind.operation import OperatingTurbine
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)         # "YawDOF gets no aerodynamic load"
+        model = OperatingTurbine.nrel5mw(dofs=["GenDOF", "YawDOF"], dynamic_inflow=False)
+    trimmer = Trimmer(model)
+    assert [model.structure.eom.coordinates[k] for k in trimmer.held] == ["Yaw"]
+    point = trimmer.solve(8.0)
+    assert not point.success and "Yaw has no stiffness" in point.message
+    assert point.x()["Yaw"] == model.dynamics().x0[model.dynamics().states.index("Yaw")]
