@@ -55,8 +55,8 @@ __all__ = ["TrimPoint", "Trimmer", "trim", "TRIM_TOLERANCE"]
 #: Default Newton tolerance: the largest residual row, scaled to the change of the unknowns that
 #: would remove it, relative to their size.
 TRIM_TOLERANCE = 1e-10
-#: A coordinate is held for lack of stiffness below this fraction of the largest stiffness (per unit mass).
-NEUTRAL_RATIO = 1e-3
+#: A coordinate whose stiffness (per unit mass) is below (2π f)² with this f [Hz] is held (no equilibrium value).
+NEUTRAL_FREQUENCY = 0.005
 #: Largest acceleration [m/s² or rad/s²] a coordinate held for lack of stiffness may keep at a trim.
 HELD_TOLERANCE = 1e-6
 _RPM = 30.0 / math.pi
@@ -289,8 +289,10 @@ class Trimmer:
         :func:`mbsym.linear.static_equilibrium` does (a free yaw, an unmoored platform surge).
 
         In still air at the deck's state with the rotor turning, their row and column of
-        ∂(accelerations)/∂(coordinates) stay below :data:`NEUTRAL_RATIO` of the largest entry (a yaw
-        bearing without spring sees ~1e-4 of the tower's from gravity alone).
+        ∂(accelerations)/∂(coordinates) (the rotor azimuth's left out) stay below
+        ``(2π NEUTRAL_FREQUENCY)²``: no restoring force that would give a mode faster than one
+        cycle per 200 s (a yaw bearing without spring sees 4e-4 1/s² from gravity; the slowest
+        moored floating platforms' surge is ~0.008 Hz, 2.5e-3 1/s²).
         """
         dyn, eom = self.dyn, self.model.structure.eom
         n_q = eom.n_q
@@ -303,8 +305,9 @@ class Trimmer:
         x = ca.SX.sym("x", dyn.n_x)
         acc = dyn.rhs(x, dyn.u0, dyn.parameter_vector(p))[n_q:2 * n_q]
         K = np.abs(np.asarray(ca.Function("stiffness", [x], [ca.jacobian(acc, x[:n_q])])(x0), dtype=float))
-        small = K <= NEUTRAL_RATIO * max(float(K.max(initial=0.0)), 1e-300)
-        return [i for i, c in enumerate(eom.coordinates) if c != "GeAz" and small[i].all() and small[:, i].all()]
+        small = K <= (2 * math.pi * NEUTRAL_FREQUENCY) ** 2
+        rest = [j for j, c in enumerate(eom.coordinates) if c != "GeAz"]
+        return [i for i in rest if small[i, rest].all() and small[rest, i].all()]
 
     def _azimuth_independent(self) -> bool:
         """Whether the rhs at a spinning state differs between two azimuths by less than 1e-9 (relative)."""
