@@ -87,7 +87,7 @@ def accuracy_table(ops, ref) -> tuple[str, dict]:
     for p in ops:
         of = ref[p.wind_speed]
         cells = []
-        for c, (unit, kind, _) in CHANNELS.items():
+        for c, (_unit, kind, _limit) in CHANNELS.items():
             scale = 1e-3 if c == "RtAeroFxh" else 1.0
             ours, theirs = p[c] * scale, of[c] * scale
             if kind == "rel":
@@ -179,13 +179,11 @@ def main() -> None:
              title="NREL 5 MW steady states: mbsym trim vs OpenFAST v5 + AeroDyn 15 + ROSCO 2.10.6")
     cd = ops.campbell()
     cd.plot(figures / "operating_points_campbell.png")
-    fa = cd.mode("1st tower fore-aft")
     camp = "| U m/s | " + " | ".join(f"{u:g}" for u in cd.wind_speed) + " |\n|---|" + "---|" * len(cd.wind_speed) + "\n"
     camp += "\n".join(f"| {m.label} f Hz / ζ % | " + " | ".join(f"{f:.4f} / {100 * z:.2f}" for f, z in
                                                                 zip(m.freq_hz, m.damping_ratio)) + " |"
                       for m in cd.modes)
     print(camp)
-    del fa
     if args.no_write:
         return
     text = f"""## Operating points (trim) vs OpenFAST steady states

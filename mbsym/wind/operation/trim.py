@@ -337,12 +337,10 @@ class Trimmer:
         """Unknowns from the rotor surfaces (:func:`~.trim_guess.rotor_guess`), tower at rest."""
         g = rotor_guess(self.model, self.control, regime, wind_speed, self.par)
         model, dyn = self.model, self.dyn
-        p = None if model.spins_freely else {"rotor_speed": g.rotor_speed}
         if model.spins_freely:
             x = model.initial_state(wind_speed, rotor_speed=g.rotor_speed, pitch=g.pitch, torque=g.torque)
-        else:
+        else:                                # the rotor speed is a parameter, an unknown of the trim
             x = model.initial_state(None, pitch=g.pitch, torque=g.torque)
-        del p
         for name in dyn.states[model.structure.eom.n_q:2 * model.structure.eom.n_q]:
             if name != "GeAz_d":
                 x[dyn.states.index(name)] = 0.0
@@ -435,12 +433,10 @@ class Trimmer:
         """``((z, iterations) or None, note)``: solve one regime and check its inequalities."""
         z, it, ok, err = self.newton(z0, U, regime)
         if ok and self.estimates:
-            s = self._signals(z, U)
             beta_c, torque_c = z[len(self.free)], z[len(self.free) + 1]
             if not self.control.estimator_in_range(beta_c, torque_c):      # ROSCO's fallback to the hub wind
                 z, it2, ok, err = self.newton(z, U, regime, estimator_on=False)
                 it += it2
-                del s
         if not ok:
             return None, f"region {regime.name}: Newton did not converge (scaled residual {err:.2g})"
         s = self._signals(z, U)

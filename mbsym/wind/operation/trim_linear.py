@@ -130,8 +130,7 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> 
 
 def structural_mass_matrix(trimmer, point) -> np.ndarray:
     """The structure's mass matrix [kg, kg m, kg m²] at the point (pitch from the actuator state)."""
-    model, dyn = trimmer.model, trimmer.dyn
-    eom = model.structure.eom
+    eom = trimmer.model.structure.eom
     x = point.x()
     values = {"BlPitch": x["BlPitch"], "BlPitch_d": x["BlPitch_d"], "BlPitch_dd": 0.0, "GenTq": x["GenTq"],
               "RotThrust": point["RtAeroFxh"], "RotTorq": point["RtAeroMxh"],
@@ -141,7 +140,6 @@ def structural_mass_matrix(trimmer, point) -> np.ndarray:
     mass = eom.functions.mass_matrix
     q = point.state[:eom.n_q]
     M = mass(q, u_struct, p_struct) if mass.n_in() == 3 else mass(q, p_struct)
-    del dyn
     return np.asarray(M, dtype=float)
 
 
