@@ -10,30 +10,30 @@ Both actuators turn a controller's demand into the value the structure sees:
 
   Inside the limits this is exactly ``β̈ = ω² (β_c − β) − 2ζω β̇``. With the rate demand
   clipped, ``β̇`` approaches the rate limit as a first-order lag (time constant
-  ``1/(2ζω)``) and never passes it: the set ``β̇ ∈ [β̇_min, β̇_max]`` is invariant. The
-  position limit acts on the demand, so the pitch stays within its limits up to the
-  overshoot of the second-order response (none for ``ζ >= 1``; 4.6 % of the last move for
-  ``ζ = 0.7``).
+  ``1/(2ζω)``) and never passes it (by more than the saturation's ``δ``, below): the rate
+  interval is invariant. The position limit acts on the demand, so the pitch stays within
+  its limits up to the overshoot of the second-order response (none for ``ζ >= 1``; 4.6 % of
+  the last move for ``ζ = 0.7``).
 
 * **generator torque** (first-order lag ``τ`` [s], torque limits ``[T_min, T_max]`` and rate
   limit ``|Ṫ| <= Ṫ_max`` [N m, N m/s], high-speed shaft)::
 
       Ṫ = clip( (clip(T_c, T_min, T_max) − T) / τ,  −Ṫ_max, Ṫ_max )
 
-  The torque never leaves ``[T_min, T_max]`` or exceeds the rate limit.
+  The torque never leaves ``[T_min, T_max]`` or exceeds the rate limit (by more than ``δ``).
 
 * **electrical power** ``GenPwr = η · T · ω_gen`` with the generator efficiency ``η``.
 
-**Saturation.** ``clip`` is :func:`smooth_clip`: exactly the identity inside the limits
-except within ``δ`` of them, exactly the limit beyond ``δ`` outside, and a quadratic
-blend in between (continuous first derivative, second derivative ``1/(2δ)`` in the
-blend). ``δ`` is ``saturation_width`` (default 1e-4) times the width of the allowed
-interval (for a rate interval ``[−r, r]``: ``2r``). A demand exactly at a limit is
-passed as the limit plus ``δ/4`` (2.5e-5 of the interval: 4e-5 rad for the NREL 5 MW
-pitch range). Fixed-step RK4 and the adaptive integrators need no event handling at the
-switches. For optimization the same limits are :meth:`ActuatorSettings.bounds` (position
-and rate constraints on the states and their derivatives), which an NMPC imposes as
-constraints instead of relying on the saturation.
+**Saturation.** ``clip`` is :func:`smooth_clip`: exactly the identity on the allowed interval
+(a demand at a limit passes unchanged: fine pitch in region 2 is exact, and steady states at a limit
+are exact equilibria), a quadratic blend over ``2δ`` beyond each limit (continuous first
+derivative, second derivative ``1/(2δ)`` in the blend), and constant beyond the blend at the limit
+``± δ``. ``δ`` is ``saturation_width`` (default 1e-4) times the width of the interval (for a rate
+interval ``[−r, r]``: ``2r``): the limits hold to ``δ`` (1.6e-4 rad = 0.009° for the NREL 5 MW
+pitch range, 3.5e-5 rad/s on its pitch rate, 8 N m/s on its torque rate). Fixed-step RK4 and the
+adaptive integrators need no event handling at the switches. For optimization the same limits
+are :meth:`ActuatorSettings.bounds` (position and rate constraints on the states and their
+derivatives), which an NMPC imposes as constraints instead of relying on the saturation.
 
 Numbers and their sources: :class:`ActuatorSettings` (``sources`` names the origin of
 every value; :meth:`ActuatorSettings.from_deck` reads them from ServoDyn and ROSCO's
@@ -83,31 +83,30 @@ _INVENTED = {
 
 
 def smooth_clip(x: Any, lo: Any, hi: Any, width: float = 1e-4) -> Any:
-    """``x`` limited to ``[lo, hi]`` with C¹ quadratic corners (see the module docstring).
+    """``x`` limited to ``[lo - δ, hi + δ]``, the identity on ``[lo, hi]``, with C¹ quadratic blends outside.
 
     Parameters
     ----------
     x, lo, hi : SX, MX or float
         Value and limits (``lo < hi``).
     width : float, optional
-        Half-width of each blend, as a fraction of ``hi - lo``.
+        ``δ`` as a fraction of ``hi - lo``.
 
     Returns
     -------
-    Same type as ``x``: ``lo`` for ``x <= lo - δ``, ``x`` for ``lo + δ <= x <= hi - δ``, ``hi``
-    for ``x >= hi + δ`` and ``lo + (x - lo + δ)² / (4δ)`` (symmetrically at ``hi``) between,
-    with ``δ = width (hi - lo)``.
+    Same type as ``x``: ``x`` on ``[lo, hi]``; ``x + (x - lo)² / (4δ)`` on ``[lo - 2δ, lo]`` and
+    ``lo - δ`` below; symmetrically at ``hi``; ``δ = width (hi - lo)``.
 
     Examples
     --------
-    >>> float(smooth_clip(0.5, 0.0, 1.0)), float(smooth_clip(-1.0, 0.0, 1.0)), float(smooth_clip(0.0, 0.0, 1.0))
-    (0.5, 0.0, 2.5e-05)
+    >>> float(smooth_clip(0.5, 0.0, 1.0)), float(smooth_clip(0.0, 0.0, 1.0)), float(smooth_clip(-1.0, 0.0, 1.0))
+    (0.5, 0.0, -0.0001)
     """
     d = width * (hi - lo)
-    a = x - lo + d                         # lower blend coordinate, in [0, 2d] inside the blend
-    b = hi + d - x                         # upper blend coordinate
-    low = ca.if_else(a <= 0, lo, ca.if_else(a < 2 * d, lo + a * a / (4 * d), x))
-    return ca.if_else(b <= 0, hi, ca.if_else(b < 2 * d, hi - b * b / (4 * d), low))
+    a = lo - x                             # depth below the lower limit
+    b = x - hi                             # height above the upper limit
+    low = ca.if_else(a <= 0, x, ca.if_else(a < 2 * d, x + a * a / (4 * d), lo - d))
+    return ca.if_else(b <= 0, low, ca.if_else(b < 2 * d, x - b * b / (4 * d), hi + d))
 
 
 def pitch_actuator_rhs(beta: Any, beta_d: Any, command: Any, p: Mapping[str, Any], width: float = 1e-4) -> Any:

@@ -63,8 +63,8 @@ def momentum_induction(ct: Any) -> np.ndarray:
     --------
     >>> round(float(momentum_induction(8 / 9)), 6)        # Betz: a = 1/3
     0.333333
-    >>> round(float(momentum_induction(0.96)), 6), round(float(momentum_induction(2.0)), 4)
-    (0.4, 0.8852)
+    >>> round(float(momentum_induction(0.96)), 6), round(float(momentum_induction(2.0)), 6)   # Buhl: a = 1 at ct = 2
+    (0.4, 1.0)
     """
     ct = np.asarray(ct, dtype=float)
     momentum = 0.5 * (1.0 - np.sqrt(np.clip(1.0 - ct, 0.0, None)))

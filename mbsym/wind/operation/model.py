@@ -106,7 +106,7 @@ class OperatingTurbine:
     >>> dyn.inputs
     ('Wind1VelX', 'BlPitchCom', 'GenTqCom')
     >>> dyn.states[6:]
-    ('BlPitch', 'BlPitch_d', 'GenTq')
+    ('BlPitch', 'BlPitch_d', 'GenTq', 'DBEMT_w', 'DBEMT_v')
     """
 
     def __init__(self, turbine: TurbineParameters, rotor: RotorAero | None = None, *,
@@ -197,7 +197,8 @@ class OperatingTurbine:
     # ------------------------------------------------------------------ initial states
     def initial_state(self, wind_speed: float | None = None, *, rotor_speed: float | None = None,
                       pitch: float | None = None, torque: float | None = None,
-                      tower_fa: float | None = None, tower_ss: float | None = None) -> np.ndarray:
+                      tower_fa: float | None = None, tower_ss: float | None = None,
+                      p: Mapping[str, float] | None = None) -> np.ndarray:
         """A state vector from the deck's initial conditions (ElastoDyn's keys), with overrides.
 
         Parameters
@@ -209,6 +210,11 @@ class OperatingTurbine:
         rotor_speed, pitch, torque, tower_fa, tower_ss : float, optional, keyword-only
             Override RotSpeed [rad/s], BlPitch [rad], the generator torque [N m] (HSS),
             TTDspFA, TTDspSS [m].
+        p : dict, optional, keyword-only
+            Parameter values by name for the balances (default: the model's).
+
+        With the wind given, the dynamic-inflow (or lag) states start at equilibrium and, with
+        DrTrDOF, the drivetrain starts twisted by the balancing torque (``N T_gen / k``).
         """
         dyn = self.dynamics()
         x = dict(zip(dyn.states, dyn.x0))
@@ -234,12 +240,15 @@ class OperatingTurbine:
             u = dyn.input_vector({"Wind1VelX": float(wind_speed)})
             if self.dynamic_inflow is not None or self.inflow_lag:
                 names = ("DBEMT_w", "DBEMT_v") if self.dynamic_inflow is not None else ("RotThrustLag", "RotTorqLag")
-                eq = np.asarray(self._part("inflow_steady")(vec, u, dyn.parameter_vector(None)), dtype=float)
+                eq = np.asarray(self._part("inflow_steady")(vec, u, dyn.parameter_vector(p)), dtype=float)
                 x.update(zip(names, eq.reshape(-1)))
         if torque is not None:
             x["GenTq"] = float(torque)
         elif wind_speed is not None:
-            x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), float(wind_speed))
+            x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), float(wind_speed), p)
+        if "DrTr" in coords and (wind_speed is not None or torque is not None):
+            stiffness = dict(zip(dyn.parameters, dyn.parameter_vector(p)))["drivetrain_stiffness"]
+            x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
         del n
         return np.array([x[s] for s in dyn.states])
 

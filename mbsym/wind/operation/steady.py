@@ -9,8 +9,9 @@ speed and pitch follow the controller's targets, the rest is balanced on the mod
    aerodynamic power there exceeds rated power / generator efficiency, the pitch (within the
    actuator limits) where it equals it, by bisection on the rotor's surfaces.
 3. Generator torque: balancing the aerodynamic torque; dynamic inflow at equilibrium.
-4. Tower (and any other non-rotating DOF): the static deflection, Newton's method on the
-   accelerations of those coordinates (exact Jacobian of the model's rhs), speeds zero.
+4. Tower, drivetrain twist (and any other DOF but the rotor azimuth): the static deflection,
+   Newton's method on the accelerations of those coordinates (exact Jacobian of the model's rhs),
+   their speeds zero.
 """
 
 from __future__ import annotations
@@ -82,13 +83,13 @@ def steady_guess(model, wind_speed: float, *, settings=None, p=None) -> SteadyGu
             lo, hi = (mid, hi) if _power(model, u_shaft, omega, mid, par) > target else (lo, mid)
         beta = 0.5 * (lo + hi)
     n_q = model.structure.eom.n_q
-    x = dict(zip(dyn.states, model.initial_state(u, pitch=beta)))
+    x = dict(zip(dyn.states, model.initial_state(u, pitch=beta, p=p)))
     for name in dyn.states[n_q:2 * n_q]:           # at rest, except the rotor
         x[name] = 0.0
     if model.spins_freely:
         x["GeAz_d"] = omega
     x = _static_tower(model, np.array([x[name] for name in dyn.states]), u, pv)
-    x = _balanced_torque(model, _equilibrium_inflow(model, x, u, pv), u)
+    x = _balanced_torque(model, _equilibrium_inflow(model, x, u, pv), u, p)
     torque = float(x[dyn.states.index("GenTq")])
     return SteadyGuess(u, omega, beta, torque, x)
 
@@ -103,7 +104,7 @@ def _static_tower(model, x: np.ndarray, wind: float, p: np.ndarray, iterations: 
     dyn = model.dynamics()
     eom = model.structure.eom
     n_q = eom.n_q
-    idx = [i for i, c in enumerate(eom.coordinates) if c not in ("GeAz", "DrTr")]
+    idx = [i for i, c in enumerate(eom.coordinates) if c != "GeAz"]
     if not idx:
         return x
     u = dyn.input_vector({"Wind1VelX": wind, "BlPitchCom": x[dyn.states.index("BlPitch")],
@@ -114,7 +115,7 @@ def _static_tower(model, x: np.ndarray, wind: float, p: np.ndarray, iterations: 
     x = x.copy()
     for _ in range(iterations):
         x = _equilibrium_inflow(model, x, wind, p)
-        x = _balanced_torque(model, x, wind)
+        x = _balanced_torque(model, x, wind, p)
         r, J = (np.asarray(v, dtype=float) for v in f(x))
         step = np.linalg.solve(J, -r.reshape(-1))
         x[idx] += step
@@ -136,7 +137,11 @@ def _equilibrium_inflow(model, x: np.ndarray, wind: float, p: np.ndarray) -> np.
     return x
 
 
-def _balanced_torque(model, x: np.ndarray, wind: float) -> np.ndarray:
+def _balanced_torque(model, x: np.ndarray, wind: float, p) -> np.ndarray:
+    """``x`` with the generator torque balancing the aerodynamic torque; ``p`` a dict, a vector or None."""
+    dyn = model.dynamics()
+    if p is not None and not isinstance(p, dict):
+        p = dict(zip(dyn.parameters, np.asarray(p, dtype=float).tolist()))
     x = x.copy()
-    x[model.dynamics().states.index("GenTq")] = model.balancing_torque(x, wind)
+    x[dyn.states.index("GenTq")] = model.balancing_torque(x, wind, p)
     return x

@@ -1,8 +1,9 @@
 """Actuators, dynamic inflow, controllers in the loop, package data of the operating turbine.
 
 References:
-- smooth saturation: its definition (identity inside, the limit outside, C¹ at the blend edges) and
-  the invariance of the limits along a simulated step demand (pitch rate, pitch, torque, torque rate);
+- smooth saturation: its definition (identity on the allowed interval, the limit ± δ beyond the blend,
+  C¹ at the blend edges) and the invariance of the limits (to δ) along a simulated step demand (pitch
+  rate, pitch, torque, torque rate);
 - second-order pitch actuator inside its limits: the closed form of a step response
   (ω = 50 rad/s, ζ = 0.7) within 1e-6 rad;
 - dynamic inflow: actuator-disk momentum theory (Betz a = 1/3 at ct = 8/9; Buhl's line from ct = 0.96);
@@ -31,15 +32,17 @@ from mbsym.wind.operation.dynamic_inflow import DynamicInflow, dbemt_settings, m
 
 
 def test_smooth_clip_definition():
-    f = ca.Function("f", [x := ca.SX.sym("x")], [smooth_clip(x, -1.0, 3.0, 0.01)])
+    x = ca.SX.sym("x")
+    f = ca.Function("f", [x], [smooth_clip(x, -1.0, 3.0, 0.01)])
     d = 0.04
-    for v in (-5.0, -1.0 - d, 3.0 + d, 7.0):
-        assert float(f(v)) == pytest.approx(min(max(v, -1.0), 3.0), abs=0)
-    for v in (-1.0 + d, 0.0, 2.9, 3.0 - d):
+    for v in (-1.0, -0.5, 0.0, 2.9, 3.0):                        # the identity on the allowed interval
         assert float(f(v)) == v
-    assert float(f(-1.0)) == pytest.approx(-1.0 + d / 4, rel=1e-12)
+    for v in (-1.0 - 2 * d, -5.0):
+        assert float(f(v)) == pytest.approx(-1.0 - d, abs=1e-15)
+    for v in (3.0 + 2 * d, 7.0):
+        assert float(f(v)) == pytest.approx(3.0 + d, abs=1e-15)
     J = ca.Function("J", [x], [ca.jacobian(smooth_clip(x, -1.0, 3.0, 0.01), x)])
-    for edge in (-1.0 - d, -1.0 + d, 3.0 - d, 3.0 + d):          # C¹ at the blend edges
+    for edge in (-1.0 - 2 * d, -1.0, 3.0, 3.0 + 2 * d):          # C¹ at the blend edges
         assert float(J(edge - 1e-9)) == pytest.approx(float(J(edge + 1e-9)), abs=1e-6)
 
 
@@ -71,12 +74,13 @@ def test_actuator_limits_hold_along_a_step_demand(operating):
                    inputs={"Wind1VelX": 12.0, "BlPitchCom": (np.array([0.0, 0.5, 0.5001, 4.0]),
                                                               np.array([0.0349, 0.0349, 0.6, 0.6])),
                            "GenTqCom": (np.array([0.0, 0.5, 0.5001, 4.0]), np.array([4e4, 4e4, 9e4, 9e4]))})
-    a = operating.actuators
+    a, w = operating.actuators, operating.saturation_width
     rate, pitch, torque = res.state("BlPitch_d"), res.state("BlPitch"), res.state("GenTq")
-    assert rate.max() <= a.pitch_rate_max * (1 + 1e-9) and rate.max() > 0.99 * a.pitch_rate_max   # saturated
-    assert pitch.max() <= a.pitch_max and torque.max() <= a.torque_max
+    d_rate, d_torque = 2 * w * a.pitch_rate_max, 2 * w * a.torque_rate_max     # the saturation's δ
+    assert rate.max() <= (a.pitch_rate_max + d_rate) * (1 + 1e-9) and rate.max() > 0.99 * a.pitch_rate_max   # saturated
+    assert pitch.max() <= a.pitch_max and torque.max() <= a.torque_max + w * (a.torque_max - a.torque_min)
     torque_rate = np.diff(torque) / np.diff(t)
-    assert torque_rate.max() <= a.torque_rate_max * (1 + 1e-6) and torque_rate.max() > 0.99 * a.torque_rate_max
+    assert torque_rate.max() <= (a.torque_rate_max + d_torque) * (1 + 1e-9) and torque_rate.max() > 0.99 * a.torque_rate_max
 
 
 def test_pitch_actuator_step_inside_its_limits_is_the_second_order_closed_form(operating):
