@@ -223,8 +223,7 @@ so the estimate is a little less biased and the speed a little lower. Above rate
 within +0.3 %. TTDspFA drifts from +0.3 % (region 2) to -2.0 % at 24 m/s while the thrust is +0.2 %
 and the tower-base moment -1.4 %: the rotor model applies thrust and torque at the hub only, without
 the aerodynamic tilt moment a skewed (5 deg tilt) AeroDyn rotor develops at high pitch (not in
-OpenFAST's outputs here; our reading of the trend). The pitch of 0.0022 deg at fine pitch is the
-actuator's smooth saturation (a demand at the 0 deg limit passes as the limit plus δ/4).
+OpenFAST's outputs here; our reading of the trend).
 """
     write_section("operating-points", text)
     print("README section and figures written")
