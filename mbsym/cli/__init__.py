@@ -1,5 +1,5 @@
 """Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
-``mbsym identify``.
+``mbsym identify``, ``mbsym operating-points``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -63,6 +63,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_linearize(sub)
     add_campbell(sub)
     add_identify(sub)
+    from .operating_points import add_parser as add_operating_points
+
+    add_operating_points(sub)
     return parser
 
 
@@ -113,6 +116,8 @@ def _dispatch(args) -> int:
         from .linearize import run
     elif args.command == "identify":
         from .identify import run
+    elif args.command == "operating-points":
+        from .operating_points import run
     else:
         from .campbell import run
     return run(args)
