@@ -239,6 +239,15 @@ def _channels(channels, available) -> tuple[str, ...]:
     return tuple(channels)
 
 
+def _wohler(wohler) -> tuple[float, ...]:
+    ms = (wohler,) if isinstance(wohler, (int, float)) and not isinstance(wohler, bool) else tuple(wohler) \
+        if isinstance(wohler, (list, tuple)) else ()
+    if not ms or not all(isinstance(m, (int, float)) and not isinstance(m, bool) and math.isfinite(m) and m > 0
+                         for m in ms):
+        raise SweepError(f"wohler must be a positive number or a sequence of them (e.g. 4 or (4, 10)); got {wohler!r}.")
+    return tuple(float(m) for m in ms)
+
+
 def _can_compile() -> bool:
     from ... import codegen
 
@@ -280,7 +289,7 @@ def _operating(deck, axes, winds, *, tmax, dt_out, controller, discon, discon_in
         compile = samples > COMPILE_FROM_SAMPLES and _can_compile()
     runner = _runner(model, runner_controller, tmax, dt_out, bool(compile))
     runner.channels, runner.del_channels = chans, _channels(del_channels, dyn.output_names)
-    runner.wohler = (float(wohler),) if isinstance(wohler, (int, float)) else tuple(float(m) for m in wohler)
+    runner.wohler = _wohler(wohler)
     cases = _grid(axes, winds)
     for settings in cases:
         settings[CASE_KEY] = _wind_case(model, deck, targets, settings, signals[settings["wind"]])
