@@ -1,5 +1,5 @@
 """Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
-``mbsym identify``, ``mbsym operating-points``.
+``mbsym identify``, ``mbsym operating-points``, ``mbsym sweep``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -58,6 +58,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .identify import add_parser as add_identify
     from .linearize import add_parser as add_linearize
     from .simulate import add_parser as add_simulate
+    from .sweep import add_parser as add_sweep
 
     add_simulate(sub)
     add_linearize(sub)
@@ -66,6 +67,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .operating_points import add_parser as add_operating_points
 
     add_operating_points(sub)
+    add_sweep(sub)
     return parser
 
 
@@ -118,6 +120,8 @@ def _dispatch(args) -> int:
         from .identify import run
     elif args.command == "operating-points":
         from .operating_points import run
+    elif args.command == "sweep":
+        from .sweep import run
     else:
         from .campbell import run
     return run(args)
