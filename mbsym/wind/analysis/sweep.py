@@ -31,15 +31,13 @@ import numpy as np
 from ...exceptions import ParameterError, SweepError
 from .sweep_keys import KeyTarget, resolve_key
 from .sweep_runner import CASE_KEY, ClosedLoopRunner, WindCase
+from ..deck.nrel5mw import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING
 
 __all__ = ["sweep_turbine", "builtin_free_decay", "FREE_DECAY", "CONTROLLERS", "COMPILE_FROM_STEPS"]
 
 #: ``wind`` column of a structural free decay.
 FREE_DECAY = "none"
 CONTROLLERS = ("baseline", "discon", "none")
-#: NREL 5 MW baseline ServoDyn yaw spring [N m/rad] and damper [N m s/rad] (YawSpr, YawDamp of the NREL 5 MW
-#: baseline ServoDyn input file; the same scene as ``mbsym simulate`` without a deck).
-_YAW_SPRING, _YAW_DAMPING = 9.02832e9, 1.916e7
 #: Total RK4 steps of a structural sweep from which its step is compiled (~10-20 s once, then on disk).
 COMPILE_FROM_STEPS = 200_000
 #: Built-in operating runs: simulated time [s] and output spacing [s] (as ``mbsym simulate --wind``).
@@ -59,7 +57,7 @@ def builtin_free_decay():
     t = dataclasses.replace(t, initial_conditions=dataclasses.replace(t.initial_conditions,
                                                                       tower_top_fa_displacement=0.5))
     dofs = [f for f in NON_BLADE_DOFS if t.dofs.get(f)]
-    return TurbineModel(t, dofs=dofs, yaw_spring=_YAW_SPRING, yaw_damping=_YAW_DAMPING)
+    return TurbineModel(t, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
 
 
 def sweep_turbine(deck: Any = None, set: Mapping[str, Sequence[float]] | None = None, *,  # noqa: A002
