@@ -64,7 +64,7 @@ def reference() -> dict[float, dict[str, float]]:
 
 
 def trim_all(speeds):
-    from mbsym.wind.operation.operating_points import operating_points, turbine_and_control
+    from mbsym.wind.analysis.operating_points import operating_points, turbine_and_control
 
     t0 = time.perf_counter()
     model, control, label = turbine_and_control(FST)

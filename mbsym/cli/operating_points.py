@@ -92,7 +92,7 @@ def _write_atomically(path: Path, write) -> None:
 def run(args) -> int:
     """Run ``mbsym operating-points`` (see the module docstring); returns the exit status."""
     from ..exceptions import ParameterError
-    from ..wind.operation.operating_points import operating_points, parse_wind_speeds, turbine_and_control
+    from ..wind.analysis.operating_points import operating_points, parse_wind_speeds, turbine_and_control
 
     speeds = parse_wind_speeds(args.wind)
     plot = _check_plot_path(args.plot) if args.plot is not None else None

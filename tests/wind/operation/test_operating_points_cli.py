@@ -119,7 +119,7 @@ def test_unsupported_controller_mode_names_file_and_line(capsys, tmp_path):
 
 
 def test_parse_wind_speeds_grid():
-    from mbsym.wind.operation.operating_points import parse_wind_speeds
+    from mbsym.wind.analysis.operating_points import parse_wind_speeds
 
     assert parse_wind_speeds("4:25:1") == [float(u) for u in range(4, 26)]
     assert parse_wind_speeds("3:4:0.3") == pytest.approx([3.0, 3.3, 3.6, 3.9])

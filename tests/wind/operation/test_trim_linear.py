@@ -22,8 +22,8 @@ import pytest
 
 from mbsym.exceptions import DimensionError, ModelDefinitionError
 from mbsym.wind.operation import SteadyControl
-from mbsym.wind.operation.operating_points import operating_points
-from mbsym.wind.operation.trim_linear import linearize_dynamics, linearize_point
+from mbsym.wind.analysis.operating_points import operating_points
+from mbsym.wind.analysis.trim_linear import linearize_dynamics, linearize_point
 
 
 @pytest.fixture(scope="module")

@@ -72,23 +72,20 @@ def linearize_dynamics(dyn, x, u, p=None, *, outputs: Sequence[str] | None = Non
 
 
 def _jacobian_function(dyn, names: tuple[str, ...]) -> ca.Function:
-    cache = _CACHE.setdefault(id(dyn), (dyn, {}))
-    if cache[0] is not dyn:
-        _CACHE[id(dyn)] = cache = (dyn, {})
-    if names not in cache[1]:
-        x, u, p = (ca.SX.sym(s, n) for s, n in (("x", dyn.n_x), ("u", dyn.n_u), ("p", dyn.n_p)))
+    """``(x, u, p) -> (A, B, C, D, xd, y)``, built once per Dynamics and output selection (kept on the object)."""
+    cache = dyn.__dict__.setdefault("_mbsym_linearized", {})
+    if names not in cache:
+        sym = ca.SX if dyn.rhs.is_a("SXFunction") else ca.MX
+        x, u, p = (sym.sym(s, n) for s, n in (("x", dyn.n_x), ("u", dyn.n_u), ("p", dyn.n_p)))
         xd = dyn.rhs(x, u, p)
         if names and dyn.outputs is not None:
             idx = [dyn.output_names.index(n) for n in names]
             y = dyn.outputs(x, u, p)[idx]
         else:
-            y = ca.SX(0, 1)
-        cache[1][names] = ca.Function("linearized", [x, u, p], [ca.jacobian(xd, x), ca.jacobian(xd, u),
-                                                                 ca.jacobian(y, x), ca.jacobian(y, u), xd, y])
-    return cache[1][names]
-
-
-_CACHE: dict[int, tuple] = {}
+            y = sym(0, 1)
+        cache[names] = ca.Function("linearized", [x, u, p], [ca.jacobian(xd, x), ca.jacobian(xd, u),
+                                                              ca.jacobian(y, x), ca.jacobian(y, u), xd, y])
+    return cache[names]
 
 
 def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> LinearModel:
@@ -210,7 +207,7 @@ def aero_campbell(points) -> AeroCampbell:
     ModelDefinitionError
         Blade DOFs (the rotor aerodynamics load the hub only).
     """
-    from ..analysis.campbell_diagram import DOF_LABELS, CampbellMode
+    from .campbell_diagram import DOF_LABELS, CampbellMode
 
     trimmer = points.trimmer
     eom = trimmer.model.structure.eom

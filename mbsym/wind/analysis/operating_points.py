@@ -22,8 +22,8 @@ from typing import Iterator, Mapping, Sequence
 import numpy as np
 
 from ...exceptions import ControllerError, WindInputError
-from .steady_control import SteadyControl
-from .trim import TRIM_TOLERANCE, Trimmer, TrimPoint
+from ..operation.steady_control import SteadyControl
+from ..operation.trim import TRIM_TOLERANCE, Trimmer, TrimPoint
 
 __all__ = ["OperatingPoints", "operating_points", "turbine_and_control", "parse_wind_speeds", "JSON_CHANNELS",
            "MAX_WIND_SPEEDS"]
@@ -252,7 +252,7 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         A deck without a controller input file, or a controller mode that changes the steady
         state and is not modelled.
     """
-    from .deck import builtin_deck, operating_deck
+    from ..operation.deck import builtin_deck, operating_deck
 
     if fst is None:
         deck = builtin_deck()
