@@ -202,11 +202,15 @@ class EquationsOfMotion:
         # time derivative along (q, qd) and the prescribed (value, speed, acceleration) inputs
         presc = [self._derivation.u[self._inputs.index(f"{n}{sfx}")] for n in d.prescribed for sfx in ("_d", "_dd")]
         qdd_p = ca.vertcat(*presc[1::2]) if presc else ca.SX(0, 1)
+        n_locked = len(d.names.get("locked", ()))
         x = ca.vertcat(kin.q_all, kin.qd_all)
-        xd = ca.vertcat(kin.qd_all, d.qdd, qdd_p)
+        xd = ca.vertcat(kin.qd_all, d.qdd, qdd_p, ca.SX.zeros(n_locked))   # locked coordinates never move
         a = kin.rate(v, x, xd)
         wd = kin.rate(kin.frame(b).w, x, xd)
         r, v, a, wd = kin.resolve([r, v, a, wd])
+        if n_locked:                                        # held at zero, as in the equations
+            lz = ca.vertcat(kin.q_all[-n_locked:], kin.qd_all[-n_locked:])
+            r, v, a, wd = ca.substitute([r, v, a, wd], [lz], [ca.SX.zeros(2 * n_locked)])
         return ca.Function(f"{self._name}_{body}_kinematics", [d.q, d.qd, d.qdd, d.u, d.p],
                            [r, frame.R, v, frame.w, a, wd], ["q", "qd", "qdd", "u", "p"],
                            ["r", "R", "v", "w", "a", "wd"], {"cse": True})

@@ -41,7 +41,8 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("simulate", help="simulate a free decay of an OpenFAST deck (default: built-in NREL 5 MW)",
+    p = sub.add_parser("simulate", help="simulate an OpenFAST deck (default: built-in NREL 5 MW): a free decay, or "
+                                        "operating in a wind (--wind, or a deck with AeroDyn)",
                        description=_plain(__doc__.split("\n\n")[0]))
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst); default: built-in NREL 5 MW")
     p.add_argument("--tmax", type=float, help="simulated time [s] (default: the deck's TMax)")
@@ -62,6 +63,9 @@ def add_parser(sub) -> None:
                    help="run the integration as generated C (gcc -O1, cached on disk); by default the automatic "
                         "choice compiles when the library is cached or compiling pays off")
     add_structure_only(p)
+    from .operate import add_arguments
+
+    add_arguments(p)            # the operating turbine: --wind, --controller, --discon, --discon-input (cli/operate.py)
 
 
 def add_structure_only(p) -> None:
@@ -91,6 +95,10 @@ def run(args: argparse.Namespace) -> int:
     if args.list_methods:
         print("\n".join(METHODS))
         return 0
+    from .operate import run_operation, wants_operation
+
+    if wants_operation(args):       # wind, aerodynamics, actuators, controller (cli/operate.py)
+        return run_operation(args)
     options = _integration_options(args)
     ref, outputs = _check_files(args)        # fail before any expensive work
     model, label = _model(args.deck, structure_only=args.structure_only)

@@ -92,3 +92,21 @@ def test_locked_coordinate_cannot_deflect_a_flexible_body_or_drive_two_joints():
     sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b1", 1.0), axis=[0, 0, 1], coordinate=a))
     with pytest.raises(mb.ModelDefinitionError, match="already moves body"):
         sys.add_joint(mb.Revolute(sys.ground, mb.RigidBody("b2", 1.0), axis=[0, 0, 1], coordinate=a))
+
+
+def test_point_kinematics_of_a_model_with_locked_coordinates_equals_the_welded_model():
+    """Locked coordinates are held at zero: a point's kinematics equal those of the same chain with the
+    locked joint welded (the pendulum hanging straight on the cart, moving with it)."""
+    locked, _ = cart_with_locked_pendulum(True)
+    sys = mb.System(gravity=[0, 0, -G])
+    x = sys.coordinates("x")
+    F = sys.inputs("F")
+    cart, bob = mb.RigidBody("cart", 3.0), mb.RigidBody("bob", 2.0, com=[0, 0, -1.5], inertia=(0.4, 0.4, 0.4))
+    sys.add_joint(mb.Prismatic(sys.ground, cart, axis=[1, 0, 0], coordinate=x))
+    sys.add_joint(mb.Fixed(cart, bob, offset=[0.2, 0, 0.5]))
+    sys.add_generalized_force(x, F)
+    welded = sys.equations()
+    args = ([0.3], [0.7], [1.1], [10.0], [])
+    for a, b in zip(locked.point_kinematics("bob", [0.1, 0.0, -1.5])(*args),
+                    welded.point_kinematics("bob", [0.1, 0.0, -1.5])(*args)):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-14)

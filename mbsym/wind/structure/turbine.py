@@ -70,7 +70,10 @@ from .steps import elastodyn_steps
 from ..deck.parameters import TurbineParameters
 
 __all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
-           "STATE_ORDER", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
+           "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
+
+#: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
+TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
 
 
 class TurbineModel:
@@ -96,6 +99,12 @@ class TurbineModel:
         With GenDOF off, drive the rotor through the prescribed azimuth inputs (``GeAz``,
         ``GeAz_d``, ``GeAz_dd``) even when the deck's RotSpeed is 0 (Campbell diagrams at
         several speeds from one model). Default: only when RotSpeed is nonzero.
+    tower_base_reactions : bool, optional, keyword-only
+        Attach the tower to the platform through two *locked* rotations about the
+        platform's x and y axes (:data:`TOWER_BASE_LOCKED`, ``sys.locked``): the equations
+        are unchanged and ``eom.functions.reactions`` gives the moments the support
+        exerts to hold them, i.e. minus the tower-base bending moments ``TwrBsMxt``,
+        ``TwrBsMyt`` [N m] (:mod:`mbsym.wind.operation.channels`). Default False.
 
     Raises
     ------
@@ -123,7 +132,7 @@ class TurbineModel:
 
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
-                 prescribed_azimuth: bool = False) -> None:
+                 prescribed_azimuth: bool = False, tower_base_reactions: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
@@ -137,6 +146,7 @@ class TurbineModel:
         self._yaw = (float(yaw_spring), float(yaw_damping))
         self.pitch_input = bool(pitch_input)
         self.prescribed_azimuth = bool(prescribed_azimuth)
+        self.tower_base_reactions = bool(tower_base_reactions)
         if self.pitch_input and len(set(turbine.initial_conditions.blade_pitch)) > 1:
             raise ModelDefinitionError(
                 f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
@@ -362,10 +372,20 @@ class TurbineModel:
             zc = float(m @ h / m.sum())
             i_xx = float(m @ (h - zc) ** 2)
             tower = RigidBody("tower", mass=float(m.sum()), com=[0, 0, zc], inertia=[i_xx, i_xx, 0.0])
-        self._add(Fixed(platform, tower, offset=base))
+        self._attach_tower(platform, tower, base)
         top = [0.0, 0.0, length]
         self._add(Fixed(tower, RigidBody("yaw_bearing", mass=p["yaw_bearing_mass"]), offset=top))
         return tower, top
+
+    def _attach_tower(self, platform: Body, tower: Body, base) -> None:
+        """Tower base on the platform: welded, or through locked rotations about x then y (reactions)."""
+        if not self.tower_base_reactions:
+            self._add(Fixed(platform, tower, offset=base))
+            return
+        rx, ry = self.system.locked(list(TOWER_BASE_LOCKED))
+        hinge = RigidBody("tower_base", mass=0.0)
+        self._add(Revolute(platform, hinge, axis=[1, 0, 0], coordinate=rx, offset=base))
+        self._add(Revolute(hinge, tower, axis=[0, 1, 0], coordinate=ry))
 
     def _nacelle(self, tower_top) -> Body:
         t, p = self.turbine, self.p

@@ -1,0 +1,289 @@
+"""``mbsym simulate`` of an operating turbine: wind, rotor aerodynamics, actuators and a controller.
+
+Contract (kept for acceptance checks)::
+
+    mbsym simulate [DECK] --wind SPEC [--controller baseline|discon|none]
+                   [--discon LIB.so --discon-input DISCON.IN] [--out F.csv] [--plot F.png] [--stats]
+
+with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…``, ``eog:…``) or a file
+(an InflowWind uniform wind file, or a ``Time_[s],Wind1VelX_[m/s]`` CSV).
+
+* A deck with AeroDyn 15 runs as an operating turbine; with InflowWind and ServoDyn (a DISCON
+  library and its input file) it runs all three without flags. ``--wind`` and ``--controller``
+  override the deck's. The DOFs are the deck's.
+* Without a deck, ``--wind`` runs the built-in NREL 5 MW with GenDOF, TwFADOF1 and TwSSDOF1
+  (the DOFs the rotor's thrust and torque and the generator's reaction act on; the set of the
+  OpenFAST reference runs), ROSCO 2.10.6's NREL 5 MW settings for our baseline controller, a
+  controller sample time of 0.01 s (the built-in deck's DT), and initial conditions from a
+  steady-state guess for the wind at t = 0 (:func:`mbsym.wind.operation.steady_guess`).
+* Controllers: ``baseline`` (our ROSCO-scheme controller compiled into the loop; settings from
+  ``--discon-input``, the deck's DISCON.IN, or the built-in NREL 5 MW), ``discon`` (the library:
+  ``--discon``/``--discon-input`` or the deck's ServoDyn ``DLL_FileName``/``DLL_InFile``; one
+  call per sample), ``none`` (pitch and torque held at their initial values). Default: ``discon``
+  when the deck's ServoDyn runs a DISCON library, ``baseline`` without a deck, else ``none``.
+* Integration: one RK4 step per controller sample (``--method rk4 --dt`` changes the step, a
+  divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller);
+  compiled to C from 2000 controller samples on (``--compile`` forces it).
+* ``--tmax`` defaults to the deck's TMax (built-in: the length of a tabulated wind, else 60 s);
+  ``--dt`` is the output spacing (default: the deck's DT_Out; built-in 0.05 s).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+__all__ = ["add_arguments", "wants_operation", "run_operation", "CONTROLLERS"]
+
+CONTROLLERS = ("baseline", "discon", "none")
+#: Channels of the summary table and the default plot.
+SUMMARY_CHANNELS = ("Wind1VelX", "RotSpeed", "BldPitch1", "GenTq", "GenPwr", "RtAeroFxh", "TTDspFA", "TwrBsMyt")
+_BUILTIN_TMAX, _BUILTIN_DT_OUT = 60.0, 0.05
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The operating-turbine flags of ``mbsym simulate``."""
+    p.add_argument("--wind", metavar="SPEC",
+                   help="hub-height wind: steady:U, step:U0:U1:T, kaimal:U:TI:SEED, ramp:U0:U1:T0:T1, eog:U:T0:VGUST "
+                        "or a file (InflowWind uniform wind file, or CSV Time_[s],Wind1VelX_[m/s]); runs the "
+                        "turbine with aerodynamics and a controller")
+    p.add_argument("--controller", choices=CONTROLLERS,
+                   help="baseline (ours, compiled into the loop), discon (a DISCON library), none (held commands); "
+                        "default: the deck's DISCON library, baseline without a deck")
+    p.add_argument("--discon", metavar="LIB.so", help="DISCON library (default: the deck's ServoDyn DLL_FileName)")
+    p.add_argument("--discon-input", metavar="DISCON.IN",
+                   help="controller input file (default: the deck's ServoDyn DLL_InFile; the baseline reads it too)")
+
+
+def wants_operation(args: argparse.Namespace) -> bool:
+    """Whether ``mbsym simulate`` runs an operating turbine (flags, or a deck with AeroDyn)."""
+    if any(getattr(args, k, None) is not None for k in ("wind", "controller", "discon", "discon_input")):
+        return True
+    if args.deck is None or getattr(args, "structure_only", False):
+        return False
+    from ..wind.deck.openfast import read_openfast
+
+    return "aerodyn" in read_openfast(args.deck).source_files
+
+
+def run_operation(args: argparse.Namespace) -> int:
+    """Run ``mbsym simulate`` for an operating turbine (see the module docstring)."""
+    from ..simulate import ProgressPrinter, SimulationInterrupted
+    from .simulate import _check_files, _print_comparison
+
+    options = _integration(args)
+    ref, outputs = _check_files(args)
+    t0 = time.perf_counter()
+    deck = _deck(args)
+    outputs.add_inputs([(f"deck's {k}", v) for k, v in (deck.turbine.source_files or {}).items()]
+                       if deck.path is not None else [])
+    kind = _controller_kind(args, deck)
+    wind, wind_label = _wind(args, deck)
+    tmax, t_out = _grid(args, deck, wind)
+    controller, handle = _controller(kind, args, deck)       # bad controller files fail before the model is built
+    try:
+        model = _model(deck)
+        dyn = model.dynamics()
+        x0 = _initial_state(model, deck, wind)
+    except BaseException:
+        if handle is not None:
+            handle.close()
+        raise
+    prepare = time.perf_counter() - t0
+    _header(deck, model, kind, controller, wind_label, tmax, options)
+    printer = ProgressPrinter(sys.stderr)
+    try:
+        from ..wind.operation.simulation import simulate_turbine
+
+        result = simulate_turbine(model, wind, tmax, controller=controller, x0=x0, t_out=t_out, progress=printer,
+                                  **options)
+    except SimulationInterrupted as exc:
+        printer.close()
+        print(f"mbsym simulate: {exc} (of {tmax:g} s); nothing written", file=sys.stderr)
+        return 130
+    finally:
+        if handle is not None:
+            handle.close()
+    printer.close()
+    series = _series(result, dyn)
+    stats = dict(result.statistics)
+    stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
+    stats.update(controller=kind, controller_dt=None if controller is None else controller.dt,
+                 real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
+    _summary(series, stats)
+    if ref is not None:
+        from ..wind.analysis.compare import compare, not_compared
+
+        _print_comparison(compare(series, ref))
+        missing = not_compared(series, ref)
+        if missing:
+            print(f"not compared (not produced by this model): {', '.join(missing)}")
+    _write(outputs, series, ref, deck.label)
+    if args.stats:
+        from .simulate import _jsonable
+
+        print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
+    return 0
+
+
+# ------------------------------------------------------------------------------------------- pieces
+def _integration(args) -> dict:
+    """Integration keywords of simulate_turbine from the flags (checked before any work)."""
+    from ..exceptions import SimulationOptionError
+    from ..simulate.checks import check_accuracy
+
+    if args.rtol is not None or args.atol is not None:
+        raise SimulationOptionError("--rtol/--atol do not apply to an operating turbine: it runs RK4 steps between "
+                                    "controller samples (choose the step with --method rk4 --dt, or --accuracy).")
+    if args.method is not None and args.method != "rk4":
+        raise SimulationOptionError(f"--method {args.method}: an operating turbine runs RK4 steps between controller "
+                                    "samples; use --method rk4 (with --dt as the step) or leave --method unset.")
+    if args.accuracy is not None and args.method is not None:
+        raise SimulationOptionError("--accuracy chooses the step itself; it cannot be combined with --method.")
+    out: dict = {}
+    if args.accuracy is not None:
+        out["accuracy"] = check_accuracy(args.accuracy)
+    if args.method is not None:
+        out["method"] = "rk4"
+        if args.dt is not None:
+            out["dt"] = float(args.dt)
+    if args.compile:
+        out["compile"] = True
+    return out
+
+
+#: The built-in operating model, built once per process (derivation and surfaces take seconds).
+_BUILTIN: dict = {}
+
+
+def _deck(args):
+    from ..wind.operation.deck import builtin_deck, operating_deck
+
+    if args.deck is not None:
+        return operating_deck(args.deck)
+    if "deck" not in _BUILTIN:
+        deck = builtin_deck()
+        model = deck.model()
+        _BUILTIN.update(deck=deck, model=model)
+    return _BUILTIN["deck"]
+
+
+def _model(deck):
+    if deck.path is None and _BUILTIN.get("deck") is deck:
+        return _BUILTIN["model"]
+    return deck.model()
+
+
+def _controller_kind(args, deck) -> str:
+    if args.controller is not None:
+        return args.controller
+    if args.discon is not None:
+        return "discon"
+    if deck.path is None:
+        return "baseline"
+    return "discon" if deck.uses_library else "none"
+
+
+def _wind(args, deck):
+    from ..exceptions import WindInputError
+    from ..wind.inflow import parse_wind_spec
+
+    if args.wind is not None:
+        duration = args.tmax if args.tmax is not None else (
+            deck.turbine.simulation.total_time if deck.path is not None else 600.0)
+        return parse_wind_spec(args.wind, duration=float(duration)), f"--wind {args.wind}"
+    wind = deck.wind()
+    if wind is None:
+        raise WindInputError(f"{deck.label}: the deck has no InflowWind (CompInflow = 1) to take the wind from; "
+                             "give one with --wind SPEC (e.g. steady:12).")
+    return wind, f"InflowWind {deck.inflow.path}"
+
+
+def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
+    from .simulate import _time_grid
+
+    sim = deck.turbine.simulation
+    if deck.path is None:
+        from ..wind.inflow import TabulatedWind
+
+        table = isinstance(wind, TabulatedWind) and np.size(wind.time) > 1
+        tmax = float(wind.time[-1]) if table else _BUILTIN_TMAX
+        sim = SimpleNamespace(total_time=tmax, output_time_step=_BUILTIN_DT_OUT, time_step=deck.controller_dt)
+    tmax, t_out, _ = _time_grid(args, sim)
+    return tmax, t_out
+
+
+def _initial_state(model, deck, wind):
+    from ..wind.operation.steady import steady_guess
+
+    u0 = float(np.asarray(wind(0.0)).reshape(-1)[0])
+    if deck.path is not None:
+        return model.initial_state(u0)          # the deck's ElastoDyn initial conditions, as OpenFAST starts
+    return steady_guess(model, u0).state
+
+
+def _controller(kind, args, deck):
+    """``(DiscreteController or None, DisconController to close or None)``."""
+    from ..wind.control import BaselineController, DisconController
+    from ..wind.operation.controllers import baseline_in_loop, discon_in_loop
+
+    if kind == "none":
+        return None, None
+    if kind == "baseline":
+        settings = deck.baseline_settings(discon_in=args.discon_input)
+        return baseline_in_loop(BaselineController(settings)), None
+    library, infile = deck.discon_paths(args.discon, args.discon_input)
+    handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades)
+    return discon_in_loop(handle), handle
+
+
+def _series(result, dyn):
+    from ..wind.analysis.compare import TimeSeries
+
+    n = dyn.n_y
+    return TimeSeries(np.asarray(result.t), tuple(dyn.output_names), tuple(dyn.output_units),
+                      np.asarray(result.y)[:, :n])
+
+
+def _write(outputs, series, ref, label: str) -> None:
+    """--out and --plot written to temporaries, then moved into place together (cli/_files.py)."""
+    from ..wind.analysis.compare import overlay_plot, write_csv
+
+    with outputs:
+        if "--out" in outputs._final:
+            write_csv(outputs.temporary("--out"), series)
+        if "--plot" in outputs._final:
+            overlay_plot(outputs.temporary("--plot"), series, ref, channels=list(SUMMARY_CHANNELS), title=label)
+        written = outputs.commit()
+    for path in written:
+        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
+        print(f"wrote {path}{extra}")
+
+
+def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
+    dofs = ", ".join(f for f, on in model.dofs.items() if on)
+    inflow = "dynamic inflow (DBEMT)" if model.dynamic_inflow is not None else "quasi-steady inflow"
+    ctrl = "none (held commands)" if controller is None else f"{kind} every {controller.dt:g} s"
+    how = f"accuracy {options['accuracy']:g}" if "accuracy" in options else "one RK4 step per controller sample" \
+        if controller is not None and "method" not in options else f"method {options.get('method', 'auto')}"
+    print(f"mbsym simulate: {deck.label} operating in {wind_label}")
+    print(f"DOFs: {dofs}; rotor {model.rotor.source}, {inflow}; controller {ctrl}")
+    print(f"{tmax:g} s, {how}", flush=True)
+
+
+def _summary(series, stats) -> None:
+    compiled = ", compiled" if stats.get("compiled") else ""
+    step = f" of {stats['dt']:.4g} s" if stats.get("dt") else ""
+    print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
+          f"{1e3 * float(stats.get('integration_wall_s', 0)):.1f} ms ({stats['real_time_factor']:.0f}x real time), "
+          f"preparation {1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms, {series.time[-1]:.2f} s simulated\n")
+    print(f"{'channel':<12} {'unit':<6} {'initial':>12} {'min':>12} {'max':>12} {'mean':>12} {'final':>12}")
+    for n in SUMMARY_CHANNELS:
+        y = series.channel(n)
+        unit = series.units[series.names.index(n)]
+        print(f"{n:<12} {unit:<6} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y.mean():12.5g} {y[-1]:12.5g}")

@@ -1,0 +1,107 @@
+"""OpenFAST output channels of an operating turbine: names and units as in OpenFAST's outputs.
+
+The structural channels of :mod:`mbsym.wind.structure.channels` (``Q_*``, ``RotSpeed`` [rpm],
+``GenSpeed`` [rpm], ``BldPitch<k>`` [deg], ``TTDspFA`` [m], ...), then:
+
+=============  ======  ==================================================================
+channel        unit    definition
+=============  ======  ==================================================================
+Wind1VelX      m/s     hub-height wind (input)
+RtVAvgxh       m/s     relative wind along the shaft ``U_rel`` (AeroDyn's disk average)
+RtTSR          -       ``Ω R / U_rel`` (``U_rel`` floored at ``RotorAero.u_min``)
+RtAeroCp/Ct/Cq -       coefficients of the applied loads referred to ``U_rel``
+RtAeroFxh      N       aerodynamic thrust applied to the hub (along the shaft)
+RtAeroMxh      N-m     aerodynamic torque applied to the hub (about the shaft)
+RtAeroPwr      W       ``Ω · RtAeroMxh``
+GenTq          kN-m    generator torque (actuator state, high-speed shaft)
+GenPwr         kW      ``η · GenTq · ω_gen`` (electrical power)
+RotTorq        kN-m    low-speed-shaft torque: with DrTrDOF the drivetrain spring and damper
+                       torque; with GenDOF alone ``N (GenTq + J_gen α_gen·c₁)`` (the torque
+                       the generator needs, α_gen its absolute angular acceleration); with
+                       the speed prescribed, RtAeroMxh
+RotPwr         kW      ``RotTorq · Ω``
+RotThrust      kN      low-speed-shaft axial force, as ElastoDyn: aerodynamic thrust plus the
+                       rotor's weight along the (deflected) shaft minus its inertia force,
+                       ``T + m_rotor (g − a_apex)·c₁``
+TwrBsMxt       kN-m    tower-base roll moment: minus the reaction of the locked base rotation
+                       about x (equations of the same graph)
+TwrBsMyt       kN-m    tower-base pitch (fore-aft) moment: minus the reaction about y
+YawBrTAxp/yp   m/s^2   tower-top acceleration along the yaw bearing's x and y axes
+=============  ======  ==================================================================
+
+Signs follow OpenFAST: a downwind thrust gives positive ``TwrBsMyt``; the rotor's reaction
+torque on the nacelle gives positive ``TwrBsMxt``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import casadi as ca
+
+from ..structure.elastodyn_nodes import rotor_mass_properties
+
+__all__ = ["channel_rows", "OPERATION_CHANNELS"]
+
+#: The channels this module adds to the structural ones, with their units.
+OPERATION_CHANNELS = {
+    "Wind1VelX": "m/s", "RtVAvgxh": "m/s", "RtTSR": "-", "RtAeroCp": "-", "RtAeroCt": "-", "RtAeroCq": "-",
+    "RtAeroFxh": "N", "RtAeroMxh": "N-m", "RtAeroPwr": "W", "GenTq": "kN-m", "GenPwr": "kW", "RotTorq": "kN-m",
+    "RotPwr": "kW", "RotThrust": "kN", "TwrBsMxt": "kN-m", "TwrBsMyt": "kN-m", "YawBrTAxp": "m/s^2",
+    "YawBrTAyp": "m/s^2",
+}
+
+
+def channel_rows(g) -> list[tuple[str, str, Any]]:
+    """``(name, unit, expression)`` of every channel of the composed graph ``g`` (:class:`.compose.Graph`)."""
+    model = g.model
+    structural = model.structure.output_function()
+    y_s = structural.function(ca.vertcat(g.q, g.qd), g.u_s, g.p_s)
+    rows = [(n, u, y_s[i]) for i, (n, u) in enumerate(zip(structural.names, structural.units))]
+    ops = _operation(g)
+    return rows + [(n, OPERATION_CHANNELS[n], ops[n]) for n in OPERATION_CHANNELS]
+
+
+def _operation(g) -> dict[str, Any]:
+    model, eom, X, U, P = g.model, g.eom, g.X, g.U, g.P
+    rotor = model.rotor
+    R = rotor.radius
+    u = g.aero["u"]                                       # floored relative wind [m/s]
+    omega = g.rotor_speed
+    dyn = 0.5 * P["air_density"] * math.pi * R**2 * u**2
+    ct, cq = g.thrust / dyn, g.torque / (dyn * R)
+    tsr = omega * R / u
+    gen_tq = X["GenTq"]
+    out = {"Wind1VelX": U["Wind1VelX"], "RtVAvgxh": g.u_rel, "RtTSR": tsr, "RtAeroCp": tsr * cq, "RtAeroCt": ct,
+           "RtAeroCq": cq, "RtAeroFxh": g.thrust, "RtAeroMxh": g.torque, "RtAeroPwr": omega * g.torque,
+           "GenTq": gen_tq / 1e3, "GenPwr": P["generator_efficiency"] * gen_tq * g.generator_speed / 1e3}
+    lss = _lss_torque(g)
+    out.update(RotTorq=lss / 1e3, RotPwr=lss * omega / 1e3, RotThrust=_lss_thrust(g) / 1e3)
+    lam = eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
+    out.update(TwrBsMxt=-lam[0] / 1e3, TwrBsMyt=-lam[1] / 1e3)
+    yb = g.kinematics_with_accelerations("yaw_bearing")
+    out.update(YawBrTAxp=ca.dot(yb["a"], yb["R"][:, 0]), YawBrTAyp=ca.dot(yb["a"], yb["R"][:, 1]))
+    return out
+
+
+def _lss_torque(g) -> Any:
+    """Low-speed-shaft torque [N m] (see the module docstring)."""
+    model, eom, P = g.model, g.eom, g.P
+    coords = eom.coordinates
+    if "DrTr" in coords:
+        i = coords.index("DrTr")
+        return P["drivetrain_stiffness"] * g.q[i] + P["drivetrain_damping"] * g.qd[i]
+    if model.spins_freely:                 # the generator's balance: N (T_gen + J_gen α_gen), α about the shaft
+        gen = g.kinematics_with_accelerations("generator")
+        return model.gearbox_ratio * (g.X["GenTq"] + P["generator_inertia"] * ca.dot(gen["wd"], g.shaft_axis))
+    return g.torque
+
+
+def _lss_thrust(g) -> Any:
+    """Low-speed-shaft axial force [N]: thrust plus the rotor's weight and inertia force along the shaft."""
+    model, P = g.model, g.P
+    mass = P["hub_mass"] + float(sum(rotor_mass_properties(model.turbine).blade_mass))
+    apex = g.kinematics_with_accelerations("hub")
+    gravity = ca.vertcat(0.0, 0.0, -P["gravity"])
+    return g.thrust + mass * ca.dot(gravity - apex["a"], g.shaft_axis)

@@ -1,0 +1,202 @@
+"""Build the :class:`mbsym.Dynamics` of an :class:`~.model.OperatingTurbine` (one CasADi graph).
+
+The structure's equations ``M(q, u_s, p) q̈ = F(q, q̇, u_s, p)`` get their inputs ``u_s`` from
+the new states and the rotor loads:
+
+==============  ================================================================
+``BlPitch``     pitch actuator state β (``BlPitch_d`` = β̇, ``BlPitch_dd`` = its rhs)
+``GenTq``       generator torque actuator state
+``RotThrust``   rotor thrust along the shaft (aero, or its lag state)
+``RotTorq``     rotor torque about the shaft (aero, or its lag state)
+``GeAz``        (GenDOF off) the azimuth state, turning at the parameter ``rotor_speed``
+==============  ================================================================
+
+so the first-order right-hand side is one expression of ``(x, u, p)``. Up to
+:data:`~mbsym.equations.SYMBOLIC_SOLVE_MAX_DOF` structural DOFs everything is SX with the
+symbolic solve of the structure's own ``rhs``; beyond, MX glue with a numeric linear solve
+(as :class:`~mbsym.equations.EquationsOfMotion` does).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+
+from ...dynamics import Dynamics
+from ...equations import SYMBOLIC_SOLVE_MAX_DOF
+from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
+from .channels import channel_rows
+
+__all__ = ["compose", "WIRED_INPUTS"]
+
+#: Structural inputs driven by the composition (the others stay inputs of the Dynamics).
+WIRED_INPUTS = ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd")
+
+
+class Graph:
+    """Symbols and expressions of the composed model (SX or MX), shared by rhs and outputs."""
+
+    def __init__(self, model, kind) -> None:
+        s = model.structure
+        eom = s.eom
+        self.model, self.eom, self.kind = model, eom, kind
+        nq = eom.n_q
+        extra_states = ["BlPitch", "BlPitch_d", "GenTq"]
+        if not model.spins_freely:
+            extra_states.append("GeAz")
+        if model.dynamic_inflow is not None:
+            extra_states += ["DBEMT_w", "DBEMT_v"]
+        elif model.inflow_lag:
+            extra_states += ["RotThrustLag", "RotTorqLag"]
+        self.states = tuple(eom.states) + tuple(extra_states)
+        self.passthrough = tuple(n for n in eom.inputs if n not in WIRED_INPUTS)
+        self.inputs = ("Wind1VelX", "BlPitchCom", "GenTqCom") + self.passthrough
+        extra_p = ["air_density", "cp_scale", "ct_scale", *ACTUATOR_PARAMETERS]
+        if not model.spins_freely:
+            extra_p.append("rotor_speed")
+        self.parameters = tuple(eom.parameters) + tuple(extra_p)
+        self.x = kind.sym("x", len(self.states))
+        self.u = kind.sym("u", len(self.inputs))
+        self.p = kind.sym("p", len(self.parameters))
+        X = {n: self.x[i] for i, n in enumerate(self.states)}
+        U = {n: self.u[i] for i, n in enumerate(self.inputs)}
+        P = {n: self.p[i] for i, n in enumerate(self.parameters)}
+        self.X, self.U, self.P = X, U, P
+        self.q, self.qd = self.x[:nq], self.x[nq:2 * nq]
+        self.p_s = self.p[:eom.n_p]
+        self._build()
+
+    # ------------------------------------------------------------------ graph
+    def _build(self) -> None:
+        model, eom, X, U, P = self.model, self.eom, self.X, self.U, self.P
+        width = model.saturation_width
+        beta, beta_d = X["BlPitch"], X["BlPitch_d"]
+        self.beta_dd = pitch_actuator_rhs(beta, beta_d, U["BlPitchCom"], P, width)
+        self.torque_d = torque_actuator_rhs(X["GenTq"], U["GenTqCom"], P, width)
+        # rotor speed about the shaft [rad/s] (LSS) and generator speed relative to the nacelle (HSS)
+        if model.spins_freely:
+            coords = eom.coordinates
+            geaz_d = self.qd[coords.index("GeAz")]
+            hub_d = geaz_d + (self.qd[coords.index("DrTr")] if "DrTr" in coords else 0.0)
+        else:
+            geaz_d = P["rotor_speed"]
+            hub_d = geaz_d + (self.qd[eom.coordinates.index("DrTr")] if "DrTr" in eom.coordinates else 0.0)
+        self.rotor_speed, self.generator_speed = hub_d, model.gearbox_ratio * geaz_d
+        # structural inputs without loads: kinematics of the apex and the shaft axis
+        zero_loads = self.structural_inputs(thrust=0.0, torque=0.0)
+        hub = self._kinematics("hub", zero_loads)
+        shaft = self._kinematics("shaft", zero_loads)
+        c1 = shaft["R"][:, 0]
+        self.shaft_axis = c1
+        self.u_shaft = U["Wind1VelX"] * c1[0]                  # horizontal wind (U, 0, 0) along the shaft
+        self.u_rel = self.u_shaft - ca.dot(hub["v"], c1)
+        rotor = model.rotor
+        self.aero = rotor.loads(self.u_rel, hub_d, beta, P["air_density"], cp_scale=P["cp_scale"],
+                                ct_scale=P["ct_scale"])
+        scales = {"cp_scale": P["cp_scale"], "ct_scale": P["ct_scale"]}
+        if model.dynamic_inflow is not None:
+            state = ca.vertcat(X["DBEMT_w"], X["DBEMT_v"])
+            self.lag_rhs, loads = model.dynamic_inflow.rhs(state, self.u_rel, hub_d, beta, P["air_density"], **scales)
+            self.thrust, self.torque = loads["thrust"], loads["torque"]
+            self.inflow_steady = ca.vertcat(*model.dynamic_inflow.steady_state(self.u_rel, hub_d, beta))
+        elif model.inflow_lag:
+            lag = ca.vertcat(X["RotThrustLag"], X["RotTorqLag"])
+            self.lag_rhs, _ = rotor.inflow_lag_rhs(lag, self.u_rel, hub_d, beta, P["air_density"], **scales)
+            self.thrust, self.torque = X["RotThrustLag"], X["RotTorqLag"]
+            self.inflow_steady = ca.vertcat(self.aero["thrust"], self.aero["torque"])
+        else:
+            self.thrust, self.torque = self.aero["thrust"], self.aero["torque"]
+        self.u_s = self.structural_inputs(thrust=self.thrust, torque=self.torque)
+        self.qdd = self._accelerations()
+        self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
+
+    def structural_inputs(self, *, thrust: Any, torque: Any) -> Any:
+        """The structure's input vector ``u_s`` (see the module docstring)."""
+        X, U, P = self.X, self.U, self.P
+        values = {"BlPitch": X["BlPitch"], "BlPitch_d": X["BlPitch_d"], "BlPitch_dd": self.beta_dd,
+                  "GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust}
+        if not self.model.spins_freely:
+            values.update(GeAz=X["GeAz"], GeAz_d=P["rotor_speed"], GeAz_dd=0.0)
+        rows = [values[n] if n in values else U[n] for n in self.eom.inputs]
+        return ca.vertcat(*rows) if rows else self.kind(0, 1)
+
+    def _kinematics(self, body: str, u_s, qdd=None) -> dict[str, Any]:
+        """Position, orientation, velocity (and with ``qdd`` accelerations) of a body origin."""
+        f = self.model._parts.get(f"kin_{body}")
+        if f is None:
+            f = self.eom.point_kinematics(body)
+            self.model._parts[f"kin_{body}"] = f
+        qdd = self.kind.zeros(self.eom.n_q) if qdd is None else qdd
+        out = f(self.q, self.qd, qdd, u_s, self.p_s)
+        return dict(zip(f.name_out(), out))
+
+    def _accelerations(self) -> Any:
+        f = self.eom.functions
+        mass = f.mass_matrix
+        M = mass(self.q, self.u_s, self.p_s) if mass.n_in() == 3 else mass(self.q, self.p_s)
+        F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
+        if self.kind is ca.SX:
+            return ca.solve(M, F)
+        return ca.solve(M, F, "qr")
+
+    def _extra_rhs(self) -> list:
+        X = self.X
+        rows = [X["BlPitch_d"], self.beta_dd, self.torque_d]
+        if not self.model.spins_freely:
+            rows.append(self.P["rotor_speed"])
+        if self.model.dynamic_inflow is not None or self.model.inflow_lag:
+            rows.append(self.lag_rhs)
+        return rows
+
+    def kinematics_with_accelerations(self, body: str) -> dict[str, Any]:
+        """Point kinematics of a body origin with the model's accelerations (for output channels)."""
+        return self._kinematics(body, self.u_s, self.qdd)
+
+
+def compose(model) -> Dynamics:
+    """The :class:`mbsym.Dynamics` of ``model`` (an :class:`~.model.OperatingTurbine`)."""
+    from .model import _check_structure
+
+    _check_structure(model)
+    eom = model.structure.eom
+    kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
+    g = Graph(model, kind)
+    opts = {"cse": True} if kind is ca.SX else {}
+    rhs = ca.Function(f"{model.name}_rhs", [g.x, g.u, g.p], [g.xd], ["x", "u", "p"], ["xd"], opts)
+    rows = channel_rows(g)
+    names = tuple(r[0] for r in rows)
+    units = tuple(r[1] for r in rows)
+    y = ca.vertcat(*[r[2] for r in rows])
+    outputs = ca.Function(f"{model.name}_outputs", [g.x, g.u, g.p], [y], ["x", "u", "p"], ["y"], opts)
+    model._parts["aero_torque"] = ca.Function(f"{model.name}_aero_torque", [g.x, g.u, g.p], [g.torque],
+                                              ["x", "u", "p"], ["Q"], opts)
+    from .controllers import MEASUREMENTS
+    measured = [y[names.index(n)] for n in MEASUREMENTS]
+    model._parts["measurements"] = ca.Function(f"{model.name}_measurements", [g.x, g.u, g.p],
+                                               [ca.vertcat(*measured)], ["x", "u", "p"], ["y"], opts)
+    model._parts["measurement_units"] = tuple(units[names.index(n)] for n in MEASUREMENTS)
+    if hasattr(g, "inflow_steady"):
+        model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
+                                                    [g.inflow_steady], ["x", "u", "p"], ["z"], opts)
+    model._parts["graph"] = g
+    defaults = {**dict(eom.defaults), **_aero_defaults(model), **model.actuators.parameters()}
+    if not model.spins_freely:
+        defaults["rotor_speed"] = float(model.turbine.initial_conditions.rotor_speed)
+    x0 = _deck_state(model, g)
+    return Dynamics(rhs, states=g.states, inputs=g.inputs, parameters=g.parameters, defaults=defaults,
+                    outputs=outputs, output_names=names, output_units=units, x0=x0, name=model.name, eom=eom)
+
+
+def _aero_defaults(model) -> dict[str, float]:
+    return {"air_density": float(model.rotor.air_density), "cp_scale": 1.0, "ct_scale": 1.0}
+
+
+def _deck_state(model, g: Graph) -> list[float]:
+    """The deck's initial conditions; actuators at rest at the deck's pitch, zero torque and loads."""
+    s = model.structure
+    values = dict(zip(s.eom.states, s.initial_state()))
+    values["BlPitch"] = float(model.turbine.initial_conditions.blade_pitch[0])
+    if not model.spins_freely:
+        values["GeAz"] = s.initial_generator_azimuth()
+    return [values.get(n, 0.0) for n in g.states]

@@ -1,0 +1,212 @@
+"""An operating turbine from an OpenFAST deck (ElastoDyn + AeroDyn + InflowWind + ServoDyn), or built in.
+
+:func:`operating_deck` reads what a ``.fst`` switches on:
+
+* ElastoDyn: the structure, its DOFs and initial conditions;
+* AeroDyn 15 (``CompAero = 2``): the rotor surfaces by mbsym's BEM
+  (:meth:`RotorAero.from_openfast`, a few seconds, on first use) and its dynamic-inflow setting
+  (:func:`~.dynamic_inflow.dbemt_settings`); without AeroDyn, the built-in NREL 5 MW rotor
+  is *not* substituted: the deck is refused for operation;
+* InflowWind (``CompInflow = 1``): the hub-height wind (steady or uniform wind file);
+* ServoDyn (``CompServo = 1``): generator efficiency, the DISCON library and its input file,
+  the controller time step (``DLL_DT``/``DT``/the glue ``DT``); ROSCO's ``DISCON.IN`` gives the
+  actuator limits and the baseline controller's settings.
+
+:func:`builtin_deck` is the NREL 5 MW from package data with :data:`~.model.OPERATING_DOFS`
+and ROSCO 2.10.6's NREL 5 MW controller settings.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+from ...exceptions import ControllerError, OpenFASTFormatError
+from ..aero.rotor import RotorAero
+from ..deck.parameters import TurbineParameters
+from .actuators import ActuatorSettings
+from .model import OPERATING_DOFS, OperatingTurbine
+
+__all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT"]
+
+#: How to get ROSCO's library, for messages.
+ROSCO_HINT = ("'pip download --no-deps rosco==2.10.6' gives a wheel (a zip) holding rosco/lib/libdiscon.so and its "
+              "runtime rosco.libs/; unzip both side by side, or pass the library with --discon LIB.so")
+
+
+@dataclass(frozen=True)
+class OperatingDeck:
+    """Everything an operating simulation takes from a deck (see the module docstring).
+
+    Attributes
+    ----------
+    turbine : TurbineParameters
+    rotor_source : RotorAero or Path
+        The rotor, or the ``.fst`` whose AeroDyn gives it (computed on first use of :attr:`rotor`).
+    dofs : tuple of str or None
+        The DOFs to model (None: the deck's own).
+    dynamic_inflow : bool
+        Whether AeroDyn runs dynamic BEMT (the model then adds :class:`~.dynamic_inflow.DynamicInflow`).
+    dbemt : tuple (mode, tau1_const) or None
+    actuators : ActuatorSettings
+    controller_dt : float
+        Controller sample time [s].
+    servodyn : ServoDynSettings or None
+    inflow : InflowWindSettings or None
+    discon_in : Path or None
+        ROSCO's input file (ServoDyn's DLL_InFile, or None).
+    library : Path or None
+        The DISCON library ServoDyn names (it may not exist).
+    uses_library : bool
+        Whether ServoDyn runs the DISCON library (PCMode or VSContrl 5).
+    label : str
+    path : Path or None
+        The ``.fst`` (None for the built-in turbine).
+    """
+
+    turbine: TurbineParameters
+    rotor_source: "RotorAero | Path"
+    dofs: tuple[str, ...] | None
+    dynamic_inflow: bool
+    dbemt: tuple[int, float] | None
+    actuators: ActuatorSettings
+    controller_dt: float
+    servodyn: object | None
+    inflow: object | None
+    discon_in: Path | None
+    library: Path | None
+    uses_library: bool
+    label: str
+    path: Path | None = None
+
+    @property
+    def rotor(self) -> RotorAero:
+        """The rotor aerodynamics (mbsym's BEM surfaces of the deck's AeroDyn: a few seconds, once)."""
+        if not isinstance(self.rotor_source, RotorAero):
+            object.__setattr__(self, "rotor_source", RotorAero.from_openfast(self.rotor_source))
+        return self.rotor_source
+
+    def model(self, *, dofs: Sequence[str] | None = None, **options) -> OperatingTurbine:
+        """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's)."""
+        from .dynamic_inflow import DynamicInflow
+
+        inflow = False
+        if self.dynamic_inflow:
+            mode, tau1 = self.dbemt if self.dbemt is not None else (2, 0.0)
+            inflow = DynamicInflow(self.rotor, mode=mode, tau1_const=tau1)
+        options.setdefault("dynamic_inflow", inflow)
+        return OperatingTurbine(self.turbine, self.rotor, dofs=self.dofs if dofs is None else dofs,
+                                actuators=self.actuators, **options)
+
+    def wind(self):
+        """The deck's hub-height wind (InflowWind), or None without InflowWind."""
+        return None if self.inflow is None else self.inflow.wind()
+
+    def baseline_settings(self, *, discon_in: str | Path | None = None, dt: float | None = None):
+        """Baseline controller settings: ``discon_in``, else the deck's DISCON.IN, else the built-in NREL 5 MW."""
+        from ..control.settings import BaselineSettings
+        from .nrel5mw import nrel5mw_baseline_settings
+
+        dt = self.controller_dt if dt is None else dt
+        source = discon_in if discon_in is not None else self.discon_in
+        if source is None:
+            return nrel5mw_baseline_settings(dt)
+        if not Path(source).is_file():
+            raise ControllerError(f"DISCON.IN not found: tried '{Path(source).absolute()}'"
+                                  + (f" (ServoDyn DLL_InFile of {self.servodyn.path})" if discon_in is None and
+                                     self.servodyn is not None else "") + ". Fix the path or pass --discon-input.")
+        return BaselineSettings.from_discon(source, dt=dt)
+
+    def discon_paths(self, library: str | Path | None = None,
+                     input_file: str | Path | None = None) -> tuple[Path, Path]:
+        """``(library, DISCON.IN)`` for the DISCON controller: the given ones, else the deck's.
+
+        Raises
+        ------
+        ControllerError
+            No library or input file, or a file that does not exist (names the path and how to get it).
+        """
+        lib = Path(library) if library is not None else self.library
+        infile = Path(input_file) if input_file is not None else self.discon_in
+        where = f" (ServoDyn DLL_FileName of {self.servodyn.path})" if library is None and self.servodyn else ""
+        if lib is None:
+            raise ControllerError(f"no DISCON library: {self.label} names none; pass --discon LIB.so ({ROSCO_HINT}).")
+        if not lib.is_file():
+            raise ControllerError(f"DISCON library not found: tried '{lib.absolute()}'{where}. {ROSCO_HINT}.")
+        if infile is None:
+            raise ControllerError(f"no controller input file: {self.label} names none; pass --discon-input "
+                                  "DISCON.IN.")
+        if not infile.is_file():
+            raise ControllerError(f"controller input file not found: tried '{infile.absolute()}'. Fix ServoDyn's "
+                                  "DLL_InFile or pass --discon-input DISCON.IN.")
+        return lib, infile
+
+
+def operating_deck(fst: str | Path) -> OperatingDeck:
+    """Read an OpenFAST deck for an operating simulation (see the module docstring).
+
+    Raises
+    ------
+    OpenFASTFormatError
+        A malformed file (file, line, key); a deck without AeroDyn 15 (``CompAero = 2``).
+    """
+    from ..deck.aerodyn import read_aerodyn
+    from ..deck.discon_in import read_discon_in
+    from ..deck.inflowwind import deck_inflowwind
+    from ..deck.openfast import read_openfast
+    from ..deck.servodyn import deck_servodyn
+    from .dynamic_inflow import dbemt_settings
+
+    path = Path(fst)
+    turbine = read_openfast(path)
+    aerodyn_file = turbine.source_files.get("aerodyn")
+    if aerodyn_file is None:
+        raise OpenFASTFormatError(f"{path}: the deck has no AeroDyn 15 (CompAero must be 2 with an existing "
+                                  "AeroFile); an operating simulation needs the rotor's aerodynamics. Add AeroDyn "
+                                  "or run without a deck (built-in NREL 5 MW).")
+    aerodyn = read_aerodyn(aerodyn_file, n_blades=turbine.number_of_blades)
+    dbemt = dbemt_settings(aerodyn)
+    servodyn, glue_dt = deck_servodyn(path)
+    inflow = deck_inflowwind(path)
+    discon_in = library = None
+    uses_library = False
+    dt = glue_dt
+    discon = None
+    if servodyn is not None:
+        dt = servodyn.controller_time_step(glue_dt)
+        uses_library = bool(servodyn.uses_library)
+        if servodyn.library_name not in ("", "unused"):
+            library = servodyn.library
+        if servodyn.library_input_name not in ("", "unused"):
+            discon_in = servodyn.library_input
+            if discon_in.is_file():
+                discon = read_discon_in(discon_in)
+    actuators = ActuatorSettings.from_deck(servodyn, discon)
+    return OperatingDeck(turbine=turbine, rotor_source=path, dofs=None, dynamic_inflow=dbemt is not None, dbemt=dbemt,
+                         actuators=actuators, controller_dt=float(dt), servodyn=servodyn, inflow=inflow,
+                         discon_in=discon_in, library=library, uses_library=uses_library, label=str(path),
+                         path=path)
+
+
+def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:
+    """The built-in NREL 5 MW: package data for the structure, the rotor (BEM surfaces, DBEMT as its
+    AeroDyn deck) and ROSCO 2.10.6's controller settings; controller sample time
+    :data:`~.nrel5mw.NREL5MW_CONTROLLER_DT`."""
+    from ..aero.nrel5mw import nrel5mw_rotor
+    from ..deck.nrel5mw import nrel5mw
+    from ..deck.nrel5mw_aero import nrel5mw_aerodyn
+    from .dynamic_inflow import dbemt_settings
+    from .nrel5mw import NREL5MW_CONTROLLER_DT
+
+    dbemt = dbemt_settings(nrel5mw_aerodyn())
+    return OperatingDeck(turbine=nrel5mw(), rotor_source=nrel5mw_rotor(), dofs=tuple(dofs), dynamic_inflow=dbemt is not None,
+                         dbemt=dbemt, actuators=ActuatorSettings.nrel5mw(), controller_dt=NREL5MW_CONTROLLER_DT,
+                         servodyn=None, inflow=None, discon_in=None, library=None, uses_library=False,
+                         label="NREL 5 MW onshore (built-in)")
+
+
+def replace(deck: OperatingDeck, **changes) -> OperatingDeck:
+    """A copy of ``deck`` with some fields changed."""
+    return dataclasses.replace(deck, **changes)

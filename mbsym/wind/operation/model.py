@@ -1,0 +1,285 @@
+"""The operating turbine: structure + rotor aerodynamics + actuators + generator as one :class:`mbsym.Dynamics`.
+
+:class:`OperatingTurbine` composes
+
+* the ElastoDyn-equivalent structure (:class:`~mbsym.wind.structure.turbine.TurbineModel`
+  with the deck's DOFs, collective pitch as a prescribed coordinate, and the tower attached
+  through locked rotations whose reactions are the tower-base moments);
+* the rotor loads of :class:`~mbsym.wind.aero.RotorAero` from the **relative** wind along the
+  shaft, ``U_rel = W·c₁ − v_hub·c₁`` (``W = (U, 0, 0)`` the horizontal hub-height wind,
+  ``c₁`` the actual shaft axis including the tower-top rotation, ``v_hub`` the velocity of
+  the rotor apex): thrust along ``c₁`` on the hub (the structure's ``RotThrust``) and torque
+  about it (``RotTorq``). Tower motion changes ``U_rel``, which is the aerodynamic damping;
+* the pitch and generator-torque actuators and the generator efficiency
+  (:mod:`.actuators`);
+* the rotor-averaged dynamic inflow of :mod:`.dynamic_inflow` (AeroDyn's DBEMT on the
+  surfaces; two states, on by default as in AeroDyn 15 decks with ``DBEMT_Mod = 2``), or the
+  simpler first-order lag of :meth:`RotorAero.inflow_lag_rhs` on thrust and torque (two
+  states), or neither (quasi-steady loads).
+
+States: the structure's ``[q; q̇]``, then ``BlPitch`` [rad], ``BlPitch_d`` [rad/s],
+``GenTq`` [N m] (high-speed shaft), ``GeAz`` [rad] when GenDOF is off (the rotor turns at
+the parameter ``rotor_speed``), ``DBEMT_w``, ``DBEMT_v`` [m/s] with the dynamic inflow
+(Øye's intermediate state and the rotor-averaged induced velocity), or ``RotThrustLag`` [N],
+``RotTorqLag`` [N m] with the inflow lag.
+
+Inputs: ``Wind1VelX`` [m/s] (hub-height wind), ``BlPitchCom`` [rad], ``GenTqCom`` [N m],
+then any structural input not driven here (platform loads), in the structure's order.
+
+Parameters: the structure's (``gravity``, masses, ...), ``air_density`` [kg/m^3],
+``cp_scale``, ``ct_scale`` [-] (factors on the torque and thrust coefficients), the
+actuator parameters of :data:`~mbsym.wind.operation.actuators.ACTUATOR_PARAMETERS`, and
+``rotor_speed`` [rad/s] when GenDOF is off.
+
+Outputs: OpenFAST channels with OpenFAST's names and units (:mod:`.channels`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from ...dynamics import Dynamics
+from ...exceptions import ModelDefinitionError, ParameterError
+from ..aero.rotor import RotorAero
+from ..deck.parameters import TurbineParameters
+from ..structure.turbine import TurbineModel
+from .actuators import ACTUATOR_PARAMETERS, ActuatorSettings
+from .dynamic_inflow import DynamicInflow
+
+__all__ = ["OperatingTurbine", "OPERATING_DOFS", "COMMANDS", "AERO_PARAMETERS"]
+
+#: The DOFs of the built-in operating NREL 5 MW: the ones the rotor loads (thrust and torque on the hub)
+#: and the generator torque reaction act on, and those of the OpenFAST reference runs.
+OPERATING_DOFS = ("GenDOF", "TwFADOF1", "TwSSDOF1")
+#: Commands (inputs after the wind), SI units.
+COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
+#: Aerodynamic parameters: name -> unit.
+AERO_PARAMETERS = {"air_density": "kg/m^3", "cp_scale": "-", "ct_scale": "-"}
+_UNLOADED = ("FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF")
+
+
+class OperatingTurbine:
+    """An operating wind turbine (see the module docstring) with its :meth:`dynamics`.
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        Structure (:func:`mbsym.wind.read_openfast`, :func:`mbsym.wind.nrel5mw`).
+    rotor : RotorAero, optional
+        Rotor aerodynamics; default the built-in NREL 5 MW (:func:`mbsym.wind.aero.nrel5mw_rotor`).
+    dofs : sequence of str, optional, keyword-only
+        ElastoDyn DOF flags; default the deck's own. The rotor loads act on the hub only:
+        blade and yaw DOFs get no aerodynamic load (a warning says so).
+    actuators : ActuatorSettings, optional, keyword-only
+        Default :meth:`ActuatorSettings.nrel5mw`.
+    dynamic_inflow : bool or DynamicInflow, optional, keyword-only
+        Rotor-averaged dynamic inflow (:class:`~.dynamic_inflow.DynamicInflow`; True: AeroDyn's
+        ``DBEMT_Mod = 2`` with Øye's time constants). Default True.
+    inflow_lag : bool, optional, keyword-only
+        Instead, the first-order lag on thrust and torque of :meth:`RotorAero.inflow_lag_rhs`
+        (two states). Default False.
+    yaw_spring, yaw_damping : float, optional, keyword-only
+        Yaw bearing spring [N m/rad] and damper [N m s/rad] (with YawDOF).
+    saturation_width : float, optional, keyword-only
+        Relative half-width of the smooth saturation corners (:func:`~.actuators.smooth_clip`).
+    name : str, optional, keyword-only
+
+    Raises
+    ------
+    TypeError
+        Arguments of the wrong type.
+    ModelDefinitionError
+        DOFs the structure cannot model; blades with different initial pitch.
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> from mbsym.wind.operation import OperatingTurbine, OPERATING_DOFS
+    >>> model = OperatingTurbine(nrel5mw(), dofs=OPERATING_DOFS)
+    >>> dyn = model.dynamics()
+    >>> dyn.inputs
+    ('Wind1VelX', 'BlPitchCom', 'GenTqCom')
+    >>> dyn.states[6:]
+    ('BlPitch', 'BlPitch_d', 'GenTq', 'DBEMT_w', 'DBEMT_v')
+    """
+
+    def __init__(self, turbine: TurbineParameters, rotor: RotorAero | None = None, *,
+                 dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
+                 dynamic_inflow: "bool | DynamicInflow" = True, inflow_lag: bool = False, yaw_spring: float = 0.0, yaw_damping: float = 0.0,
+                 saturation_width: float = 1e-4, name: str = "operating_turbine") -> None:
+        if not isinstance(turbine, TurbineParameters):
+            raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
+        if rotor is None:
+            from ..aero.nrel5mw import nrel5mw_rotor
+            rotor = nrel5mw_rotor()
+        if not isinstance(rotor, RotorAero):
+            raise TypeError(f"rotor must be a RotorAero (nrel5mw_rotor(), RotorAero.from_openfast(fst)); "
+                            f"got {type(rotor).__name__}.")
+        actuators = ActuatorSettings.nrel5mw() if actuators is None else actuators
+        if not isinstance(actuators, ActuatorSettings):
+            raise TypeError(f"actuators must be an ActuatorSettings; got {type(actuators).__name__}.")
+        if not (isinstance(saturation_width, float) and 0 < saturation_width < 0.1):
+            raise ParameterError(f"saturation_width must be a float in (0, 0.1); got {saturation_width!r}.")
+        self.turbine, self.rotor, self.actuators = turbine, rotor, actuators
+        self.inflow_lag = bool(inflow_lag)
+        if isinstance(dynamic_inflow, bool):
+            dynamic_inflow = DynamicInflow(rotor) if dynamic_inflow else None
+        if dynamic_inflow is not None and not isinstance(dynamic_inflow, DynamicInflow):
+            raise TypeError(f"dynamic_inflow must be True, False or a DynamicInflow; got "
+                            f"{type(dynamic_inflow).__name__}.")
+        if dynamic_inflow is not None and dynamic_inflow.rotor is not rotor:
+            raise ParameterError("dynamic_inflow was built for another rotor; build it from this one.")
+        if dynamic_inflow is not None and self.inflow_lag:
+            raise ParameterError("choose one inflow model: dynamic_inflow or inflow_lag, not both.")
+        self.dynamic_inflow = dynamic_inflow
+        self.saturation_width = saturation_width
+        self.name = str(name)
+        self.structure = TurbineModel(turbine, dofs, pitch_input=True, tower_base_reactions=True,
+                                      yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True)
+        unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
+        if unloaded:
+            warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
+                          "hub only (rigid-rotor performance surfaces); their motion is structural only.",
+                          UserWarning, stacklevel=2)
+        self._dynamics: Dynamics | None = None
+        self._parts: dict[str, Any] = {}
+
+    # ------------------------------------------------------------------ description
+    @property
+    def dofs(self) -> dict[str, bool]:
+        """ElastoDyn flags -> enabled (the structure's)."""
+        return self.structure.dofs
+
+    @property
+    def gearbox_ratio(self) -> float:
+        return abs(float(self.turbine.gearbox_ratio))
+
+    @property
+    def spins_freely(self) -> bool:
+        """Whether the rotor speed is a DOF (GenDOF on); else it turns at ``rotor_speed``."""
+        return "GeAz" in self.structure.coords
+
+    def bounds(self) -> dict[str, tuple[float, float]]:
+        """Actuator limits for optimization (:meth:`ActuatorSettings.bounds`)."""
+        return self.actuators.bounds()
+
+    def dynamics(self) -> Dynamics:
+        """The composed model as an :class:`mbsym.Dynamics` (built once; see the module docstring)."""
+        if self._dynamics is None:
+            from .compose import compose
+
+            self._dynamics = compose(self)
+        return self._dynamics
+
+    def measurement_dynamics(self) -> Dynamics:
+        """The same dynamics with only the controllers' measurements as outputs (cheap to evaluate in a loop).
+
+        Outputs :data:`~.controllers.MEASUREMENTS` (OpenFAST units); every channel is evaluated
+        afterwards from the states (:func:`~.simulation.simulate_turbine` does).
+        """
+        if "measurement_dynamics" not in self._parts:
+            from .controllers import MEASUREMENTS
+
+            d = self.dynamics()
+            self._parts["measurement_dynamics"] = Dynamics(
+                d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters, defaults=dict(d.defaults),
+                outputs=self._parts["measurements"], output_names=MEASUREMENTS,
+                output_units=self._parts["measurement_units"], x0=d.x0, u0=d.u0, name=f"{d.name}_measured",
+                eom=d.eom)
+        return self._parts["measurement_dynamics"]
+
+    # ------------------------------------------------------------------ initial states
+    def initial_state(self, wind_speed: float | None = None, *, rotor_speed: float | None = None,
+                      pitch: float | None = None, torque: float | None = None,
+                      tower_fa: float | None = None, tower_ss: float | None = None,
+                      p: Mapping[str, float] | None = None) -> np.ndarray:
+        """A state vector from the deck's initial conditions (ElastoDyn's keys), with overrides.
+
+        Parameters
+        ----------
+        wind_speed : float, optional
+            Wind at t = 0 [m/s]: the generator torque starts at the value that balances the
+            aerodynamic torque (the rotor starts without acceleration), within the torque
+            limits. Without it the torque starts at ``torque`` or 0.
+        rotor_speed, pitch, torque, tower_fa, tower_ss : float, optional, keyword-only
+            Override RotSpeed [rad/s], BlPitch [rad], the generator torque [N m] (HSS),
+            TTDspFA, TTDspSS [m].
+        p : dict, optional, keyword-only
+            Parameter values by name for the balances (default: the model's).
+
+        With the wind given, the dynamic-inflow (or lag) states start at equilibrium and, with
+        DrTrDOF, the drivetrain starts twisted by the balancing torque (``N T_gen / k``).
+        """
+        dyn = self.dynamics()
+        x = dict(zip(dyn.states, dyn.x0))
+        coords = self.structure.eom.coordinates
+        if rotor_speed is not None:
+            if self.spins_freely:
+                x["GeAz_d"] = float(rotor_speed)
+            else:
+                raise ParameterError("rotor_speed: GenDOF is off, the rotor turns at the parameter 'rotor_speed'; "
+                                     "pass p={'rotor_speed': ...} to the simulation instead.")
+        if pitch is not None:
+            x["BlPitch"] = float(pitch)
+        for value, modes in ((tower_fa, ("TFA1", "TFA2")), (tower_ss, ("TSS1", "TSS2"))):
+            if value is not None:
+                mode = next((m for m in modes if m in coords), None)
+                if mode is None:
+                    raise ParameterError(f"no tower DOF to set {modes[0][:3]} displacement {value!r} on; the "
+                                         f"coordinates are {list(coords)}.")
+                x[mode] = float(value)
+        if wind_speed is not None:
+            vec = np.array([x[s] for s in dyn.states])
+            u = dyn.input_vector({"Wind1VelX": float(wind_speed)})
+            if self.dynamic_inflow is not None or self.inflow_lag:
+                names = ("DBEMT_w", "DBEMT_v") if self.dynamic_inflow is not None else ("RotThrustLag", "RotTorqLag")
+                eq = np.asarray(self._part("inflow_steady")(vec, u, dyn.parameter_vector(p)), dtype=float)
+                x.update(zip(names, eq.reshape(-1)))
+        if torque is not None:
+            x["GenTq"] = float(torque)
+        elif wind_speed is not None:
+            x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), float(wind_speed), p)
+        if "DrTr" in coords and (wind_speed is not None or torque is not None):
+            stiffness = dict(zip(dyn.parameters, dyn.parameter_vector(p)))["drivetrain_stiffness"]
+            x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
+        return np.array([x[s] for s in dyn.states])
+
+    def balancing_torque(self, x: np.ndarray, wind_speed: float, p: Mapping[str, float] | None = None) -> float:
+        """Generator torque [N m] (HSS) balancing the aerodynamic torque at state ``x`` and wind [m/s], clipped
+        to the torque limits."""
+        f = self._part("aero_torque")
+        dyn = self.dynamics()
+        q_aero = float(f(x, dyn.input_vector({"Wind1VelX": wind_speed}), dyn.parameter_vector(p)))
+        a = self.actuators
+        return float(np.clip(q_aero / self.gearbox_ratio, a.torque_min, a.torque_max))
+
+    def _part(self, key: str):
+        self.dynamics()
+        return self._parts[key]
+
+    def __repr__(self) -> str:
+        on = [f for f, v in self.dofs.items() if v]
+        inflow = "dynamic" if self.dynamic_inflow is not None else ("lag" if self.inflow_lag else "quasi-steady")
+        return f"OperatingTurbine(dofs={on}, rotor={self.rotor.source!r}, inflow={inflow!r})"
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def nrel5mw(cls, *, dofs: Sequence[str] = OPERATING_DOFS, **options) -> "OperatingTurbine":
+        """The built-in NREL 5 MW (package data) with :data:`OPERATING_DOFS` by default."""
+        from ..deck.nrel5mw import nrel5mw
+
+        return cls(nrel5mw(), dofs=dofs, **options)
+
+
+def _check_structure(model: OperatingTurbine) -> None:
+    eom = model.structure.eom
+    missing = [n for n in ("BlPitch", "RotThrust") if n not in eom.inputs]
+    if missing:
+        raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
+    clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(AERO_PARAMETERS) | {"rotor_speed"}))
+    if clash:
+        raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "
+                                   "the same names (aerodynamics, actuators, rotor_speed).")
