@@ -128,7 +128,8 @@ def run_operation(args: argparse.Namespace) -> int:
     series = _series(result, dyn)
     stats = dict(result.statistics)
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
-    stats.update(controller=kind, controller_dt=stats.get("controller_dt", None if controller is None else controller.dt),
+    dt = stats.get("controller_dt", None if controller is None else controller.dt)      # the NMPC's own
+    stats.update(controller=kind, controller_dt=dt,
                  real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
     _summary(series, stats)
     if ref is not None:

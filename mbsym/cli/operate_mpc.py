@@ -66,7 +66,7 @@ class MpcOptions:
         from ..wind.control.baseline import BaselineController
         from ..wind.control.estimator import TurbineEstimator
         from ..wind.control.loop import TurbineLoop
-        from ..wind.control.nmpc import TurbineNMPC
+        from ..wind.control.nmpc import NMPCTuning, TurbineNMPC
         from ..wind.control.prediction import PredictionModel
         from ..wind.control.setpoints import SetPoints
 
@@ -76,7 +76,8 @@ class MpcOptions:
             estimator = TurbineEstimator(prediction, self.estimator, x0=_initial_estimate(model, prediction, wind))
         settings = deck.baseline_settings()
         if self.controller == "nmpc":
-            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor))
+            tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()
+            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning)
         else:
             baseline = BaselineController(settings)
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,

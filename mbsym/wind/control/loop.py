@@ -26,18 +26,50 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
 
 from ...exceptions import SimulationOptionError
 
-__all__ = ["TurbineLoop", "LOOP_CHANNELS"]
+__all__ = ["TurbineLoop", "SensorNoise", "LOOP_CHANNELS"]
 
 #: Plant channels the loop reads (OpenFAST units): the baseline controller's five, then torque and
 #: tower-top acceleration for the estimator.
 LOOP_CHANNELS = ("GenSpeed", "RotSpeed", "BldPitch1", "GenPwr", "Wind1VelX", "GenTq", "YawBrTAxp")
 _DEG, _RPM = math.pi / 180.0, math.pi / 30.0
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    """White Gaussian noise on the measurements the estimator (and the NMPC's measured pitch and torque) read.
+
+    Attributes
+    ----------
+    gen_speed : float
+        Generator speed [rpm].
+    accel : float
+        Tower-top fore-aft acceleration [m/s²].
+    pitch : float
+        Blade pitch [deg].
+    torque : float
+        Generator torque [N m].
+    seed : int
+        Seed of ``numpy.random.default_rng``.
+    """
+
+    gen_speed: float = 0.5
+    accel: float = 0.02
+    pitch: float = 0.05
+    torque: float = 100.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("gen_speed", "accel", "pitch", "torque"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
+                raise SimulationOptionError(f"SensorNoise.{name} must be a standard deviation >= 0; got {v!r}.")
 
 
 def _multiple(period: float, base: float, what: str) -> int:
@@ -65,6 +97,9 @@ class TurbineLoop:
         Seconds of ideal wind preview for the NMPC (None: none).
     wind : callable, optional, keyword-only
         The true wind of time [m/s] (needed with ``preview``).
+    noise : SensorNoise, optional, keyword-only
+        Noise on the measurements of the estimator and the NMPC's measured pitch and torque
+        (default none). The baseline controller reads the plant's channels as they are.
 
     Raises
     ------
@@ -74,7 +109,8 @@ class TurbineLoop:
     """
 
     def __init__(self, plant, sample_time: float, *, nmpc=None, baseline=None, estimator=None,
-                 preview: float | None = None, wind: Callable | None = None) -> None:
+                 preview: float | None = None, wind: Callable | None = None,
+                 noise: SensorNoise | None = None) -> None:
         if (nmpc is None) == (baseline is None):
             raise SimulationOptionError("give exactly one of nmpc= and baseline= to the loop.")
         if preview is not None:
@@ -86,6 +122,10 @@ class TurbineLoop:
                 raise SimulationOptionError("a wind preview is for the NMPC; the baseline controller does not use it.")
         if nmpc is not None and preview is None and estimator is None:
             raise SimulationOptionError("the NMPC needs the wind: give a preview (ideal lidar) or an estimator.")
+        if noise is not None and not isinstance(noise, SensorNoise):
+            raise TypeError(f"noise must be a SensorNoise; got {type(noise).__name__}.")
+        self.noise = noise
+        self._rng = np.random.default_rng(noise.seed) if noise is not None else None
         self.plant, self.dt = plant, float(sample_time)
         self.nmpc, self.baseline, self.estimator = nmpc, baseline, estimator
         self.preview, self.wind = (None if preview is None else float(preview)), wind
@@ -138,8 +178,12 @@ class TurbineLoop:
 
     def law(self, t: float, xc: np.ndarray, y: np.ndarray):
         """``(xc_next, [BlPitchCom, GenTqCom])`` at time ``t`` [s] from the plant measurements ``y``."""
-        c0 = time.perf_counter()
         k = int(round(t / self.dt))
+        y_true = y
+        if self._rng is not None:
+            n = self.noise
+            y = y.copy()
+            y[[0, 2, 5, 6]] += self._rng.standard_normal(4) * (n.gen_speed, n.pitch, n.torque / 1e3, n.accel)
         pitch, torque = y[2] * _DEG, y[5] * 1e3
         xb = xc[: self._n_b]
         z = xc[self._n_b:]
@@ -154,25 +198,37 @@ class TurbineLoop:
                 self._acc[:] = 0.0
                 self._n_acc = 0
         if self.baseline is not None:
-            xb_next, u = self._base_fn(xb, y[:5])
+            c0 = time.perf_counter()
+            xb_next, u = self._base_fn(xb, y_true[:5])
             xb, u = np.asarray(xb_next).ravel(), np.asarray(u).ravel()
+            self._law_time.append(time.perf_counter() - c0)
         else:
             if k % self._kn == 0:
                 c1 = time.perf_counter()
                 state = self._nmpc_state(y, pitch, torque)
                 rates = self.nmpc.step(state, self._horizon_wind(t))
-                self._anchor = (t, pitch, torque, rates)
+                self._anchor = (t, *self._ramp_start(t, pitch, torque), rates)
                 self.controller_times.append(time.perf_counter() - c1)
             t_a, p_a, q_a, r = self._anchor
             u = np.array(self.prediction.commands(p_a, q_a, r[0], r[1], t - t_a))
-        self._law_time.append(time.perf_counter() - c0)
         return np.concatenate([xb, z]), u
+
+    def _ramp_start(self, t: float, pitch: float, torque: float) -> tuple[float, float]:
+        """Where the new ramps start: the previous ramps' values now (continuous demands; the measured
+        pitch and torque at the first step)."""
+        if self._anchor is None:
+            return pitch, torque
+        t_a, p_a, q_a, r = self._anchor
+        (b0, b1), (q0, q1) = self.prediction._demand_limits
+        dt = t - t_a
+        return min(max(p_a + r[0] * dt, b0), b1), min(max(q_a + r[1] * dt, q0), q1)
 
     def _nmpc_state(self, y, pitch: float, torque: float) -> np.ndarray:
         if self.estimator is not None:
             return self.estimator.control_state(pitch, torque)
         values = dict(zip(self._state_names, y[len(LOOP_CHANNELS):]))
         values["GenTq"] = torque
+        values["BlPitch"] = pitch
         return np.array([values[s] for s in self.prediction.states])
 
     def _horizon_wind(self, t: float) -> np.ndarray:

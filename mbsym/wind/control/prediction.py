@@ -108,6 +108,10 @@ class PredictionModel:
         self.control = self._control_form(full)
         self.estimation = self._estimation_form(full)
         self._check_azimuth(full)
+        self._pv = self.control.parameter_vector()
+        self._lead = self.lead(self._pv)
+        b = plant.bounds()
+        self._demand_limits = (b["BlPitchCom"], b["GenTqCom"])
 
     # ------------------------------------------------------------------ forms
     def _symbols(self, full: Dynamics, n_z: int):
@@ -181,18 +185,19 @@ class PredictionModel:
         return (2.0 * pv[names.index("pitch_damping")] / pv[names.index("pitch_frequency")],
                 float(pv[names.index("torque_time_constant")]))
 
-    def commands(self, pitch: float, torque: float, pitch_rate: float, torque_rate: float, elapsed: float,
-                 p: np.ndarray | None = None) -> tuple[float, float]:
+    def commands(self, pitch: float, torque: float, pitch_rate: float, torque_rate: float,
+                 elapsed: float) -> tuple[float, float]:
         """Plant demands ``(BlPitchCom [rad], GenTqCom [N m])`` for rates held since ``elapsed`` seconds.
 
         ``pitch``, ``torque``: the actuator values when the rates started. The demands ramp at
-        the rates with the actuators' lead (module docstring), clipped to the demand limits.
+        the rates with the actuators' lead (module docstring; the parameters given at
+        construction), clipped to the plant's demand limits.
         """
-        lb, lt = self.lead(p)
-        b = self.plant.bounds()
+        lb, lt = self._lead
+        (b0, b1), (t0, t1) = self._demand_limits
         beta = pitch + pitch_rate * (elapsed + lb)
         tq = torque + torque_rate * (elapsed + lt)
-        return (float(np.clip(beta, *b["BlPitchCom"])), float(np.clip(tq, *b["GenTqCom"])))
+        return (min(max(beta, b0), b1), min(max(tq, t0), t1))
 
     def __repr__(self) -> str:
         inflow = "dynamic inflow" if self.turbine.dynamic_inflow is not None else "quasi-steady inflow"

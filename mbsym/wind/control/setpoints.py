@@ -16,7 +16,6 @@ model (no conflicting targets between regions).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -113,47 +112,77 @@ class ReferenceTable:
         return np.array([np.interp(wind, self.winds, col) for col in self.states.T])
 
 
+def _balance(prediction, fixed: str, unknown: str):
+    """``(rootfinder, free)``: Newton on the balance of the free states and the rotor with ``fixed`` given.
+
+    Parameters of the rootfinder: ``[wind, generator speed, fixed value, the other states (guess), p]``.
+    """
+    key = ("reference_balance", fixed)
+    cache = prediction.__dict__.setdefault("_cache", {})
+    if key in cache:
+        return cache[key]
+    dyn = prediction.control
+    states = dyn.states
+    free = [s for s in ("TFA1", "TFA2", "TSS1", "TSS2", "DrTr", "DBEMT_w", "DBEMT_v") if s in states]
+    S = ca.SX if dyn.rhs.is_a("SXFunction") else ca.MX
+    z = S.sym("z", len(free) + 1)
+    par = S.sym("par", 3 + dyn.n_x + dyn.n_p)
+    wind, omega, value, base, p = par[0], par[1], par[2], par[3:3 + dyn.n_x], par[3 + dyn.n_x:]
+    x = [base[i] for i in range(dyn.n_x)]
+    x[states.index("GeAz_d")] = omega
+    x[states.index(fixed)] = value
+    for i, s in enumerate(free):
+        x[states.index(s)] = z[i]
+    x[states.index(unknown)] = z[-1]
+    for s in states:                                   # at rest: every structural speed but the rotor's
+        if s.endswith("_d") and s != "GeAz_d":
+            x[states.index(s)] = 0.0
+    xv = ca.vertcat(*x)
+    xd = dyn.rhs(xv, ca.vertcat(wind, 0.0, 0.0), p)
+    rows = [s + "_d" if s + "_d" in states else s for s in free] + ["GeAz_d"]
+    res = ca.vertcat(*[xd[states.index(r)] for r in rows])
+    g = ca.Function("balance", [z, par], [res])
+    root = ca.rootfinder("reference_state", "newton", g, {"abstol": 1e-10, "max_iter": 50, "error_on_fail": False})
+    state = ca.Function("balance_state", [z, par], [xv])
+    cache[key] = (root, g, state, free)
+    return cache[key]
+
+
 def reference_state(prediction, setpoints: SetPoints, wind: float, *, p=None, guess=None) -> np.ndarray:
     """The steady state of the prediction model's control form on the speed schedule at a wind [m/s].
+
+    Region 2 (and 2.5): fine pitch, the torque balancing the rotor; if that power exceeds the
+    rated power, region 3: the rated torque, the pitch balancing. The tower, drivetrain and inflow
+    states are solved for rest (Newton's method with the exact Jacobian).
 
     Raises
     ------
     ModelDefinitionError
-        If Newton's method finds no balance (e.g. a wind below cut-in for the schedule).
+        If Newton's method finds no balance.
     """
     dyn = prediction.control
     pv = dyn.parameter_vector(p)
     states = dyn.states
     omega = float(setpoints.generator_speed(wind)) / setpoints.gearbox_ratio
-    free = [s for s in ("TFA1", "TFA2", "TSS1", "TSS2", "DrTr", "DBEMT_w", "DBEMT_v") if s in states]
-    guess = dyn.x0.copy() if guess is None else np.asarray(guess, dtype=float).copy()
-    guess[states.index("GeAz_d")] = omega
+    base = dyn.x0.copy() if guess is None else np.asarray(guess, dtype=float).copy()
 
-    def solve(fixed: dict[str, float], unknown: str, start: float) -> np.ndarray:
-        z = ca.SX.sym("z", len(free) + 1)
-        x = [ca.SX(v) for v in guess]
-        for s, v in fixed.items():
-            x[states.index(s)] = ca.SX(v)
-        for i, s in enumerate(free):
-            x[states.index(s)] = z[i]
-        x[states.index(unknown)] = z[-1]
-        xd = dyn.rhs(ca.vertcat(*x), ca.vertcat(wind, 0.0, 0.0), pv)
-        rows = [s + "_d" if s + "_d" in states else s for s in free] + ["GeAz_d"]
-        res = ca.vertcat(*[xd[states.index(r)] for r in rows])
-        g = ca.Function("balance", [z], [res])
-        root = ca.rootfinder("reference_state", "newton", g, {"abstol": 1e-10, "max_iter": 50, "error_on_fail": False})
-        z0 = [guess[states.index(s)] for s in free] + [start]
-        sol = np.asarray(root(z0), dtype=float).ravel()
-        out = np.asarray(ca.evalf(ca.substitute(ca.vertcat(*x), z, ca.DM(sol))), dtype=float).ravel()
-        if not np.all(np.isfinite(sol)) or np.max(np.abs(np.asarray(g(sol)).ravel())) > 1e-6 * (1 + abs(sol).max()):
+    def solve(fixed: str, value: float, unknown: str, start: float) -> np.ndarray:
+        root, g, state, free = _balance(prediction, fixed, unknown)
+        par = np.concatenate([[wind, omega, value], base, pv])
+        z0 = [base[states.index(s)] for s in free] + [start]
+        sol = np.asarray(root(z0, par), dtype=float).ravel()
+        residual = np.asarray(g(sol, par), dtype=float).ravel()
+        if not np.all(np.isfinite(sol)) or np.max(np.abs(residual)) > 1e-6 * (1.0 + np.abs(sol).max()):
             raise ModelDefinitionError(f"no steady reference state of the prediction model at {wind:g} m/s "
-                                       f"(speed {omega:.4g} rad/s).")
-        return out
+                                       f"(rotor speed {omega:.4g} rad/s, {fixed} = {value:.4g}).")
+        return np.asarray(state(sol, par), dtype=float).ravel()
 
-    x = solve({"BlPitch": setpoints.fine_pitch}, "GenTq", setpoints.rated_torque * min(1.0, (wind / 11.4) ** 2))
+    torque0 = base[states.index("GenTq")] if guess is not None else \
+        setpoints.rated_torque * min(1.0, (wind / 11.4) ** 2)
+    x = solve("BlPitch", setpoints.fine_pitch, "GenTq", torque0)
     power = setpoints.efficiency * x[states.index("GenTq")] * omega * setpoints.gearbox_ratio
     if power > setpoints.rated_power:
-        x = solve({"GenTq": setpoints.rated_torque}, "BlPitch", max(guess[states.index("BlPitch")], 0.05))
+        x = solve("GenTq", setpoints.rated_torque, "BlPitch", max(base[states.index("BlPitch")], 0.05))
     return x
 
 
