@@ -28,6 +28,7 @@ import numpy as np
 
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError, ParameterError
+from .protocol import read_hooks
 
 __all__ = ["Dynamics", "as_dynamics"]
 
@@ -275,9 +276,7 @@ def as_dynamics(model: Any) -> Dynamics:
 
 def _from_simulation_model(model: Any) -> Dynamics:
     """A model object of the simulation protocol (``eom`` and hooks) as Dynamics."""
-    from .simulate.model import resolve_model
-
-    r = resolve_model(model)
+    r = read_hooks(model)
     eom = r.eom
     defaults = {**dict(eom.defaults), **{k: float(v) for k, v in r.default_p.items()}}
     u0 = np.zeros(eom.n_u)

@@ -16,11 +16,12 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
+from .bodies.rigid import RigidBody
 from .exceptions import (
-    DimensionError, MassPropertyError, ModelDefinitionError, ParameterError, SingularMassMatrixError, SolverError,
+    DimensionError, ModelDefinitionError, ParameterError, SolverError,
 )
 from .kane import Derivation
-from .mass_properties import MassPropertyCheck, indefinite_problem
+from .mass_properties import MassPropertyCheck, check_nonsingular, indefinite_problem  # noqa: F401 (re-exported)
 from .symbols import check_finite_number
 
 __all__ = ["EquationsOfMotion", "EomFunctions"]
@@ -91,7 +92,8 @@ class EquationsOfMotion:
         self._defaults = MappingProxyType(dict(d.defaults))
         self._derivation = d
         self._functions = _build_functions(d, name)
-        self._mass_check = MassPropertyCheck(list(d.bodies.values()), d.p, self._parameters)
+        rigid = [b for b in d.bodies.values() if isinstance(b, RigidBody)]
+        self._mass_check = MassPropertyCheck(rigid, d.p, self._parameters)
 
     # ------------------------------------------------------------ description
     @property
@@ -417,25 +419,6 @@ class EquationsOfMotion:
                 f"{list(self._inputs)} (their values, speeds and accelerations)."
             )
         return self._input_vector(u)
-
-
-def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
-    """Raise SingularMassMatrixError naming the coordinates of M's null space, or
-    MassPropertyError if M has a clearly negative eigenvalue (not positive definite)."""
-    indefinite = indefinite_problem(M, names)
-    if indefinite:
-        raise MassPropertyError(indefinite)
-    w, vecs = np.linalg.eigh(0.5 * (M + M.T))
-    scale = max(float(np.max(np.abs(w))), 1e-300)
-    bad = np.flatnonzero(w <= rtol * scale)
-    if bad.size:
-        comp = np.abs(vecs[:, bad]).max(axis=1)
-        suspects = [names[i] for i in np.flatnonzero(comp > 0.1)]
-        raise SingularMassMatrixError(
-            f"the mass matrix is singular at this state (smallest eigenvalue {w.min():.3g}); the null space "
-            f"involves coordinates {suspects}. Check that they move some mass or inertia (a massless body "
-            "or a zero parameter value?)."
-        )
 
 
 def _build_functions(d: Derivation, name: str) -> EomFunctions:

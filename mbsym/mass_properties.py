@@ -29,9 +29,9 @@ from typing import Sequence
 import casadi as ca
 import numpy as np
 
-from .exceptions import MassPropertyError
+from .exceptions import MassPropertyError, SingularMassMatrixError
 
-__all__ = ["rigid_body_problems", "check_rigid_body", "MassPropertyCheck", "check_mass_matrix",
+__all__ = ["rigid_body_problems", "check_rigid_body", "MassPropertyCheck", "check_mass_matrix", "check_nonsingular",
            "indefinite_problem", "RELATIVE_TOLERANCE", "TRIANGLE_TOLERANCE"]
 
 #: Relative tolerance of the checks (to the largest moment or mass-matrix entry) [-].
@@ -100,8 +100,9 @@ class MassPropertyCheck:
 
     Parameters
     ----------
-    bodies : sequence of Body
-        The bodies of a derivation; only rigid bodies with symbolic properties are kept.
+    bodies : sequence of RigidBody
+        The rigid bodies of a derivation (objects with ``name``, ``mass``, ``inertia``,
+        ``lumped_inertia``); only those with symbolic properties are kept.
     p : SX
         The parameter vector the expressions depend on.
     parameters : sequence of str
@@ -109,15 +110,11 @@ class MassPropertyCheck:
     """
 
     def __init__(self, bodies: Sequence, p: ca.SX, parameters: Sequence[str]) -> None:
-        from .bodies.rigid import RigidBody
-
         self._names: list[str] = []
         self._uses: list[list[str]] = []
         self._triangle: list[bool] = []
         exprs = []
         for body in bodies:
-            if not isinstance(body, RigidBody):
-                continue
             m, J = body.mass, body.inertia
             if m.is_constant() and J.is_constant():
                 continue        # checked when the body was built
@@ -182,8 +179,6 @@ def check_mass_matrix(eom, q, u=None, p=None) -> None:
     SingularMassMatrixError
         If M is singular (coordinates that move no mass).
     """
-    from .equations import check_nonsingular
-
     pv = eom.parameter_vector(p) if (p is None or isinstance(p, dict)) else np.asarray(p, dtype=float)
     uu = np.zeros(eom.n_u) if u is None else np.asarray(u, dtype=float).reshape(-1)
     M = eom._mass(np.asarray(q, dtype=float).reshape(-1), uu, pv)
@@ -203,3 +198,21 @@ def indefinite_problem(M: np.ndarray, names: Sequence[str], rtol: float = RELATI
             "accelerate against the applied forces. Some mass or inertia is negative: check the parameter values "
             "(e.g. p={...} overrides) and the bodies' mass properties.")
 
+
+def check_nonsingular(M: np.ndarray, names, rtol: float = 1e-12) -> None:
+    """Raise SingularMassMatrixError naming the coordinates of M's null space, or
+    MassPropertyError if M has a clearly negative eigenvalue (not positive definite)."""
+    indefinite = indefinite_problem(M, names)
+    if indefinite:
+        raise MassPropertyError(indefinite)
+    w, vecs = np.linalg.eigh(0.5 * (M + M.T))
+    scale = max(float(np.max(np.abs(w))), 1e-300)
+    bad = np.flatnonzero(w <= rtol * scale)
+    if bad.size:
+        comp = np.abs(vecs[:, bad]).max(axis=1)
+        suspects = [names[i] for i in np.flatnonzero(comp > 0.1)]
+        raise SingularMassMatrixError(
+            f"the mass matrix is singular at this state (smallest eigenvalue {w.min():.3g}); the null space "
+            f"involves coordinates {suspects}. Check that they move some mass or inertia (a massless body "
+            "or a zero parameter value?)."
+        )

@@ -1,5 +1,5 @@
 """Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
-``mbsym identify``.
+``mbsym identify``, ``mbsym operating-points``, ``mbsym sweep``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -58,11 +58,16 @@ def build_parser() -> argparse.ArgumentParser:
     from .identify import add_parser as add_identify
     from .linearize import add_parser as add_linearize
     from .simulate import add_parser as add_simulate
+    from .sweep import add_parser as add_sweep
 
     add_simulate(sub)
     add_linearize(sub)
     add_campbell(sub)
     add_identify(sub)
+    from .operating_points import add_parser as add_operating_points
+
+    add_operating_points(sub)
+    add_sweep(sub)
     return parser
 
 
@@ -113,6 +118,10 @@ def _dispatch(args) -> int:
         from .linearize import run
     elif args.command == "identify":
         from .identify import run
+    elif args.command == "operating-points":
+        from .operating_points import run
+    elif args.command == "sweep":
+        from .sweep import run
     else:
         from .campbell import run
     return run(args)

@@ -36,6 +36,7 @@ import argparse
 import json
 import sys
 import time
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -66,10 +67,25 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def wants_operation(args: argparse.Namespace) -> bool:
-    """Whether ``mbsym simulate`` runs an operating turbine (flags, or a deck with AeroDyn)."""
-    if any(getattr(args, k, None) is not None for k in ("wind", "controller", "discon", "discon_input")):
+    """Whether ``mbsym simulate`` runs an operating turbine (flags, or a deck with AeroDyn).
+
+    Raises
+    ------
+    SimulationOptionError
+        ``--structure-only`` together with an operating flag.
+    """
+    flags = [f"--{k.replace('_', '-')}" for k in ("wind", "controller", "discon", "discon_input")
+             if getattr(args, k, None) is not None]
+    if getattr(args, "structure_only", False):
+        if flags:
+            from ..exceptions import SimulationOptionError
+
+            raise SimulationOptionError(f"--structure-only runs the ElastoDyn structure alone (no wind, no "
+                                        f"controller); it cannot be combined with {', '.join(flags)}.")
+        return False
+    if flags:
         return True
-    if args.deck is None or getattr(args, "structure_only", False):
+    if args.deck is None:
         return False
     from ..wind.deck.openfast import read_openfast
 
@@ -79,20 +95,19 @@ def wants_operation(args: argparse.Namespace) -> bool:
 def run_operation(args: argparse.Namespace) -> int:
     """Run ``mbsym simulate`` for an operating turbine (see the module docstring)."""
     from ..simulate import ProgressPrinter, SimulationInterrupted
-    from .simulate import _check_files, _print_comparison
+    from .simulate import _check_files, _report_comparison
 
     options = _integration(args)
     ref, outputs = _check_files(args)
     t0 = time.perf_counter()
     deck = _deck(args)
-    outputs.add_inputs([(f"deck's {k}", v) for k, v in (deck.turbine.source_files or {}).items()]
-                       if deck.path is not None else [])
     kind = _controller_kind(args, deck)
     from .operate_mpc import check_options
 
     mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
     wind, wind_label = _wind(args, deck)
     tmax, t_out = _grid(args, deck, wind)
+    outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
         model = _model(deck)
@@ -133,13 +148,8 @@ def run_operation(args: argparse.Namespace) -> int:
                  real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
     _summary(series, stats)
     if ref is not None:
-        from ..wind.analysis.compare import compare, not_compared
-
-        _print_comparison(compare(series, ref))
-        missing = not_compared(series, ref)
-        if missing:
-            print(f"not compared (not produced by this model): {', '.join(missing)}")
-    _write(outputs, series, ref, deck.label)
+        _report_comparison(series, ref)
+    _write_outputs(outputs, series, ref, deck.label)
     if args.stats:
         from .simulate import _jsonable
 
@@ -148,6 +158,32 @@ def run_operation(args: argparse.Namespace) -> int:
 
 
 # ------------------------------------------------------------------------------------------- pieces
+def _input_files(args, deck) -> list[tuple[str, str]]:
+    """Files the run reads (the deck's, the wind file, the controller's input)."""
+    files = [(f"deck's {name}", path) for name, path in (getattr(deck.turbine, "source_files", {}) or {}).items()]
+    if args.wind is not None and Path(args.wind).is_file():
+        files.append(("--wind", args.wind))
+    for flag, path in (("--discon-input", args.discon_input), ("deck's DISCON.IN", deck.discon_in)):
+        if path is not None:
+            files.append((flag, str(path)))
+    return files
+
+
+def _write_outputs(outputs, series, ref, label: str) -> None:
+    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
+    from ..wind.analysis.compare import overlay_plot, write_csv
+
+    with outputs:
+        if "--out" in outputs._final:
+            write_csv(outputs.temporary("--out"), series)
+        if "--plot" in outputs._final:
+            overlay_plot(outputs.temporary("--plot"), series, ref, channels=list(SUMMARY_CHANNELS), title=label)
+        written = outputs.commit()
+    for path in written:
+        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
+        print(f"wrote {path}{extra}")
+
+
 def _integration(args) -> dict:
     """Integration keywords of simulate_turbine from the flags (checked before any work)."""
     from ..exceptions import SimulationOptionError
@@ -268,21 +304,6 @@ def _series(result, dyn):
     names = tuple(result.output_names[i] for i in cols)
     units = tuple(dyn.output_units) + tuple(result.output_units[i] for i in est)
     return TimeSeries(np.asarray(result.t), names, units, np.asarray(result.y)[:, cols])
-
-
-def _write(outputs, series, ref, label: str) -> None:
-    """--out and --plot written to temporaries, then moved into place together (cli/_files.py)."""
-    from ..wind.analysis.compare import overlay_plot, write_csv
-
-    with outputs:
-        if "--out" in outputs._final:
-            write_csv(outputs.temporary("--out"), series)
-        if "--plot" in outputs._final:
-            overlay_plot(outputs.temporary("--plot"), series, ref, channels=list(SUMMARY_CHANNELS), title=label)
-        written = outputs.commit()
-    for path in written:
-        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
-        print(f"wrote {path}{extra}")
 
 
 def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:

@@ -75,9 +75,7 @@ def add_structure_only(p) -> None:
                         "...) as the ElastoDyn structure alone, with a warning (default: refuse such decks)")
 
 
-#: NREL 5 MW baseline ServoDyn yaw spring [N m/rad] and damper [N m s/rad] (YawSpr, YawDamp of the
-#: NREL 5 MW ServoDyn input file, OpenFAST regression tests).
-NREL5MW_YAW_SPRING, NREL5MW_YAW_DAMPING = 9.02832e9, 1.916e7
+from ..wind.deck.nrel5mw import NREL5MW_YAW_DAMPING, NREL5MW_YAW_SPRING  # noqa: E402  (re-exported)
 
 
 def builtin_turbine():

@@ -41,7 +41,7 @@ class Target:
             if default is None and hook != "default_state":
                 default = self._hook("default_state")
             if default is not None:
-                from ..simulate.checks import initial_state
+                from ..protocol import initial_state
 
                 x = initial_state(default, eom.states, x)
         q = x[:n] if q0 is None else named(q0, eom.coordinates, x[:n], "q0", eom)

@@ -7,11 +7,12 @@ expected, how to fix it.
 
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from typing import Sequence
 
 import numpy as np
 
-from ..exceptions import DimensionError, IntegrationError, SimulationOptionError
+from ..exceptions import IntegrationError, SimulationOptionError
+from ..protocol import initial_state  # noqa: F401  (re-exported: simulate.checks.initial_state)
 
 __all__ = [
     "SimulationOptionError",
@@ -106,44 +107,6 @@ def check_t_out(t_out, tmax: float) -> np.ndarray:
         raise SimulationOptionError(f"t_out spans [{t[0]:g}, {t[-1]:g}] s; it must lie within [0, tmax] = "
                                     f"[0, {tmax:g}] s.")
     return np.clip(t, 0.0, tmax)
-
-
-def initial_state(x0, states: Sequence[str], default: np.ndarray) -> np.ndarray:
-    """Initial state from an array (n_x) or a dict by state name (missing names keep ``default``)."""
-    n = len(states)
-    if x0 is None:
-        return default.copy()
-    if isinstance(x0, Mapping):
-        unknown = sorted(set(x0) - set(states))
-        if unknown:
-            raise DimensionError(f"x0 names unknown states {unknown}; the states are {list(states)}.")
-        x = default.copy()
-        for i, name in enumerate(states):
-            if name in x0:
-                x[i] = _finite_scalar(x0[name], f"x0[{name!r}]")
-        return x
-    try:
-        x = np.asarray(x0, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise DimensionError(f"x0 must be {n} numbers in order {list(states)} or a dict by state name; "
-                             f"got {x0!r}.") from exc
-    if x.size != n:
-        nq = n // 2
-        raise DimensionError(f"x0 has {x.size} entries; expected {n} (q: {nq}, qd: {nq}) in order {list(states)}.")
-    if not np.all(np.isfinite(x)):
-        bad = [states[i] for i in np.flatnonzero(~np.isfinite(x))]
-        raise DimensionError(f"all components of the initial state x0 must be finite; not finite: {bad}.")
-    return x
-
-
-def _finite_scalar(value, what: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise DimensionError(f"{what} must be a number; got {value!r}.") from exc
-    if not np.isfinite(v):
-        raise DimensionError(f"{what} must be finite; got {v}.")
-    return v
 
 
 def first_bad_column(X: np.ndarray, x0: np.ndarray) -> int | None:

@@ -68,7 +68,10 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     res = loop.run(times, m, on, monitor)
     wall = res.stats["integration_wall_s"]
     estimate = None
-    for attempt in range(MAX_REFINEMENTS + 1 if accuracy is not None else 0):
+    repeatable = c.is_function or callable(getattr(c.law, "reset", None))
+    checks = MAX_REFINEMENTS + 1 if accuracy is not None and repeatable else 0
+    for attempt in range(checks):
+        _reset(c)
         # step doubling on the sub-steps (the samples stay): half of them when possible, else twice as many
         if m >= 2 and m % 2 == 0:
             sub = slice(None, None, max(1, int(math.ceil(times.size / CHECK_SAMPLES))))
@@ -84,9 +87,13 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
         grow = (estimate / (0.7 * accuracy)) ** 0.25 if math.isfinite(estimate) else 4.0
         m = 2 * int(math.ceil(m * min(max(grow, 1.2), 10.0) / 2))      # even: the next check halves it
         reason += f"; refined to {m} sub-steps after the check estimated ε = {estimate:.2g}"
+        _reset(c)
         res = loop.run(times, m, on, monitor)
         wall += res.stats["integration_wall_s"]
     stats = res.stats
+    if accuracy is not None and not repeatable:
+        stats.update(accuracy=accuracy, check="none: a Python controller without reset() may keep hidden state "
+                     "(a DISCON library does), so the loop is not run again; the step is the linear prediction's")
     stats["integration_wall_s"] = wall
     if estimate is not None:
         stats.update(error_estimate=estimate, accuracy=accuracy, check="step doubling (sub-steps per sample)")
@@ -96,6 +103,12 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
                  controller_samples=res.samples, substeps=m, dt=res.h)
     stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
     return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc)
+
+
+def _reset(c) -> None:
+    """Before a repeated run: a Python law with ``reset()`` starts again from its initial state."""
+    if not c.is_function and callable(getattr(c.law, "reset", None)):
+        c.law.reset()
 
 
 def _compilation(loop: "_ClosedLoop", m: int, compile, auto: bool, threshold: float) -> tuple[bool, str]:

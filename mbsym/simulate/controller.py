@@ -51,7 +51,10 @@ class DiscreteController:
     law : casadi.Function or callable
         ``Function (xc, y) -> (xc_next, u)`` with column vectors ``xc (n_xc)``, ``y
         (len(measurements))``, ``u (len(actuates))``: kept inside the generated loop. Or a Python
-        callable ``law(t, xc, y) -> (xc_next, u)`` [t in s; arrays], called once per sample.
+        callable ``law(t, xc, y) -> (xc_next, u)`` [t in s; arrays], called once per sample. The
+        accuracy-driven default checks its step by running the loop again; a Python law is run
+        again only if it has a method ``reset()`` (back to its initial state) — without one (a
+        DISCON library keeps hidden state) the loop runs once at the predicted step.
     dt : float
         Sample time [s].
     x0 : array (n_xc), optional

@@ -41,9 +41,9 @@ import numpy as np
 
 from ..dynamics import Dynamics
 from ..equations import EquationsOfMotion
-from ..exceptions import DimensionError, ParameterError
+from ..exceptions import ParameterError
 from .base import compile_key, maybe_compile, prepared
-from .checks import initial_state
+from ..protocol import initial_state, read_hooks  # noqa: F401  (initial_state re-exported)
 
 __all__ = ["SimulationModel", "ResolvedModel", "resolve_model", "Plant", "plant_of"]
 
@@ -151,7 +151,7 @@ class _BlockOutputs:
 
 
 def resolve_model(model: Any) -> ResolvedModel:
-    """Apply the protocol of the module docstring to ``model``.
+    """Apply the model protocol (:func:`mbsym.protocol.read_hooks`) to ``model``.
 
     Raises
     ------
@@ -161,60 +161,8 @@ def resolve_model(model: Any) -> ResolvedModel:
     DimensionError
         If the default state or the output function has the wrong sizes.
     """
-    if isinstance(model, EquationsOfMotion):
-        eom = model
-    elif isinstance(getattr(model, "eom", None), EquationsOfMotion):
-        eom = model.eom
-    else:
-        hint = " Call sys.equations() first." if hasattr(model, "equations") and hasattr(model, "add_joint") else ""
-        raise TypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is one; got "
-                        f"{type(model).__name__}.{hint}")
-    zeros = np.zeros(eom.n_x)
-    default_x = zeros
-    if eom is not model and callable(getattr(model, "default_state", None)):
-        default_x = initial_state(model.default_state(), eom.states, zeros)
-    default_p: Mapping[str, float] = {}
-    if eom is not model and callable(getattr(model, "default_parameters", None)):
-        default_p = model.default_parameters()
-        if not isinstance(default_p, Mapping):
-            raise TypeError(f"{type(model).__name__}.default_parameters() must return a dict by parameter name; "
-                            f"got {type(default_p).__name__}.")
-    default_u: Mapping[str, Any] = {}
-    if eom is not model and callable(getattr(model, "default_inputs", None)):
-        default_u = model.default_inputs()
-        if not isinstance(default_u, Mapping):
-            raise TypeError(f"{type(model).__name__}.default_inputs() must return a dict by input name; "
-                            f"got {type(default_u).__name__}.")
-    f_out, names = None, ()
-    if eom is not model and callable(getattr(model, "output_function", None)):
-        f_out = model.output_function()
-        names = getattr(model, "output_names", None)
-        if not isinstance(f_out, ca.Function) and isinstance(getattr(f_out, "function", None), ca.Function):
-            f_out, names = f_out.function, getattr(f_out, "names", names)
-        names = _output_names(f_out, eom, names, type(model).__name__)
-    return ResolvedModel(eom, default_x, dict(default_p), dict(default_u), f_out, names)
-
-
-def _output_names(f: Any, eom: EquationsOfMotion, names: Sequence[str] | None, owner: str) -> tuple[str, ...]:
-    if not isinstance(f, ca.Function):
-        raise TypeError(f"{owner}.output_function() must return a casadi.Function (x, u, p) -> y; "
-                        f"got {type(f).__name__}.")
-    expected = [(eom.n_x, 1), (eom.n_u, 1), (eom.n_p, 1)]
-    got = [f.size_in(i) for i in range(f.n_in())]
-    if [tuple(s) for s in got] != expected:
-        raise DimensionError(f"{owner}.output_function() must take (x ({eom.n_x}), u ({eom.n_u}), p ({eom.n_p})) "
-                             f"column vectors; it takes inputs of shapes {[tuple(s) for s in got]}.")
-    sizes = [f.numel_out(i) for i in range(f.n_out())]
-    if names is None:
-        if f.n_out() == 1 or any(s != 1 for s in sizes):
-            raise DimensionError(f"{owner} must name its outputs: give it an attribute output_names "
-                                 f"({sum(sizes)} names), or return one scalar output per channel.")
-        names = f.name_out()
-    names = tuple(str(n) for n in names)
-    if len(names) != sum(sizes) or len(set(names)) != len(names):
-        raise DimensionError(f"{owner}.output_names has {len(names)} names (unique: {len(set(names))}); the output "
-                             f"function returns {sum(sizes)} values; give one unique name per value.")
-    return names
+    h = read_hooks(model)
+    return ResolvedModel(h.eom, h.default_x, h.default_p, h.default_u, h.output_function, h.output_names)
 
 
 @dataclass(frozen=True, eq=False)

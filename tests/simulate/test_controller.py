@@ -181,3 +181,33 @@ def test_python_law_returning_the_wrong_size():
     ctrl = DiscreteController(lambda t, xc, y: (xc, np.array([1.0, 2.0])), 0.1, measurements=["x"], actuates=["u"])
     with pytest.raises(mb.DimensionError, match=r"returned xc_next of 0 and u of 2 values at t = 0 s"):
         simulate(first_order_plant(), 1.0, controller=ctrl)
+
+
+def test_python_law_with_hidden_state_is_run_once():
+    """A Python law that keeps hidden state (as a DISCON library does) must not be re-run by the
+    accuracy check: the answer would continue from the end of the first run. Reference: the same
+    law written without hidden state (its state in xc) gives the same trajectory."""
+    import casadi as ca
+
+    x, u, p = ca.SX.sym("x"), ca.SX.sym("u"), ca.SX.sym("p", 0)
+    plant = mb.Dynamics(ca.Function("f", [x, u, p], [-0.5 * x + u]), states=["x"], inputs=["u"], x0=[1.0])
+
+    class Hidden:
+        def __init__(self):
+            self.integral, self.calls = 0.0, 0
+
+        def __call__(self, t, xc, y):
+            self.calls += 1
+            self.integral += 0.1 * (0.2 - y[0])
+            return xc, np.array([2.0 * (0.2 - y[0]) + self.integral])
+
+    def explicit(t, xc, y):
+        integral = xc[0] + 0.1 * (0.2 - y[0])
+        return np.array([integral]), np.array([2.0 * (0.2 - y[0]) + integral])
+
+    hidden = Hidden()
+    a = mb.simulate(plant, 5.0, controller=DiscreteController(hidden, 0.1, measurements=["x"], actuates=["u"]))
+    b = mb.simulate(plant, 5.0, controller=DiscreteController(explicit, 0.1, [0.0], measurements=["x"],
+                                                              actuates=["u"]))
+    assert hidden.calls == 50 and "not run again" in a.statistics["check"]      # 5 s of 0.1 s samples, once
+    np.testing.assert_allclose(a.x, b.x, rtol=0, atol=1e-12)

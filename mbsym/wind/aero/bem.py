@@ -54,9 +54,8 @@ from typing import Any
 
 import numpy as np
 
-from ...exceptions import DimensionError, ParameterError
-from ..deck._record import _readonly
-from ..deck.aerodyn import AeroDynInput, read_aerodyn
+from ...exceptions import ParameterError
+from ..deck.aerodyn import AeroDynInput, freeze_blade_geometry, read_aerodyn
 from ..deck.airfoils import AirfoilPolar
 from ._induction import _Elements, _induction, _lookup, _polar_tables, _solve_phi
 
@@ -135,18 +134,7 @@ class BEMRotor:
                 raise ParameterError(f"BEMRotor.{name} must be a finite number; got {value!r}.")
         if self.hub_radius < 0 or abs(self.precone) >= math.pi / 2:
             raise ParameterError("BEMRotor.hub_radius must be >= 0 and |precone| < 90 deg.")
-        span = _readonly(self.span, "BEMRotor.span")
-        if span.size < 2 or span[0] < 0 or np.any(np.diff(span) <= 0):
-            raise ParameterError("BEMRotor.span must hold >= 2 strictly increasing values >= 0 [m].")
-        object.__setattr__(self, "span", span)
-        for name in ("curve_ac", "sweep_ac", "curve_angle", "twist", "chord"):
-            values = _readonly(getattr(self, name), f"BEMRotor.{name}")
-            if values.shape != span.shape:
-                raise DimensionError(f"BEMRotor.{name} has {values.size} values; expected "
-                                     f"{span.size} (one per node).")
-            object.__setattr__(self, name, values)
-        if np.any(self.chord <= 0):
-            raise ParameterError("BEMRotor.chord must be > 0 at every node.")
+        span = freeze_blade_geometry(self, "BEMRotor")
         polars = tuple(self.polars)
         if len(polars) != span.size or not all(isinstance(p, AirfoilPolar) for p in polars):
             raise ParameterError(f"BEMRotor.polars must hold {span.size} AirfoilPolar objects "

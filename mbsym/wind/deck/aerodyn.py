@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ...exceptions import OpenFASTFormatError, ParameterError
+from ...exceptions import OpenFASTFormatError, DimensionError, ParameterError
 from ._format import (
     _TOKEN, _canon, _Deck, _Key, _read_table_columns, _real, _resolve, _TableSpec,
 )
@@ -45,6 +45,30 @@ _BLADE_TABLE = _TableSpec("blade", "NumBlNds", ("blspn",), (
 _TOWER_TABLE = _TableSpec("tower", "NumTwrNds", ("twrelev",), (
     ("TwrElev", "tower_elevation", None, True), ("TwrDiam", "tower_diameter", None, True),
     ("TwrCd", "tower_drag", None, True)))
+
+
+#: The node-wise geometry of an aerodynamic blade (AeroDyn blade file columns, our BEM rotor).
+BLADE_GEOMETRY = ("curve_ac", "sweep_ac", "curve_angle", "twist", "chord")
+
+
+def freeze_blade_geometry(record, owner: str) -> np.ndarray:
+    """Check and freeze (read-only arrays) ``record.span`` and the :data:`BLADE_GEOMETRY` columns.
+
+    ``span`` strictly increasing from >= 0 with at least 2 nodes, every column one value per node,
+    the chord positive; returns the span. Raises ParameterError naming ``owner``'s field.
+    """
+    span = _readonly(record.span, f"{owner}.span")
+    if span.size < 2 or span[0] < 0 or np.any(np.diff(span) <= 0):
+        raise ParameterError(f"{owner}.span must hold at least 2 strictly increasing distances >= 0 [m].")
+    object.__setattr__(record, "span", span)
+    for name in BLADE_GEOMETRY:
+        values = _readonly(getattr(record, name), f"{owner}.{name}")
+        if values.shape != span.shape:
+            raise DimensionError(f"{owner}.{name} has {values.size} values; expected {span.size} (one per node).")
+        object.__setattr__(record, name, values)
+    if np.any(record.chord <= 0):
+        raise ParameterError(f"{owner}.chord must be > 0 at every node.")
+    return span
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,19 +112,7 @@ class AeroDynBlade(_Record):
     source: str | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
-        span = _readonly(self.span, "AeroDynBlade.span")
-        if span.size < 2 or span[0] < 0 or np.any(np.diff(span) <= 0):
-            raise ParameterError("AeroDynBlade.span must hold at least 2 strictly increasing "
-                                 "distances >= 0 [m].")
-        object.__setattr__(self, "span", span)
-        for name in ("curve_ac", "sweep_ac", "curve_angle", "twist", "chord"):
-            values = _readonly(getattr(self, name), f"AeroDynBlade.{name}")
-            if values.shape != span.shape:
-                raise ParameterError(f"AeroDynBlade.{name} has {values.size} values; expected "
-                                     f"{span.size} (one per node).")
-            object.__setattr__(self, name, values)
-        if np.any(self.chord <= 0):
-            raise ParameterError("AeroDynBlade.chord must be > 0 at every node.")
+        span = freeze_blade_geometry(self, "AeroDynBlade")
         ids = tuple(int(i) for i in self.airfoil_id)
         if len(ids) != span.size or min(ids) < 1:
             raise ParameterError(f"AeroDynBlade.airfoil_id must hold {span.size} indices >= 1.")

@@ -18,7 +18,12 @@ from typing import Any
 from ...exceptions import ParameterError
 from .parameters import TurbineParameters
 
-__all__ = ["nrel5mw"]
+__all__ = ["nrel5mw", "NREL5MW_YAW_SPRING", "NREL5MW_YAW_DAMPING"]
+
+#: NREL 5 MW baseline ServoDyn yaw spring [N m/rad] and damper [N m s/rad] (YawSpr, YawDamp of the
+#: NREL 5 MW ServoDyn input file, OpenFAST regression tests): the built-in scenes hold the nacelle
+#: with them, since ElastoDyn alone leaves the yaw DOF free.
+NREL5MW_YAW_SPRING, NREL5MW_YAW_DAMPING = 9.02832e9, 1.916e7
 
 _DATA = "data/nrel5mw.json"
 

@@ -27,3 +27,9 @@ __all__ = ["OperatingTurbine", "OPERATING_DOFS", "COMMANDS", "AERO_PARAMETERS", 
            "ACTUATOR_PARAMETERS", "smooth_clip", "OPERATION_CHANNELS", "DynamicInflow", "MEASUREMENTS",
            "baseline_in_loop", "discon_in_loop", "held_commands", "OperatingDeck", "operating_deck", "builtin_deck",
            "nrel5mw_baseline_settings", "simulate_turbine", "SteadyGuess", "steady_guess"]
+
+# --- trim and operating points (branch trim; kept as a separate block for easy merges) ---
+from .steady_control import Regime, SteadyControl  # noqa: E402
+from .trim import TrimPoint, Trimmer, trim  # noqa: E402
+
+__all__ += ["SteadyControl", "Regime", "TrimPoint", "Trimmer", "trim"]

@@ -69,11 +69,11 @@ from .platform import PlatformJoint
 from .steps import elastodyn_steps
 from ..deck.parameters import TurbineParameters
 
-__all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
-           "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
-
 #: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
 TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
+
+__all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+           "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
 
 
 class TurbineModel:

@@ -1,11 +1,11 @@
 """Physics of the operating turbine: power balance, aerodynamic damping, tower-base moments.
 
 References (independent of the composition under test):
-- power balance: the structure's kinetic and potential energy (the equations' own T and V,
-  differentiated along the composed right-hand side) against the power of the loads computed from
-  the hub's kinematics: thrust × hub velocity along the shaft + torque × hub angular velocity about
-  it, minus the generator's N T_gen q̇_GeAz, plus the structural damping power; exact identity
-  (relative 1e-8);
+- power balance: the power of the loads computed from the hub's kinematics (thrust × hub velocity
+  along the shaft + torque × hub angular velocity about it, minus the generator's N T_gen q̇_GeAz, plus
+  the structural damping) equals the equations' own non-conservative power (relative 1e-10), and the
+  rate of the structure's kinetic + potential energy (differentiated along the composed right-hand side)
+  within 1e-6 (ElastoDyn's slope-rate tower-top kinematics are not exactly conservative, ~1e-7 here);
 - aerodynamic damping: the fore-aft tower mode's damping ratio from the eigenvalues of the exact
   Jacobian with wind is larger than without air; its increase matches the quasi-steady prediction
   Δζ = (∂T/∂U) φ² / (2 √(K M)) (φ: hub velocity along the shaft per unit fore-aft speed, K, M the
@@ -39,36 +39,37 @@ def test_power_balance_along_a_simulated_trajectory(operating):
     model, dyn = operating, operating.dynamics()
     g = _graph(model)
     eom = model.structure.eom
-    n = eom.n_q
     f = eom.functions
-    x_s = ca.vertcat(g.q, g.qd)
     energy = f.kinetic_energy(g.q, g.qd, g.u_s, g.p_s) + f.potential_energy(g.q, g.u_s, g.p_s)
     de_dt = ca.jtimes(energy, g.x, g.xd)            # inputs constant at the sampled states
     hub = g.kinematics_with_accelerations("hub")
     p_aero = g.thrust * ca.dot(hub["v"], g.shaft_axis) + g.torque * ca.dot(hub["w"], g.shaft_axis)
     p_gen = g.X["GenTq"] * model.gearbox_ratio * g.qd[eom.coordinates.index("GeAz")]
-    loads_off = g.structural_inputs(thrust=0.0, torque=0.0)
-    loads_off = ca.substitute(loads_off, g.X["GenTq"], 0.0)
+    loads_off = ca.substitute(g.structural_inputs(thrust=0.0, torque=0.0), g.X["GenTq"], 0.0)
     p_damp = f.power(g.q, g.qd, loads_off, g.p_s)
-    check = ca.Function("check", [g.x, g.u, g.p], [de_dt, p_aero, p_gen, p_damp])
-    del x_s, n
+    p_engine = f.power(g.q, g.qd, g.u_s, g.p_s)      # the equations' own power of every non-conservative load
+    check = ca.Function("check", [g.x, g.u, g.p], [de_dt, p_aero, p_gen, p_damp, p_engine])
     # a wind step with held commands (pitch 2 deg inside its limits, so the pitch actuator stays at rest)
     wind = StepWind(10.0, 13.0, 2.0)
     x0 = model.initial_state(10.0, pitch=math.radians(2.0))
     res = simulate_turbine(model, wind, 12.0, x0=x0, t_out=np.linspace(0.0, 12.0, 121))
     p = dyn.parameter_vector()
     eta = p[dyn.parameters.index("generator_efficiency")]
-    worst, scale = 0.0, 0.0
+    loads, balance, scale = 0.0, 0.0, 0.0
     for k in np.flatnonzero(res.t > 2.5)[::5]:
-        x, u = res.x[k], res.u[k]
-        dE, Pa, Pg, Pd = (float(v) for v in check(x, u, p))
+        dE, Pa, Pg, Pd, Pe = (float(v) for v in check(res.x[k], res.u[k], p))
         gen_pwr = res.output("GenPwr")[k] * 1e3               # electrical power [W]
         assert gen_pwr == pytest.approx(eta * Pg, rel=1e-12)
+        # the loads the composition applies do the work computed from the hub's kinematics (exact)
+        loads = max(loads, abs(Pe - (Pa - Pg + Pd)))
         # aero power = generator power + generator losses + damping losses + d/dt (kinetic + potential)
-        residual = Pa - (gen_pwr + (1 - eta) * Pg - Pd + dE)
-        worst, scale = max(worst, abs(residual)), max(scale, abs(Pa))
+        balance = max(balance, abs(Pa - (gen_pwr + (1 - eta) * Pg - Pd + dE)))
+        scale = max(scale, abs(Pa))
     assert scale > 3e6                                         # MW flow through the rotor
-    assert worst < 1e-8 * scale, (worst, scale)
+    assert loads < 1e-10 * scale, (loads, scale)
+    # ElastoDyn's tower-top kinematics (slope-rate angular velocity, docs/elastodyn_notes.md) are not exactly
+    # conservative: T + V drifts at O(θ² θ̇) relative, here ~1e-7 of the power flow
+    assert balance < 1e-6 * scale, (balance, scale)
 
 
 def test_rotor_power_channel_is_torque_times_rotor_speed(operating):

@@ -1,0 +1,258 @@
+"""Linear models about trimmed operating points, and the Campbell diagram with aerodynamics.
+
+:func:`linearize_point` differentiates the composed model (CasADi AD of the same graph the trim
+solved) at a :class:`~.trim.TrimPoint`: ``δẋ = A δx + B δu``, ``δy = C δx + D δu`` with the
+inputs ``Wind1VelX`` [m/s], ``BlPitchCom`` [rad], ``GenTqCom`` [N m] and every state of the
+model, so the aerodynamic damping (thrust and torque depend on the relative wind, which the
+tower velocity changes), the aerodynamic stiffness of the rotor speed and the pitch and
+torque paths are in ``A`` and ``B``. The result is a :class:`mbsym.linear.LinearModel`
+(``to_statespace()`` gives a named ``control.StateSpace``); its ``M`` is the structure's mass
+matrix at the point (for kinetic-energy mode labels), ``C``, ``K``, ``Q`` are left empty
+because the composed model is first order (actuator and inflow states).
+
+:func:`aero_campbell` gives frequencies and damping ratios of the labelled structural modes at
+every operating point. Each mode is labelled on the structural block ``A_ss`` of ``A`` (the
+structure with the aerodynamic derivatives of the frozen inflow) by the coordinate that
+carries most of its kinetic energy (:data:`~mbsym.wind.analysis.campbell_diagram.DOF_LABELS`)
+and then matched to the nearest eigenvalue of the whole ``A`` (actuators and dynamic inflow
+included), which is the one reported. A rotor described by performance surfaces loads the hub
+only, so models with blade DOFs are refused here (their Campbell diagram without
+aerodynamics is :func:`mbsym.wind.analysis.campbell`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ...exceptions import DimensionError, ModelDefinitionError
+from ...linear import LinearModel
+
+__all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell"]
+
+
+def linearize_dynamics(dyn, x, u, p=None, *, outputs: Sequence[str] | None = None) -> dict:
+    """Exact Jacobians of an :class:`mbsym.Dynamics` at ``(x, u, p)``.
+
+    Parameters
+    ----------
+    dyn : Dynamics
+    x, u : array or dict by name
+    p : dict, optional
+    outputs : sequence of str, optional, keyword-only
+        Output channels (names of ``dyn.output_names``) for ``C``, ``D``.
+
+    Returns
+    -------
+    dict
+        ``A`` (n_x, n_x), ``B`` (n_x, n_u), ``C`` (n_y, n_x), ``D`` (n_y, n_u), ``xd``, ``y``,
+        ``outputs`` (names), ``units``.
+
+    Raises
+    ------
+    DimensionError
+        Unknown output names.
+    """
+    xv, uv, pv = dyn.state_vector(x), dyn.input_vector(u), dyn.parameter_vector(p)
+    names = tuple(outputs or ())
+    unknown = [n for n in names if n not in dyn.output_names]
+    if unknown:
+        raise DimensionError(f"unknown output channels {unknown}; the model has {list(dyn.output_names)}.")
+    f = _jacobian_function(dyn, names)
+    A, B, C, D, xd, y = (np.asarray(v, dtype=float) for v in f(xv, uv, pv))
+    units = tuple(dyn.output_units[dyn.output_names.index(n)] for n in names)
+    return {"A": A, "B": B, "C": C.reshape(len(names), dyn.n_x), "D": D.reshape(len(names), dyn.n_u),
+            "xd": xd.reshape(-1), "y": y.reshape(-1), "outputs": names, "units": units}
+
+
+def _jacobian_function(dyn, names: tuple[str, ...]) -> ca.Function:
+    """``(x, u, p) -> (A, B, C, D, xd, y)``, built once per Dynamics and output selection (kept on the object)."""
+    cache = dyn.__dict__.setdefault("_mbsym_linearized", {})
+    if names not in cache:
+        sym = ca.SX if dyn.rhs.is_a("SXFunction") else ca.MX
+        x, u, p = (sym.sym(s, n) for s, n in (("x", dyn.n_x), ("u", dyn.n_u), ("p", dyn.n_p)))
+        xd = dyn.rhs(x, u, p)
+        if names and dyn.outputs is not None:
+            idx = [dyn.output_names.index(n) for n in names]
+            y = dyn.outputs(x, u, p)[idx]
+        else:
+            y = sym(0, 1)
+        cache[names] = ca.Function("linearized", [x, u, p], [ca.jacobian(xd, x), ca.jacobian(xd, u),
+                                                              ca.jacobian(y, x), ca.jacobian(y, u), xd, y])
+    return cache[names]
+
+
+def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> LinearModel:
+    """The linear model about a trimmed point (module docstring).
+
+    Parameters
+    ----------
+    trimmer : Trimmer
+        The trim problem the point came from (its model and parameters).
+    point : TrimPoint
+    outputs : sequence of str, optional, keyword-only
+        Output channels; default ``RotSpeed``, ``GenSpeed``, ``BldPitch1``, ``GenPwr``,
+        ``RtAeroFxh``, ``TTDspFA``, ``TwrBsMyt``, ``YawBrTAxp`` (those the model has).
+
+    Returns
+    -------
+    LinearModel
+        ``operating_point`` holds ``x``, ``u``, ``p``, ``xd`` (the trim residual, the azimuth
+        row the rotor speed), ``y``, the wind speed and the regime.
+    """
+    if not point.success:
+        raise ModelDefinitionError(f"cannot linearize a failed operating point ({point.message}).")
+    dyn, model = trimmer.dyn, trimmer.model
+    default = ("RotSpeed", "GenSpeed", "BldPitch1", "GenPwr", "RtAeroFxh", "TTDspFA", "TwrBsMyt", "YawBrTAxp")
+    names = tuple(outputs) if outputs is not None else tuple(n for n in default if n in dyn.output_names)
+    lin = linearize_dynamics(dyn, point.state, point.inputs, dict(point.parameters), outputs=names)
+    eom = model.structure.eom
+    M = structural_mass_matrix(trimmer, point)
+    units = dict(zip(dyn.states, _state_units(dyn.states, eom)))
+    op = {"x": point.state.copy(), "u": point.inputs.copy(), "p": dict(point.parameters), "xd": lin["xd"],
+          "y": lin["y"], "wind_speed": point.wind_speed, "regime": point.regime,
+          "q": point.state[:eom.n_q].copy(), "qd": point.state[eom.n_q:2 * eom.n_q].copy()}
+    empty = np.zeros((0, 0))
+    extra = {"units": units} if "units" in {f.name for f in dataclasses.fields(LinearModel)} else {}
+    return LinearModel(M, empty, empty, np.zeros((0, dyn.n_u)), lin["A"], lin["B"], eom.coordinates, dyn.states,
+                       dyn.inputs, op, outputs=names, Cy=lin["C"], Dy=lin["D"], output_units=lin["units"],
+                       method="exact", **extra)
+
+
+def structural_mass_matrix(trimmer, point) -> np.ndarray:
+    """The structure's mass matrix [kg, kg m, kg m²] at the point (pitch from the actuator state)."""
+    eom = trimmer.model.structure.eom
+    x = point.x()
+    values = {"BlPitch": x["BlPitch"], "BlPitch_d": x["BlPitch_d"], "BlPitch_dd": 0.0, "GenTq": x["GenTq"],
+              "RotThrust": point["RtAeroFxh"], "RotTorq": point["RtAeroMxh"],
+              "GeAz": x.get("GeAz", 0.0), "GeAz_d": point.parameters.get("rotor_speed", 0.0), "GeAz_dd": 0.0}
+    u_struct = np.array([values.get(n, 0.0) for n in eom.inputs])
+    p_struct = np.array([point.parameters[n] for n in eom.parameters])
+    mass = eom.functions.mass_matrix
+    q = point.state[:eom.n_q]
+    M = mass(q, u_struct, p_struct) if mass.n_in() == 3 else mass(q, p_struct)
+    return np.asarray(M, dtype=float)
+
+
+def _state_units(states, eom) -> list[str]:
+    out = []
+    for s in states:
+        base = s[:-2] if s.endswith("_d") else s
+        if base in eom.coordinates:
+            unit = "rad" if base in _ROTATIONS else "m"
+            out.append(unit + ("/s" if s.endswith("_d") else ""))
+        else:
+            out.append({"BlPitch": "rad", "BlPitch_d": "rad/s", "GenTq": "N m", "GeAz": "rad", "DBEMT_w": "m/s",
+                        "DBEMT_v": "m/s", "RotThrustLag": "N", "RotTorqLag": "N m"}.get(s, ""))
+    return out
+
+
+#: ElastoDyn coordinates that are angles (the others are displacements, blade modes by tip displacement).
+_ROTATIONS = ("R", "P", "Y", "Yaw", "GeAz", "DrTr")
+
+
+@dataclass(frozen=True)
+class AeroCampbell:
+    """Labelled structural modes with aerodynamics over the operating points.
+
+    Attributes
+    ----------
+    wind_speed, rpm : ndarray
+        [m/s], rotor speed [rpm] of each point.
+    modes : tuple of CampbellMode
+        ``freq_hz`` [Hz] and ``damping_ratio`` [-] per point (NaN where not found).
+    """
+
+    wind_speed: np.ndarray
+    rpm: np.ndarray
+    modes: tuple
+
+    def mode(self, label: str):
+        for m in self.modes:
+            if m.label == label:
+                return m
+        raise KeyError(f"no mode labelled {label!r}; labels are {[m.label for m in self.modes]}.")
+
+    def plot(self, path, *, title: str | None = None) -> None:
+        """Write frequency and damping over wind speed to ``path`` (:func:`~.trim_plot.plot_aero_campbell`)."""
+        from .trim_plot import plot_aero_campbell
+
+        plot_aero_campbell(self, path, title=title)
+
+    def to_dict(self) -> dict:
+        """``{"wind_speed", "rpm", "modes": [{"label", "freq_hz", "damping_ratio"}, ...]}`` (NaN -> None)."""
+        def clean(a):
+            return [None if not np.isfinite(v) else float(v) for v in a]
+
+        return {"wind_speed": clean(self.wind_speed), "rpm": clean(self.rpm),
+                "modes": [{"label": m.label, "freq_hz": clean(m.freq_hz), "damping_ratio": clean(m.damping_ratio)}
+                          for m in self.modes]}
+
+
+def aero_campbell(points) -> AeroCampbell:
+    """Frequencies and damping ratios of the structural modes at each operating point (module docstring).
+
+    Parameters
+    ----------
+    points : OperatingPoints
+
+    Raises
+    ------
+    ModelDefinitionError
+        Blade DOFs (the rotor aerodynamics load the hub only).
+    """
+    from .campbell_diagram import DOF_LABELS, CampbellMode
+
+    trimmer = points.trimmer
+    eom = trimmer.model.structure.eom
+    blades = [c for c in eom.coordinates if c.startswith("B") and c[1:2].isdigit()]
+    if blades:
+        raise ModelDefinitionError(f"the Campbell diagram with aerodynamics needs rigid blades; the model has blade "
+                                   f"DOFs {blades} (the rotor's performance surfaces load the hub only). Use "
+                                   "mbsym.wind.analysis.campbell for the structure alone.")
+    labels = [DOF_LABELS.get(c, c) for c in eom.coordinates if c != "GeAz"]
+    ok = [p for p in points if p.success]
+    freq = np.full((len(labels), len(ok)), np.nan)
+    zeta = np.full_like(freq, np.nan)
+    for k, point in enumerate(ok):
+        lin = linearize_point(trimmer, point, outputs=())
+        for lab, f, z in zip(*_labelled_modes(lin, eom.coordinates, DOF_LABELS)):
+            freq[labels.index(lab), k], zeta[labels.index(lab), k] = f, z
+    modes = tuple(CampbellMode(lab, freq[i], zeta[i]) for i, lab in enumerate(labels))
+    return AeroCampbell(np.array([p.wind_speed for p in ok]), np.array([p["RotSpeed"] for p in ok]), modes)
+
+
+def _labelled_modes(lin: LinearModel, coordinates, dof_labels):
+    """(labels, freq_hz, damping) of the oscillatory structural modes of one linear model."""
+    n = len(coordinates)
+    A = lin.A
+    lam_s, V = np.linalg.eig(A[:2 * n, :2 * n])
+    wn = np.abs(lam_s)
+    keep = np.flatnonzero((lam_s.imag > 1e-6 * wn) & (wn > 2 * math.pi * 1e-5))
+    if keep.size == 0:
+        return [], [], []
+    M = lin.M
+    vecs = V[:n, keep]
+    share = np.abs((vecs.conj() * (M @ vecs)).real)
+    candidates = [i for i, c in enumerate(coordinates) if c != "GeAz"]
+    S = share[candidates, :].T
+    S = S / np.maximum(S.sum(axis=1, keepdims=True), 1e-300)
+    rows, cols = linear_sum_assignment(S, maximize=True)
+    lam_full = np.linalg.eigvals(A)
+    lam_full = lam_full[lam_full.imag > 0]
+    targets = lam_s[keep[rows]]
+    if lam_full.size:
+        cost = np.abs(targets[:, None] - lam_full[None, :]) / np.maximum(np.abs(targets[:, None]), 1e-12)
+        r2, c2 = linear_sum_assignment(cost)
+        matched = targets.copy()
+        matched[r2] = lam_full[c2]
+    else:
+        matched = targets
+    names = [dof_labels.get(coordinates[candidates[c]], coordinates[candidates[c]]) for c in cols]
+    return names, np.abs(matched) / (2 * math.pi), -matched.real / np.abs(matched)
