@@ -61,8 +61,8 @@ class Setup:
     """The plant, the prediction model, set-points and reference table (built once)."""
 
     def __init__(self) -> None:
-        from mbsym.wind.control.prediction import PredictionModel
-        from mbsym.wind.control.setpoints import SetPoints, reference_table
+        from mbsym.wind.mpc.prediction import PredictionModel
+        from mbsym.wind.mpc.setpoints import SetPoints, reference_table
         from mbsym.wind.operation.deck import builtin_deck
 
         self.deck = builtin_deck()
@@ -121,10 +121,10 @@ def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: flo
         res.statistics.update(controller_step_median_s=float(np.median(timed.walls)),
                               controller_step_max_s=float(np.max(timed.walls)))
         return res, time.perf_counter() - t0
-    from mbsym.wind.control.estimator import TurbineEstimator
-    from mbsym.wind.control.loop import TurbineLoop
-    from mbsym.wind.control.loop_simulation import simulate_with_loop
-    from mbsym.wind.control.nmpc import TurbineNMPC
+    from mbsym.wind.mpc.estimator import TurbineEstimator
+    from mbsym.wind.mpc.loop import TurbineLoop
+    from mbsym.wind.mpc.simulation import simulate_with_loop
+    from mbsym.wind.mpc.nmpc import TurbineNMPC
 
     mpc = TurbineNMPC(setup.prediction, setup.setpoints, tuning=tuning, references=setup.references)
     est = None

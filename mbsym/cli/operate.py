@@ -126,7 +126,7 @@ def run_operation(args: argparse.Namespace) -> int:
         from ..wind.operation.simulation import simulate_turbine
 
         if loop is not None:
-            from ..wind.control.loop_simulation import simulate_with_loop
+            from ..wind.mpc.simulation import simulate_with_loop
 
             result = simulate_with_loop(model, wind, tmax, loop, x0=x0, t_out=t_out, progress=printer, **options)
         else:

@@ -5,7 +5,7 @@ Contract (kept for acceptance checks)::
     mbsym simulate [DECK] --wind SPEC --controller nmpc|baseline [--preview S] [--estimator ekf|mhe]
                    [--out F.csv] [--stats]
 
-* ``--controller nmpc``: the turbine NMPC (:class:`mbsym.wind.control.TurbineNMPC`: real-time
+* ``--controller nmpc``: the turbine NMPC (:class:`mbsym.wind.mpc.TurbineNMPC`: real-time
   iterations, 0.1 s, 40 stages) on the prediction model chosen with the fidelity ladder (GenDOF +
   TwFADOF1 + the dynamic inflow + the actuators as rates), running against the full plant.
 * ``--preview S``: an ideal lidar: the NMPC knows the true hub wind for the next S seconds (held
@@ -17,7 +17,7 @@ Contract (kept for acceptance checks)::
 * ``--controller nmpc`` with neither ``--preview`` nor ``--estimator`` uses the EKF (a turbine
   has no lidar by default).
 * With an estimator the CSV adds ``<channel>_est`` (same units) for the channels of
-  :data:`mbsym.wind.control.loop_simulation.ESTIMATED_CHANNELS` (``Wind1VelX``, ``RtVAvgxh``,
+  :data:`mbsym.wind.mpc.simulation.ESTIMATED_CHANNELS` (``Wind1VelX``, ``RtVAvgxh``,
   ``RotSpeed``, ``GenSpeed``, ``TTDspFA``, ...). ``--stats`` adds ``controller_step_median_s``,
   ``controller_step_max_s`` (NMPC steps after the first, which converges from a cold start and is
   ``controller_first_step_s``), ``controller_failures`` and, with an estimator,
@@ -62,13 +62,13 @@ class MpcOptions:
         return self.controller == "nmpc" or self.estimator is not None
 
     def loop(self, deck, model, wind):
-        """The :class:`~mbsym.wind.control.loop.TurbineLoop` of these options for ``model``."""
+        """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model``."""
         from ..wind.control.baseline import BaselineController
-        from ..wind.control.estimator import TurbineEstimator
-        from ..wind.control.loop import TurbineLoop
-        from ..wind.control.nmpc import NMPCTuning, TurbineNMPC
-        from ..wind.control.prediction import PredictionModel
-        from ..wind.control.setpoints import SetPoints
+        from ..wind.mpc.estimator import TurbineEstimator
+        from ..wind.mpc.loop import TurbineLoop
+        from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
+        from ..wind.mpc.prediction import PredictionModel
+        from ..wind.mpc.setpoints import SetPoints
 
         prediction = PredictionModel(model)
         estimator = nmpc = baseline = None

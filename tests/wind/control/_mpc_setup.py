@@ -13,8 +13,8 @@ from types import SimpleNamespace
 
 @functools.lru_cache(maxsize=None)
 def turbine() -> SimpleNamespace:
-    from mbsym.wind.control.prediction import PredictionModel
-    from mbsym.wind.control.setpoints import SetPoints, reference_table
+    from mbsym.wind.mpc.prediction import PredictionModel
+    from mbsym.wind.mpc.setpoints import SetPoints, reference_table
     from mbsym.wind.operation.deck import builtin_deck
 
     deck = builtin_deck()
@@ -29,7 +29,7 @@ def turbine() -> SimpleNamespace:
 @functools.lru_cache(maxsize=None)
 def nmpc_default():
     """One compiled NMPC (default tuning), reset before each use by the tests."""
-    from mbsym.wind.control.nmpc import TurbineNMPC
+    from mbsym.wind.mpc.nmpc import TurbineNMPC
 
     t = turbine()
     return TurbineNMPC(t.prediction, t.setpoints, references=t.references)

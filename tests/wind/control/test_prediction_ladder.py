@@ -1,4 +1,4 @@
-"""The closed-loop fidelity ladder of prediction models (``mbsym.wind.control.reduction``).
+"""The closed-loop fidelity ladder of prediction models (``mbsym.wind.analysis.prediction_ladder``).
 
 References: the paper's ε = mean|y − y_ref| / range(y_ref) recomputed by hand; a rung with the plant's
 own DOFs and inflow reproduces the plant exactly (ε = 0); a rigid tower has no tower-top displacement
@@ -14,7 +14,7 @@ from _mpc_setup import turbine
 
 
 def test_ladder_ranks_rigid_tower_out_and_reproduces_the_plant():
-    from mbsym.wind.control.reduction import prediction_ladder
+    from mbsym.wind.analysis.prediction_ladder import prediction_ladder
     from mbsym.wind.inflow import parse_wind_spec
 
     t = turbine()

@@ -29,7 +29,7 @@ def _steady_run(wind: float, tmax: float):
 
 @pytest.mark.parametrize("kind", ["ekf", "mhe"])
 def test_estimator_recovers_a_constant_wind_from_noise_free_measurements(kind):
-    from mbsym.wind.control.estimator import EstimatorTuning, TurbineEstimator
+    from mbsym.wind.mpc.estimator import EstimatorTuning, TurbineEstimator
 
     t = turbine()
     res, dt = _steady_run(14.0, 30.0)
@@ -52,7 +52,7 @@ def test_estimator_recovers_a_constant_wind_from_noise_free_measurements(kind):
 
 def test_estimator_options_are_checked():
     from mbsym.exceptions import ControlDefinitionError
-    from mbsym.wind.control.estimator import EstimatorTuning, TurbineEstimator
+    from mbsym.wind.mpc.estimator import EstimatorTuning, TurbineEstimator
 
     t = turbine()
     with pytest.raises(ControlDefinitionError, match="ekf"):

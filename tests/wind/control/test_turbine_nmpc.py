@@ -72,8 +72,8 @@ def test_region_2_reference_is_the_best_tip_speed_ratio_at_fine_pitch():
 
 
 def _closed_loop(wind, tmax, **loop):
-    from mbsym.wind.control.loop import TurbineLoop
-    from mbsym.wind.control.loop_simulation import simulate_with_loop
+    from mbsym.wind.mpc.loop import TurbineLoop
+    from mbsym.wind.mpc.simulation import simulate_with_loop
     from mbsym.wind.operation.steady import steady_guess
 
     t = turbine()
@@ -124,9 +124,9 @@ def test_nmpc_respects_pitch_and_torque_limits_and_rates_in_a_wind_step():
 
 def test_bad_tuning_and_loop_options_are_typed_errors():
     from mbsym.exceptions import ControlDefinitionError, ModelDefinitionError, SimulationOptionError
-    from mbsym.wind.control.loop import SensorNoise, TurbineLoop
-    from mbsym.wind.control.nmpc import NMPCTuning, TurbineNMPC
-    from mbsym.wind.control.prediction import PredictionModel
+    from mbsym.wind.mpc.loop import SensorNoise, TurbineLoop
+    from mbsym.wind.mpc.nmpc import NMPCTuning, TurbineNMPC
+    from mbsym.wind.mpc.prediction import PredictionModel
 
     t = turbine()
     with pytest.raises(ControlDefinitionError, match="horizon"):

@@ -6,7 +6,7 @@ same wind, each rung from its own steady guess at the first wind sample — and 
 channels, the paper's ``ε = mean|y − y_ref| / range(y_ref)`` against the richest rung (the plant's
 model), as :func:`mbsym.wind.analysis.fidelity.fidelity_ladder` does for free decays. Its result is a
 :class:`~mbsym.wind.analysis.fidelity.FidelityLadder` (table, plot, :meth:`smallest`); each rung's
-``coordinates`` are the states of its prediction model (:class:`~.prediction.PredictionModel`, control
+``coordinates`` are the states of its prediction model (:class:`~mbsym.wind.mpc.prediction.PredictionModel`, control
 form), so ``n_dofs`` reads as the number of states the NMPC carries.
 
 The rung flag ``"DBEMT"`` stands for the rotor-averaged dynamic inflow (two states).
@@ -19,7 +19,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..analysis.fidelity import FidelityLadder, Rung, _epsilon
+from .fidelity import FidelityLadder, Rung, _epsilon
 
 __all__ = ["prediction_ladder", "PREDICTION_LADDER", "LADDER_OUTPUTS"]
 
@@ -70,8 +70,8 @@ def prediction_ladder(plant, wind: Callable, tmax: float, *, ladder: Sequence[Se
     from ..operation.nrel5mw import nrel5mw_baseline_settings
     from ..operation.simulation import simulate_turbine
     from ..operation.steady import steady_guess
-    from .baseline import BaselineController
-    from .prediction import PredictionModel
+    from ..control.baseline import BaselineController
+    from ..mpc.prediction import PredictionModel
 
     if not ladder:
         raise ValueError("ladder must contain at least one rung.")
