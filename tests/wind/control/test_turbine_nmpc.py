@@ -4,8 +4,9 @@ References: the actuator equations in closed form (docs/operation.md §4: inside
 actuator is ``β̈ = ω²(β_c − β) − 2ζωβ̇``, the torque actuator ``Ṫ = (T_c − T)/τ``); the rated operation
 of the NREL 5 MW from ROSCO 2.10.6's settings (``PC_RefSpd`` 122.90967 rad/s, ``VS_RtPwr`` 5 MW,
 ``VS_GenEff`` 94.4 %: ``P = η T ω``); the rotor's steady torque from its own performance surfaces
-(``RotorAero.steady``, independent of the composed graph and the dynamic inflow); the plant's actuator
-limits (``OperatingTurbine.bounds()``).
+(``RotorAero.steady``, independent of the composed graph and the dynamic inflow); the trim of the full
+plant under ROSCO's steady laws (``mbsym.wind.operation.trim``, separate code: Newton on the composed
+model with the controller's regime conditions); the plant's actuator limits (``OperatingTurbine.bounds()``).
 """
 
 from __future__ import annotations
@@ -87,14 +88,19 @@ def _closed_loop(wind, tmax, **loop):
 def test_nmpc_holds_the_rated_state_in_a_steady_14_mps_wind():
     from mbsym.wind.inflow import parse_wind_spec
 
+    from mbsym.wind.operation import SteadyControl, trim
+
     t = turbine()
+    point = trim(t.plant, 14.0, SteadyControl.nrel5mw())              # region 3: rated speed and power
+    assert point.success and point.region == "3"
     res = _closed_loop(parse_wind_spec("steady:14"), 15.0, preview=5.0)
-    ref = {c: float(t.references(c, 14.0)) for c in ("GenSpeed", "GenPwr", "BldPitch1", "TTDspFA")}
     late = res.t > 10.0
-    assert np.max(np.abs(res.output("GenSpeed")[late] - RATED_RPM)) < 0.05            # rpm
-    assert np.max(np.abs(res.output("GenPwr")[late] - 5000.0)) < 1.0                   # kW
-    assert np.max(np.abs(res.output("BldPitch1")[late] - ref["BldPitch1"])) < 0.01    # deg
-    assert np.max(np.abs(res.output("TTDspFA")[late] - ref["TTDspFA"])) < 1e-3        # m
+    assert np.max(np.abs(res.output("GenSpeed")[late] - point["GenSpeed"])) < 0.05      # rpm
+    assert np.max(np.abs(res.output("GenPwr")[late] - point["GenPwr"])) < 1.0            # kW
+    assert np.max(np.abs(res.output("BldPitch1")[late] - point["BldPitch1"])) < 0.01     # deg
+    assert np.max(np.abs(res.output("TTDspFA")[late] - point["TTDspFA"])) < 1e-3         # m
+    assert np.max(np.abs(res.output("TwrBsMyt")[late] / point["TwrBsMyt"] - 1)) < 1e-3
+    assert point["GenSpeed"] == pytest.approx(RATED_RPM, rel=1e-6)
     assert res.statistics["controller_failures"] == 0
 
 
