@@ -99,48 +99,52 @@ def rosco_files() -> tuple[Path, Path] | None:
 
 
 # ------------------------------------------------------------------ runs
-def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: float | None = 5.0,
-        estimator: str | None = None, est_tuning=None, t_out=None):
-    """One closed-loop run: ``kind`` in {"rosco", "baseline", "nmpc"}. Returns (result, wall seconds)."""
+ESTIMATOR_NOISE = dict(gen_speed=0.5, accel=0.02, pitch=0.05, torque=100.0)     # SensorNoise (rpm, m/s², deg, N m)
+
+
+def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: float | None = None,
+        estimator: str | None = None, seed: int = 0, prediction=None, noise: bool = True, t_out=None):
+    """One closed-loop run. ``kind``: "rosco", "baseline" (compiled loop), "nmpc", "baseline+est" (our
+    baseline in the Python loop beside an estimator). Returns the result (statistics include the loop's)."""
     from mbsym.wind.control import BaselineController, DisconController
     from mbsym.wind.operation.controllers import baseline_in_loop, discon_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
 
     t_out = np.round(np.arange(0.0, tmax + 1e-9, 0.05), 10) if t_out is None else t_out
     x0 = setup.x0(wind)
-    t0 = time.perf_counter()
     if kind == "baseline":
         ctrl = baseline_in_loop(BaselineController(setup.deck.baseline_settings()))
-        res = simulate_turbine(setup.plant, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True)
-        return res, time.perf_counter() - t0
+        return simulate_turbine(setup.plant, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True)
     if kind == "rosco":
         lib, infile = rosco_files()
         with DisconController(lib, infile, dt=setup.deck.controller_dt) as handle:
             timed = _timed_law(discon_in_loop(handle))
             res = simulate_turbine(setup.plant, wind, tmax, controller=timed, x0=x0, t_out=t_out, compile=True)
-        res.statistics.update(controller_step_median_s=float(np.median(timed.walls)),
-                              controller_step_max_s=float(np.max(timed.walls)))
-        return res, time.perf_counter() - t0
-    from mbsym.wind.mpc.estimator import TurbineEstimator
-    from mbsym.wind.mpc.loop import TurbineLoop
-    from mbsym.wind.mpc.simulation import simulate_with_loop
-    from mbsym.wind.mpc.nmpc import TurbineNMPC
+        res.statistics.update(controller_step_median_s=float(np.median(timed.walls[1:])),
+                              controller_step_max_s=float(np.max(timed.walls[1:])), controller_failures=0)
+        return res
+    from mbsym.wind.mpc import SensorNoise, TurbineEstimator, TurbineLoop, TurbineNMPC, simulate_with_loop
 
-    mpc = TurbineNMPC(setup.prediction, setup.setpoints, tuning=tuning, references=setup.references)
+    prediction = setup.prediction if prediction is None else prediction
     est = None
     if estimator is not None:
-        z0 = _initial_estimate(setup, x0, float(wind(0.0)))
-        est = TurbineEstimator(setup.prediction, estimator, tuning=est_tuning, x0=z0)
-    loop = TurbineLoop(setup.plant, setup.deck.controller_dt, nmpc=mpc, estimator=est,
-                       preview=preview if estimator is None or preview is not None else None, wind=wind)
-    res = simulate_with_loop(setup.plant, wind, tmax, loop, x0=x0, t_out=t_out, compile=True)
-    return res, time.perf_counter() - t0
+        est = TurbineEstimator(prediction, estimator, x0=_initial_estimate(setup, x0, float(wind(0.0)), prediction))
+    nmpc = baseline = None
+    if kind == "nmpc":
+        refs = setup.references if prediction is setup.prediction else None
+        nmpc = TurbineNMPC(prediction, setup.setpoints, tuning=tuning, references=refs)
+    else:
+        baseline = BaselineController(setup.deck.baseline_settings())
+    sensor = SensorNoise(**ESTIMATOR_NOISE, seed=seed) if est is not None and noise else None
+    loop = TurbineLoop(setup.plant, setup.deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=est,
+                       preview=preview, wind=wind, noise=sensor)
+    return simulate_with_loop(setup.plant, wind, tmax, loop, x0=x0, t_out=t_out, compile=True)
 
 
-def _initial_estimate(setup: Setup, x0, wind0: float) -> np.ndarray:
+def _initial_estimate(setup: Setup, x0, wind0: float, prediction) -> np.ndarray:
+    """The estimator's prior: the plant's initial state (the steady guess of the first wind) and that wind."""
     dyn = setup.plant.dynamics()
-    names = setup.prediction.estimation_states
-    return np.concatenate([[x0[dyn.states.index(s)] for s in names], [wind0]])
+    return np.concatenate([[x0[dyn.states.index(s)] for s in prediction.estimation_states], [wind0]])
 
 
 def _timed_law(ctrl):
@@ -163,6 +167,7 @@ def _timed_law(ctrl):
 
 # ------------------------------------------------------------------ metrics
 def metrics(setup: Setup, res, mean_wind: float) -> dict:
+    """Closed-loop metrics after the spin-up (see the module docstring)."""
     from mbsym.sweep.stats import damage_equivalent_load
 
     t = np.asarray(res.t)
@@ -172,15 +177,11 @@ def metrics(setup: Setup, res, mean_wind: float) -> dict:
     X = np.asarray(res.x)
     speed = res.output("GenSpeed")[keep]
     wind = res.output("Wind1VelX")[keep]
-    if mean_wind > 11.4:
-        ref = np.full_like(speed, RPM_RATED)
-    else:
-        ref = setup.references("GenSpeed", wind)
+    ref = np.full_like(speed, RPM_RATED) if mean_wind > 11.4 else setup.references("GenSpeed", wind)
     rate = np.degrees(X[keep, dyn.states.index("BlPitch_d")])
-    pitch = res.output("BldPitch1")[keep]
+    pitch = np.degrees(X[keep, dyn.states.index("BlPitch")])
     power = res.output("GenPwr")[keep]
-    out = {"speed_rms_rpm": float(np.sqrt(np.mean((speed - ref) ** 2))),
-           "speed_max_rpm": float(speed.max()),
+    out = {"speed_rms_rpm": float(np.sqrt(np.mean((speed - ref) ** 2))), "speed_max_rpm": float(speed.max()),
            "power_mean_kw": float(power.mean()), "power_std_kw": float(power.std()),
            "pitch_travel_deg": float(np.sum(np.abs(np.diff(pitch)))),
            "pitch_rate_rms_degs": float(np.sqrt(np.mean(rate ** 2))),
@@ -188,7 +189,8 @@ def metrics(setup: Setup, res, mean_wind: float) -> dict:
            "ttdspfa_std_m": float(res.output("TTDspFA")[keep].std())}
     st = res.statistics
     for k in ("controller_step_median_s", "controller_step_max_s", "controller_first_step_s", "controller_failures",
-              "estimator_step_median_s", "estimator_step_max_s", "estimator_failures"):
+              "controller_build_s", "estimator_step_median_s", "estimator_step_max_s", "estimator_failures",
+              "integration_wall_s"):
         if k in st:
             out[k] = st[k]
     if "Wind1VelX_est" in res.output_names:
@@ -197,6 +199,7 @@ def metrics(setup: Setup, res, mean_wind: float) -> dict:
 
 
 def estimator_errors(res, keep) -> dict:
+    """RMS error, correlation and the truth's standard deviation of the estimated channels."""
     out = {}
     for c, key in (("Wind1VelX", "wind"), ("RtVAvgxh", "rtvavg"), ("TTDspFA", "ttdspfa"), ("RotSpeed", "rotspeed")):
         a, b = res.output(c)[keep], res.output(c + "_est")[keep]
@@ -206,34 +209,196 @@ def estimator_errors(res, keep) -> dict:
     return out
 
 
+# ------------------------------------------------------------------ stages
+KINDS = {                       # label -> run() options
+    "ROSCO": dict(kind="rosco"),
+    "baseline": dict(kind="baseline"),
+    "NMPC preview": dict(kind="nmpc", preview=5.0),
+    "NMPC + MHE": dict(kind="nmpc", estimator="mhe"),
+    "NMPC + EKF": dict(kind="nmpc", estimator="ekf"),
+    "baseline + MHE": dict(kind="baseline+est", estimator="mhe"),
+}
+
+
+def _tuning(opts: dict):
+    from mbsym.wind.mpc import NMPCTuning
+
+    if opts.get("kind") != "nmpc":
+        return None
+    return NMPCTuning() if opts.get("preview") is not None else NMPCTuning.estimated_wind()
+
+
+class Store:
+    """Results as JSON lines (resumable): one record per (stage, label, wind, seed, variant)."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.rows = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
+
+    def done(self, key: dict) -> dict | None:
+        return next((r for r in self.rows if all(r.get(k) == v for k, v in key.items())), None)
+
+    def add(self, row: dict) -> None:
+        self.rows.append(row)
+        with self.path.open("a") as fh:
+            fh.write(json.dumps(row) + "\n")
+        print(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in row.items()}), flush=True)
+
+
+def closed_loop_stage(setup, store, speeds, seeds, tmax, labels) -> None:
+    from mbsym.wind.inflow import kaimal_wind
+
+    for u in speeds:
+        for seed in seeds:
+            wind = kaimal_wind(u, turbulence_intensity(u), seed, duration=tmax)
+            for label in labels:
+                key = {"stage": "closed_loop", "label": label, "wind": u, "seed": seed, "tmax": tmax}
+                if store.done(key):
+                    continue
+                opts = dict(KINDS[label])
+                t0 = time.perf_counter()
+                res = run(setup, wind=wind, tmax=tmax, tuning=_tuning(opts), seed=seed, **opts)
+                row = {**key, **metrics(setup, res, u), "wall_s": time.perf_counter() - t0,
+                       "load": os.getloadavg()[0]}
+                store.add(row)
+
+
+TRADEOFF = {"NMPC preview": [1.0, 1.5, 2.5, 4.0, 8.0], "NMPC + MHE": [0.3, 0.4, 0.5, 0.7, 1.0]}
+
+
+def tradeoff_stage(setup, store, seeds, tmax, wind_speed: float = 14.0) -> None:
+    """NMPC tunings across the pitch-rate scale [deg/s] at 14 m/s."""
+    from mbsym.wind.inflow import kaimal_wind
+    from mbsym.wind.mpc import NMPCTuning
+
+    for seed in seeds:
+        wind = kaimal_wind(wind_speed, turbulence_intensity(wind_speed), seed, duration=tmax)
+        for label, scales in TRADEOFF.items():
+            for scale in scales:
+                key = {"stage": "tradeoff", "label": label, "wind": wind_speed, "seed": seed, "tmax": tmax,
+                       "pitch_rate_scale_degs": scale}
+                if store.done(key):
+                    continue
+                opts = dict(KINDS[label])
+                tun = NMPCTuning(pitch_rate_scale=math.radians(scale))
+                res = run(setup, wind=wind, tmax=tmax, tuning=tun, seed=seed, **opts)
+                store.add({**key, **metrics(setup, res, wind_speed), "load": os.getloadavg()[0]})
+
+
+LADDER_DOFS = (("GenDOF",), ("GenDOF", "DBEMT"), ("GenDOF", "TwFADOF1"), ("GenDOF", "TwFADOF1", "DBEMT"),
+               ("GenDOF", "TwFADOF1", "TwSSDOF1", "DBEMT"))
+
+
+def ladder_stage(setup, store, tmax: float, seed: int = 11, wind_speed: float = 14.0) -> None:
+    """The prediction-model ladder: closed-loop ε (baseline in the loop) and the NMPC on each rung."""
+    from mbsym.wind.analysis.prediction_ladder import prediction_ladder
+    from mbsym.wind.inflow import kaimal_wind
+    from mbsym.wind.mpc import NMPCTuning, PredictionModel
+
+    wind = kaimal_wind(wind_speed, turbulence_intensity(wind_speed), seed, duration=tmax)
+    key = {"stage": "ladder_eps", "wind": wind_speed, "seed": seed, "tmax": tmax}
+    if not store.done(key):
+        lad = prediction_ladder(setup.plant, wind, tmax, ladder=LADDER_DOFS)
+        store.add({**key, "table": lad.table(), "smallest": lad.smallest().label,
+                   "rungs": [{"label": r.label, "states": list(r.coordinates), "errors": dict(r.errors)}
+                             for r in lad.rungs]})
+        lad.plot(HERE / "figures" / "control_prediction_ladder.png",
+                 title=f"prediction models in closed loop (baseline controller), Kaimal {wind_speed:g} m/s, "
+                       f"{tmax:g} s")
+    for rung in LADDER_DOFS:
+        k = {"stage": "ladder_nmpc", "rung": list(rung), "wind": wind_speed, "seed": seed, "tmax": tmax}
+        if store.done(k):
+            continue
+        dofs = tuple(f for f in rung if f != "DBEMT")
+        pred = PredictionModel(setup.plant, dofs=dofs, dynamic_inflow="DBEMT" in rung)
+        res = run(setup, "nmpc", wind, tmax, tuning=NMPCTuning(), preview=5.0, prediction=pred)
+        store.add({**k, "states": len(pred.states), **metrics(setup, res, wind_speed), "load": os.getloadavg()[0]})
+
+
+SIZES = {"6-state class (default: Gen + FA1 + DBEMT, 7 states)": ("GenDOF", "TwFADOF1"),
+         "5 states (Gen + FA1, quasi-steady inflow)": ("GenDOF", "TwFADOF1", "-DBEMT"),
+         "13 states (Gen + DrTr + FA1 + SS1 + FA2 + DBEMT)": ("GenDOF", "DrTrDOF", "TwFADOF1", "TwSSDOF1", "TwFADOF2"),
+         "15 states (Gen + DrTr + FA1 + SS1 + FA2 + SS2 + DBEMT)": ("GenDOF", "DrTrDOF", "TwFADOF1", "TwSSDOF1",
+                                                                   "TwFADOF2", "TwSSDOF2")}
+
+
+def size_stage(setup, store, tmax: float = 120.0, seed: int = 11, wind_speed: float = 14.0) -> None:
+    """Step and build times by model size (cold compilation cache), each against a plant with the same DOFs."""
+    from mbsym.wind.inflow import kaimal_wind
+    from mbsym.wind.mpc import (NMPCTuning, PredictionModel, TurbineLoop, TurbineNMPC, reference_table,
+                                simulate_with_loop)
+    from mbsym.wind.operation import OperatingTurbine
+
+    wind = kaimal_wind(wind_speed, turbulence_intensity(wind_speed), seed, duration=tmax)
+    for label, flags in SIZES.items():
+        key = {"stage": "size", "label": label, "tmax": tmax}
+        if store.done(key):
+            continue
+        dofs = [f for f in flags if not f.startswith("-")]
+        inflow = "-DBEMT" not in flags
+        plant = OperatingTurbine.nrel5mw(dofs=dofs)
+        pred = PredictionModel(plant, dofs=dofs, dynamic_inflow=inflow)
+        refs = reference_table(pred, setup.setpoints)
+        with tempfile.TemporaryDirectory() as cache:
+            old = os.environ.get("MBSYM_CACHE_DIR")
+            os.environ["MBSYM_CACHE_DIR"] = cache
+            try:
+                t0 = time.perf_counter()
+                nmpc = TurbineNMPC(pred, setup.setpoints, tuning=NMPCTuning(), references=refs)
+                build = time.perf_counter() - t0
+            finally:
+                if old is None:
+                    os.environ.pop("MBSYM_CACHE_DIR")
+                else:
+                    os.environ["MBSYM_CACHE_DIR"] = old
+        from mbsym.wind.operation.steady import steady_guess
+
+        loop = TurbineLoop(plant, 0.01, nmpc=nmpc, preview=5.0, wind=wind)
+        c0 = time.process_time()
+        simulate_with_loop(plant, wind, tmax, loop, x0=steady_guess(plant, float(wind(0.0))).state, compile=True)
+        cpu = time.process_time() - c0
+        st = nmpc.nmpc.stats[1:]
+        walls = np.array([s.wall_s for s in st])
+        store.add({**key, "states": len(pred.states), "rhs_instructions": pred.control.rhs.n_instructions(),
+                   "build_s": build, "median_s": float(np.median(walls)), "max_s": float(walls.max()),
+                   "p99_s": float(np.percentile(walls, 99)), "first_s": nmpc.nmpc.stats[0].wall_s,
+                   "prep_median_s": float(np.median([s.preparation_s for s in st])),
+                   "feedback_median_s": float(np.median([s.feedback_s for s in st])),
+                   "qp_median_s": float(np.median([s.qp_solver_s for s in st])),
+                   "failures": nmpc.nmpc.failures, "steps": len(st) + 1, "loop_cpu_s": cpu,
+                   "load": os.getloadavg()[0]})
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tmax", type=float, default=600.0)
     ap.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS))
     ap.add_argument("--seeds", type=int, nargs="+", default=list(SEEDS))
-    ap.add_argument("--kinds", nargs="+", default=["rosco", "baseline", "nmpc-preview", "nmpc-mhe", "nmpc-ekf"])
-    ap.add_argument("--json", help="write the raw results here")
+    ap.add_argument("--labels", nargs="+", default=list(KINDS))
+    ap.add_argument("--stages", nargs="+", default=["closed_loop", "tradeoff", "ladder", "size"])
+    ap.add_argument("--results", default=str(HERE / "figures" / "control_results.jsonl"))
+    ap.add_argument("--report-only", action="store_true", help="write the README section from the stored results")
     ap.add_argument("--no-readme", action="store_true")
     args = ap.parse_args(argv)
-    from mbsym.wind.inflow import kaimal_wind
+    store = Store(Path(args.results))
+    if not args.report_only:
+        setup = Setup()
+        if "size" in args.stages:
+            size_stage(setup, store)
+        if "ladder" in args.stages:
+            ladder_stage(setup, store, min(args.tmax, 300.0))
+        if "closed_loop" in args.stages:
+            closed_loop_stage(setup, store, args.speeds, args.seeds, args.tmax, args.labels)
+        if "tradeoff" in args.stages:
+            tradeoff_stage(setup, store, args.seeds[:1], args.tmax)
+    from control_report import report
 
-    setup = Setup()
-    results = []
-    for u in args.speeds:
-        for seed in args.seeds:
-            wind = kaimal_wind(u, turbulence_intensity(u), seed, duration=args.tmax)
-            for kind in args.kinds:
-                base, _, est = kind.partition("-")
-                opts = {}
-                if base == "nmpc":
-                    opts = {"preview": 5.0} if est == "preview" else {"preview": None, "estimator": est}
-                res, wall = run(setup, base, wind, args.tmax, **opts)
-                m = metrics(setup, res, u)
-                m.update(kind=kind, wind=u, seed=seed, wall_s=wall, load=os.getloadavg()[0])
-                results.append(m)
-                print(json.dumps(m), flush=True)
-    if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=1))
+    text = report(store.rows, args.tmax)
+    print(text)
+    if not args.no_readme:
+        from _report import write_section
+
+        write_section("control-turbine", text)
 
 
 if __name__ == "__main__":

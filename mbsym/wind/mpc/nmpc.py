@@ -162,7 +162,9 @@ class TurbineNMPC:
 
         t, pr = self.tuning, self.prediction
         b = pr.plant.bounds()
-        terms = {k: _weight(getattr(t, scale)) for k, scale in TRACKED.items()}
+        d = pr.control
+        known = set(d.output_names) | set(d.inputs)          # a rigid tower has no QD_TFA1: no tower term
+        terms = {k: _weight(getattr(t, scale)) for k, scale in TRACKED.items() if k in known}
         terms = {k: v for k, v in terms.items() if v > 0}
         refs = {k: 0.0 for k in terms}
         ocp = OCP(pr.control, horizon=t.horizon, dt=t.dt, controls=self.CONTROLS)
