@@ -103,7 +103,8 @@ ESTIMATOR_NOISE = dict(gen_speed=0.5, accel=0.02, pitch=0.05, torque=100.0)     
 
 
 def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: float | None = None,
-        estimator: str | None = None, seed: int = 0, prediction=None, noise: bool = True, t_out=None):
+        estimator: str | None = None, seed: int = 0, prediction=None, noise: bool = True, t_out=None,
+        est_tuning=None):
     """One closed-loop run. ``kind``: "rosco", "baseline" (compiled loop), "nmpc", "baseline+est" (our
     baseline in the Python loop beside an estimator). Returns the result (statistics include the loop's)."""
     from mbsym.wind.control import BaselineController, DisconController
@@ -128,7 +129,8 @@ def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: flo
     prediction = setup.prediction if prediction is None else prediction
     est = None
     if estimator is not None:
-        est = TurbineEstimator(prediction, estimator, x0=_initial_estimate(setup, x0, float(wind(0.0)), prediction))
+        est = TurbineEstimator(prediction, estimator, tuning=est_tuning,
+                               x0=_initial_estimate(setup, x0, float(wind(0.0)), prediction))
     nmpc = baseline = None
     if kind == "nmpc":
         refs = setup.references if prediction is setup.prediction else None
@@ -263,7 +265,7 @@ def closed_loop_stage(setup, store, speeds, seeds, tmax, labels) -> None:
                 store.add(row)
 
 
-TRADEOFF = {"NMPC preview": [1.0, 1.5, 2.5, 4.0, 8.0], "NMPC + MHE": [0.3, 0.4, 0.5, 0.7, 1.0]}
+TRADEOFF = {"NMPC preview": [1.0, 1.5, 2.5, 4.0, 8.0], "NMPC + MHE": [0.4, 0.55, 0.7, 0.9, 1.2]}
 
 
 def tradeoff_stage(setup, store, seeds, tmax, wind_speed: float = 14.0) -> None:
@@ -280,7 +282,9 @@ def tradeoff_stage(setup, store, seeds, tmax, wind_speed: float = 14.0) -> None:
                 if store.done(key):
                     continue
                 opts = dict(KINDS[label])
-                tun = NMPCTuning(pitch_rate_scale=math.radians(scale))
+                rate = math.radians(scale)
+                tun = NMPCTuning(pitch_rate_scale=rate) if opts.get("preview") is not None \
+                    else NMPCTuning.estimated_wind(pitch_rate_scale=rate)
                 res = run(setup, wind=wind, tmax=tmax, tuning=tun, seed=seed, **opts)
                 store.add({**key, **metrics(setup, res, wind_speed), "load": os.getloadavg()[0]})
 

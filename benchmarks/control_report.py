@@ -46,10 +46,11 @@ def closed_loop_tables(rows, tmax) -> str:
                 if ref is not None and label != "ROSCO":
                     text += f" ({v / _mean(ref, key):.2f})"
                 cells.append(text)
-            step = f"{1e3 * _mean(rs, 'controller_step_median_s'):.3f} / {1e3 * max(r.get('controller_step_max_s', np.nan) for r in rs):.1f}"
+            worst = max(r.get("controller_step_max_s", np.nan) for r in rs)
+            step = f"{1e3 * _mean(rs, 'controller_step_median_s'):.3f} / {1e3 * worst:.1f}"
             out.append(f"| {u:g} m/s | {label} | " + " | ".join(cells) + f" | {step} |")
     out += ["", "Per seed (ratios to ROSCO in the same wind: tower-base DEL / speed RMS error / pitch-rate RMS / "
-            "energy):", "", "| wind | seed | " + " | ".join(l for l in ORDER[1:5]) + " |", "|---|---|" + "---|" * 4]
+            "energy):", "", "| wind | seed | " + " | ".join(ORDER[1:5]) + " |", "|---|---|" + "---|" * 4]
     for u in winds:
         for seed in sorted({r["seed"] for r in cl if r["wind"] == u}):
             ref = next((r for r in cl if r["wind"] == u and r["seed"] == seed and r["label"] == "ROSCO"), None)
@@ -101,7 +102,8 @@ def estimator_table(rows, tmax) -> str:
         by[(r["wind"], r["label"])].append(r)
     for (u, label), rs in sorted(by.items()):
         pct = 100 * _mean(rs, "est_ttdspfa_rms") / _mean(rs, "est_ttdspfa_std")
-        lines.append(f"| {u:g} m/s | {label} | {_mean(rs, 'est_wind_rms'):.3f} | {min(r['est_wind_corr'] for r in rs):.4f} | "
+        corr = min(r["est_wind_corr"] for r in rs)
+        lines.append(f"| {u:g} m/s | {label} | {_mean(rs, 'est_wind_rms'):.3f} | {corr:.4f} | "
                      f"{_mean(rs, 'est_rtvavg_rms'):.3f} | {1e3 * _mean(rs, 'est_ttdspfa_rms'):.1f} ({pct:.1f} %) | "
                      f"{_mean(rs, 'est_rotspeed_rms'):.4f} | {1e3 * _mean(rs, 'estimator_step_median_s'):.2f} / "
                      f"{1e3 * max(r['estimator_step_max_s'] for r in rs):.1f} | "
@@ -141,8 +143,9 @@ def _tradeoff_plot(tr, ref) -> None:
         axes[0].plot(x, [r["del_twrbsmyt_knm"] / 1e3 for r in rs], marker, label=label)
         axes[1].plot(x, [r["speed_rms_rpm"] for r in rs], marker, label=label)
         for r in rs:
-            axes[0].annotate(f"{r['pitch_rate_scale_degs']:g}", (r["pitch_rate_rms_degs"], r["del_twrbsmyt_knm"] / 1e3),
-                             fontsize=7, xytext=(3, 3), textcoords="offset points")
+            xy = (r["pitch_rate_rms_degs"], r["del_twrbsmyt_knm"] / 1e3)
+            axes[0].annotate(f"{r['pitch_rate_scale_degs']:g}", xy, fontsize=7, xytext=(3, 3),
+                             textcoords="offset points")
     for r in ref:
         axes[0].plot(r["pitch_rate_rms_degs"], r["del_twrbsmyt_knm"] / 1e3, "k*", ms=12, label="ROSCO")
         axes[1].plot(r["pitch_rate_rms_degs"], r["speed_rms_rpm"], "k*", ms=12, label="ROSCO")
@@ -209,8 +212,9 @@ def ladder(rows) -> str:
                   "power mean [kW] | step median / max [ms] |", "|---|---:|---:|---:|---:|---:|---:|"]
         for r in nm:
             lines.append(f"| {' + '.join(r['rung'])} | {r['states']} | {r['speed_rms_rpm']:.1f} | "
-                         f"{r['del_twrbsmyt_knm'] / 1e3:.1f} | {r['pitch_rate_rms_degs']:.2f} | {r['power_mean_kw']:.0f} | "
-                         f"{1e3 * r['controller_step_median_s']:.2f} / {1e3 * r['controller_step_max_s']:.1f} |")
+                         f"{r['del_twrbsmyt_knm'] / 1e3:.1f} | {r['pitch_rate_rms_degs']:.2f} | "
+                         f"{r['power_mean_kw']:.0f} | {1e3 * r['controller_step_median_s']:.2f} / "
+                         f"{1e3 * r['controller_step_max_s']:.1f} |")
     return "\n".join(lines)
 
 
@@ -223,7 +227,8 @@ def sizes(rows) -> str:
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in sz:
         lines.append(f"| {r['label']} | {r['states']} | {r['rhs_instructions']} | {r['build_s']:.1f} | "
-                     f"{1e3 * r['median_s']:.2f} ({1e3 * r['prep_median_s']:.2f} / {1e3 * r['feedback_median_s']:.2f}) | "
+                     f"{1e3 * r['median_s']:.2f} ({1e3 * r['prep_median_s']:.2f} / "
+                     f"{1e3 * r['feedback_median_s']:.2f}) | "
                      f"{1e3 * r['max_s']:.1f} / {1e3 * r['p99_s']:.1f} | {1e3 * r['first_s']:.0f} | "
                      f"{r['failures']} / {r['steps']} | {r['load']:.1f} |")
     return "\n".join(lines)
