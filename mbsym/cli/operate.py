@@ -2,8 +2,9 @@
 
 Contract (kept for acceptance checks)::
 
-    mbsym simulate [DECK] --wind SPEC [--controller baseline|discon|none]
-                   [--discon LIB.so --discon-input DISCON.IN] [--out F.csv] [--plot F.png] [--stats]
+    mbsym simulate [DECK] --wind SPEC [--controller baseline|discon|nmpc|none]
+                   [--discon LIB.so --discon-input DISCON.IN] [--preview S] [--estimator ekf|mhe]
+                   [--out F.csv] [--plot F.png] [--stats]
 
 with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…``, ``eog:…``) or a file
 (an InflowWind uniform wind file, or a ``Time_[s],Wind1VelX_[m/s]`` CSV).
@@ -19,7 +20,8 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
 * Controllers: ``baseline`` (our ROSCO-scheme controller compiled into the loop; settings from
   ``--discon-input``, the deck's DISCON.IN, or the built-in NREL 5 MW), ``discon`` (the library:
   ``--discon``/``--discon-input`` or the deck's ServoDyn ``DLL_FileName``/``DLL_InFile``; one
-  call per sample), ``none`` (pitch and torque held at their initial values). Default: ``discon``
+  call per sample), ``nmpc`` (the turbine NMPC, ``--preview``/``--estimator``: :mod:`.operate_mpc`),
+  ``none`` (pitch and torque held at their initial values). Default: ``discon``
   when the deck's ServoDyn runs a DISCON library, ``baseline`` without a deck, else ``none``.
 * Integration: one RK4 step per controller sample (``--method rk4 --dt`` changes the step, a
   divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller);
@@ -41,7 +43,7 @@ import numpy as np
 
 __all__ = ["add_arguments", "wants_operation", "run_operation", "CONTROLLERS"]
 
-CONTROLLERS = ("baseline", "discon", "none")
+CONTROLLERS = ("baseline", "discon", "nmpc", "none")
 #: Channels of the summary table and the default plot.
 SUMMARY_CHANNELS = ("Wind1VelX", "RotSpeed", "BldPitch1", "GenTq", "GenPwr", "RtAeroFxh", "TTDspFA", "TwrBsMyt")
 _BUILTIN_TMAX, _BUILTIN_DT_OUT = 60.0, 0.05
@@ -54,11 +56,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "or a file (InflowWind uniform wind file, or CSV Time_[s],Wind1VelX_[m/s]); runs the "
                         "turbine with aerodynamics and a controller")
     p.add_argument("--controller", choices=CONTROLLERS,
-                   help="baseline (ours, compiled into the loop), discon (a DISCON library), none (held commands); "
-                        "default: the deck's DISCON library, baseline without a deck")
+                   help="baseline (ours, compiled into the loop), discon (a DISCON library), nmpc (the turbine "
+                        "NMPC), none (held commands); default: the deck's DISCON library, baseline without a deck")
     p.add_argument("--discon", metavar="LIB.so", help="DISCON library (default: the deck's ServoDyn DLL_FileName)")
     p.add_argument("--discon-input", metavar="DISCON.IN",
                    help="controller input file (default: the deck's ServoDyn DLL_InFile; the baseline reads it too)")
+    from .operate_mpc import add_arguments as add_mpc_arguments
+
+    add_mpc_arguments(p)                # --preview, --estimator (cli/operate_mpc.py)
 
 
 def wants_operation(args: argparse.Namespace) -> bool:
@@ -97,14 +102,19 @@ def run_operation(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     deck = _deck(args)
     kind = _controller_kind(args, deck)
+    from .operate_mpc import check_options
+
+    mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
     wind, wind_label = _wind(args, deck)
     tmax, t_out = _grid(args, deck, wind)
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
-    controller, handle = _controller(kind, args, deck)       # bad controller files fail before the model is built
+    controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
         model = _model(deck)
         dyn = model.dynamics()
         x0 = _initial_state(model, deck, wind)
+        loop = mpc.loop(deck, model, wind) if mpc.active else None
+        controller = loop.controller() if loop is not None else controller
     except BaseException:
         if handle is not None:
             handle.close()
@@ -115,8 +125,13 @@ def run_operation(args: argparse.Namespace) -> int:
     try:
         from ..wind.operation.simulation import simulate_turbine
 
-        result = simulate_turbine(model, wind, tmax, controller=controller, x0=x0, t_out=t_out, progress=printer,
-                                  **options)
+        if loop is not None:
+            from ..wind.mpc.simulation import simulate_with_loop
+
+            result = simulate_with_loop(model, wind, tmax, loop, x0=x0, t_out=t_out, progress=printer, **options)
+        else:
+            result = simulate_turbine(model, wind, tmax, controller=controller, x0=x0, t_out=t_out,
+                                      progress=printer, **options)
     except SimulationInterrupted as exc:
         printer.close()
         print(f"mbsym simulate: {exc} (of {tmax:g} s); nothing written", file=sys.stderr)
@@ -128,7 +143,8 @@ def run_operation(args: argparse.Namespace) -> int:
     series = _series(result, dyn)
     stats = dict(result.statistics)
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
-    stats.update(controller=kind, controller_dt=None if controller is None else controller.dt,
+    dt = stats.get("controller_dt", None if controller is None else controller.dt)      # the NMPC's own
+    stats.update(controller=kind, controller_dt=dt,
                  real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
     _summary(series, stats)
     if ref is not None:
@@ -279,11 +295,15 @@ def _controller(kind, args, deck):
 
 
 def _series(result, dyn):
+    """The plant's channels, then the estimated ``<channel>_est`` channels (with an estimator)."""
     from ..wind.analysis.compare import TimeSeries
 
     n = dyn.n_y
-    return TimeSeries(np.asarray(result.t), tuple(dyn.output_names), tuple(dyn.output_units),
-                      np.asarray(result.y)[:, :n])
+    est = [i for i, name in enumerate(result.output_names) if i >= n and name.endswith("_est")]
+    cols = list(range(n)) + est
+    names = tuple(result.output_names[i] for i in cols)
+    units = tuple(dyn.output_units) + tuple(result.output_units[i] for i in est)
+    return TimeSeries(np.asarray(result.t), names, units, np.asarray(result.y)[:, cols])
 
 
 def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:

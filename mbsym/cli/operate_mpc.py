@@ -1,0 +1,129 @@
+"""``mbsym simulate --controller nmpc`` and ``--estimator``: the NMPC and the state estimators in the loop.
+
+Contract (kept for acceptance checks)::
+
+    mbsym simulate [DECK] --wind SPEC --controller nmpc|baseline [--preview S] [--estimator ekf|mhe]
+                   [--out F.csv] [--stats]
+
+* ``--controller nmpc``: the turbine NMPC (:class:`mbsym.wind.mpc.TurbineNMPC`: real-time
+  iterations, 0.1 s, 40 stages) on the prediction model chosen with the fidelity ladder (GenDOF +
+  TwFADOF1 + the dynamic inflow + the actuators as rates), running against the full plant.
+* ``--preview S``: an ideal lidar: the NMPC knows the true hub wind for the next S seconds (held
+  after that) and, without ``--estimator``, the plant's true state (ideal state feedback).
+* ``--estimator ekf|mhe``: the state and rotor-effective wind estimated at 20 Hz from generator speed,
+  tower-top acceleration, pitch and torque; the NMPC uses the estimate (and the estimated wind when
+  there is no preview). With ``--controller baseline`` the baseline keeps its own measurements and
+  the estimates are only reported.
+* ``--controller nmpc`` with neither ``--preview`` nor ``--estimator`` uses the EKF (a turbine
+  has no lidar by default).
+* With an estimator the CSV adds ``<channel>_est`` (same units) for the channels of
+  :data:`mbsym.wind.mpc.simulation.ESTIMATED_CHANNELS` (``Wind1VelX``, ``RtVAvgxh``,
+  ``RotSpeed``, ``GenSpeed``, ``TTDspFA``, ...). ``--stats`` adds ``controller_step_median_s``,
+  ``controller_step_max_s`` (NMPC steps after the first, which converges from a cold start and is
+  ``controller_first_step_s``), ``controller_failures`` and, with an estimator,
+  ``estimator_step_median_s``, ``estimator_step_max_s``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass
+
+__all__ = ["add_arguments", "MpcOptions", "check_options", "ESTIMATOR_CHOICES"]
+
+ESTIMATOR_CHOICES = ("ekf", "mhe")
+#: The estimator ``--controller nmpc`` uses without --preview or --estimator.
+DEFAULT_ESTIMATOR = "ekf"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """``--preview`` and ``--estimator``."""
+    p.add_argument("--preview", type=float, metavar="S",
+                   help="NMPC: ideal wind preview (a perfect lidar) of S seconds; without --estimator also the "
+                        "plant's true state")
+    p.add_argument("--estimator", choices=ESTIMATOR_CHOICES,
+                   help="estimate the state and rotor-effective wind at 20 Hz from generator speed, tower-top "
+                        "acceleration, pitch and torque (the CSV adds <channel>_est); default for --controller "
+                        "nmpc without --preview: ekf")
+
+
+@dataclass(frozen=True)
+class MpcOptions:
+    """What the flags ask for (checked before any model is built)."""
+
+    controller: str
+    preview: float | None
+    estimator: str | None
+
+    @property
+    def active(self) -> bool:
+        """Whether the run needs the Python loop (NMPC or an estimator)."""
+        return self.controller == "nmpc" or self.estimator is not None
+
+    def loop(self, deck, model, wind):
+        """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model``."""
+        from ..wind.control.baseline import BaselineController
+        from ..wind.mpc.estimator import TurbineEstimator
+        from ..wind.mpc.loop import TurbineLoop
+        from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
+        from ..wind.mpc.prediction import PredictionModel
+        from ..wind.mpc.setpoints import SetPoints
+
+        prediction = PredictionModel(model)
+        estimator = nmpc = baseline = None
+        if self.estimator is not None:
+            estimator = TurbineEstimator(prediction, self.estimator, x0=_initial_estimate(model, prediction, wind))
+        settings = deck.baseline_settings()
+        if self.controller == "nmpc":
+            tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()
+            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning)
+        else:
+            baseline = BaselineController(settings)
+        return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,
+                           preview=self.preview, wind=wind)
+
+
+def _initial_estimate(model, prediction, wind):
+    """The estimator's prior: the plant's steady guess at the first wind sample (the run starts there)."""
+    import numpy as np
+
+    from ..wind.operation.steady import steady_guess
+
+    u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
+    x = dict(zip(model.dynamics().states, steady_guess(model, u0).state))
+    return np.array([x[s] for s in prediction.estimation_states] + [u0])
+
+
+def check_options(args: argparse.Namespace, controller: str) -> MpcOptions:
+    """The NMPC/estimator options of ``args`` for the chosen controller.
+
+    Raises
+    ------
+    SimulationOptionError
+        ``--preview`` without ``--controller nmpc`` or not a finite number >= 0; ``--estimator`` with
+        a controller other than nmpc or baseline; ``--accuracy`` or ``--method`` with the NMPC or an
+        estimator (they run one RK4 step per controller sample).
+    """
+    from ..exceptions import SimulationOptionError
+
+    preview, estimator = getattr(args, "preview", None), getattr(args, "estimator", None)
+    if preview is not None:
+        if controller != "nmpc":
+            raise SimulationOptionError(f"--preview is the NMPC's wind preview; it needs --controller nmpc (the "
+                                        f"controller is {controller}).")
+        if not (math.isfinite(preview) and preview >= 0):
+            raise SimulationOptionError(f"--preview {preview:g}: the preview must be a finite number of seconds "
+                                        ">= 0 (e.g. --preview 5).")
+    if estimator is not None and controller not in ("nmpc", "baseline"):
+        raise SimulationOptionError(f"--estimator runs beside --controller nmpc or baseline; the controller is "
+                                    f"{controller}.")
+    if controller == "nmpc" and preview is None and estimator is None:
+        estimator = DEFAULT_ESTIMATOR
+    options = MpcOptions(controller, preview, estimator)
+    if options.active:
+        given = [f for f, v in (("--accuracy", args.accuracy), ("--method", args.method)) if v is not None]
+        if given:
+            raise SimulationOptionError(f"{' and '.join(given)}: the NMPC and the estimators run one RK4 step per "
+                                        "controller sample of the deck (0.01 s built in); leave these flags out.")
+    return options

@@ -1,0 +1,26 @@
+"""NMPC and state estimation of an operating turbine, on ``mbsym.control`` (issue 13, points 4-5).
+
+- :mod:`.prediction`: :class:`PredictionModel`, the reduced operating turbine the controller and the
+  estimator predict with (rate inputs with the plant's actuators exact; measured-actuator form);
+- :mod:`.setpoints`: :class:`SetPoints` and the steady :func:`reference_table` the references follow;
+- :mod:`.nmpc`: :class:`TurbineNMPC` and its :class:`NMPCTuning`;
+- :mod:`.estimator`: :class:`TurbineEstimator` (EKF or MHE of the states and the rotor-effective wind);
+- :mod:`.loop`: :class:`TurbineLoop`, the NMPC (or the baseline) and an estimator as one law per plant
+  sample, with ideal preview or estimates, :class:`SensorNoise`;
+- :mod:`.simulation`: :func:`simulate_with_loop` (every channel, and ``<channel>_est``).
+
+The closed-loop fidelity ladder that chose the prediction model is
+:func:`mbsym.wind.analysis.prediction_ladder.prediction_ladder`. See docs/control.md.
+"""
+
+from .estimator import ESTIMATOR_MEASUREMENTS, ESTIMATORS, EstimatorTuning, TurbineEstimator
+from .loop import LOOP_CHANNELS, SensorNoise, TurbineLoop
+from .nmpc import TRACKED, NMPCTuning, TurbineNMPC
+from .prediction import CONTROL_INPUTS, ESTIMATION_INPUTS, PREDICTION_DOFS, PredictionModel
+from .setpoints import REFERENCE_CHANNELS, ReferenceTable, SetPoints, reference_state, reference_table
+from .simulation import ESTIMATED_CHANNELS, measurement_dynamics, simulate_with_loop
+
+__all__ = ["PredictionModel", "PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS", "SetPoints", "ReferenceTable",
+           "reference_table", "reference_state", "REFERENCE_CHANNELS", "NMPCTuning", "TurbineNMPC", "TRACKED",
+           "TurbineEstimator", "EstimatorTuning", "ESTIMATORS", "ESTIMATOR_MEASUREMENTS", "TurbineLoop",
+           "SensorNoise", "LOOP_CHANNELS", "simulate_with_loop", "measurement_dynamics", "ESTIMATED_CHANNELS"]

@@ -1,0 +1,260 @@
+"""A turbine controller with an NMPC and/or a state estimator in the simulation loop.
+
+:class:`TurbineLoop` is one Python law (:class:`mbsym.simulate.DiscreteController`) called at the
+plant's controller sample time (the deck's, 0.01 s for the built-in NREL 5 MW). Inside it, at
+their own rates:
+
+* the **estimator** (:class:`~.estimator.TurbineEstimator`, every ``estimator.dt``) reads the
+  generator speed and tower-top acceleration at the sample and the pitch and torque averaged
+  over the interval that just ended;
+* the **NMPC** (:class:`~.nmpc.TurbineNMPC`, every ``nmpc.dt``) gets the state — the plant's own
+  state picked by name (*ideal* state feedback) or the estimate completed with the measured pitch
+  and torque — and the wind over its horizon: an ideal **preview** of the true wind for
+  ``preview`` seconds (a perfect lidar; held after that), or the estimated wind held constant;
+  its pitch and torque rates are applied until its next sample as **ramps** of the demands with
+  the actuators' lead (:meth:`~.prediction.PredictionModel.commands`), so the plant's actuators
+  move as the prediction model assumed;
+* or the **baseline** controller (our ROSCO scheme) from its usual measurements, with an
+  estimator running beside it for its estimates only.
+
+The estimate is carried as the controller's state (named ``est.<name>``), so it appears in the
+simulation result; :func:`~.simulation.simulate_with_loop` turns it into ``<channel>_est``
+channels.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from ...exceptions import SimulationOptionError
+
+__all__ = ["TurbineLoop", "SensorNoise", "LOOP_CHANNELS"]
+
+#: Plant channels the loop reads (OpenFAST units): the baseline controller's five, then torque and
+#: tower-top acceleration for the estimator.
+LOOP_CHANNELS = ("GenSpeed", "RotSpeed", "BldPitch1", "GenPwr", "Wind1VelX", "GenTq", "YawBrTAxp")
+_DEG, _RPM = math.pi / 180.0, math.pi / 30.0
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    """White Gaussian noise on the measurements the estimator (and the NMPC's measured pitch and torque) read.
+
+    Attributes
+    ----------
+    gen_speed : float
+        Generator speed [rpm].
+    accel : float
+        Tower-top fore-aft acceleration [m/s²].
+    pitch : float
+        Blade pitch [deg].
+    torque : float
+        Generator torque [N m].
+    seed : int
+        Seed of ``numpy.random.default_rng``.
+    """
+
+    gen_speed: float = 0.5
+    accel: float = 0.02
+    pitch: float = 0.05
+    torque: float = 100.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("gen_speed", "accel", "pitch", "torque"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
+                raise SimulationOptionError(f"SensorNoise.{name} must be a standard deviation >= 0; got {v!r}.")
+
+
+def _multiple(period: float, base: float, what: str) -> int:
+    m = period / base
+    if abs(m - round(m)) > 1e-9 * max(m, 1.0) or round(m) < 1:
+        raise SimulationOptionError(f"the {what} sample time {period:g} s must be a whole multiple of the "
+                                    f"controller sample time {base:g} s.")
+    return int(round(m))
+
+
+class TurbineLoop:
+    """NMPC or baseline control with an optional estimator, as one law of the plant's samples.
+
+    Parameters
+    ----------
+    plant : OperatingTurbine
+        The simulated turbine (its state names give the ideal state feedback).
+    sample_time : float
+        Controller sample time of the loop [s] (the plant's RK4 step).
+    nmpc : TurbineNMPC, optional, keyword-only
+    baseline : BaselineController, optional, keyword-only
+        Exactly one of ``nmpc`` and ``baseline``.
+    estimator : TurbineEstimator, optional, keyword-only
+    preview : float, optional, keyword-only
+        Seconds of ideal wind preview for the NMPC (None: none).
+    wind : callable, optional, keyword-only
+        The true wind of time [m/s] (needed with ``preview``).
+    noise : SensorNoise, optional, keyword-only
+        Noise on the measurements of the estimator and the NMPC's measured pitch and torque
+        (default none). The baseline controller reads the plant's channels as they are.
+
+    Raises
+    ------
+    SimulationOptionError
+        Sample times that are not multiples of ``sample_time``; an NMPC with neither preview nor
+        estimator (it would have no wind); a negative preview; a preview without a wind.
+    """
+
+    def __init__(self, plant, sample_time: float, *, nmpc=None, baseline=None, estimator=None,
+                 preview: float | None = None, wind: Callable | None = None,
+                 noise: SensorNoise | None = None) -> None:
+        if (nmpc is None) == (baseline is None):
+            raise SimulationOptionError("give exactly one of nmpc= and baseline= to the loop.")
+        if preview is not None:
+            if not (isinstance(preview, (int, float)) and math.isfinite(preview) and preview >= 0):
+                raise SimulationOptionError(f"preview must be a finite number of seconds >= 0; got {preview!r}.")
+            if wind is None:
+                raise SimulationOptionError("a wind preview needs the true wind (wind=...).")
+            if nmpc is None:
+                raise SimulationOptionError("a wind preview is for the NMPC; the baseline controller does not use it.")
+        if nmpc is not None and preview is None and estimator is None:
+            raise SimulationOptionError("the NMPC needs the wind: give a preview (ideal lidar) or an estimator.")
+        if noise is not None and not isinstance(noise, SensorNoise):
+            raise TypeError(f"noise must be a SensorNoise; got {type(noise).__name__}.")
+        self.noise = noise
+        self._rng = np.random.default_rng(noise.seed) if noise is not None else None
+        self.plant, self.dt = plant, float(sample_time)
+        self.nmpc, self.baseline, self.estimator = nmpc, baseline, estimator
+        self.preview, self.wind = (None if preview is None else float(preview)), wind
+        self._kn = _multiple(nmpc.dt, self.dt, "NMPC") if nmpc is not None else 0
+        self._ke = _multiple(estimator.dt, self.dt, "estimator") if estimator is not None else 0
+        self.prediction = nmpc.prediction if nmpc is not None else (estimator.prediction if estimator else None)
+        dyn = plant.dynamics()
+        self._state_names = tuple(s for s in self.prediction.states if s != "GenTq") if nmpc is not None else ()
+        missing = [s for s in self._state_names if s not in dyn.states]
+        if missing:
+            raise SimulationOptionError(f"the plant has no states {missing} of the prediction model; the prediction "
+                                        "model's DOFs must be a subset of the plant's.")
+        self.measurements = LOOP_CHANNELS + self._state_names
+        self._law_time: list[float] = []
+        self._base_fn = None
+        self._xb0 = np.zeros(0)
+        if baseline is not None:
+            from ..operation.controllers import baseline_in_loop
+
+            dc = baseline_in_loop(baseline)
+            self._base_fn, self._xb0 = dc.law, dc.x0
+            self._base_names = dc.state_names
+        self._n_b = self._xb0.size
+        self._n_e = len(estimator.names) if estimator is not None else 0
+        self.controller_times: list[float] = []
+        self.estimates: list[tuple[float, np.ndarray]] = []
+        self._reset()
+
+    def _reset(self) -> None:
+        self._anchor = None                      # (t, pitch, torque, rates)
+        self._acc = np.zeros(2)                  # pitch, torque sums over the estimator interval
+        self._n_acc = 0
+
+    # ------------------------------------------------------------------ the law
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        names = tuple(self._base_names) if self.baseline is not None else ()
+        if self.estimator is not None:
+            names += tuple(f"est.{n}" for n in self.estimator.names)
+        return names
+
+    def controller(self):
+        """The :class:`mbsym.simulate.DiscreteController` running this loop."""
+        from ...simulate.controller import DiscreteController
+
+        x0 = np.concatenate([self._xb0, self.estimator.x if self.estimator is not None else np.zeros(0)])
+        return DiscreteController(self.law, self.dt, x0, measurements=self.measurements,
+                                  actuates=("BlPitchCom", "GenTqCom"), state_names=self.state_names,
+                                  name="nmpc" if self.nmpc is not None else "baseline")
+
+    def law(self, t: float, xc: np.ndarray, y: np.ndarray):
+        """``(xc_next, [BlPitchCom, GenTqCom])`` at time ``t`` [s] from the plant measurements ``y``."""
+        k = int(round(t / self.dt))
+        y_true = y
+        if self._rng is not None:
+            n = self.noise
+            y = y.copy()
+            y[[0, 2, 5, 6]] += self._rng.standard_normal(4) * (n.gen_speed, n.pitch, n.torque / 1e3, n.accel)
+        pitch, torque = y[2] * _DEG, y[5] * 1e3
+        xb = xc[: self._n_b]
+        z = xc[self._n_b:]
+        if self.estimator is not None:
+            if k > 0:
+                self._acc += (pitch, torque)
+                self._n_acc += 1
+            if k % self._ke == 0:
+                mean = self._acc / self._n_acc if self._n_acc else np.array([pitch, torque])
+                z = self.estimator.step(y[0], y[6], mean[0], mean[1])
+                self.estimates.append((t, z.copy()))
+                self._acc[:] = 0.0
+                self._n_acc = 0
+        if self.baseline is not None:
+            c0 = time.perf_counter()
+            xb_next, u = self._base_fn(xb, y_true[:5])
+            xb, u = np.asarray(xb_next).ravel(), np.asarray(u).ravel()
+            self._law_time.append(time.perf_counter() - c0)
+        else:
+            if k % self._kn == 0:
+                c1 = time.perf_counter()
+                state = self._nmpc_state(y, pitch, torque)
+                rates = self.nmpc.step(state, self._horizon_wind(t))
+                self._anchor = (t, *self._ramp_start(t, pitch, torque), rates)
+                self.controller_times.append(time.perf_counter() - c1)
+            t_a, p_a, q_a, r = self._anchor
+            u = np.array(self.prediction.commands(p_a, q_a, r[0], r[1], t - t_a))
+        return np.concatenate([xb, z]), u
+
+    def _ramp_start(self, t: float, pitch: float, torque: float) -> tuple[float, float]:
+        """Where the new ramps start: the previous ramps' values now (continuous demands; the measured
+        pitch and torque at the first step)."""
+        if self._anchor is None:
+            return pitch, torque
+        t_a, p_a, q_a, r = self._anchor
+        (b0, b1), (q0, q1) = self.prediction._demand_limits
+        dt = t - t_a
+        return min(max(p_a + r[0] * dt, b0), b1), min(max(q_a + r[1] * dt, q0), q1)
+
+    def _nmpc_state(self, y, pitch: float, torque: float) -> np.ndarray:
+        if self.estimator is not None:
+            return self.estimator.control_state(pitch, torque)
+        values = dict(zip(self._state_names, y[len(LOOP_CHANNELS):]))
+        values["GenTq"] = torque
+        values["BlPitch"] = pitch
+        return np.array([values[s] for s in self.prediction.states])
+
+    def _horizon_wind(self, t: float) -> np.ndarray:
+        n = self.nmpc.horizon
+        if self.preview is None:
+            return np.full(n + 1, self.estimator.wind)
+        lead = np.minimum(np.arange(n + 1) * self.nmpc.dt, self.preview)
+        return np.asarray(self.wind(t + lead), dtype=float).reshape(-1)
+
+    # ------------------------------------------------------------------ statistics
+    def statistics(self) -> dict[str, Any]:
+        """Controller and estimator step times [s] and failures (``--stats`` keys)."""
+        out: dict[str, Any] = {}
+        if self.nmpc is not None:
+            s = self.nmpc.summary()
+            out.update(controller_step_median_s=s["step_median_s"], controller_step_max_s=s["step_max_s"],
+                       controller_first_step_s=s["first_step_s"], controller_failures=s["failures"],
+                       controller_steps=s["steps"], controller_build_s=s["build_s"],
+                       controller_dt=self.nmpc.dt, controller_horizon=self.nmpc.horizon)
+        else:
+            w = np.array(self._law_time[1:] or [0.0])
+            out.update(controller_step_median_s=float(np.median(w)), controller_step_max_s=float(np.max(w)),
+                       controller_failures=0, controller_steps=len(self._law_time))
+        if self.estimator is not None:
+            e = self.estimator.summary()
+            out.update(estimator=e["kind"], estimator_step_median_s=e["step_median_s"],
+                       estimator_step_max_s=e["step_max_s"], estimator_failures=e["failures"],
+                       estimator_dt=self.estimator.dt)
+        return out

@@ -1,0 +1,75 @@
+"""``mbsym simulate --controller nmpc|baseline [--preview S] [--estimator ekf|mhe]``: the CLI contract, in-process.
+
+References: the contract of issue 13 (CSV ``Time_[s]`` then ``<channel>_[<unit>]``; with an estimator
+``<channel>_est`` in the channel's unit for at least RtVAvgxh, TTDspFA, RotSpeed; ``--stats`` keys); the
+steady 14 m/s operation of the built-in NREL 5 MW, where every estimate must equal the channel it
+estimates (the estimator starts at the steady state of the run's first wind); the CLI's error contract
+(exit status 2, one line naming the flag).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from mbsym.cli import main
+
+
+def _run(tmp_path, capsys, *flags):
+    out = tmp_path / "run.csv"
+    assert main(["simulate", "--tmax", "2", "--stats", "--out", str(out), *flags]) == 0
+    stats = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    with open(out) as fh:
+        header = next(csv.reader(fh))
+    return stats, header, np.loadtxt(out, delimiter=",", skiprows=1)
+
+
+def test_nmpc_with_preview_stats_and_csv(tmp_path, capsys):
+    stats, header, data = _run(tmp_path, capsys, "--wind", "steady:14", "--controller", "nmpc", "--preview", "5")
+    assert stats["controller"] == "nmpc" and stats["method"] == "rk4" and stats["steps"] == 200
+    for key in ("integration_wall_s", "prepare_wall_s", "controller_step_median_s", "controller_step_max_s"):
+        assert stats[key] > 0
+    assert stats["controller_failures"] == 0 and "estimator_step_median_s" not in stats
+    assert header[0] == "Time_[s]" and "GenSpeed_[rpm]" in header and "TwrBsMyt_[kN-m]" in header
+    assert not any(h.split("_[")[0].endswith("_est") for h in header)
+    speed = data[:, header.index("GenSpeed_[rpm]")]
+    assert np.max(np.abs(speed - 122.90967 * 30 / np.pi)) < 0.2          # rated, from the steady guess
+
+
+@pytest.mark.parametrize("flags, kind", [(["--controller", "nmpc"], "ekf"),
+                                         (["--controller", "nmpc", "--estimator", "mhe"], "mhe"),
+                                         (["--controller", "baseline", "--estimator", "ekf"], "ekf")])
+def test_estimates_are_channels_in_the_same_units(tmp_path, capsys, flags, kind):
+    stats, header, data = _run(tmp_path, capsys, "--wind", "steady:14", *flags)
+    assert stats["estimator"] == kind                                     # nmpc alone: the EKF by default
+    assert stats["estimator_step_median_s"] > 0 and stats["estimator_step_max_s"] >= stats["estimator_step_median_s"]
+    assert "controller_step_median_s" in stats and "controller_failures" in stats
+    for name in ("RtVAvgxh", "TTDspFA", "RotSpeed", "Wind1VelX"):
+        [plain] = [h for h in header if h.startswith(f"{name}_[")]
+        unit = plain[len(name) + 1:]
+        assert f"{name}_est_{unit}" in header                             # same unit
+        a, b = data[:, header.index(plain)], data[:, header.index(f"{name}_est_{unit}")]
+        scale = max(1.0, float(np.abs(a).max()))
+        assert np.max(np.abs(a - b)) < 2e-3 * scale                       # steady: estimate = truth
+
+
+@pytest.mark.parametrize("flags, match", [
+    (["--controller", "baseline", "--preview", "5"], "--preview"),
+    (["--controller", "nmpc", "--preview", "-1"], "--preview"),
+    (["--controller", "nmpc", "--preview", "nan"], "--preview"),
+    (["--controller", "none", "--estimator", "ekf"], "--estimator"),
+    (["--controller", "nmpc", "--accuracy", "1e-3"], "--accuracy"),
+    (["--controller", "nmpc", "--preview", "2", "--method", "rk4"], "--method"),
+])
+def test_bad_options_are_one_line_errors(flags, match, capsys):
+    assert main(["simulate", "--wind", "steady:14", "--tmax", "1", *flags]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and match in err[0]
+
+
+def test_unknown_estimator_is_a_usage_error(capsys):
+    assert main(["simulate", "--wind", "steady:14", "--controller", "nmpc", "--estimator", "kalman"]) == 2
+    assert "--estimator" in capsys.readouterr().err

@@ -1,0 +1,97 @@
+"""Turbine state and rotor-effective wind estimators (EKF, MHE) on the prediction model's estimation form.
+
+Reference: the truth of the simulation itself — the plant (GenDOF, TwFADOF1, TwSSDOF1, dynamic inflow)
+held at its steady state in a constant wind, its noise-free measurements (generator speed, tower-top
+acceleration, pitch, torque) fed to the estimator started from a wrong wind (11 instead of 14 m/s) and
+a deflected tower. The estimation model has no side-side mode; that mode carries no fore-aft
+information, so the constant wind and the tower's static deflection must be recovered exactly up to the
+plant's steady-state residual.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from _mpc_setup import turbine
+
+
+def _steady_run(wind: float, tmax: float):
+    from mbsym.wind.operation.simulation import simulate_turbine
+    from mbsym.wind.operation.steady import steady_guess
+
+    t = turbine()
+    x0 = steady_guess(t.plant, wind).state
+    dt = 0.05
+    res = simulate_turbine(t.plant, wind, tmax, x0=x0, t_out=np.arange(0.0, tmax + 1e-9, dt))
+    return res, dt
+
+
+@pytest.mark.parametrize("kind", ["ekf", "mhe"])
+def test_estimator_recovers_a_constant_wind_from_noise_free_measurements(kind):
+    from mbsym.wind.mpc.estimator import EstimatorTuning, TurbineEstimator
+
+    t = turbine()
+    res, dt = _steady_run(14.0, 30.0)
+    dyn = t.plant.dynamics()
+    truth = dict(zip(dyn.states, np.asarray(res.x)[-1]))
+    est_states = t.prediction.estimation_states
+    z0 = {s: truth[s] for s in est_states}
+    z0.update(Wind1VelX=11.0, TFA1=truth["TFA1"] + 0.1)          # wrong wind, deflected tower
+    est = TurbineEstimator(t.prediction, kind, tuning=EstimatorTuning(dt=dt, window=10), x0=[*z0.values()],
+                           compile=False)
+    pitch, torque = np.radians(res.output("BldPitch1")), res.output("GenTq") * 1e3
+    for k in range(len(res.t)):
+        z = est.step(res.output("GenSpeed")[k], res.output("YawBrTAxp")[k], pitch[k], torque[k])
+    got = dict(zip(est.names, z))
+    assert got["Wind1VelX"] == pytest.approx(14.0, abs=0.02)                 # m/s
+    assert got["TFA1"] == pytest.approx(truth["TFA1"], abs=1e-3)               # m
+    assert got["GeAz_d"] == pytest.approx(truth["GeAz_d"], rel=1e-4)           # rad/s
+    assert est.summary()["failures"] == 0
+
+
+def test_estimator_options_are_checked():
+    from mbsym.exceptions import ControlDefinitionError
+    from mbsym.wind.mpc.estimator import EstimatorTuning, TurbineEstimator
+
+    t = turbine()
+    with pytest.raises(ControlDefinitionError, match="ekf"):
+        TurbineEstimator(t.prediction, "ukf")
+    with pytest.raises(ControlDefinitionError, match="window"):
+        EstimatorTuning(window=0)
+    with pytest.raises(ControlDefinitionError, match="wind_walk"):
+        EstimatorTuning(wind_walk=float("nan"))
+    with pytest.raises(TypeError, match="EstimatorTuning"):
+        TurbineEstimator(t.prediction, "ekf", tuning={"dt": 0.05})
+
+
+@pytest.mark.slow
+def test_nmpc_on_its_own_wind_estimate_stays_with_the_true_wind_in_turbulence():
+    """Closed loop NMPC + EKF (no preview), Kaimal 8 m/s (IEC class B, seed 11), 360 s, sensor noise on.
+
+    Reference: the true wind of the simulation. With a random-walk step of 0.25 m/s per sample the
+    estimate and the NMPC's torque oscillated (3 s period, ±2.5 m/s) and at 335 s the estimate fell
+    to 0.7 m/s and the rotor to 450 rpm (measured); the default tuning keeps the estimate within
+    0.5 m/s RMS (0.29 m/s, correlation 0.98, measured over 600 s).
+    """
+    from mbsym.wind.inflow import kaimal_wind
+    from mbsym.wind.mpc import NMPCTuning, SensorNoise, TurbineEstimator, TurbineLoop, TurbineNMPC, simulate_with_loop
+    from mbsym.wind.operation.steady import steady_guess
+
+    t = turbine()
+    sigma = 0.14 * (0.75 * 8.0 + 5.6)                       # IEC 61400-1 NTM, class B [m/s]
+    wind = kaimal_wind(8.0, sigma / 8.0, 11, duration=360.0)
+    x0 = steady_guess(t.plant, float(wind(0.0))).state
+    dyn = t.plant.dynamics()
+    z0 = [x0[dyn.states.index(s)] for s in t.prediction.estimation_states] + [float(wind(0.0))]
+    est = TurbineEstimator(t.prediction, "ekf", x0=z0)
+    nmpc = TurbineNMPC(t.prediction, t.setpoints, tuning=NMPCTuning.estimated_wind(), references=t.references)
+    noise = SensorNoise(gen_speed=0.5, accel=0.02, pitch=0.05, torque=100.0, seed=11)
+    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est, noise=noise)
+    res = simulate_with_loop(t.plant, wind, 360.0, loop, x0=x0, t_out=np.arange(0.0, 360.0 + 1e-9, 0.05),
+                             compile=True)
+    keep = np.asarray(res.t) >= 30.0
+    err = res.output("Wind1VelX_est")[keep] - res.output("Wind1VelX")[keep]
+    assert np.sqrt(np.mean(err ** 2)) < 0.5                                   # m/s
+    truth = res.output("Wind1VelX")[keep]
+    assert np.corrcoef(truth, truth + err)[0, 1] > 0.95                      # -0.17 over 600 s in the runaway

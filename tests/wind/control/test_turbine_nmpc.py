@@ -1,0 +1,153 @@
+"""The turbine NMPC (``mbsym.wind.control``): prediction model, references, closed loop on the full plant.
+
+References: the actuator equations in closed form (docs/operation.md §4: inside its limits the pitch
+actuator is ``β̈ = ω²(β_c − β) − 2ζωβ̇``, the torque actuator ``Ṫ = (T_c − T)/τ``); the rated operation
+of the NREL 5 MW from ROSCO 2.10.6's settings (``PC_RefSpd`` 122.90967 rad/s, ``VS_RtPwr`` 5 MW,
+``VS_GenEff`` 94.4 %: ``P = η T ω``); the rotor's steady torque from its own performance surfaces
+(``RotorAero.steady``, independent of the composed graph and the dynamic inflow); the trim of the full
+plant under ROSCO's steady laws (``mbsym.wind.operation.trim``, separate code: Newton on the composed
+model with the controller's regime conditions); the plant's actuator limits (``OperatingTurbine.bounds()``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from _mpc_setup import nmpc_default, turbine
+
+RATED_RPM = 122.90967 * 30.0 / math.pi
+
+
+def test_control_form_moves_the_plant_actuators_exactly_at_the_rates():
+    """With β̇ = r and β_c = β + (2ζ/ω) r the pitch actuator has β̈ = 0; with T_c = T + τ r_T, Ṫ = r_T."""
+    t = turbine()
+    pred, full = t.prediction, t.prediction.full
+    x = dict(zip(full.states, full.x0))
+    x.update(TFA1=0.21, TFA1_d=-0.03, GeAz_d=1.21, GeAz=0.7, BlPitch=0.12, GenTq=41000.0, DBEMT_w=0.4,
+             DBEMT_v=1.1)
+    rb, rt = 0.05, -2500.0
+    x["BlPitch_d"] = rb
+    p = dict(zip(full.parameters, full.parameter_vector()))
+    demand = [13.0, x["BlPitch"] + 2 * p["pitch_damping"] / p["pitch_frequency"] * rb,
+              x["GenTq"] + p["torque_time_constant"] * rt]
+    xd_full = dict(zip(full.states, full.rhs_value([x[s] for s in full.states], demand)))
+    # the plant's actuator equations in closed form (inside the limits)
+    w, z, tau = p["pitch_frequency"], p["pitch_damping"], p["torque_time_constant"]
+    assert w ** 2 * (demand[1] - x["BlPitch"]) - 2 * z * w * rb == pytest.approx(0.0, abs=1e-12)
+    assert xd_full["BlPitch_dd" if "BlPitch_dd" in xd_full else "BlPitch_d"] == pytest.approx(0.0, abs=1e-9)
+    assert xd_full["GenTq"] == pytest.approx((demand[2] - x["GenTq"]) / tau, rel=1e-12)
+    xr = [x[s] for s in pred.states]
+    xd = dict(zip(pred.states, pred.control.rhs_value(xr, [13.0, rb, rt])))
+    assert xd["BlPitch"] == rb and xd["GenTq"] == rt
+    for s in ("TFA1", "TFA1_d", "GeAz_d", "DBEMT_w", "DBEMT_v"):      # the structure and inflow as in the plant
+        assert xd[s] == pytest.approx(xd_full[s], rel=1e-12, abs=1e-12)
+
+
+def test_reference_state_is_the_rated_equilibrium_at_14_mps():
+    t = turbine()
+    x = t.references.state(14.0)
+    dyn = t.prediction.control
+    assert np.max(np.abs(dyn.rhs_value(x, [14.0, 0.0, 0.0]))) < 1e-7          # an equilibrium of the model
+    y = dict(zip(dyn.output_names, dyn.output_value(x, [14.0, 0.0, 0.0])))
+    assert y["GenSpeed"] == pytest.approx(RATED_RPM, rel=1e-9)
+    assert y["GenPwr"] == pytest.approx(5000.0, rel=1e-9)                      # η T ω = VS_RtPwr
+    assert y["GenTq"] * 1e3 * 0.944 * 122.90967 == pytest.approx(5e6, rel=1e-6)
+    # the rotor's own steady surfaces: aerodynamic torque = N T_gen at the relative wind, speed and pitch
+    steady = t.plant.rotor.steady(y["RtVAvgxh"], y["RotSpeed"] * math.pi / 30, math.radians(y["BldPitch1"]))
+    assert float(steady["torque"]) == pytest.approx(97.0 * y["GenTq"] * 1e3, rel=1e-3)   # DBEMT at rest: 0.04 %
+    assert 7.0 < y["BldPitch1"] < 10.0
+
+
+def test_region_2_reference_is_the_best_tip_speed_ratio_at_fine_pitch():
+    t = turbine()
+    sp = t.setpoints
+    tsr = np.linspace(5, 10, 501)
+    cp = t.plant.rotor.steady(8.0, tsr * 8.0 / sp.radius, 0.0)["cp"]
+    assert sp.optimal_tsr == pytest.approx(tsr[np.argmax(cp)], abs=0.02)
+    assert t.references("BldPitch1", 8.0) == 0.0
+    rot = t.references("GenSpeed", 8.0) * math.pi / 30 / sp.gearbox_ratio
+    assert rot * sp.radius / 8.0 == pytest.approx(sp.optimal_tsr, rel=1e-9)
+
+
+def _closed_loop(wind, tmax, **loop):
+    from mbsym.wind.mpc.loop import TurbineLoop
+    from mbsym.wind.mpc.simulation import simulate_with_loop
+    from mbsym.wind.operation.steady import steady_guess
+
+    t = turbine()
+    mpc = nmpc_default()
+    mpc.reset()
+    lp = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=mpc, wind=wind, **loop)
+    x0 = steady_guess(t.plant, float(wind(0.0))).state
+    return simulate_with_loop(t.plant, wind, tmax, lp, x0=x0, t_out=np.arange(0, tmax + 1e-9, 0.05), compile=False)
+
+
+def test_nmpc_holds_the_rated_state_in_a_steady_14_mps_wind():
+    from mbsym.wind.inflow import parse_wind_spec
+
+    from mbsym.wind.operation import SteadyControl, trim
+
+    t = turbine()
+    point = trim(t.plant, 14.0, SteadyControl.nrel5mw())              # region 3: rated speed and power
+    assert point.success and point.region == "3"
+    res = _closed_loop(parse_wind_spec("steady:14"), 15.0, preview=5.0)
+    late = res.t > 10.0
+    assert np.max(np.abs(res.output("GenSpeed")[late] - point["GenSpeed"])) < 0.05      # rpm
+    assert np.max(np.abs(res.output("GenPwr")[late] - point["GenPwr"])) < 1.0            # kW
+    assert np.max(np.abs(res.output("BldPitch1")[late] - point["BldPitch1"])) < 0.01     # deg
+    assert np.max(np.abs(res.output("TTDspFA")[late] - point["TTDspFA"])) < 1e-3         # m
+    assert np.max(np.abs(res.output("TwrBsMyt")[late] / point["TwrBsMyt"] - 1)) < 1e-3
+    assert point["GenSpeed"] == pytest.approx(RATED_RPM, rel=1e-6)
+    assert res.statistics["controller_failures"] == 0
+
+
+def test_nmpc_respects_pitch_and_torque_limits_and_rates_in_a_wind_step():
+    """A 10 -> 20 m/s step asks for more pitch rate than the actuator has: rates saturate, never pass."""
+    from mbsym.wind.inflow import parse_wind_spec
+
+    t = turbine()
+    b = t.plant.bounds()
+    res = _closed_loop(parse_wind_spec("step:10:20:2"), 10.0, preview=1.0)
+    dyn = t.plant.dynamics()
+    X = np.asarray(res.x)
+    rate = X[:, dyn.states.index("BlPitch_d")]
+    pitch = X[:, dyn.states.index("BlPitch")]
+    torque = X[:, dyn.states.index("GenTq")]
+    tol = 1e-3 * (b["BlPitch_d"][1] - b["BlPitch_d"][0])               # the smooth saturation's blend (δ)
+    assert rate.max() > 0.9 * b["BlPitch_d"][1]                        # the limit is reached ...
+    assert rate.max() <= b["BlPitch_d"][1] + tol and rate.min() >= b["BlPitch_d"][0] - tol   # ... not passed
+    assert pitch.min() >= b["BlPitch"][0] - 1e-4 and pitch.max() <= b["BlPitch"][1]
+    assert torque.min() >= b["GenTq"][0] and torque.max() <= b["GenTq"][1] + 1.0
+    torque_rate = np.diff(torque) / np.diff(res.t)
+    assert np.max(np.abs(torque_rate)) <= b["GenTq_d"][1] * 1.001
+    plan = nmpc_default().nmpc.stats                                   # every QP solved
+    assert all(s.success for s in plan)
+    assert abs(res.output("GenSpeed")[-1] / RATED_RPM - 1) < 0.01      # back at rated 8 s after the step
+
+
+def test_bad_tuning_and_loop_options_are_typed_errors():
+    from mbsym.exceptions import ControlDefinitionError, ModelDefinitionError, SimulationOptionError
+    from mbsym.wind.mpc.loop import SensorNoise, TurbineLoop
+    from mbsym.wind.mpc.nmpc import NMPCTuning, TurbineNMPC
+    from mbsym.wind.mpc.prediction import PredictionModel
+
+    t = turbine()
+    with pytest.raises(ControlDefinitionError, match="horizon"):
+        NMPCTuning(horizon=0)
+    with pytest.raises(ControlDefinitionError, match="speed_scale"):
+        NMPCTuning(speed_scale=-1.0)
+    with pytest.raises(ModelDefinitionError, match="GenDOF"):
+        PredictionModel(t.plant, dofs=["TwFADOF1"])
+    with pytest.raises(TypeError, match="PredictionModel"):
+        TurbineNMPC(t.plant, t.setpoints)
+    with pytest.raises(SimulationOptionError, match="preview .* or an estimator"):
+        TurbineLoop(t.plant, 0.01, nmpc=nmpc_default())
+    with pytest.raises(SimulationOptionError, match="multiple"):
+        TurbineLoop(t.plant, 0.03, nmpc=nmpc_default(), preview=1.0, wind=lambda s: 12.0)
+    with pytest.raises(SimulationOptionError, match="finite number"):
+        TurbineLoop(t.plant, 0.01, nmpc=nmpc_default(), preview=-2.0, wind=lambda s: 12.0)
+    with pytest.raises(SimulationOptionError, match="standard deviation"):
+        SensorNoise(gen_speed=-1.0)
