@@ -20,7 +20,6 @@ import argparse
 import multiprocessing as mp
 import statistics
 import time
-from pathlib import Path
 
 import numpy as np
 from _report import write_section

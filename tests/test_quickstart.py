@@ -12,7 +12,6 @@ import sys as _sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import mbsym as mb
 from mbsym.cli import main
