@@ -6,28 +6,9 @@ aerodynamic states, are simulated), an object with a hook ``dynamics() ->
 Dynamics``, an :class:`~mbsym.equations.EquationsOfMotion`, or any object with
 an attribute ``eom`` holding one (a wind-turbine model, say). :func:`plant_of`
 turns each into the :class:`Plant` the methods integrate. An object with ``eom``
-(or ``dynamics()``) may also provide these optional hooks; each is called once per
-:func:`~mbsym.simulate` call:
-
-``default_state() -> array (n_x) or dict by state name``
-    Initial state used when ``x0`` is not given, and the values of the states
-    a dict ``x0`` leaves out (without the hook: zeros).
-``default_parameters() -> dict by parameter name``
-    Parameter values that override the model's own defaults; ``p=`` overrides
-    both.
-``default_inputs() -> dict by input name``
-    Input values in any form ``inputs=`` accepts in a dict (numbers, tables,
-    callables of time, e.g. a prescribed rotor azimuth). A dict ``inputs=``
-    overrides them name by name; an array ``inputs=`` replaces them all.
-``output_function() -> casadi.Function``
-    ``(x, u, p) -> y`` with column vectors ``x (n_x)``, ``u (n_u)``,
-    ``p (n_p)``. Either one output ``y (n_y)`` whose channel names are the
-    model's attribute ``output_names`` (a sequence of n_y str), or one scalar
-    output per channel, named by the Function's output names
-    (``Function.name_out()``) unless ``output_names`` is given. The hook may
-    instead return an object with attributes ``function`` (that Function) and
-    ``names`` (the channel names). Build it once and return the same object on
-    every call.
+(or ``dynamics()``) may also provide the optional hooks of the model protocol
+(``default_state``, ``default_parameters``, ``default_inputs``, ``output_function``; described in
+:mod:`mbsym.protocol`); each is called once per :func:`~mbsym.simulate` call.
 """
 
 from __future__ import annotations
@@ -43,7 +24,7 @@ from ..dynamics import Dynamics
 from ..equations import EquationsOfMotion
 from ..exceptions import ParameterError
 from .base import compile_key, maybe_compile, prepared
-from ..protocol import initial_state, read_hooks  # noqa: F401  (initial_state re-exported)
+from ..protocol import ModelHooks, initial_state, read_hooks  # noqa: F401  (initial_state re-exported)
 
 __all__ = ["SimulationModel", "ResolvedModel", "resolve_model", "Plant", "plant_of"]
 
@@ -56,15 +37,8 @@ class SimulationModel(Protocol):
 
 
 @dataclass(frozen=True)
-class ResolvedModel:
-    """The model's equations, default state and parameters, and output function."""
-
-    eom: EquationsOfMotion
-    default_x: np.ndarray
-    default_p: Mapping[str, float]
-    default_u: Mapping[str, Any]
-    output_function: ca.Function | None
-    output_names: tuple[str, ...]
+class ResolvedModel(ModelHooks):
+    """The model's hooks read once (:class:`mbsym.protocol.ModelHooks`), with its outputs at many samples."""
 
     def outputs(self, X: np.ndarray, U: np.ndarray, p: np.ndarray, *, compile: bool | None = False) -> np.ndarray:
         """Outputs at the rows of X (N, n_x) and U (N, n_u), shape (N, n_y) (see :func:`evaluate_outputs`)."""
