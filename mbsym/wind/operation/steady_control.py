@@ -56,6 +56,7 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
+from ..control.settings import DISCON_MAP
 
 __all__ = ["SteadyControl", "Regime", "STEADY_IGNORED_MODES"]
 
@@ -65,17 +66,13 @@ STEADY_IGNORED_MODES = ("IPC_ControlMode", "Y_ControlMode", "SU_Mode", "SD_Mode"
 #: Modes that change the steady state and are not modelled: key -> accepted values.
 _REFUSED = {"PRC_Mode": (0,), "OL_Mode": (0,), "VS_FBP": (0,), "PF_Mode": (0,), "VS_ControlMode": (1, 2, 3),
             "PC_ControlMode": (0, 1), "WE_Mode": (0, 1, 2)}
-#: DISCON.IN key -> SteadyControl attribute (the same names as BaselineSettings where they overlap).
-_KEYS = {
-    "VS_ControlMode": "torque_mode", "PC_RefSpd": "pitch_reference_speed", "PC_FinePit": "fine_pitch",
-    "PC_MinPit": "pitch_min", "PC_MaxPit": "pitch_max", "PC_Switch": "region3_pitch_margin",
-    "VS_ArSatTq": "region25_torque_max", "VS_MaxTq": "torque_max", "VS_MinTq": "torque_min",
-    "VS_MinOMSpd": "min_generator_speed", "VS_Rgn2K": "region2_gain", "VS_RtPwr": "rated_power",
-    "VS_RtTq": "rated_torque", "VS_RefSpd": "rated_generator_speed", "VS_TSRopt": "optimal_tsr",
-    "SS_VSGain": "smoother_torque_gain", "SS_PCGain": "smoother_power_gain", "WE_BladeRadius": "rotor_radius",
-    "WE_GearboxRatio": "gearbox_ratio", "WE_RhoAir": "air_density", "WE_Mode": "wind_estimator",
-    "PS_WindSpeeds": "min_pitch_wind_speeds", "PS_BldPitchMin": "min_pitch_schedule",
-}
+#: DISCON.IN key -> SteadyControl attribute: the baseline controller's names (settings.DISCON_MAP) of the keys
+#: a steady state depends on.
+_STEADY_KEYS = ("VS_ControlMode", "PC_RefSpd", "PC_FinePit", "PC_MinPit", "PC_MaxPit", "PC_Switch", "VS_ArSatTq",
+                "VS_MaxTq", "VS_MinTq", "VS_MinOMSpd", "VS_Rgn2K", "VS_RtPwr", "VS_RtTq", "VS_RefSpd", "VS_TSRopt",
+                "SS_VSGain", "SS_PCGain", "WE_BladeRadius", "WE_GearboxRatio", "WE_RhoAir", "WE_Mode",
+                "PS_WindSpeeds", "PS_BldPitchMin")
+_KEYS = {key: DISCON_MAP[key] for key in _STEADY_KEYS}
 #: The set-point smoother's pitch normalization [rad] (ROSCO: "normalize to 30 degrees").
 _SMOOTHER_PITCH = 0.524
 #: ROSCO's estimator torque floor, as a fraction of VS_RtTq.
