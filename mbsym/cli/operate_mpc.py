@@ -11,7 +11,8 @@ Contract (kept for acceptance checks)::
 * ``--preview S``: an ideal lidar: the NMPC knows the true hub wind for the next S seconds (held
   after that) and, without ``--estimator``, the plant's true state (ideal state feedback).
 * ``--estimator ekf|mhe``: the state and rotor-effective wind estimated at 20 Hz from generator speed,
-  tower-top acceleration, pitch and torque; the NMPC uses the estimate (and the estimated wind when
+  tower-top acceleration, pitch and torque (on the prediction model with the first side-side tower
+  mode added, :func:`mbsym.wind.mpc.estimation_model`); the NMPC uses the estimate (and the estimated wind when
   there is no preview). With ``--controller baseline`` the baseline keeps its own measurements and
   the estimates are only reported.
 * ``--controller nmpc`` with neither ``--preview`` nor ``--estimator`` uses the EKF (a turbine
@@ -64,7 +65,7 @@ class MpcOptions:
     def loop(self, deck, model, wind):
         """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model``."""
         from ..wind.control.baseline import BaselineController
-        from ..wind.mpc.estimator import TurbineEstimator
+        from ..wind.mpc.estimator import TurbineEstimator, estimation_model
         from ..wind.mpc.loop import TurbineLoop
         from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
@@ -73,7 +74,8 @@ class MpcOptions:
         prediction = PredictionModel(model)
         estimator = nmpc = baseline = None
         if self.estimator is not None:
-            estimator = TurbineEstimator(prediction, self.estimator, x0=_initial_estimate(model, prediction, wind))
+            observed = estimation_model(model)
+            estimator = TurbineEstimator(observed, self.estimator, x0=_initial_estimate(model, observed, wind))
         settings = deck.baseline_settings()
         if self.controller == "nmpc":
             tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()

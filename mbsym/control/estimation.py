@@ -82,6 +82,10 @@ class EstimationModel:
         Values of the other parameters (model defaults fill the gaps).
     substeps : int, keyword-only
         RK4 sub-steps per sample.
+    compile : bool, keyword-only
+        Compile the linearization to C (codegen cache; default False). An EKF step
+        evaluates the linearization twice; compiled, a 9-state turbine model's costs 0.1 ms instead
+        of about 1 ms in CasADi's virtual machine.
 
     Attributes
     ----------
@@ -95,7 +99,8 @@ class EstimationModel:
     """
 
     def __init__(self, model: Any, *, dt: float, measurements: Sequence[str], unknown_inputs: Sequence[str] = (),
-                 parameters: Sequence[str] = (), p: Mapping[str, float] | None = None, substeps: int = 1) -> None:
+                 parameters: Sequence[str] = (), p: Mapping[str, float] | None = None, substeps: int = 1,
+                 compile: bool = False) -> None:
         dyn: Dynamics = as_dynamics(model)
         self.dynamics = dyn
         self.dt = finite_number(dt, "dt [s]", positive=True)
@@ -115,6 +120,12 @@ class EstimationModel:
         self.p_rest = pv[[dyn.parameters.index(n) for n in self.fixed_parameters]]
         self._p_full = pv
         self._build(substeps)
+        self.compiled = False
+        if compile:
+            from ..codegen import compile_function
+
+            lin = compile_function(self.linearization)        # numeric use only (the filters)
+            self.linearization, self.compiled = lin.function, lin.compiled
 
     @property
     def n_z(self) -> int:

@@ -10,6 +10,14 @@ Measurements: the generator speed ``GenSpeed`` [rpm] and the tower-top fore-aft 
 The estimate ``z`` holds the estimation states (tower, rotor speed, inflow), then ``Wind1VelX``.
 With the measured pitch and torque, :meth:`TurbineEstimator.control_state` completes it to the
 NMPC's state.
+
+The estimator's model carries the **first side-side tower mode** even where the NMPC's does not
+(:data:`ESTIMATOR_DOFS`, :func:`estimation_model`): the generator torque reacts on the tower
+side-side, and the nacelle's roll enters the measured generator speed (relative to the nacelle).
+An NMPC moving the torque on its own estimate excites that mode (0.31 Hz); without it in the
+model, the estimator took the roll for wind, the estimate and the torque oscillated with a 3 s
+period and, in one 8 m/s run, ran away (wind RMS error 0.82 m/s, correlation 0.88 over 600 s; with
+the mode 0.14 m/s, 0.996; measured, docs/turbine_nmpc.md).
 """
 
 from __future__ import annotations
@@ -17,18 +25,38 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, fields
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from ...exceptions import ControlDefinitionError
 
-__all__ = ["TurbineEstimator", "EstimatorTuning", "ESTIMATORS", "ESTIMATOR_MEASUREMENTS"]
+__all__ = ["TurbineEstimator", "EstimatorTuning", "ESTIMATORS", "ESTIMATOR_MEASUREMENTS", "ESTIMATOR_DOFS",
+           "estimation_model"]
 
 #: Estimator kinds.
 ESTIMATORS = ("ekf", "mhe")
 #: Model outputs measured (OpenFAST units).
 ESTIMATOR_MEASUREMENTS = ("GenSpeed", "YawBrTAxp")
+#: ElastoDyn DOFs of the default estimation model (those the plant has; see the module docstring).
+ESTIMATOR_DOFS = ("GenDOF", "TwFADOF1", "TwSSDOF1")
+
+
+def estimation_model(plant, dofs: Sequence[str] = ESTIMATOR_DOFS):
+    """The :class:`~.prediction.PredictionModel` a :class:`TurbineEstimator` of ``plant`` should use.
+
+    Parameters
+    ----------
+    plant : OperatingTurbine
+        The turbine observed.
+    dofs : sequence of str, optional
+        ElastoDyn DOF flags wanted; those the plant does not have are left out (default
+        :data:`ESTIMATOR_DOFS`).
+    """
+    from .prediction import PredictionModel
+
+    on = plant.dofs
+    return PredictionModel(plant, dofs=tuple(d for d in dofs if on.get(d, False)))
 
 
 @dataclass(frozen=True)
@@ -42,12 +70,7 @@ class EstimatorTuning:
     window : int
         MHE window (intervals).
     wind_walk : float
-        Random-walk step of the wind per sample [m/s]. 0.05 m/s (about 0.22 m/s per √s at
-        20 Hz): with the estimate fed to the NMPC, 0.25 m/s let the loop of estimator and
-        controller oscillate (3 s period, ±2.5 m/s) and run away after 335 s at 8 m/s (Kaimal
-        seed 11), 0.1 m/s gave a wind RMS error of 0.74 m/s and 0.05 m/s 0.29 m/s
-        (benchmarks/README.md). With the baseline controller, which does not use the estimate,
-        0.25 m/s tracks faster (0.14 m/s RMS).
+        Random-walk step of the wind per sample [m/s] (0.25 m/s: about 1.1 m/s per √s at 20 Hz).
     speed_noise : float
         Process noise of the rotor speed per sample [rad/s].
     tower_noise : float
@@ -62,7 +85,7 @@ class EstimatorTuning:
 
     dt: float = 0.05
     window: int = 20
-    wind_walk: float = 0.05
+    wind_walk: float = 0.25
     speed_noise: float = 2e-4
     tower_noise: float = 2e-3
     inflow_noise: float = 1e-3
@@ -92,7 +115,7 @@ class TurbineEstimator:
     p : dict, optional, keyword-only
         Parameter values of the prediction model by name.
     compile : bool, optional, keyword-only
-        MHE: compile its solver (default True).
+        Compile the model's step and linearization and, for the MHE, its solver (default True).
 
     Attributes
     ----------
@@ -117,7 +140,7 @@ class TurbineEstimator:
         self.prediction, self.kind, self.tuning = prediction, kind, tuning
         dyn = prediction.estimation
         self.model = EstimationModel(dyn, dt=tuning.dt, measurements=ESTIMATOR_MEASUREMENTS,
-                                     unknown_inputs=["Wind1VelX"], p=p)
+                                     unknown_inputs=["Wind1VelX"], p=p, compile=compile)
         self.p_vector = dyn.parameter_vector(p)
         Q = self._process_noise(dyn.states)
         R = {"GenSpeed": tuning.gen_speed_sd, "YawBrTAxp": tuning.accel_sd}
@@ -170,11 +193,20 @@ class TurbineEstimator:
         """Estimated hub-height wind [m/s]."""
         return float(self.x[-1])
 
-    def control_state(self, pitch: float, torque: float) -> np.ndarray:
-        """The NMPC state (prediction control form) from the estimate and the measured pitch [rad], torque [N m]."""
+    def control_state(self, pitch: float, torque: float, states: Sequence[str] | None = None) -> np.ndarray:
+        """The NMPC state from the estimate and the measured pitch [rad] and torque [N m].
+
+        ``states``: the NMPC prediction model's state names (default: this estimator's prediction
+        model's); each must be estimated here or be ``BlPitch``/``GenTq``.
+        """
         est = dict(zip(self.names, self.x))
         est.update(BlPitch=pitch, GenTq=torque)
-        return np.array([est[s] for s in self.prediction.states])
+        names = self.prediction.states if states is None else tuple(states)
+        missing = [s for s in names if s not in est]
+        if missing:
+            raise ControlDefinitionError(f"the estimator does not estimate {missing}; give it a prediction model "
+                                         f"with those states (estimated: {list(self.names)}).")
+        return np.array([est[s] for s in names])
 
     def failures(self) -> int:
         return int(getattr(self.filter, "failures", 0))

@@ -138,6 +138,11 @@ class TurbineLoop:
         if missing:
             raise SimulationOptionError(f"the plant has no states {missing} of the prediction model; the prediction "
                                         "model's DOFs must be a subset of the plant's.")
+        if nmpc is not None and estimator is not None:
+            unseen = [s for s in nmpc.prediction.states if s not in estimator.names and s not in ("BlPitch", "GenTq")]
+            if unseen:
+                raise SimulationOptionError(f"the estimator does not estimate the NMPC's states {unseen}; give it a "
+                                            "prediction model with the NMPC's DOFs (estimation_model(plant)).")
         self.measurements = LOOP_CHANNELS + self._state_names
         self._law_time: list[float] = []
         self._base_fn = None
@@ -225,7 +230,7 @@ class TurbineLoop:
 
     def _nmpc_state(self, y, pitch: float, torque: float) -> np.ndarray:
         if self.estimator is not None:
-            return self.estimator.control_state(pitch, torque)
+            return self.estimator.control_state(pitch, torque, self.prediction.states)
         values = dict(zip(self._state_names, y[len(LOOP_CHANNELS):]))
         values["GenTq"] = torque
         values["BlPitch"] = pitch

@@ -38,7 +38,7 @@ from ...exceptions import ModelDefinitionError, ParameterError
 
 __all__ = ["PredictionModel", "PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS"]
 
-#: ElastoDyn DOFs of the default prediction model (the fidelity ladder's choice, docs/control.md).
+#: ElastoDyn DOFs of the default prediction model (the fidelity ladder's choice, docs/turbine_nmpc.md).
 PREDICTION_DOFS = ("GenDOF", "TwFADOF1")
 #: Inputs of :attr:`PredictionModel.control`.
 CONTROL_INPUTS = ("Wind1VelX", "BlPitchRate", "GenTqRate")

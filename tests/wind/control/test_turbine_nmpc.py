@@ -1,4 +1,4 @@
-"""The turbine NMPC (``mbsym.wind.control``): prediction model, references, closed loop on the full plant.
+"""The turbine NMPC (``mbsym.wind.mpc``): prediction model, references, closed loop on the full plant.
 
 References: the actuator equations in closed form (docs/operation.md §4: inside its limits the pitch
 actuator is ``β̈ = ω²(β_c − β) − 2ζωβ̇``, the torque actuator ``Ṫ = (T_c − T)/τ``); the rated operation
