@@ -13,10 +13,14 @@ Controllers:
 * ``ROSCO``: the real ROSCO 2.10.6 library (``libdiscon.so`` from the PyPI wheel, fetched once by
   ``tests/wind/control/_rosco.py``), its NREL 5 MW ``DISCON.IN`` with logging off;
 * ``baseline``: our ROSCO-scheme controller compiled into the loop (same settings);
-* ``NMPC preview``: the NMPC (``mbsym.wind.control.TurbineNMPC``, RTI, 0.1 s, N = 40) with the
+* ``NMPC preview``: the NMPC (``mbsym.wind.mpc.TurbineNMPC``, RTI, 0.1 s, N = 40) with the
   plant's true state and an ideal 5 s preview of the hub wind (a perfect lidar);
-* ``NMPC + MHE`` / ``NMPC + EKF``: the same NMPC with the state and the rotor-effective wind estimated
-  at 20 Hz from generator speed, tower-top acceleration, pitch and torque; no preview.
+* ``NMPC + MHE`` / ``NMPC + EKF``: the same NMPC (``NMPCTuning.estimated_wind()``) with the state and
+  the rotor-effective wind estimated at 20 Hz from generator speed, tower-top acceleration, pitch and
+  torque (``estimation_model``: the prediction model with the first side-side tower mode); no preview;
+* ``baseline + MHE``: our baseline in the Python loop, the MHE beside it (estimates reported only);
+* ``ROSCO, no peak shaving``: the ROSCO library with ``PS_Mode 0`` (the energy reference of an NMPC
+  that has no thrust limit).
 
 Metrics: generator-speed RMS error (against the rated speed at 14 and 18 m/s; at 8 m/s against
 the speed schedule of the measured wind... see README), electrical power mean and standard
@@ -61,6 +65,7 @@ class Setup:
     """The plant, the prediction model, set-points and reference table (built once)."""
 
     def __init__(self) -> None:
+        from mbsym.wind.mpc.estimator import estimation_model
         from mbsym.wind.mpc.prediction import PredictionModel
         from mbsym.wind.mpc.setpoints import SetPoints, reference_table
         from mbsym.wind.operation.deck import builtin_deck
@@ -69,6 +74,7 @@ class Setup:
         self.plant = self.deck.model()
         self.plant.dynamics()
         self.prediction = PredictionModel(self.plant)
+        self.observed = estimation_model(self.plant)          # the estimator's model (+ TwSSDOF1)
         self.setpoints = SetPoints.from_settings(self.deck.baseline_settings(), self.plant.rotor)
         self.references = reference_table(self.prediction, self.setpoints)
 
@@ -78,8 +84,9 @@ class Setup:
         return steady_guess(self.plant, float(wind(0.0))).state
 
 
-def rosco_files() -> tuple[Path, Path] | None:
-    """ROSCO's library and its NREL 5 MW DISCON.IN with logging off (copied next to its Cp table)."""
+def rosco_files(peak_shaving: bool = True) -> tuple[Path, Path] | None:
+    """ROSCO's library and its NREL 5 MW DISCON.IN with logging off (copied next to its Cp table);
+    ``peak_shaving=False`` also sets ``PS_Mode 0`` (no minimum-pitch schedule near rated)."""
     sys.path.insert(0, str(HERE.parent / "tests" / "wind" / "control"))
     import _rosco
 
@@ -87,10 +94,12 @@ def rosco_files() -> tuple[Path, Path] | None:
     src = _rosco.rosco_nrel5mw_discon()
     if lib is None or src is None:
         return None
-    folder = Path(tempfile.gettempdir()) / "mbsym_rosco_nrel5mw"
+    folder = Path(tempfile.gettempdir()) / ("mbsym_rosco_nrel5mw" if peak_shaving else "mbsym_rosco_nrel5mw_ps0")
     folder.mkdir(exist_ok=True)
     text = src.read_text().splitlines()
     text = [("0" + line[1:] if "LoggingLevel" in line and line.lstrip().startswith("1") else line) for line in text]
+    if not peak_shaving:
+        text = [("0" + line.lstrip()[1:] if "! PS_Mode" in line else line) for line in text]
     (folder / "DISCON.IN").write_text("\n".join(text) + "\n")
     cp = src.with_name("Cp_Ct_Cq.NREL5MW.txt")
     if not (folder / cp.name).exists():
@@ -104,7 +113,7 @@ ESTIMATOR_NOISE = dict(gen_speed=0.5, accel=0.02, pitch=0.05, torque=100.0)     
 
 def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: float | None = None,
         estimator: str | None = None, seed: int = 0, prediction=None, noise: bool = True, t_out=None,
-        est_tuning=None):
+        est_tuning=None, est_model=None, peak_shaving: bool = True):
     """One closed-loop run. ``kind``: "rosco", "baseline" (compiled loop), "nmpc", "baseline+est" (our
     baseline in the Python loop beside an estimator). Returns the result (statistics include the loop's)."""
     from mbsym.wind.control import BaselineController, DisconController
@@ -117,7 +126,7 @@ def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: flo
         ctrl = baseline_in_loop(BaselineController(setup.deck.baseline_settings()))
         return simulate_turbine(setup.plant, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True)
     if kind == "rosco":
-        lib, infile = rosco_files()
+        lib, infile = rosco_files(peak_shaving)
         with DisconController(lib, infile, dt=setup.deck.controller_dt) as handle:
             timed = _timed_law(discon_in_loop(handle))
             res = simulate_turbine(setup.plant, wind, tmax, controller=timed, x0=x0, t_out=t_out, compile=True)
@@ -129,8 +138,9 @@ def run(setup: Setup, kind: str, wind, tmax: float, *, tuning=None, preview: flo
     prediction = setup.prediction if prediction is None else prediction
     est = None
     if estimator is not None:
-        est = TurbineEstimator(prediction, estimator, tuning=est_tuning,
-                               x0=_initial_estimate(setup, x0, float(wind(0.0)), prediction))
+        observed = setup.observed if est_model is None else est_model
+        est = TurbineEstimator(observed, estimator, tuning=est_tuning,
+                               x0=_initial_estimate(setup, x0, float(wind(0.0)), observed))
     nmpc = baseline = None
     if kind == "nmpc":
         refs = setup.references if prediction is setup.prediction else None
@@ -214,6 +224,7 @@ def estimator_errors(res, keep) -> dict:
 # ------------------------------------------------------------------ stages
 KINDS = {                       # label -> run() options
     "ROSCO": dict(kind="rosco"),
+    "ROSCO, no peak shaving": dict(kind="rosco", peak_shaving=False),
     "baseline": dict(kind="baseline"),
     "NMPC preview": dict(kind="nmpc", preview=5.0),
     "NMPC + MHE": dict(kind="nmpc", estimator="mhe"),
@@ -265,7 +276,7 @@ def closed_loop_stage(setup, store, speeds, seeds, tmax, labels) -> None:
                 store.add(row)
 
 
-TRADEOFF = {"NMPC preview": [1.0, 1.5, 2.5, 4.0, 8.0], "NMPC + MHE": [0.4, 0.55, 0.7, 0.9, 1.2]}
+TRADEOFF = {"NMPC preview": [1.0, 1.5, 2.5, 4.0, 8.0], "NMPC + MHE": [0.4, 0.5, 0.57, 0.7, 0.9]}
 
 
 def tradeoff_stage(setup, store, seeds, tmax, wind_speed: float = 14.0) -> None:

@@ -9,7 +9,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 FIG = HERE / "figures"
-ORDER = ("ROSCO", "baseline", "NMPC preview", "NMPC + MHE", "NMPC + EKF", "baseline + MHE")
+ORDER = ("ROSCO", "baseline", "NMPC preview", "NMPC + MHE", "NMPC + EKF", "baseline + MHE", "ROSCO, no peak shaving")
 METRICS = (("speed_rms_rpm", "speed RMS err [rpm]", "{:.1f}"), ("power_mean_kw", "power mean [kW]", "{:.0f}"),
            ("power_std_kw", "power std [kW]", "{:.0f}"), ("pitch_travel_deg", "pitch travel [deg]", "{:.0f}"),
            ("pitch_rate_rms_degs", "pitch-rate RMS [deg/s]", "{:.2f}"),
@@ -48,6 +48,8 @@ def closed_loop_tables(rows, tmax) -> str:
                 cells.append(text)
             worst = max(r.get("controller_step_max_s", np.nan) for r in rs)
             step = f"{1e3 * _mean(rs, 'controller_step_median_s'):.3f} / {1e3 * worst:.1f}"
+            if not np.isfinite(worst):
+                step = "compiled into the loop"
             out.append(f"| {u:g} m/s | {label} | " + " | ".join(cells) + f" | {step} |")
     out += ["", "Per seed (ratios to ROSCO in the same wind: tower-base DEL / speed RMS error / pitch-rate RMS / "
             "energy):", "", "| wind | seed | " + " | ".join(ORDER[1:5]) + " |", "|---|---|" + "---|" * 4]
@@ -74,19 +76,21 @@ def targets_table(rows, tmax) -> str:
         return ""
     ro = {k: _mean(get["ROSCO"], k) for k in ("pitch_rate_rms_degs", "del_twrbsmyt_knm", "speed_rms_rpm",
                                              "power_mean_kw")}
+    nops = _mean(get["ROSCO, no peak shaving"], "power_mean_kw") if get["ROSCO, no peak shaving"] else float("nan")
     lines = ["| 14 m/s, mean of the seeds | pitch-rate RMS vs ROSCO (±10 %) | tower DEL vs ROSCO | speed RMS vs "
-             "ROSCO | energy vs ROSCO (±0.5 %) |", "|---|---|---|---|---|"]
+             "ROSCO | energy vs ROSCO (≥ -0.5 %) | energy vs ROSCO without peak shaving |", "|---|---|---|---|---|---|"]
     for label, del_t, spd_t in (("NMPC preview", -25, -15), ("NMPC + MHE", -10, 0), ("NMPC + EKF", -10, 0)):
         rs = get[label]
         if not rs:
             continue
         d = {k: 100 * (_mean(rs, k) / ro[k] - 1) for k in ro}
+        e_nops = 100 * (_mean(rs, "power_mean_kw") / nops - 1)
         ok = lambda c: "met" if c else "**not met**"  # noqa: E731
         lines.append(f"| {label} (target DEL ≤ {del_t} %, speed ≤ {spd_t} %) | {d['pitch_rate_rms_degs']:+.1f} % "
                      f"({ok(abs(d['pitch_rate_rms_degs']) <= 10)}) | {d['del_twrbsmyt_knm']:+.1f} % "
                      f"({ok(d['del_twrbsmyt_knm'] <= del_t)}) | {d['speed_rms_rpm']:+.1f} % "
                      f"({ok(d['speed_rms_rpm'] <= spd_t)}) | {d['power_mean_kw']:+.2f} % "
-                     f"({ok(abs(d['power_mean_kw']) <= 0.5)}) |")
+                     f"({ok(d['power_mean_kw'] >= -0.5)}) | {e_nops:+.2f} % |")
     return "\n".join(lines)
 
 
