@@ -125,16 +125,7 @@ class _BlockOutputs:
 
 
 def resolve_model(model: Any) -> ResolvedModel:
-    """Apply the model protocol (:func:`mbsym.protocol.read_hooks`) to ``model``.
-
-    Raises
-    ------
-    TypeError
-        If ``model`` is neither an EquationsOfMotion nor has one as ``eom``, or
-        a hook returns the wrong kind of object.
-    DimensionError
-        If the default state or the output function has the wrong sizes.
-    """
+    """Apply the model protocol (:func:`mbsym.protocol.read_hooks`, which lists what it raises) to ``model``."""
     h = read_hooks(model)
     return ResolvedModel(h.eom, h.default_x, h.default_p, h.default_u, h.output_function, h.output_names)
 
