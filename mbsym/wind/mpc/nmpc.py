@@ -220,7 +220,11 @@ class TurbineNMPC:
         wind : float or array (N+1)
             Hub-height wind [m/s] at stages 0..N (one value: constant over the horizon).
         """
-        w = np.broadcast_to(np.asarray(wind, dtype=float).reshape(-1), (self.horizon + 1,))
+        w = np.asarray(wind, dtype=float).reshape(-1)
+        if w.size not in (1, self.horizon + 1) or not np.all(np.isfinite(w)):
+            raise ControlDefinitionError(f"wind must be one finite value or {self.horizon + 1} (stages 0..N) [m/s]; "
+                                         f"got {w.size} values{'' if np.all(np.isfinite(w)) else ' with NaN/inf'}.")
+        w = np.broadcast_to(w, (self.horizon + 1,))
         refs = {k: self.references(k.split(":")[-1], w) for k in self._tracked}
         if "GenPwr" in refs and self.tuning.power_reference == "rated":      # see the module docstring
             refs["GenPwr"] = np.full(w.shape, self.setpoints.rated_power / 1e3)

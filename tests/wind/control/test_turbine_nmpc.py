@@ -151,3 +151,8 @@ def test_bad_tuning_and_loop_options_are_typed_errors():
         TurbineLoop(t.plant, 0.01, nmpc=nmpc_default(), preview=-2.0, wind=lambda s: 12.0)
     with pytest.raises(SimulationOptionError, match="standard deviation"):
         SensorNoise(gen_speed=-1.0)
+    nmpc = nmpc_default()
+    with pytest.raises(ControlDefinitionError, match="stages 0..N"):
+        nmpc.step(np.zeros(len(t.prediction.states)), np.full(3, 12.0))
+    with pytest.raises(ControlDefinitionError, match="NaN"):
+        nmpc.step(np.zeros(len(t.prediction.states)), float("nan"))
