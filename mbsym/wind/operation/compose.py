@@ -42,17 +42,10 @@ class Graph:
         eom = s.eom
         self.model, self.eom, self.kind = model, eom, kind
         nq = eom.n_q
-        extra_states = ["BlPitch", "BlPitch_d", "GenTq"]
-        if not model.spins_freely:
-            extra_states.append("GeAz")
-        if model.dynamic_inflow is not None:
-            extra_states += ["DBEMT_w", "DBEMT_v"]
-        elif model.inflow_lag:
-            extra_states += ["RotThrustLag", "RotTorqLag"]
-        self.states = tuple(eom.states) + tuple(extra_states)
-        self.passthrough = tuple(n for n in eom.inputs if n not in WIRED_INPUTS)
-        self.inputs = ("Wind1VelX", "BlPitchCom", "GenTqCom") + self.passthrough
-        extra_p = ["air_density", "cp_scale", "ct_scale", *ACTUATOR_PARAMETERS]
+        self.states = tuple(eom.states) + tuple(self.extra_states())
+        self.passthrough = tuple(n for n in eom.inputs if n not in self.wired_inputs())
+        self.inputs = tuple(self.wind_inputs()) + ("BlPitchCom", "GenTqCom") + self.passthrough
+        extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
             extra_p.append("rotor_speed")
         self.parameters = tuple(eom.parameters) + tuple(extra_p)
@@ -67,22 +60,55 @@ class Graph:
         self.p_s = self.p[:eom.n_p]
         self._build()
 
+    # ------------------------------------------------------------------ names (hooks of the blade graph)
+    def extra_states(self) -> list[str]:
+        """States after the structure's: actuators, azimuth (GenDOF off), inflow states."""
+        model = self.model
+        extra = ["BlPitch", "BlPitch_d", "GenTq"]
+        if not model.spins_freely:
+            extra.append("GeAz")
+        if model.dynamic_inflow is not None:
+            extra += ["DBEMT_w", "DBEMT_v"]
+        elif model.inflow_lag:
+            extra += ["RotThrustLag", "RotTorqLag"]
+        return extra
+
+    def wired_inputs(self) -> tuple[str, ...]:
+        """Structural inputs driven by the composition."""
+        return WIRED_INPUTS
+
+    def wind_inputs(self) -> tuple[str, ...]:
+        """The wind inputs (first inputs of the Dynamics)."""
+        return ("Wind1VelX",)
+
+    def aero_parameters(self) -> tuple[str, ...]:
+        return ("air_density", "cp_scale", "ct_scale")
+
     # ------------------------------------------------------------------ graph
     def _build(self) -> None:
+        self._build_drive()
+        self._build_aero()
+        self.u_s = self.structural_inputs(**self.loads)
+        self.qdd = self._accelerations()
+        self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
+
+    def _build_drive(self) -> None:
+        """Actuators, rotor and generator speeds."""
         model, eom, X, U, P = self.model, self.eom, self.X, self.U, self.P
         width = model.saturation_width
         beta, beta_d = X["BlPitch"], X["BlPitch_d"]
         self.beta_dd = pitch_actuator_rhs(beta, beta_d, U["BlPitchCom"], P, width)
         self.torque_d = torque_actuator_rhs(X["GenTq"], U["GenTqCom"], P, width)
         # rotor speed about the shaft [rad/s] (LSS) and generator speed relative to the nacelle (HSS)
-        if model.spins_freely:
-            coords = eom.coordinates
-            geaz_d = self.qd[coords.index("GeAz")]
-            hub_d = geaz_d + (self.qd[coords.index("DrTr")] if "DrTr" in coords else 0.0)
-        else:
-            geaz_d = P["rotor_speed"]
-            hub_d = geaz_d + (self.qd[eom.coordinates.index("DrTr")] if "DrTr" in eom.coordinates else 0.0)
+        coords = eom.coordinates
+        geaz_d = self.qd[coords.index("GeAz")] if model.spins_freely else P["rotor_speed"]
+        hub_d = geaz_d + (self.qd[coords.index("DrTr")] if "DrTr" in coords else 0.0)
         self.rotor_speed, self.generator_speed = hub_d, model.gearbox_ratio * geaz_d
+
+    def _build_aero(self) -> None:
+        """Rotor-effective loads: thrust and torque on the hub from the relative wind along the shaft."""
+        model, X, U, P = self.model, self.X, self.U, self.P
+        beta, hub_d = X["BlPitch"], self.rotor_speed
         # structural inputs without loads: kinematics of the apex and the shaft axis
         zero_loads = self.structural_inputs(thrust=0.0, torque=0.0)
         hub = self._kinematics("hub", zero_loads)
@@ -107,15 +133,13 @@ class Graph:
             self.inflow_steady = ca.vertcat(self.aero["thrust"], self.aero["torque"])
         else:
             self.thrust, self.torque = self.aero["thrust"], self.aero["torque"]
-        self.u_s = self.structural_inputs(thrust=self.thrust, torque=self.torque)
-        self.qdd = self._accelerations()
-        self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
+        self.loads = {"thrust": self.thrust, "torque": self.torque}
 
-    def structural_inputs(self, *, thrust: Any, torque: Any) -> Any:
-        """The structure's input vector ``u_s`` (see the module docstring)."""
+    def structural_inputs(self, *, thrust: Any, torque: Any, **loads: Any) -> Any:
+        """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
         values = {"BlPitch": X["BlPitch"], "BlPitch_d": X["BlPitch_d"], "BlPitch_dd": self.beta_dd,
-                  "GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust}
+                  "GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, **loads}
         if not self.model.spins_freely:
             values.update(GeAz=X["GeAz"], GeAz_d=P["rotor_speed"], GeAz_dd=0.0)
         rows = [values[n] if n in values else U[n] for n in self.eom.inputs]
@@ -145,7 +169,7 @@ class Graph:
         rows = [X["BlPitch_d"], self.beta_dd, self.torque_d]
         if not self.model.spins_freely:
             rows.append(self.P["rotor_speed"])
-        if self.model.dynamic_inflow is not None or self.model.inflow_lag:
+        if hasattr(self, "lag_rhs"):
             rows.append(self.lag_rhs)
         return rows
 

@@ -72,7 +72,7 @@ from ..deck.parameters import TurbineParameters
 #: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
 TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
 
-__all__ = ["TurbineModel", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+__all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
            "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
 
 
@@ -105,6 +105,16 @@ class TurbineModel:
         are unchanged and ``eom.functions.reactions`` gives the moments the support
         exerts to hold them, i.e. minus the tower-base bending moments ``TwrBsMxt``,
         ``TwrBsMyt`` [N m] (:mod:`mbsym.wind.operation.channels`). Default False.
+    blade_loads : bool, optional, keyword-only
+        Loads on every blade as inputs (:data:`BLADE_LOAD_INPUTS`, for blade-element
+        aerodynamics): per blade ``k`` a force ``B{k}AeroFx/Fy/Fz`` [N] at the blade root and a
+        moment ``B{k}AeroMx/My/Mz`` [N m] about it, both in the blade's (pitched) body axes
+        ``j1, j2, j3``, and per elastic coordinate ``c`` of the blade its generalized force
+        ``{c}AeroQ`` [N] (the work of the distributed load on the mode shape). Default False.
+    blade_root_reactions : bool, optional, keyword-only
+        Attach every blade through three *locked* rotations about its root's coned axes
+        ``i1, i2, i3`` (:data:`BLADE_ROOT_LOCKED`, after the tower-base ones): their reactions
+        are minus ElastoDyn's ``RootMxc``, ``RootMyc``, ``RootMzc`` [N m]. Needs ``pitch_input``.
 
     Raises
     ------
@@ -132,7 +142,8 @@ class TurbineModel:
 
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
-                 prescribed_azimuth: bool = False, tower_base_reactions: bool = False) -> None:
+                 prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
+                 blade_loads: bool = False, blade_root_reactions: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
@@ -147,6 +158,11 @@ class TurbineModel:
         self.pitch_input = bool(pitch_input)
         self.prescribed_azimuth = bool(prescribed_azimuth)
         self.tower_base_reactions = bool(tower_base_reactions)
+        self.blade_loads = bool(blade_loads)
+        self.blade_root_reactions = bool(blade_root_reactions)
+        if self.blade_root_reactions and not pitch_input:
+            raise ModelDefinitionError("blade_root_reactions=True needs pitch_input=True (the locked root rotations "
+                                       "carry the pitch bearing).")
         if self.pitch_input and len(set(turbine.initial_conditions.blade_pitch)) > 1:
             raise ModelDefinitionError(
                 f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
@@ -483,12 +499,26 @@ class TurbineModel:
                 # the one prescribed angle through a unit gear ratio.
                 bearing = RigidBody(f"pitch{k + 1}", mass=0.0)
                 R0 = blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)
-                self._add(Revolute(hub, bearing, axis=[0, 0, -1], coordinate=pitch, offset=root, rotation=R0.tolist(),
+                parent, offset, rot = self._blade_root(hub, k, root, R0)
+                self._add(Revolute(parent, bearing, axis=[0, 0, -1], coordinate=pitch, offset=offset, rotation=rot,
                                    gear_ratio=None if k == 0 else 1.0))
                 self._add(Fixed(bearing, blade))
             else:
                 R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
                 self._add(Fixed(hub, blade, offset=root, rotation=R.tolist()))
+
+    def _blade_root(self, hub: Body, k: int, root: list, R0: np.ndarray) -> tuple[Body, list, list]:
+        """Parent, offset and rotation of blade ``k``'s pitch bearing: the hub, or with
+        ``blade_root_reactions`` three locked rotations about the root's i1, i2, i3 axes (reactions)."""
+        if not self.blade_root_reactions:
+            return hub, root, R0.tolist()
+        locks = self.system.locked([f"B{k + 1}{name}" for name in BLADE_ROOT_LOCKED])
+        parent, offset, rot = hub, root, R0.tolist()
+        for axis, lock in zip(np.eye(3), locks):
+            hinge = RigidBody(f"root{k + 1}_{lock.name()}", mass=0.0)
+            self._add(Revolute(parent, hinge, axis=axis.tolist(), coordinate=lock, offset=offset, rotation=rot))
+            parent, offset, rot = hinge, [0.0, 0.0, 0.0], np.eye(3).tolist()
+        return parent, offset, rot
 
     def _pitch(self) -> ca.SX | None:
         """Collective pitch: a prescribed coordinate (``pitch_input``) or None (deck's BlPitch)."""
@@ -511,10 +541,35 @@ class TurbineModel:
             sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
         thrust = sys.inputs("RotThrust")
         sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
+        if self.blade_loads:
+            self._blade_load_inputs()
         if any(self.dofs.get(f) for f in _PLATFORM):
             fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
             sys.add_force(platform, [fx, fy, fz])
             sys.add_torque(platform, [mx, my, mz])
+
+
+    def _blade_load_inputs(self) -> None:
+        """Root force and moment (blade axes) and elastic generalized forces of every blade, as inputs."""
+        sys = self.system
+        for k in range(self.turbine.number_of_blades):
+            blade = self.bodies[f"blade{k + 1}"]
+            names = [f"B{k + 1}Aero{c}" for c in BLADE_LOAD_INPUTS]
+            fx, fy, fz, mx, my, mz = sys.inputs(names)
+            sys.add_force(blade, [fx, fy, fz], frame=blade)
+            sys.add_torque(blade, [mx, my, mz], frame=blade)
+            for c in self.blade_coordinates(k):
+                sys.add_generalized_force(self.coords[c], sys.inputs(f"{c}AeroQ"))
+
+    def blade_coordinates(self, blade: int) -> tuple[str, ...]:
+        """Elastic coordinates of blade ``blade`` (0-based) in the body's shape order (F1, F2, E1)."""
+        return tuple(blade_coordinate(blade, f) for f in BLADE_DOFS if self.dofs.get(f))
+
+
+#: Locked rotations at each blade root about i1, i2, i3 (``blade_root_reactions=True``): ``B{k}`` + these.
+BLADE_ROOT_LOCKED = ("RootRotX", "RootRotY", "RootRotZ")
+#: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
+BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 
 def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:

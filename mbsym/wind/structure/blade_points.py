@@ -1,0 +1,199 @@
+"""Points along a blade of the ElastoDyn-equivalent structure: shapes, kinematics and the loads they carry.
+
+Blade-element aerodynamics evaluates the flow at *its own* nodes (AeroDyn's ``BlSpn``), which are
+not ElastoDyn's structural nodes. OpenFAST moves them by mapping ElastoDyn's blade line mesh onto
+AeroDyn's (displacements interpolated linearly along the span between the structural nodes, the
+root and the tip); :func:`blade_point_shapes` does the same with ElastoDyn's twisted mode shapes
+(:func:`~.elastodyn_bodies.blade_elastodyn_data`): for every point ``z`` [m] from the root, the
+displacement ``Φ(z)`` and slope ``Φ'(z)`` per unit blade coordinate (body axes ``x = j1``,
+``y = j2``) and the axial-shortening matrix ``Ax(z)``. In the blade's body frame a point then sits at
+
+    p(z, q) = [Φx q, Φy q, z − ½ qᵀ Ax q]      (ElastoDyn's exact lumped-node kinematics)
+
+and moves with ``ṗ = [Φx q̇, Φy q̇, −qᵀ Ax q̇]``. :func:`blade_point_kinematics` turns the blade's
+body frame (position, orientation, velocity, angular velocity, ground axes) into the points'
+ground positions, velocities and deflected span tangents; :func:`blade_point_loads` turns loads
+per unit length at the points into the structure's blade-load inputs (:data:`BLADE_LOAD_INPUTS` of
+:class:`~.turbine.TurbineModel`): the resultant force at the root and moment about it (body axes),
+and the generalized force on every elastic coordinate, ``Q_i = Σ_j w_j f_j · ∂p_j/∂q_i``: the
+virtual power of the distributed load, so ``Σ_j w_j f_j·v_j`` equals the power of the inputs
+exactly (tested).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ParameterError
+
+__all__ = ["BladePointShapes", "blade_point_shapes", "blade_point_kinematics", "blade_point_loads"]
+
+
+@dataclass(frozen=True, eq=False)
+class BladePointShapes:
+    """ElastoDyn's blade shapes at given points of one blade (body axes; see the module docstring).
+
+    Attributes
+    ----------
+    span : ndarray (N,)
+        Distance of the points from the blade root along the undeflected axis [m].
+    displacement, slope : ndarray (n_e, N, 2)
+        ``Φ`` [m/m] and ``Φ'`` [1/m] per unit elastic coordinate, components along ``j1``, ``j2``.
+    axial_reduction : ndarray (n_e, n_e, N)
+        ``Ax`` [1/m]: the point moves inward by ``½ qᵀ Ax q``.
+    coordinates : tuple of str
+        The blade's elastic coordinates in shape order (may be empty: rigid blade).
+    """
+
+    span: np.ndarray
+    displacement: np.ndarray
+    slope: np.ndarray
+    axial_reduction: np.ndarray
+    coordinates: tuple[str, ...]
+
+    @property
+    def n_points(self) -> int:
+        return int(self.span.size)
+
+
+def _interp(values: np.ndarray, at: np.ndarray, grid: np.ndarray) -> np.ndarray:
+    """Linear interpolation along the last axis."""
+    flat = values.reshape(-1, values.shape[-1])
+    return np.stack([np.interp(at, grid, row) for row in flat]).reshape(values.shape[:-1] + (at.size,))
+
+
+def blade_point_shapes(structure, blade: int, span) -> BladePointShapes:
+    """Shapes of blade ``blade`` (0-based) of ``structure`` at the points ``span`` [m from the root].
+
+    Parameters
+    ----------
+    structure : TurbineModel
+    blade : int
+    span : array_like
+        Points along the blade, within ``[0, BldFlexL]`` (1 mm tolerance) [m].
+
+    Raises
+    ------
+    ParameterError
+        A point off the blade.
+    """
+    from .elastodyn_bodies import BLADE_DOFS
+
+    z = np.asarray(span, dtype=float).reshape(-1)
+    data = structure.blade_data(blade)
+    length = float(data.length)
+    if z.size == 0 or not np.all(np.isfinite(z)) or z.min() < -1e-3 or z.max() > length + 1e-3:
+        raise ParameterError(f"blade points must lie on the blade, 0 to BldFlexL = {length:g} m from the root; got "
+                             f"{z.min() if z.size else 'none'} to {z.max() if z.size else 'none'} m. Check that the "
+                             "AeroDyn blade (BlSpn) and the ElastoDyn blade have the same length.")
+    z = np.clip(z, 0.0, length)
+    grid = np.concatenate([[0.0], data.span, [length]])
+    flags = [f for f in BLADE_DOFS if structure.dofs.get(f)]
+    idx = [BLADE_DOFS.index(f) for f in flags]
+
+    def with_ends(nodes: np.ndarray, tip: np.ndarray) -> np.ndarray:     # (..., N) -> (..., N + 2)
+        root = np.zeros(nodes.shape[:-1] + (1,))
+        return np.concatenate([root, nodes, tip[..., None]], axis=-1)
+
+    disp = with_ends(np.moveaxis(data.displacement[idx], -1, 1), data.tip_displacement[idx])   # (ne, 2, N+2)
+    slope = with_ends(np.moveaxis(data.slope[idx], -1, 1), data.tip_slope[idx])
+    ax = with_ends(data.axial_reduction[np.ix_(idx, idx)], data.tip_axial_reduction[np.ix_(idx, idx)])
+    return BladePointShapes(span=z, displacement=np.moveaxis(_interp(disp, z, grid), 1, -1),
+                            slope=np.moveaxis(_interp(slope, z, grid), 1, -1), axial_reduction=_interp(ax, z, grid),
+                            coordinates=structure.blade_coordinates(blade))
+
+
+def blade_point_kinematics(shapes: BladePointShapes, frame: dict[str, Any], qe: Any, qde: Any) -> dict[str, Any]:
+    """Ground positions, velocities and span tangents of the points (CasADi expressions).
+
+    Parameters
+    ----------
+    shapes : BladePointShapes
+    frame : dict
+        The blade body frame: ``r`` (3,) origin = root [m], ``R`` (3, 3) body -> ground, ``v`` (3,) [m/s],
+        ``w`` (3,) angular velocity [rad/s], ground axes (``EquationsOfMotion.point_kinematics``).
+    qe, qde : SX (n_e,)
+        The blade's elastic coordinates and speeds, in shape order.
+
+    Returns
+    -------
+    dict
+        ``p`` (3, N) body positions, ``r`` (3, N) ground positions [m], ``v`` (3, N) ground velocities
+        [m/s], ``tangent`` (3, N) unit deflected span direction (ground), ``dp`` list over coordinates of
+        (3, N) ``∂p/∂q_i`` (body axes).
+    """
+    n, ne = shapes.n_points, len(shapes.coordinates)
+    zeros = ca.SX.zeros(1, n)
+    z = ca.DM(shapes.span.reshape(1, -1))
+    px, py, pz = zeros, zeros, z
+    vx, vy, vz = zeros, zeros, zeros
+    sx, sy = zeros, zeros
+    dp = []
+    for i in range(ne):
+        phi = ca.DM(shapes.displacement[i].T)                  # (2, N)
+        slope = ca.DM(shapes.slope[i].T)
+        px, py = px + phi[0, :] * qe[i], py + phi[1, :] * qe[i]
+        vx, vy = vx + phi[0, :] * qde[i], vy + phi[1, :] * qde[i]
+        sx, sy = sx + slope[0, :] * qe[i], sy + slope[1, :] * qe[i]
+        ax_q = sum((ca.DM(shapes.axial_reduction[i, j].reshape(1, -1)) * qe[j] for j in range(ne)), zeros)
+        dp.append(ca.vertcat(phi[0, :], phi[1, :], -ax_q))
+    for i in range(ne):
+        for j in range(ne):
+            axij = ca.DM(shapes.axial_reduction[i, j].reshape(1, -1))
+            pz = pz - 0.5 * axij * qe[i] * qe[j]
+            vz = vz - axij * qe[i] * qde[j]
+    p = ca.vertcat(px, py, pz)
+    pdot = ca.vertcat(vx, vy, vz)
+    R, w = frame["R"], frame["w"]
+    s = R @ p
+    r = ca.repmat(frame["r"], 1, n) + s
+    v = ca.repmat(frame["v"], 1, n) + _cross_columns(w, s) + R @ pdot
+    t_body = ca.vertcat(sx, sy, ca.DM.ones(1, n))
+    tangent = R @ (t_body / ca.repmat(ca.sqrt(ca.sum1(t_body**2)), 3, 1))
+    return {"p": p, "r": r, "v": v, "tangent": tangent, "dp": dp}
+
+
+def _cross_columns(a: Any, B: Any) -> Any:
+    """``a × B[:, j]`` for every column of B."""
+    return ca.vertcat(a[1] * B[2, :] - a[2] * B[1, :], a[2] * B[0, :] - a[0] * B[2, :],
+                      a[0] * B[1, :] - a[1] * B[0, :])
+
+
+def blade_point_loads(kin: dict[str, Any], R: Any, force: Any, moment: Any, weights) -> dict[str, Any]:
+    """The structure's blade-load inputs from loads per unit length at the points.
+
+    Parameters
+    ----------
+    kin : dict
+        From :func:`blade_point_kinematics` (``p``, ``dp``).
+    R : SX (3, 3)
+        The blade body orientation (body -> ground).
+    force, moment : SX (3, N)
+        Force [N/m] and moment [N m/m] per unit length at the points, ground axes.
+    weights : array_like (N,)
+        Integration weights of the points [m] (``Σ w_j f_j`` is the resultant).
+
+    Returns
+    -------
+    dict
+        ``F`` (3,) root force [N] and ``M`` (3,) moment about the root [N m], body axes; ``Q`` list of
+        generalized forces [N] of the elastic coordinates (shape order).
+    """
+    w = ca.DM(np.asarray(weights, dtype=float).reshape(1, -1))
+    f_body = R.T @ force
+    m_body = R.T @ moment
+    fw = f_body * ca.repmat(w, 3, 1)
+    F = ca.sum2(fw)
+    M = ca.sum2(_cross_pairs(kin["p"], fw) + m_body * ca.repmat(w, 3, 1))
+    Q = [ca.sum2(ca.sum1(d * fw)) for d in kin["dp"]]
+    return {"F": F, "M": M, "Q": Q}
+
+
+def _cross_pairs(A: Any, B: Any) -> Any:
+    """Column-wise ``A[:, j] × B[:, j]``."""
+    return ca.vertcat(A[1, :] * B[2, :] - A[2, :] * B[1, :], A[2, :] * B[0, :] - A[0, :] * B[2, :],
+                      A[0, :] * B[1, :] - A[1, :] * B[0, :])
