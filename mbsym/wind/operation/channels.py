@@ -65,15 +65,14 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
 
 def _operation(g) -> dict[str, Any]:
     model, eom, X, U, P = g.model, g.eom, g.X, g.U, g.P
-    rotor = model.rotor
-    R = rotor.radius
+    R = model.rotor.radius
     u = g.aero["u"]                                       # floored relative wind [m/s]
     omega = g.rotor_speed
     dyn = 0.5 * P["air_density"] * math.pi * R**2 * u**2
     ct, cq = g.thrust / dyn, g.torque / (dyn * R)
     tsr = omega * R / u
     gen_tq = X["GenTq"]
-    out = {"Wind1VelX": U["Wind1VelX"], "RtVAvgxh": g.u_rel, "RtTSR": tsr, "RtAeroCp": tsr * cq, "RtAeroCt": ct,
+    out = {"Wind1VelX": g.hub_wind_x, "RtVAvgxh": g.u_rel, "RtTSR": tsr, "RtAeroCp": tsr * cq, "RtAeroCt": ct,
            "RtAeroCq": cq, "RtAeroFxh": g.thrust, "RtAeroMxh": g.torque, "RtAeroPwr": omega * g.torque,
            "GenTq": gen_tq / 1e3, "GenPwr": P["generator_efficiency"] * gen_tq * g.generator_speed / 1e3}
     lss = _lss_torque(g)

@@ -117,6 +117,7 @@ class Graph:
         self.shaft_axis = c1
         self.u_shaft = U["Wind1VelX"] * c1[0]                  # horizontal wind (U, 0, 0) along the shaft
         self.u_rel = self.u_shaft - ca.dot(hub["v"], c1)
+        self.hub_wind_x = U["Wind1VelX"]
         rotor = model.rotor
         self.aero = rotor.loads(self.u_rel, hub_d, beta, P["air_density"], cp_scale=P["cp_scale"],
                                 ct_scale=P["ct_scale"])
@@ -185,7 +186,12 @@ def compose(model) -> Dynamics:
     _check_structure(model)
     eom = model.structure.eom
     kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
-    g = Graph(model, kind)
+    if model.aero == "blade":
+        from .blade_compose import BladeGraph
+
+        g = BladeGraph(model, kind)
+    else:
+        g = Graph(model, kind)
     opts = {"cse": True} if kind is ca.SX else {}
     rhs = ca.Function(f"{model.name}_rhs", [g.x, g.u, g.p], [g.xd], ["x", "u", "p"], ["xd"], opts)
     rows = channel_rows(g)
@@ -208,11 +214,23 @@ def compose(model) -> Dynamics:
     if not model.spins_freely:
         defaults["rotor_speed"] = float(model.turbine.initial_conditions.rotor_speed)
     x0 = _deck_state(model, g)
+    u0 = _input_defaults(model, g)
     return Dynamics(rhs, states=g.states, inputs=g.inputs, parameters=g.parameters, defaults=defaults,
-                    outputs=outputs, output_names=names, output_units=units, x0=x0, name=model.name, eom=eom)
+                    outputs=outputs, output_names=names, output_units=units, x0=x0, u0=u0, name=model.name, eom=eom)
+
+
+def _input_defaults(model, g: Graph) -> list[float] | None:
+    """Default inputs: the wind's (blade-element model), zero otherwise."""
+    wind = getattr(model, "wind", None)
+    if wind is None:
+        return None
+    values = dict(wind.defaults)
+    return [float(values.get(n, 0.0)) for n in g.inputs]
 
 
 def _aero_defaults(model) -> dict[str, float]:
+    if model.aero == "blade":
+        return {"air_density": float(model.rotor.air_density)}
     return {"air_density": float(model.rotor.air_density), "cp_scale": 1.0, "ct_scale": 1.0}
 
 

@@ -106,44 +106,50 @@ class OperatingTurbine:
     ('BlPitch', 'BlPitch_d', 'GenTq', 'DBEMT_w', 'DBEMT_v')
     """
 
-    def __init__(self, turbine: TurbineParameters, rotor: RotorAero | None = None, *,
+    def __init__(self, turbine: TurbineParameters, rotor: "RotorAero | BladeElementRotor | None" = None, *,
                  dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
-                 dynamic_inflow: "bool | DynamicInflow" = True, inflow_lag: bool = False, yaw_spring: float = 0.0, yaw_damping: float = 0.0,
-                 saturation_width: float = 1e-4, name: str = "operating_turbine") -> None:
+                 dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, saturation_width: float = 1e-4,
+                 wind=None, name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
             from ..aero.nrel5mw import nrel5mw_rotor
             rotor = nrel5mw_rotor()
-        if not isinstance(rotor, RotorAero):
-            raise TypeError(f"rotor must be a RotorAero (nrel5mw_rotor(), RotorAero.from_openfast(fst)); "
-                            f"got {type(rotor).__name__}.")
+        blade = _is_blade_rotor(rotor)
+        if not (blade or isinstance(rotor, RotorAero)):
+            raise TypeError(f"rotor must be a RotorAero (nrel5mw_rotor(), RotorAero.from_openfast(fst)) or a "
+                            f"BladeElementRotor (BladeElementRotor.from_openfast(fst)); got {type(rotor).__name__}.")
         actuators = ActuatorSettings.nrel5mw() if actuators is None else actuators
         if not isinstance(actuators, ActuatorSettings):
             raise TypeError(f"actuators must be an ActuatorSettings; got {type(actuators).__name__}.")
         if not (isinstance(saturation_width, float) and 0 < saturation_width < 0.1):
             raise ParameterError(f"saturation_width must be a float in (0, 0.1); got {saturation_width!r}.")
         self.turbine, self.rotor, self.actuators = turbine, rotor, actuators
+        self.aero = "blade" if blade else "rotor"
         self.inflow_lag = bool(inflow_lag)
-        if isinstance(dynamic_inflow, bool):
-            dynamic_inflow = DynamicInflow(rotor) if dynamic_inflow else None
-        if dynamic_inflow is not None and not isinstance(dynamic_inflow, DynamicInflow):
-            raise TypeError(f"dynamic_inflow must be True, False or a DynamicInflow; got "
-                            f"{type(dynamic_inflow).__name__}.")
-        if dynamic_inflow is not None and dynamic_inflow.rotor is not rotor:
-            raise ParameterError("dynamic_inflow was built for another rotor; build it from this one.")
-        if dynamic_inflow is not None and self.inflow_lag:
-            raise ParameterError("choose one inflow model: dynamic_inflow or inflow_lag, not both.")
-        self.dynamic_inflow = dynamic_inflow
+        if blade:
+            if dynamic_inflow is not None or self.inflow_lag:
+                raise ParameterError("dynamic_inflow and inflow_lag belong to the rotor-effective model; a blade-element "
+                                     "rotor carries its own dynamic wake (BladeElementRotor options).")
+            self.dynamic_inflow = None
+            self.wind = _blade_wind(turbine, rotor, wind)
+        else:
+            if wind is not None:
+                raise ParameterError("wind= describes the wind over the rotor for a blade-element rotor; the "
+                                     "rotor-effective model takes the hub wind as the input Wind1VelX.")
+            self.wind = None
+            self.dynamic_inflow = _rotor_inflow(rotor, dynamic_inflow, self.inflow_lag)
         self.saturation_width = saturation_width
         self.name = str(name)
         self.structure = TurbineModel(turbine, dofs, pitch_input=True, tower_base_reactions=True,
-                                      yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True)
+                                      yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True,
+                                      blade_loads=blade, blade_root_reactions=blade)
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
-        if unloaded:
+        if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
-                          "hub only (rigid-rotor performance surfaces); their motion is structural only.",
-                          UserWarning, stacklevel=2)
+                          "hub only (rigid-rotor performance surfaces); their motion is structural only. The "
+                          "blade-element rotor (aero='blade') loads them.", UserWarning, stacklevel=2)
         self._dynamics: Dynamics | None = None
         self._parts: dict[str, Any] = {}
 
@@ -272,6 +278,44 @@ class OperatingTurbine:
         from ..deck.nrel5mw import nrel5mw
 
         return cls(nrel5mw(), dofs=dofs, **options)
+
+
+def _is_blade_rotor(rotor) -> bool:
+    try:
+        from ..aero.blade import BladeElementRotor
+    except ImportError:            # pragma: no cover - the room ships with the package
+        return False
+    return isinstance(rotor, BladeElementRotor)
+
+
+def _rotor_inflow(rotor: RotorAero, dynamic_inflow, inflow_lag: bool) -> "DynamicInflow | None":
+    """The rotor-effective model's inflow: DBEMT on the surfaces by default, or a lag, or none."""
+    if dynamic_inflow is None:
+        dynamic_inflow = not inflow_lag
+    if isinstance(dynamic_inflow, bool):
+        dynamic_inflow = DynamicInflow(rotor) if dynamic_inflow else None
+    if dynamic_inflow is not None and not isinstance(dynamic_inflow, DynamicInflow):
+        raise TypeError(f"dynamic_inflow must be True, False or a DynamicInflow; got "
+                        f"{type(dynamic_inflow).__name__}.")
+    if dynamic_inflow is not None and dynamic_inflow.rotor is not rotor:
+        raise ParameterError("dynamic_inflow was built for another rotor; build it from this one.")
+    if dynamic_inflow is not None and inflow_lag:
+        raise ParameterError("choose one inflow model: dynamic_inflow or inflow_lag, not both.")
+    return dynamic_inflow
+
+
+def _blade_wind(turbine: TurbineParameters, rotor, wind):
+    """The wind of a blade-element model: given, or uniform inputs at the hub height (shear reference = diameter)."""
+    from .wind_inputs import FieldWindInputs, UniformWindInputs
+
+    if wind is None:
+        return UniformWindInputs(float(turbine.hub_height), 2.0 * float(turbine.tip_radius))
+    if isinstance(wind, (UniformWindInputs, FieldWindInputs)):
+        return wind
+    if hasattr(wind, "casadi_function") and hasattr(wind, "velocity"):
+        return FieldWindInputs(wind)
+    raise TypeError(f"wind must be a UniformWindInputs, a FieldWindInputs or a full field (read_turbsim_bts); got "
+                    f"{type(wind).__name__}.")
 
 
 def _check_structure(model: OperatingTurbine) -> None:

@@ -1,0 +1,232 @@
+"""The operating turbine with blade-element aerodynamics on every blade, as one CasADi graph.
+
+:class:`BladeGraph` composes the ElastoDyn-equivalent structure (blade-load inputs, locked blade-root
+and tower-base rotations for the reactions), the blade-element rotor
+(:class:`~mbsym.wind.aero.blade.BladeElementRotor`), the wind at the nodes' current positions
+(:mod:`.wind_inputs`) and the actuators:
+
+1. every AeroDyn node of every blade moves with the structure (:mod:`mbsym.wind.structure.blade_points`:
+   ElastoDyn's shapes interpolated to the node, as OpenFAST's mesh mapping does), so its position, velocity
+   and deflected span direction are expressions of ``(q, q̇)``;
+2. the wind at the node's position minus the node's velocity is the relative flow; in AeroDyn's
+   ``BEM_Mod = 1`` frame without sweep, pitch and twist (normal ``x_n`` = the shaft axis tilted by cone and
+   flap slope, ``e_rot`` = the direction of rotation) it gives ``Vx`` and ``Vy``, with the node's distance
+   from the shaft axis ``r_local`` and ``θ`` = aerodynamic twist + pitch;
+3. the rotor's BEM with dynamic wake gives forces per unit length along ``x_n`` and ``e_rot`` and the
+   pitching moment about the span; integrated with the rotor's node weights they become each blade's
+   root force, root moment and elastic generalized forces (the structure's blade-load inputs): the
+   work of the aerodynamic loads on the structure is exact, whatever DOFs are on.
+
+The aerodynamic part is one SX Function (``blade_aero``) called by the composed graph, so the
+structure may be SX or MX (MX beyond :data:`~mbsym.equations.SYMBOLIC_SOLVE_MAX_DOF` DOFs).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from ..structure.blade_points import blade_point_kinematics, blade_point_loads, blade_point_shapes
+from ..structure.turbine import BLADE_LOAD_INPUTS
+from .compose import WIRED_INPUTS, Graph
+
+__all__ = ["BladeGraph", "blade_load_inputs", "HUB_POINT_OUTPUTS"]
+
+#: Aerodynamic quantities of the ``blade_aero`` Function besides the structural loads.
+HUB_POINT_OUTPUTS = ("rotor_force", "rotor_moment", "disk_velocity", "hub_wind", "skew")
+
+
+def blade_load_inputs(structure) -> tuple[str, ...]:
+    """Names of the structure's blade-load inputs (``B{k}AeroFx`` …, ``{coordinate}AeroQ``)."""
+    names = []
+    for k in range(structure.turbine.number_of_blades):
+        names += [f"B{k + 1}Aero{c}" for c in BLADE_LOAD_INPUTS]
+        names += [f"{c}AeroQ" for c in structure.blade_coordinates(k)]
+    return tuple(names)
+
+
+def _cross(a: Any, B: Any) -> Any:
+    """``a × B[:, j]`` for every column (a: 3 x 1 or 3 x N)."""
+    if a.size2() == 1:
+        a = ca.repmat(a, 1, B.size2())
+    return ca.vertcat(a[1, :] * B[2, :] - a[2, :] * B[1, :], a[2, :] * B[0, :] - a[0, :] * B[2, :],
+                      a[0, :] * B[1, :] - a[1, :] * B[0, :])
+
+
+def _dot(A: Any, B: Any) -> Any:
+    """Column-wise dot products (1 x N)."""
+    return ca.sum1(A * B)
+
+
+def _unit(A: Any) -> Any:
+    return A / ca.repmat(ca.sqrt(ca.sum1(A**2)), 3, 1)
+
+
+class BladeGraph(Graph):
+    """Symbols and expressions of the blade-element operating turbine (see the module docstring)."""
+
+    def extra_states(self) -> list[str]:
+        extra = ["BlPitch", "BlPitch_d", "GenTq"]
+        if not self.model.spins_freely:
+            extra.append("GeAz")
+        return extra + list(self.model.rotor.state_names)
+
+    def wired_inputs(self) -> tuple[str, ...]:
+        return WIRED_INPUTS + blade_load_inputs(self.model.structure)
+
+    def wind_inputs(self) -> tuple[str, ...]:
+        return tuple(self.model.wind.inputs)
+
+    def aero_parameters(self) -> tuple[str, ...]:
+        return ("air_density",)
+
+    # ------------------------------------------------------------------ graph
+    def _build_aero(self) -> None:
+        model = self.model
+        rotor = model.rotor
+        f = self.aero_function()
+        states = ca.vertcat(*[self.X[n] for n in rotor.state_names])
+        wind = ca.vertcat(*[self.U[n] for n in model.wind.inputs])
+        zero = self.structural_inputs(thrust=0.0, torque=0.0, **{n: 0.0 for n in blade_load_inputs(model.structure)})
+        out = dict(zip(f.name_out(), f(self.q, self.qd, zero, self.p_s, states, wind, self.P["air_density"])))
+        names = blade_load_inputs(model.structure)
+        self.loads = {"thrust": 0.0, "torque": 0.0, **{n: out["loads"][i] for i, n in enumerate(names)}}
+        self.lag_rhs = out["states_dot"]
+        self.blade_aero = out
+        shaft = self._kinematics("shaft", zero)
+        hub = self._kinematics("hub", zero)
+        c1 = shaft["R"][:, 0]
+        self.shaft_axis, self.hub_frame = c1, hub["R"]
+        self.thrust = ca.dot(out["rotor_force"], c1)
+        self.torque = ca.dot(out["rotor_moment"], c1)
+        self.u_rel = ca.dot(out["disk_velocity"], c1)
+        self.u_shaft = self.u_rel
+        self.hub_wind_x = out["hub_wind"][0]
+        u = 0.5 * (self.u_rel + ca.sqrt(self.u_rel**2 + 0.02**2))
+        self.aero = {"u": u}
+
+    def aero_function(self) -> ca.Function:
+        """``blade_aero(q, qd, u_s, p_s, states, wind, rho)``: the aerodynamics as one SX Function (cached)."""
+        parts = self.model._parts
+        if "blade_aero" not in parts:
+            parts["blade_aero"] = _AeroBuilder(self.model, self).function()
+        return parts["blade_aero"]
+
+
+class _AeroBuilder:
+    """Builds the SX Function of the rotor's aerodynamics (module docstring, steps 1–3)."""
+
+    def __init__(self, model, graph: BladeGraph) -> None:
+        self.model, self.rotor, self.eom = model, model.rotor, model.structure.eom
+        self.graph = graph
+
+    def function(self) -> ca.Function:
+        model, rotor, eom = self.model, self.rotor, self.eom
+        q, qd = ca.SX.sym("q", eom.n_q), ca.SX.sym("qd", eom.n_q)
+        u_s, p_s = ca.SX.sym("u_s", len(eom.inputs)), ca.SX.sym("p_s", eom.n_p)
+        states = ca.SX.sym("states", len(rotor.state_names))
+        wind = ca.SX.sym("wind", len(model.wind.inputs))
+        rho = ca.SX.sym("rho")
+        zeros = ca.SX.zeros(eom.n_q)
+        kin = self._kinematics(q, qd, u_s, p_s, zeros)
+        U = {n: wind[i] for i, n in enumerate(model.wind.inputs)}
+        hub_point = ca.DM([0.0, 0.0, float(model.turbine.hub_height)])
+        W = model.wind.velocity(ca.horzcat(kin["r"], hub_point), U)
+        n = kin["r"].size2()
+        rel = W[:, :n] - kin["v"]
+        frames = self._frames(kin, rel)
+        pitch = u_s[eom.inputs.index("BlPitch")]
+        theta = ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + pitch
+        aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,
+                              states, rho=rho, **frames["rotor"])
+        force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) + frames["e_rot"] * ca.repmat(aero["ft"].T, 3, 1)
+        moment = kin["tangent"] * ca.repmat(aero["m"].T, 3, 1)
+        loads, rotor_force, rotor_moment = self._loads(kin, force, moment)
+        outs = {"loads": ca.vertcat(*loads), "states_dot": aero["states_dot"], "rotor_force": rotor_force,
+                "rotor_moment": rotor_moment, "disk_velocity": frames["disk_velocity"], "hub_wind": W[:, n],
+                "skew": frames["rotor"].get("skew", ca.SX(0.0))}
+        for key in ("alpha", "vrel", "phi", "axial_induction", "tangential_induction", "cl", "cd", "fn", "ft"):
+            if key in aero:
+                outs[f"node_{key}"] = aero[key]
+        outs["node_vx"], outs["node_vy"] = frames["vx"].T, frames["vy"].T
+        return ca.Function("blade_aero", [q, qd, u_s, p_s, states, wind, rho], list(outs.values()),
+                           ["q", "qd", "u_s", "p_s", "states", "wind", "rho"], list(outs), {"cse": True})
+
+    def _kinematics(self, q, qd, u_s, p_s, qdd) -> dict[str, Any]:
+        """Every node of every blade (columns blade by blade), and the hub and shaft frames."""
+        model, rotor, eom = self.model, self.rotor, self.eom
+        cache = model._parts.setdefault("blade_shapes", {})
+        rows = {"r": [], "v": [], "tangent": []}
+        self.blades = []
+        for k in range(rotor.n_blades):
+            shapes = cache.get(k)
+            if shapes is None:
+                shapes = cache[k] = blade_point_shapes(model.structure, k, rotor.span)
+            f = eom.point_kinematics(f"blade{k + 1}")
+            frame = dict(zip(f.name_out(), f(q, qd, qdd, u_s, p_s)))
+            idx = [eom.coordinates.index(c) for c in shapes.coordinates]
+            kin = blade_point_kinematics(shapes, frame, q[idx] if idx else ca.SX(0, 1), qd[idx] if idx else ca.SX(0, 1))
+            self.blades.append((shapes, frame, kin))
+            for key in rows:
+                rows[key].append(kin[key])
+        out = {key: ca.horzcat(*v) for key, v in rows.items()}
+        for body in ("hub", "shaft"):
+            f = eom.point_kinematics(body)
+            out[body] = dict(zip(f.name_out(), f(q, qd, qdd, u_s, p_s)))
+        return out
+
+    def _frames(self, kin: dict[str, Any], rel: Any) -> dict[str, Any]:
+        """AeroDyn's local frames and inflow of every node (BEM_Mod = 1: without sweep, pitch and twist)."""
+        rotor = self.rotor
+        c1 = kin["shaft"]["R"][:, 0]
+        apex = kin["hub"]["r"]
+        n = kin["r"].size2()
+        d = kin["r"] - ca.repmat(apex, 1, n)
+        d_perp = d - ca.repmat(c1, 1, n) * ca.repmat(_dot(ca.repmat(c1, 1, n), d), 3, 1)
+        r_local = ca.sqrt(ca.sum1(d_perp**2))
+        e_r = d_perp / ca.repmat(r_local, 3, 1)
+        e_rot = _cross(c1, e_r)
+        t = kin["tangent"]
+        a, b = _dot(ca.repmat(c1, 1, n), t), _dot(e_r, t)
+        norm = ca.sqrt(a**2 + b**2)
+        x_n = (ca.repmat(c1, 1, n) * ca.repmat(b / norm, 3, 1) - e_r * ca.repmat(a / norm, 3, 1))
+        vx, vy = _dot(rel, x_n), -_dot(rel, e_rot)
+        up = ca.DM([0.0, 0.0, 1.0]) - c1 * c1[2]
+        up = up / ca.norm_2(up)
+        side = ca.cross(c1, up)
+        azimuth = ca.atan2(_dot(e_r, ca.repmat(side, 1, n)), _dot(e_r, ca.repmat(up, 1, n)))
+        disk = ca.sum2(rel) / n
+        rotor_inputs = self._rotor_inputs(c1, disk, up, side)
+        return {"vx": vx, "vy": vy, "r_local": r_local, "x_n": x_n, "e_rot": e_rot, "azimuth": azimuth,
+                "disk_velocity": disk, "rotor": rotor_inputs}
+
+    def _rotor_inputs(self, c1: Any, disk: Any, up: Any, side: Any) -> dict[str, Any]:
+        """Rotor-level inputs of ``evaluate`` (skew of the disk-averaged relative flow; see the rotor's docs)."""
+        wants = getattr(self.rotor, "rotor_inputs", ())
+        along = ca.dot(disk, c1)
+        cross = disk - c1 * along
+        values = {"skew": ca.atan2(ca.sqrt(ca.sumsqr(cross) + 1e-12), along),
+                  "skew_azimuth": ca.atan2(ca.dot(cross, side), ca.dot(cross, up) + 1e-12),
+                  "disk_speed": along}
+        return {k: values[k] for k in wants}
+
+    def _loads(self, kin: dict[str, Any], force: Any, moment: Any) -> tuple[list, Any, Any]:
+        rotor = self.rotor
+        loads, cols = [], rotor.n_nodes
+        for k, (shapes, frame, bk) in enumerate(self.blades):
+            sl = slice(k * cols, (k + 1) * cols)
+            out = blade_point_loads(bk, frame["R"], force[:, sl], moment[:, sl], rotor.node_weights)
+            loads += ca.vertsplit(out["F"]) + ca.vertsplit(out["M"]) + list(out["Q"])
+        w = ca.repmat(ca.DM(np.tile(np.asarray(rotor.node_weights, dtype=float), rotor.n_blades)).T, 3, 1)
+        apex = kin["hub"]["r"]
+        d = kin["r"] - ca.repmat(apex, 1, kin["r"].size2())
+        total_force = ca.sum2(force * w)
+        total_moment = ca.sum2(_pair_cross(d, force * w) + moment * w)
+        return loads, total_force, total_moment
+
+
+def _pair_cross(A: Any, B: Any) -> Any:
+    return ca.vertcat(A[1, :] * B[2, :] - A[2, :] * B[1, :], A[2, :] * B[0, :] - A[0, :] * B[2, :],
+                      A[0, :] * B[1, :] - A[1, :] * B[0, :])

@@ -1,0 +1,117 @@
+"""The wind a blade-element rotor sees, as inputs of the composed model.
+
+A blade-element rotor needs the wind at every blade node's *current* position, so the wind enters
+the graph as a function of position; what stays an input of the :class:`mbsym.Dynamics` depends on
+the kind of wind:
+
+* :class:`UniformWindInputs` — InflowWind's steady (``WindType = 1``) and uniform (``WindType = 2``)
+  wind: the hub-height columns are inputs (:data:`UNIFORM_INPUTS`), and the wind at a point follows
+  InflowWind's power-law and linear shears, direction and upflow
+  (:func:`mbsym.wind.inflow.uniform_velocity_expr`): smooth, so linear models have the hub wind and
+  the linear shears as inputs;
+* :class:`FieldWindInputs` — a full field (TurbSim ``.bts``, ``WindType = 3``): the only input is the
+  field's time ``WindTime`` [s] (a simulation feeds ``t``); the field is interpolated inside the graph
+  by a compiled CasADi External (:meth:`mbsym.wind.inflow.FullFieldWind.casadi_function`), as
+  InflowWind does (Taylor's frozen turbulence, bilinear in y–z, linear in time).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import casadi as ca
+import numpy as np
+
+__all__ = ["UniformWindInputs", "FieldWindInputs", "UNIFORM_INPUTS", "FIELD_INPUTS"]
+
+#: Uniform-wind inputs: name -> (column of ``uniform_velocity_expr``, unit).
+UNIFORM_INPUTS = {
+    "Wind1VelX": ("speed", "m/s"),            # InflowWind's HorSpd: horizontal hub-height speed (propagation direction)
+    "WindDir": ("direction", "rad"),
+    "WindVertVel": ("vertical_speed", "m/s"),
+    "HLinShr": ("horizontal_shear", "-"),
+    "VShrExp": ("power_law_exponent", "-"),
+    "VLinShr": ("linear_vertical_shear", "-"),
+    "Upflow": ("upflow", "rad"),
+    "GustSpd": ("gust_speed", "m/s"),
+}
+#: Full-field inputs: the field's time.
+FIELD_INPUTS = {"WindTime": "s"}
+
+
+class UniformWindInputs:
+    """InflowWind's uniform wind with its hub-height columns as model inputs.
+
+    Parameters
+    ----------
+    ref_height : float
+        InflowWind's ``RefHt`` / ``RefHt_Uni`` [m] (the hub-height of the columns).
+    ref_length : float
+        ``RefLength`` [m] of the linear shears (InflowWind's default for steady wind: the rotor diameter).
+    defaults : dict, optional
+        Default input values by name (e.g. the deck's power-law exponent).
+    """
+
+    kind = "uniform"
+
+    def __init__(self, ref_height: float, ref_length: float, defaults: Mapping[str, float] | None = None) -> None:
+        self.ref_height, self.ref_length = float(ref_height), float(ref_length)
+        self.defaults = {n: 0.0 for n in UNIFORM_INPUTS}
+        self.defaults.update(dict(defaults or {}))
+        unknown = sorted(set(self.defaults) - set(UNIFORM_INPUTS))
+        if unknown:
+            raise ValueError(f"unknown uniform-wind inputs {unknown}; expected {list(UNIFORM_INPUTS)}.")
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return tuple(UNIFORM_INPUTS)
+
+    def units(self) -> dict[str, str]:
+        return {n: u for n, (_, u) in UNIFORM_INPUTS.items()}
+
+    def velocity(self, points: Any, U: Mapping[str, Any]) -> Any:
+        """Wind velocity [m/s] (3 x N, ground axes) at the points (3 x N) [m]."""
+        from ..inflow import uniform_velocity_expr
+
+        columns = {col: U[name] for name, (col, _) in UNIFORM_INPUTS.items()}
+        return uniform_velocity_expr(columns, points, ref_height=self.ref_height, ref_length=self.ref_length)
+
+    def __repr__(self) -> str:
+        return f"UniformWindInputs(ref_height={self.ref_height:g}, ref_length={self.ref_length:g})"
+
+
+class FieldWindInputs:
+    """A full wind field evaluated inside the graph; the input is the field's time ``WindTime`` [s].
+
+    Parameters
+    ----------
+    field : FullFieldWind
+        E.g. :func:`mbsym.wind.inflow.read_turbsim_bts`.
+    """
+
+    kind = "field"
+
+    def __init__(self, field) -> None:
+        self.field = field
+        self.defaults = {"WindTime": 0.0}
+        self._functions: dict[int, ca.Function] = {}
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return tuple(FIELD_INPUTS)
+
+    def units(self) -> dict[str, str]:
+        return dict(FIELD_INPUTS)
+
+    def velocity(self, points: Any, U: Mapping[str, Any]) -> Any:
+        n = int(points.size2())
+        if n not in self._functions:
+            self._functions[n] = self.field.casadi_function(n)
+        return self._functions[n](U["WindTime"], points)
+
+    def sample(self, t: Any, points: np.ndarray) -> np.ndarray:
+        """Numeric velocities (N, 3) [m/s] at times ``t`` [s] and points (N, 3) [m]."""
+        return self.field.velocity(t, points)
+
+    def __repr__(self) -> str:
+        return f"FieldWindInputs({self.field!r})"
