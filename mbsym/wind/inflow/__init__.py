@@ -30,6 +30,8 @@ from .kaimal import IEC_LENGTH_SCALE, KaimalWind, kaimal_spectrum, kaimal_wind
 from .signals import (ExtremeOperatingGust, RampWind, SteadyWind, StepWind, TabulatedWind, WindSignal,
                       iec_gust_speed)
 from .spec import WIND_SPEC_FORMS, parse_wind_spec
+from .uniform import COLUMN_NAMES, POWER_LAW_MIN_HEIGHT, UniformFieldWind, uniform_velocity_expr
+from .rotor import DEFAULT_REFERENCE, disk_points, rotor_effective_wind
 from .turbsim import TURBSIM_FILE_IDS, read_turbsim_bts, write_turbsim_bts
 
 __all__ = [
@@ -38,4 +40,6 @@ __all__ = [
     "UniformWind", "read_uniform_wind", "write_uniform_wind", "read_wind_csv", "write_wind_csv", "UNIFORM_COLUMNS",
     "parse_wind_spec", "WIND_SPEC_FORMS",
     "FullFieldWind", "rotation_to_wind", "GRID_TOLERANCE", "read_turbsim_bts", "write_turbsim_bts", "TURBSIM_FILE_IDS",
+    "UniformFieldWind", "uniform_velocity_expr", "COLUMN_NAMES", "POWER_LAW_MIN_HEIGHT",
+    "rotor_effective_wind", "disk_points", "DEFAULT_REFERENCE",
 ]
