@@ -19,6 +19,7 @@ __all__ = [
     "SolverError",
     "SimulationOptionError",
     "WindInputError",
+    "WindFieldDomainError",
     "ControllerError",
     "MassPropertyError",
     "UnsupportedFeatureError",
@@ -78,6 +79,12 @@ class SimulationOptionError(MbsymError, ValueError):
 
 class WindInputError(MbsymError, ValueError):
     """A wind input (specification string, signal parameters, wind file content) is invalid."""
+
+
+class WindFieldDomainError(WindInputError):
+    """A wind field was asked for a point or time where OpenFAST's InflowWind stops with an error
+    (outside a full-field grid without tower points, beyond a non-periodic field's time range, a
+    power-law profile at or below the ground)."""
 
 
 class ControllerError(MbsymError, RuntimeError):

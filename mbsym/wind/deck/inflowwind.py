@@ -1,11 +1,18 @@
-"""Read an OpenFAST InflowWind input file (``*_IfW.dat``): steady and uniform-file wind.
+"""Read an OpenFAST InflowWind input file (``*_IfW.dat``): steady, uniform-file and TurbSim full-field wind.
 
-Only the wind types a hub-height wind signal can represent are supported:
-``WindType = 1`` (steady: ``HWindSpeed``, ``RefHt``, ``PLexp``) and ``WindType = 2``
-(uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``); full-field
-types (TurbSim, Bladed, HAWC, ...) raise with the line of ``WindType``.  The file
-named by ``Filename_Uni`` is resolved relative to the InflowWind file, as
-InflowWind does.  Keys not used here are kept, as text, in ``extra``.
+Supported: ``WindType = 1`` (steady: ``HWindSpeed``, ``RefHt``, ``PLexp``), ``WindType = 2``
+(uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``) and ``WindType = 3`` (TurbSim
+binary full field ``FileName_BTS``), with ``PropagationDir`` and ``VFlowAng``; the other types
+(Bladed 4 and 7, HAWC 5, user 6) and lidar sensors (``SensorType`` other than 0) raise with the file,
+line and key. The files named by ``Filename_Uni`` and ``FileName_BTS`` are resolved relative to the
+InflowWind file, as InflowWind does (absolute paths are used as they are). ``VelInterpCubic = True``
+is read but refused when the spatial field is requested (:meth:`InflowWindSettings.field`: mbsym
+interpolates linearly in time). Keys not used here (output points ``WindV*List``, the Bladed and
+HAWC sections, lidar details, ``OutList``) are kept, as text, in ``extra``.
+
+:meth:`InflowWindSettings.wind` gives the hub-height wind signal (types 1 and 2, as before);
+:meth:`InflowWindSettings.field` the spatial description (:class:`~mbsym.wind.inflow.UniformFieldWind`
+for types 1 and 2, :class:`~mbsym.wind.inflow.FullFieldWind` for type 3).
 """
 
 from __future__ import annotations
@@ -13,6 +20,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from ...exceptions import OpenFASTFormatError, WindInputError
 from ._format import _Deck, _Key, _read_keys, _resolve
@@ -25,8 +34,8 @@ _WIND_TYPES = {1: "steady", 2: "uniform wind file", 3: "binary TurbSim full-fiel
                5: "HAWC", 6: "user defined", 7: "native Bladed full-field"}
 _KEYS = (
     _k("WindType", "wind_type", "int",
-       check=(lambda v: v in (1, 2), "must be 1 (steady) or 2 (uniform wind file): mbsym models a hub-height "
-              "wind speed and does not read full-field wind")),
+       check=(lambda v: v in (1, 2, 3), "must be 1 (steady), 2 (uniform wind file) or 3 (binary TurbSim full "
+              "field): mbsym does not read Bladed (4, 7), HAWC (5) or user-defined (6) wind")),
     _k("PropagationDir", "propagation_direction", scale=_DEG, default=0.0),
     _k("VFlowAng", "upflow_angle", scale=_DEG, default=0.0),
     _k("VelInterpCubic", "cubic_interpolation", "bool", default=False),
@@ -36,6 +45,9 @@ _KEYS = (
     _k("Filename_Uni", "uniform_file_name", "str"),
     _k("RefHt_Uni", "uniform_reference_height", check=(lambda v: v > 0, "must be greater than 0")),
     _k("RefLength", "uniform_reference_length", default=None),
+    _k("FileName_BTS", "full_field_file_name", "str", default=""),
+    _k("SensorType", "lidar_sensor_type", "int",
+       check=(lambda v: v == 0, "must be 0 (no lidar): mbsym does not model InflowWind's lidar sensors"), default=0),
 )
 #: InflowWind key → :class:`InflowWindSettings` attribute (angles deg → rad).
 INFLOWWIND_KEYS = {k.key: k.attr for k in _KEYS}
@@ -59,6 +71,10 @@ class InflowWindSettings:
         ``Filename_Uni`` resolved against the InflowWind file's directory (type 2).
     uniform_reference_height, uniform_reference_length : float
         ``RefHt_Uni``, ``RefLength`` [m].
+    full_field_file : Path or None
+        ``FileName_BTS`` resolved against the InflowWind file's directory (type 3); None if absent.
+    lidar_sensor_type : int
+        ``SensorType`` (always 0: lidar is refused).
     path : str
         The InflowWind file.
     extra : dict
@@ -76,6 +92,9 @@ class InflowWindSettings:
     uniform_file: Path | None
     uniform_reference_height: float
     uniform_reference_length: float | None
+    full_field_file_name: str
+    full_field_file: Path | None
+    lidar_sensor_type: int
     path: str
     extra: dict = field(default_factory=dict, compare=False)
     lines: dict = field(default_factory=dict, compare=False)
@@ -83,12 +102,17 @@ class InflowWindSettings:
     def wind(self, *, allow_unmodelled: bool = False):
         """The hub-height wind as a :class:`~mbsym.wind.inflow.WindSignal`.
 
+        For a full field (type 3) only with ``allow_unmodelled=True``: the longitudinal wind at the
+        reference point ``(0, 0, RefHt)`` (OpenFAST's ``Wind1VelX`` there) at the file's time step, over
+        the times the file covers there; a rotor sweeps the field, so consider
+        :func:`~mbsym.wind.inflow.rotor_effective_wind` of :meth:`field` instead.
+
         Raises
         ------
         WindInputError
             A non-zero propagation direction, upflow or steady power-law exponent, cubic
             interpolation in time
-            (or, for type 2, non-zero direction/shear columns in the file), unless
+            (or, for type 2, non-zero direction/shear columns in the file; for type 3, always), unless
             ``allow_unmodelled``: a hub-height signal cannot carry them.
         OpenFASTFormatError
             The uniform wind file is missing or malformed.
@@ -97,7 +121,9 @@ class InflowWindSettings:
 
         bad = {name: getattr(self, name) for name in ("propagation_direction", "upflow_angle")
                if getattr(self, name) != 0.0}
-        if self.wind_type == 2 and self.cubic_interpolation:
+        if self.wind_type == 3:
+            bad["full field (WindType = 3; a hub-height signal drops its spatial variation)"] = 3.0
+        if self.wind_type in (2, 3) and self.cubic_interpolation:
             bad["cubic_interpolation (VelInterpCubic; mbsym interpolates linearly)"] = 1.0
         if self.wind_type == 1 and self.steady_power_law_exponent != 0.0:
             bad["steady_power_law_exponent (PLexp)"] = self.steady_power_law_exponent
@@ -107,11 +133,73 @@ class InflowWindSettings:
                                  "the rotor axis; set these to zero or pass allow_unmodelled=True.")
         if self.wind_type == 1:
             return SteadyWind(self.steady_speed)
+        if self.wind_type == 3:
+            return self._hub_series(allow_unmodelled)
         if self.uniform_file is None:
             raise OpenFASTFormatError(f"{self.path}, line {self.lines.get('Filename_Uni', '?')}, key "
                                       f"'Filename_Uni': uniform wind file not found: tried "
                                       f"'{self.uniform_file_name}'. Fix the file name.")
         return read_uniform_wind(self.uniform_file).signal(allow_unmodelled=allow_unmodelled)
+
+
+    def _hub_series(self, allow_unmodelled: bool):
+        from ..inflow import TabulatedWind
+
+        field = self.field(allow_cubic=allow_unmodelled)
+        t0, t1 = field.time_range
+        times = t0 + field.dt * np.arange(int(round((t1 - t0) / field.dt)) + 1)
+        u = field.velocity(times, np.array([[0.0, 0.0, field.reference_height]]))[:, 0, 0]
+        return TabulatedWind(times, u, source=f"{self.full_field_file} at (0, 0, {field.reference_height:g}) m")
+
+    def field(self, *, allow_cubic: bool = False):
+        """The wind over space: a :class:`~mbsym.wind.inflow.UniformFieldWind` (types 1, 2) or a
+        :class:`~mbsym.wind.inflow.FullFieldWind` (type 3), with ``PropagationDir`` and ``VFlowAng``.
+
+        Raises
+        ------
+        OpenFASTFormatError
+            ``VelInterpCubic = True`` for types 2 and 3 (mbsym interpolates linearly in time; with
+            ``allow_cubic=True`` linear interpolation is used anyway), a missing or malformed wind file,
+            ``RefLength`` missing or not positive for type 2 (file, line, key).
+        """
+        from ..inflow import UniformFieldWind, read_turbsim_bts, read_uniform_wind
+
+        angles = {"propagation_direction": self.propagation_direction, "upflow_angle": self.upflow_angle}
+        if self.wind_type in (2, 3) and self.cubic_interpolation and not allow_cubic:
+            raise OpenFASTFormatError(f"{self._where('VelInterpCubic')}: True (cubic interpolation in time) is not "
+                                      "modelled: mbsym interpolates linearly (VelInterpCubic = False). Set it to False.")
+        if self.wind_type == 1:
+            return UniformFieldWind.steady(self.steady_speed, reference_height=self.steady_reference_height,
+                                           power_law_exponent=self.steady_power_law_exponent, **angles)
+        if self.wind_type == 2:
+            if self.uniform_file is None:
+                raise OpenFASTFormatError(f"{self._where('Filename_Uni')}: uniform wind file not found: tried "
+                                          f"'{self.uniform_file_name}'. Fix the file name.")
+            length = self.uniform_reference_length
+            if length is None or not length > 0.0:
+                raise OpenFASTFormatError(f"{self._where('RefLength')}: must be a positive reference length [m] "
+                                          f"for a uniform wind file; got {length}. Fix the value.")
+            return UniformFieldWind(read_uniform_wind(self.uniform_file), self.uniform_reference_height, length,
+                                    source=str(self.uniform_file), **angles)
+        if self.full_field_file is None:
+            raise OpenFASTFormatError(f"{self._where('FileName_BTS')}: TurbSim full-field file not found: tried "
+                                      f"'{self.full_field_file_name}' (relative paths start at the directory of "
+                                      f"{Path(self.path).name}). Fix the file name.")
+        return read_turbsim_bts(self.full_field_file, **angles)
+
+    def _where(self, key: str) -> str:
+        return f"{self.path}, line {self.lines.get(key, '?')}, key '{key}'"
+
+
+def _resolve_wind_file(ifw: Path, name: str) -> Path | None:
+    """InflowWind's rule: a relative path starts at the InflowWind file's directory."""
+    if not name:
+        return None
+    for candidate in (Path(name), Path(name.replace("\\", "/"))):
+        full = candidate if candidate.is_absolute() else ifw.parent / candidate
+        if full.is_file():
+            return full
+    return None
 
 
 def read_inflowwind(path) -> InflowWindSettings:
@@ -121,9 +209,9 @@ def read_inflowwind(path) -> InflowWindSettings:
     ------
     OpenFASTFormatError
         Missing file or key, malformed value, unsupported ``WindType``; names the
-        file, line and key.  A missing uniform wind file is reported when the
-        wind is requested (:meth:`InflowWindSettings.wind`), so a deck can be read
-        without its wind file.
+        file, line and key.  A missing wind file is reported when the
+        wind is requested (:meth:`InflowWindSettings.wind`, :meth:`~InflowWindSettings.field`), so a
+        deck can be read without its wind file.
 
     Examples
     --------
@@ -138,15 +226,15 @@ def read_inflowwind(path) -> InflowWindSettings:
     deck = _Deck(p)
     values = _read_keys(deck, _KEYS)
     deck.raise_problems()
-    name = values["uniform_file_name"]
-    resolved = None
-    for candidate in (Path(name), Path(name.replace("\\", "/"))):
-        full = candidate if candidate.is_absolute() else p.parent / candidate
-        if full.is_file():
-            resolved = full
-            break
+    if values["wind_type"] == 3 and not values["full_field_file_name"]:
+        deck.problem(deck.line_of("WindType"), "FileName_BTS", "missing: WindType = 3 needs the TurbSim file "
+                     "name. Add a line '\"<file>.bts\"  FileName_BTS'.")
+        deck.raise_problems()
+    uniform = _resolve_wind_file(p, values["uniform_file_name"])
+    full = _resolve_wind_file(p, values["full_field_file_name"])
     lines = {k.key: deck.line_of(k.key) for k in _KEYS if k.key.lower() in deck.entries}
-    return InflowWindSettings(**values, uniform_file=resolved, path=str(p), extra=deck.extra(), lines=lines)
+    return InflowWindSettings(**values, uniform_file=uniform, full_field_file=full, path=str(p), extra=deck.extra(),
+                              lines=lines)
 
 
 def deck_inflowwind(fst) -> InflowWindSettings | None:

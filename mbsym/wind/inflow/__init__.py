@@ -7,7 +7,12 @@
 - :mod:`.kaimal`: reproducible turbulent series with the IEC Kaimal spectrum;
 - :mod:`.files`: OpenFAST InflowWind uniform wind files (``.hh``) and
   ``Time_[s],Wind1VelX_[m/s]`` CSV, read and written;
-- :mod:`.spec`: the command line's ``--wind SPEC`` strings.
+- :mod:`.spec`: the command line's ``--wind SPEC`` strings;
+- :mod:`.field`, :mod:`.turbsim`, :mod:`.uniform`: spatial wind as OpenFAST's InflowWind evaluates it:
+  :class:`FullFieldWind` (TurbSim ``.bts`` grids, :func:`read_turbsim_bts`; a CasADi External through
+  :meth:`FullFieldWind.casadi_function`) and :class:`UniformFieldWind` (steady and uniform-file wind,
+  :func:`uniform_velocity_expr` in CasADi);
+- :mod:`.rotor`: :func:`rotor_effective_wind`, disk averages and linear shears of a field (docs/inflow.md).
 
 Example
 -------
@@ -18,16 +23,23 @@ Example
 12.0
 """
 
+from .field import GRID_TOLERANCE, FullFieldWind, rotation_to_wind
 from .files import (UNIFORM_COLUMNS, UniformWind, read_uniform_wind, read_wind_csv, write_uniform_wind,
                     write_wind_csv)
 from .kaimal import IEC_LENGTH_SCALE, KaimalWind, kaimal_spectrum, kaimal_wind
 from .signals import (ExtremeOperatingGust, RampWind, SteadyWind, StepWind, TabulatedWind, WindSignal,
                       iec_gust_speed)
 from .spec import WIND_SPEC_FORMS, parse_wind_spec
+from .uniform import COLUMN_NAMES, POWER_LAW_MIN_HEIGHT, UniformFieldWind, uniform_velocity_expr
+from .rotor import DEFAULT_REFERENCE, disk_points, rotor_effective_wind
+from .turbsim import TURBSIM_FILE_IDS, read_turbsim_bts, write_turbsim_bts
 
 __all__ = [
     "WindSignal", "SteadyWind", "StepWind", "RampWind", "ExtremeOperatingGust", "TabulatedWind", "iec_gust_speed",
     "KaimalWind", "kaimal_wind", "kaimal_spectrum", "IEC_LENGTH_SCALE",
     "UniformWind", "read_uniform_wind", "write_uniform_wind", "read_wind_csv", "write_wind_csv", "UNIFORM_COLUMNS",
     "parse_wind_spec", "WIND_SPEC_FORMS",
+    "FullFieldWind", "rotation_to_wind", "GRID_TOLERANCE", "read_turbsim_bts", "write_turbsim_bts", "TURBSIM_FILE_IDS",
+    "UniformFieldWind", "uniform_velocity_expr", "COLUMN_NAMES", "POWER_LAW_MIN_HEIGHT",
+    "rotor_effective_wind", "disk_points", "DEFAULT_REFERENCE",
 ]

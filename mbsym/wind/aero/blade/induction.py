@@ -1,0 +1,121 @@
+"""Quasi-steady induction of blade elements as SX expressions: Ning's residual, fixed-count Newton.
+
+The equations are AeroDyn 15's ``inductionFactors0`` (``BEM_Mod = 1``), the same as
+:mod:`mbsym.wind.aero._induction` (numpy) solves by bracketing:
+
+* ``cx = cl cos φ (+ cd sin φ if AIDrag)``, ``cy = cl sin φ (- cd cos φ if TIDrag)``;
+* Prandtl ``F = Ftip Fhub``, ``F* = (2/π) acos(exp(-f*/|sin φ|))`` with AeroDyn's constants
+  ``f_tip = B (z_tip - z)/(2 z)``, ``f_hub = B (z - z_hub)/(2 z_hub)``; ``F >= 1e-4``;
+* ``k = σ cx / (4 F sin²φ)`` with ``σ = B c / (2 π r)``; momentum region (``φ > 0`` and
+  ``Vx >= 0``, or both negative): ``a = k / (1 + k)`` up to ``k = 2/3`` (``a = 0.4``), Buhl's
+  empirical line beyond; propeller brake: ``a = k / (k - 1)``; valid only for ``k >= -1``
+  (momentum) or ``k > 1`` (brake), else ``a = a' = 0`` (AeroDyn's "invalid solution");
+* ``kp = σ cy / (4 F sin φ cos φ)`` (sign flipped if ``Vx < 0``), ``a' = kp / (1 - kp)``
+  (TanInd), else 0;
+* residual ``R(φ) = sin φ / (1 - a) - cos φ (Vx / Vy)(1 - kp)`` (momentum) or
+  ``sin φ (1 - k) - cos φ (Vx / Vy)(1 - kp)`` (brake).
+
+**Solve in the graph.** ``n_newton`` Newton steps ``φ ← φ - R/R'`` with the exact derivative
+``R'`` (forward AD of the residual, which is C¹ in φ with the spline polars), each iterate
+clamped into AeroDyn's first bracket ``[ε, π/2 - ε]`` (ε = 1e-6), starting from a guess
+(the inflow angle of the dynamic-wake states, or of ``a = 1/3`` without them). The cost is
+fixed and the result is an ordinary differentiable expression; its error against a converged
+solution is measured in the tests and docs/blade_aero.md. Elements whose root lies outside
+``(0, π/2)`` (reverse flow, the propeller-brake and windmill-reversal brackets of AeroDyn's
+solver) are not solved there: see docs/blade_aero.md, "Limits".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+__all__ = ["ElementData", "induction", "solve_phi", "PHI_EPS", "F_MIN", "A_LIMITS", "AP_LIMITS"]
+
+PHI_EPS = 1e-6  # distance of the Newton clamp from 0 and π/2 [rad] (AeroDyn's bracket)
+F_MIN = 1e-4  # lower bound of the Prandtl factor (AeroDyn)
+A_LIMITS = (-1.0, 1.5)  # AeroDyn's BEMT_MinInduction / BEMT_MaxInduction, axial
+AP_LIMITS = (-1.0, 1.0)  # ... tangential
+
+
+@dataclass(frozen=True)
+class ElementData:
+    """The inputs of the free (not tip/hub-fixed) elements, as SX columns or numpy arrays.
+
+    ``vx``, ``vy`` [m/s], ``sigma`` (local solidity), ``tip_const``, ``hub_const`` (Prandtl
+    constants, numpy), ``nodes`` (blade node of each element, for the airfoil), and the
+    options ``tip_loss``, ``hub_loss``, ``tangential_induction``, ``axial_drag``,
+    ``tangential_drag``.
+    """
+
+    vx: Any
+    vy: Any
+    sigma: Any
+    tip_const: np.ndarray
+    hub_const: np.ndarray
+    nodes: np.ndarray
+    tip_loss: bool
+    hub_loss: bool
+    tangential_induction: bool
+    axial_drag: bool
+    tangential_drag: bool
+
+
+def prandtl(sin_phi: Any, e: ElementData) -> Any:
+    """AeroDyn's tip and hub loss factor ``F`` (floored at :data:`F_MIN`)."""
+    s = ca.fmax(ca.fabs(sin_phi), 1e-12)
+    f = 1.0
+    if e.tip_loss:
+        f = f * (2.0 / math.pi) * ca.acos(ca.fmin(1.0, ca.exp(-e.tip_const / s)))
+    if e.hub_loss:
+        f = f * (2.0 / math.pi) * ca.acos(ca.fmin(1.0, ca.exp(-e.hub_const / s)))
+    return ca.fmax(f, F_MIN)
+
+
+def induction(phi: Any, cl: Any, cd: Any, e: ElementData) -> dict[str, Any]:
+    """Induction factors and Ning's residual at ``phi`` (see the module docstring).
+
+    ``cd`` is used only with AIDrag/TIDrag (pass None otherwise).
+    """
+    sin_phi, cos_phi = ca.sin(phi), ca.cos(phi)
+    cx = cl * cos_phi + cd * sin_phi if e.axial_drag else cl * cos_phi
+    cy = cl * sin_phi - cd * cos_phi if e.tangential_drag else cl * sin_phi
+    f = prandtl(sin_phi, e)
+    k = e.sigma * cx / (4.0 * f * sin_phi**2)
+    momentum = ca.logic_or(ca.logic_and(phi > 0, e.vx >= 0), ca.logic_and(phi < 0, e.vx < 0))
+    two_fk = 2.0 * f * k
+    g1, g2 = two_fk - (10.0 / 9.0 - f), two_fk - (4.0 / 3.0 - f) * f
+    g3 = two_fk - (25.0 / 9.0 - 2.0 * f)
+    g3 = ca.if_else(ca.fabs(g3) < 1e-6, 1e-6, g3)  # AeroDyn's singular branch, O(1e-6) apart
+    buhl = (g1 - ca.sqrt(ca.fabs(g2))) / g3
+    a_momentum = ca.if_else(k <= 2.0 / 3.0, k / (1.0 + k), buhl)
+    a = ca.if_else(momentum, a_momentum, k / (k - 1.0))
+    valid = ca.if_else(momentum, k >= -1.0, k > 1.0)
+    if e.tangential_induction:
+        kp = e.sigma * cy / (4.0 * f * sin_phi * cos_phi)
+        kp = ca.if_else(e.vx < 0, -kp, kp)
+        ap = kp / (1.0 - kp)
+    else:
+        kp = ap = 0.0 * phi
+    tangential = cos_phi * (e.vx / e.vy) * (1.0 - kp)
+    residual = ca.if_else(momentum, sin_phi / (1.0 - a), sin_phi * (1.0 - k)) - tangential
+    return {"a": a, "ap": ap, "k": k, "kp": kp, "F": f, "valid": valid, "residual": residual}
+
+
+def solve_phi(guess: Any, e: ElementData, polars: Any, theta: Any, *, n_newton: int) -> Any:
+    """``n_newton`` clamped Newton steps on Ning's residual from ``guess`` (SX column) [rad]."""
+    lo, hi = PHI_EPS, math.pi / 2.0 - PHI_EPS
+    phi_sym = ca.SX.sym("phi", guess.shape[0])
+    need_cd = e.axial_drag or e.tangential_drag
+    coef = polars(phi_sym - theta, e.nodes, lift_only=not need_cd)
+    residual = induction(phi_sym, coef["cl"], coef.get("cd"), e)["residual"]
+    slope = ca.jtimes(residual, phi_sym, ca.DM.ones(guess.shape[0]))  # diagonal: R_i(φ_i)
+    phi = ca.fmin(ca.fmax(guess, lo), hi)
+    for _ in range(n_newton):
+        r, dr = ca.substitute([residual, slope], [phi_sym], [phi])
+        phi = ca.fmin(ca.fmax(phi - r / dr, lo), hi)
+    return phi

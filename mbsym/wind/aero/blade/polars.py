@@ -1,0 +1,177 @@
+"""Airfoil polars of the blade nodes as CasADi SX expressions: smooth splines or AeroDyn's linear.
+
+AeroDyn interpolates the steady polars linearly in the angle of attack α (``InterpOrd = 1``, the
+NREL 5 MW files). Linear interpolation has kinks at every table point, which a Newton solve,
+a linearization or an optimizer dislikes, so the default here is smooth:
+
+* ``"spline"`` (default): for each airfoil, the table is interpolated linearly (AeroDyn) at a
+  **uniform grid** of step ``step`` (0.25° by default) over [-180°, 180°], and a C² cubic
+  interpolating spline (not-a-knot ends) is fitted through those values. Because the grid is
+  uniform, the cell of α is ``floor((α + π) / step)`` -- no search -- and one O(1) table
+  gather (a CasADi ``linear`` lookup evaluated exactly at the cell number, as
+  :mod:`mbsym.wind.aero.interpolant` does) returns the cell's cubic; Horner's rule evaluates it.
+  The spline rounds the corners of AeroDyn's piecewise-linear polar over about one grid step;
+  the measured differences (docs/blade_aero.md) are below 1e-3 in cl and cd in the attached-flow
+  range, and 0.04 % on the rotor's Cp.
+* ``"linear"``: AeroDyn's own linear interpolation through the table points (CasADi ``linear``
+  interpolant, binary search), C⁰; for validation against AeroDyn and :func:`solve_bem`.
+
+α is wrapped into [-π, π) first (the polars are periodic; the wrap has zero derivative).
+Each node has its airfoil; all airfoils share one lookup table (airfoil ``i`` occupies cells
+``i * n_cells ... (i + 1) * n_cells - 1``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import casadi as ca
+import numpy as np
+
+from ....exceptions import ParameterError
+from ...deck.airfoils import AirfoilPolar
+
+__all__ = ["NodePolars", "POLAR_METHODS"]
+
+#: The polar representations offered.
+POLAR_METHODS = ("spline", "linear")
+_COLUMNS = ("cl", "cd", "cm")
+
+
+def _wrap(alpha: Any) -> Any:
+    """α wrapped into [-π, π) (floor: zero derivative)."""
+    return alpha - 2.0 * math.pi * ca.floor((alpha + math.pi) / (2.0 * math.pi))
+
+
+def _cell_cubics(polar: AirfoilPolar, step: float) -> np.ndarray:
+    """(n_cells, 3, 4) power-basis coefficients in the local coordinate t ∈ [0, 1] of each cell.
+
+    The C² not-a-knot cubic spline through AeroDyn's linear interpolation of ``polar`` at the
+    uniform grid ``-π + i step``.
+    """
+    from scipy.interpolate import CubicSpline
+
+    n_cells = int(round(2.0 * math.pi / step))
+    grid = -math.pi + step * np.arange(n_cells + 1)
+    out = np.empty((n_cells, 3, 4))
+    for k, name in enumerate(_COLUMNS):
+        values = np.interp(grid, polar.alpha, getattr(polar, name))
+        spline = CubicSpline(grid, values, bc_type="not-a-knot")
+        c = spline.c  # (4, n_cells): c[0] (x - x_i)^3 + ... + c[3]
+        for p in range(4):  # coefficient of t^p = c[3 - p] step^p
+            out[:, k, p] = c[3 - p] * step**p
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class NodePolars:
+    """The polars of the blade nodes as SX expressions (one airfoil per node).
+
+    Attributes
+    ----------
+    polars : tuple of AirfoilPolar
+        One per node (length ``n_nodes``).
+    method : {"spline", "linear"}
+        See the module docstring.
+    step : float
+        Grid step of the spline [rad] (default 0.25°).
+    """
+
+    polars: tuple[AirfoilPolar, ...]
+    method: str = "spline"
+    step: float = math.radians(0.25)
+    airfoil_index: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.method not in POLAR_METHODS:
+            raise ParameterError(f"polar method must be one of {POLAR_METHODS}; got {self.method!r}.")
+        if not (isinstance(self.step, float) and 0 < self.step <= math.radians(2.0)):
+            raise ParameterError(f"the spline step must be in (0, 2] deg [rad]; got {self.step!r}.")
+        unique = list({id(p): p for p in self.polars}.values())
+        index = {id(p): i for i, p in enumerate(unique)}
+        object.__setattr__(self, "airfoil_index", np.array([index[id(p)] for p in self.polars]))
+        object.__setattr__(self, "_unique", tuple(unique))
+        object.__setattr__(self, "_tables", self._build())
+
+    # ------------------------------------------------------------------ tables
+    def _key(self) -> str:
+        digest = hashlib.sha1(f"{self.method}{self.step!r}".encode())
+        for p in self._unique:  # type: ignore[attr-defined]
+            for a in (p.alpha, p.cl, p.cd, p.cm):
+                digest.update(np.ascontiguousarray(a).tobytes())
+        return digest.hexdigest()[:12]
+
+    def _build(self) -> dict[str, Any]:
+        key = self._key()
+        unique: tuple[AirfoilPolar, ...] = self._unique  # type: ignore[attr-defined]
+        if self.method == "linear":
+            out = {}
+            for i, p in enumerate(unique):
+                out[i] = ca.interpolant(f"polar_linear_{key}_{i}", "linear", [p.alpha],
+                                        np.stack([p.cl, p.cd, p.cm], axis=-1).ravel())
+            return out
+        cells = np.concatenate([_cell_cubics(p, self.step) for p in unique])  # (n_af*n, 3, 4)
+        self_cells = cells.shape[0]
+        grid = [np.arange(self_cells, dtype=float)]
+        exact = {"lookup_mode": ["exact"]}
+        return {
+            "n_cells": int(round(2.0 * math.pi / self.step)),
+            "lift": ca.interpolant(f"polar_cl_{key}", "linear", grid,
+                                   cells[:, 0, :].ravel(), exact),
+            "all": ca.interpolant(f"polar_all_{key}", "linear", grid, cells.reshape(self_cells, 12).ravel(),
+                                  exact),
+            "cells": cells,
+        }
+
+    # ------------------------------------------------------------------ evaluation
+    def __call__(self, alpha: Any, nodes: Sequence[int], *, lift_only: bool = False) -> dict[str, Any]:
+        """Coefficients at angles of attack ``alpha`` [rad] (SX column, one entry per ``nodes``).
+
+        Parameters
+        ----------
+        alpha : casadi.SX, shape (m, 1)
+            Angle of attack of each entry.
+        nodes : sequence of int
+            The blade node (0-based, within a blade) of each entry: selects its airfoil.
+        lift_only : bool, optional
+            Return only ``cl`` (cheaper: what the induction needs without AIDrag/TIDrag).
+
+        Returns
+        -------
+        dict of str to SX column
+            ``cl`` (and ``cd``, ``cm`` unless ``lift_only``).
+        """
+        which = self.airfoil_index[np.asarray(nodes, dtype=int)]
+        wrapped = _wrap(alpha)
+        if self.method == "linear":
+            rows = [self._tables[int(w)](wrapped[i]) for i, w in enumerate(which)]
+            coef = ca.horzcat(*rows).T  # (m, 3)
+            out = {"cl": coef[:, 0]}
+            if not lift_only:
+                out.update(cd=coef[:, 1], cm=coef[:, 2])
+            return out
+        n_cells = self._tables["n_cells"]
+        scaled = (wrapped + math.pi) / self.step
+        cell = ca.fmin(ca.fmax(ca.floor(scaled), 0), n_cells - 1)
+        t = scaled - cell
+        index = cell + which.reshape(-1, 1) * n_cells
+        table = self._tables["lift" if lift_only else "all"]
+        m = index.shape[0]
+        coef = table.map(m)(index.T)  # (4 or 12, m)
+        out = {}
+        for k, name in enumerate(_COLUMNS[:1] if lift_only else _COLUMNS):
+            c = coef[4 * k:4 * k + 4, :].T
+            out[name] = ((c[:, 3] * t + c[:, 2]) * t + c[:, 1]) * t + c[:, 0]
+        return out
+
+    def numeric(self, alpha: np.ndarray, node: int) -> dict[str, np.ndarray]:
+        """cl, cd, cm of node ``node``'s airfoil at ``alpha`` [rad] (numpy, for checks and docs)."""
+        alpha = np.asarray(alpha, dtype=float).ravel()
+        a = ca.SX.sym("a", alpha.size)
+        out = self(a, [node] * alpha.size)
+        f = ca.Function("polar", [a], [out["cl"], out["cd"], out["cm"]])
+        values = f(alpha)
+        return {n: np.asarray(v).ravel() for n, v in zip(_COLUMNS, values)}

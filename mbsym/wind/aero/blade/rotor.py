@@ -1,0 +1,510 @@
+"""Blade-element aerodynamics of every node of every blade as CasADi SX expressions.
+
+:class:`BladeElementRotor` is the contract between the AeroDyn 15 physics (BEMT with
+``BEM_Mod = 1``, DBEMT, Pitt/Peters skewed wake) and a flexible multibody structure: the
+integrator computes, per node, the relative flow velocity in the node's local frame, the local
+radius and the twist + pitch angle; the rotor returns the loads per unit length and the time
+derivatives of its dynamic-wake states. See docs/blade_aero.md for the model, the conventions
+and the measured accuracy.
+
+Vectors are SX columns over **all nodes of all blades, blade by blade** (length
+``n = n_blades * n_nodes``; node ``j`` of blade ``b`` at ``b * n_nodes + j``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Mapping
+
+import casadi as ca
+import numpy as np
+
+from ....exceptions import DimensionError, ParameterError, UnsupportedFeatureError
+from ...deck.aerodyn import AeroDynInput, read_aerodyn
+from ..bem import BEMRotor
+from . import dbemt
+from .corrections import low_tsr_weight, skewed_wake
+from .induction import A_LIMITS, AP_LIMITS, ElementData, induction, solve_phi
+from .polars import NodePolars
+
+__all__ = ["BladeElementRotor", "QS_GUESS_INDUCTION", "DEFAULT_NEWTON"]
+
+#: Axial induction of the quasi-steady Newton start ``φ₀ = atan2(Vx (1 - a₀), Vy)``.
+QS_GUESS_INDUCTION = 0.25
+#: Default Newton steps: from ``a₀`` (quasi-steady) and from the DBEMT states' inflow angle.
+DEFAULT_NEWTON = {"quasi-steady": 4, "dbemt": 3}
+_VX_EPS2 = 1e-6  # [m²/s²]: a = -v_x Vx / (Vx² + eps) instead of -v_x / Vx (relative error eps/Vx²)
+
+
+def _dbemt_from_deck(aerodyn: AeroDynInput) -> tuple[int, float]:
+    """``(DBEMT_Mod, tau1_const)`` as OpenFAST v5 runs the file (0: no dynamic wake)."""
+    extra = dict(aerodyn.extra or {})
+    try:
+        mode = int(float(extra.get("DBEMT_Mod", 0)))
+        tau = float(extra.get("tau1_const", 0.0))
+    except ValueError as exc:
+        raise ParameterError(f"{aerodyn.source}: DBEMT_Mod/tau1_const are not numbers ({exc}).") from None
+    legacy = "WakeMod" in extra  # a legacy key: WakeMod = 1 turns DBEMT off, 2 on
+    if aerodyn.wake_model == 2:
+        return mode, tau
+    if legacy and aerodyn.wake_model == 1:
+        return 0, tau
+    return mode, tau
+
+
+@dataclass(frozen=True, eq=False)
+class BladeElementRotor:
+    """Per-node blade-element aerodynamics (AeroDyn 15 BEMT/DBEMT) as SX expressions.
+
+    Build it with :meth:`from_aerodyn` or :meth:`from_openfast`.
+
+    Attributes
+    ----------
+    bem : BEMRotor
+        Blade geometry, polars and BEM options (the steady BEM's rotor, same data).
+    dbemt_mode : int
+        0 (quasi-steady: no states) or AeroDyn's DBEMT_Mod 1, 2, 3 (see :mod:`.dbemt`).
+    tau1_const : float
+        τ₁ [s] for DBEMT_Mod 1 and 3.
+    polar_method : {"spline", "linear"}
+        Airfoil polars (:mod:`.polars`): C² splines (default) or AeroDyn's linear.
+    n_newton : int
+        Newton steps of the induction solve in the graph.
+    tip_radius : float
+        Default rotor radius ``R_tip`` [m] (skew ``r/R``, DBEMT ``R``): the undeflected
+        largest local radius (AeroDyn's ``rmax``) unless given.
+    """
+
+    bem: BEMRotor
+    dbemt_mode: int = 0
+    tau1_const: float = 0.0
+    polar_method: str = "spline"
+    n_newton: int | None = None
+    tip_radius: float | None = None
+    polars: NodePolars = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.bem, BEMRotor):
+            raise TypeError(f"BladeElementRotor.bem must be a BEMRotor; got {type(self.bem).__name__}.")
+        if self.dbemt_mode not in (0, 1, 2, 3):
+            raise ParameterError(f"dbemt_mode (DBEMT_Mod) must be 0 (quasi-steady), 1, 2 or 3; got "
+                                 f"{self.dbemt_mode!r}.")
+        if self.dbemt_mode in (1, 3) and not (math.isfinite(self.tau1_const) and self.tau1_const > 0):
+            raise ParameterError(f"DBEMT_Mod {self.dbemt_mode} needs tau1_const > 0 [s]; got {self.tau1_const!r}.")
+        n_newton = self.n_newton
+        if n_newton is None:
+            n_newton = DEFAULT_NEWTON["dbemt" if self.dbemt_mode else "quasi-steady"]
+        if not (isinstance(n_newton, int) and 1 <= n_newton <= 50):
+            raise ParameterError(f"n_newton must be an integer in [1, 50]; got {n_newton!r}.")
+        object.__setattr__(self, "n_newton", n_newton)
+        radius = self.bem.radius if self.tip_radius is None else self.tip_radius
+        if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
+            raise ParameterError(f"tip_radius must be a positive length [m]; got {radius!r}.")
+        object.__setattr__(self, "tip_radius", float(radius))
+        object.__setattr__(self, "polars", NodePolars(self.bem.polars, method=self.polar_method))
+        object.__setattr__(self, "_cache", {})
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_aerodyn(cls, aerodyn: AeroDynInput, *, hub_radius: float, precone: float, n_blades: int,
+                     tip_radius: float | None = None, dynamic_wake: bool | None = None,
+                     polar_method: str = "spline", n_newton: int | None = None) -> "BladeElementRotor":
+        """The rotor of an AeroDyn 15 input (blade 1's data for all blades).
+
+        Parameters
+        ----------
+        aerodyn : AeroDynInput
+            From :func:`mbsym.wind.deck.aerodyn.read_aerodyn`.
+        hub_radius, precone : float
+            ElastoDyn HubRad [m] and PreCone [rad] (the Prandtl constants use the arc length
+            from the rotor centre, as AeroDyn's ``zLocal``).
+        n_blades : int
+            Number of blades.
+        tip_radius : float, optional
+            ``R_tip`` [m]; default the undeflected largest local radius.
+        dynamic_wake : bool, optional
+            DBEMT on/off; default: as OpenFAST v5 runs the file (``Wake_Mod = 1`` with
+            ``DBEMT_Mod > 0``).
+        polar_method : {"spline", "linear"}, optional
+        n_newton : int, optional
+            Newton steps (default :data:`DEFAULT_NEWTON`).
+
+        Raises
+        ------
+        UnsupportedFeatureError
+            Unsteady airfoil aerodynamics (``UA_Mod != 0``), ``Skew_Mod = -1``, frozen wake
+            (``DBEMT_Mod = -1``), or anything :meth:`BEMRotor.from_aerodyn` refuses (BEM_Mod 2,
+            OLAF, AFTabMod != 1).
+        """
+        problems = []
+        if aerodyn.unsteady_model != 0:
+            problems.append(f"UA_Mod = {aerodyn.unsteady_model} (unsteady airfoil aerodynamics is not modelled: "
+                            "set UA_Mod = 0)")
+        if aerodyn.skew_model == -1:
+            problems.append("Skew_Mod = -1 (the linearization-only orthogonal inflow: set Skew_Mod 0 or 1)")
+        mode, tau = _dbemt_from_deck(aerodyn)
+        if mode < 0 or mode > 3:
+            problems.append(f"DBEMT_Mod = {mode} (only 0-3; -1 is the linearization's frozen wake)")
+        if problems:
+            raise UnsupportedFeatureError(f"{aerodyn.source}: the blade-element rotor does not model "
+                                          + "; ".join(problems) + ".")
+        bem = BEMRotor.from_aerodyn(aerodyn, hub_radius=hub_radius, precone=precone, n_blades=n_blades)
+        if aerodyn.skew_model == 0:
+            bem = _replace(bem, skew_correction=False)
+        if dynamic_wake is not None:
+            if not isinstance(dynamic_wake, bool):
+                raise ParameterError(f"dynamic_wake must be True, False or None; got {dynamic_wake!r}.")
+            if dynamic_wake and mode == 0:
+                mode, tau = 2, tau
+            mode = mode if dynamic_wake else 0
+        return cls(bem, dbemt_mode=mode, tau1_const=tau, polar_method=polar_method, n_newton=n_newton,
+                   tip_radius=tip_radius)
+
+    @classmethod
+    def from_openfast(cls, fst: str | Path, **options: Any) -> "BladeElementRotor":
+        """The rotor of an OpenFAST deck: ElastoDyn HubRad, PreCone(1), NumBl; AeroDyn files.
+
+        ``options`` are those of :meth:`from_aerodyn` (``tip_radius``, ``dynamic_wake``, ...).
+        """
+        from ...deck.openfast import read_openfast
+
+        params = read_openfast(fst)
+        aerodyn_file = params.source_files.get("aerodyn")
+        if aerodyn_file is None:
+            raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and AeroFile "
+                                 "must exist).")
+        aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
+        return cls.from_aerodyn(aerodyn, hub_radius=params.hub_radius, precone=params.precone[0],
+                                n_blades=params.number_of_blades, **options)
+
+    # ------------------------------------------------------------------ geometry
+    @property
+    def n_blades(self) -> int:
+        """Number of blades."""
+        return self.bem.n_blades
+
+    @property
+    def n_nodes(self) -> int:
+        """Nodes per blade (AeroDyn NumBlNds)."""
+        return int(self.bem.span.size)
+
+    @property
+    def span(self) -> np.ndarray:
+        """AeroDyn BlSpn [m]: distance from the blade root along the pitch axis."""
+        return self.bem.span
+
+    @property
+    def chord(self) -> np.ndarray:
+        """Chord [m] per node."""
+        return self.bem.chord
+
+    @property
+    def twist(self) -> np.ndarray:
+        """Aerodynamic twist [rad] per node (AeroDyn sign: positive to feather)."""
+        return self.bem.twist
+
+    @property
+    def curve_ac(self) -> np.ndarray:
+        """BlCrvAC [m]: out-of-plane offset of the aerodynamic centre (where the loads act)."""
+        return self.bem.curve_ac
+
+    @property
+    def sweep_ac(self) -> np.ndarray:
+        """BlSwpAC [m]: in-plane offset of the aerodynamic centre, positive towards the trailing edge."""
+        return self.bem.sweep_ac
+
+    @property
+    def local_radius(self) -> np.ndarray:
+        """Undeflected local radius of each node [m] (AeroDyn's initial ``rLocal``)."""
+        return self.bem.local_radius
+
+    @property
+    def node_weights(self) -> np.ndarray:
+        """Trapezoid weights [m] on the distances between the (undeflected) aerodynamic centres.
+
+        ``Σ_j w_j f_j`` is the integral of a per-length load ``f`` linear between the nodes:
+        what AeroDyn's Line2 load mesh carries (its mapping to ElastoDyn's point loads
+        preserves this resultant).
+        """
+        length = self.bem._geometry["length"]  # type: ignore[attr-defined]
+        w = np.zeros(self.n_nodes)
+        w[:-1] += 0.5 * length
+        w[1:] += 0.5 * length
+        return w
+
+    @property
+    def options(self) -> Mapping[str, Any]:
+        """The AeroDyn options used (read-only mapping)."""
+        b = self.bem
+        return MappingProxyType({
+            "tip_loss": b.tip_loss, "hub_loss": b.hub_loss, "tangential_induction": b.tangential_induction,
+            "axial_drag": b.axial_drag, "tangential_drag": b.tangential_drag,
+            "pitching_moment": b.pitching_moment, "skew_correction": b.skew_correction,
+            "skew_factor": b.skew_factor, "low_tsr_blend": b.low_tsr_blend, "dbemt_mode": self.dbemt_mode,
+            "tau1_const": self.tau1_const, "polar_method": self.polar_method, "n_newton": self.n_newton,
+            "tip_radius": self.tip_radius})
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Names of the dynamic-wake states (empty when quasi-steady); layout in :mod:`.dbemt`."""
+        return dbemt.state_names(self.n_blades, self.n_nodes) if self.dbemt_mode else ()
+
+    def __repr__(self) -> str:
+        wake = f"DBEMT_Mod {self.dbemt_mode}" if self.dbemt_mode else "quasi-steady"
+        return (f"BladeElementRotor(B={self.n_blades}, {self.n_nodes} nodes, R={self.tip_radius:.4f} m, {wake}, "
+                f"polars={self.polar_method}, n_newton={self.n_newton})")
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, vx: Any, vy: Any, r_local: Any, theta: Any, azimuth: Any, states: Any = None, *,
+                 rho: Any, skew: Any = 0.0, skew_azimuth: Any = 0.0, tip_radius: Any = None,
+                 tsr: Any = None, un_disk: Any = None) -> dict[str, Any]:
+        """Loads per unit length, state derivatives and diagnostics of every node (SX).
+
+        Parameters
+        ----------
+        vx, vy, r_local, theta : SX (or array) column, length n
+            Relative flow velocity along the local normal ``x_n`` (downwind positive) and in the
+            local rotor plane against the rotation [m/s]; distance from the rotor axis [m];
+            twist + pitch (+ elastic torsion) [rad], AeroDyn's sign.
+        azimuth : SX (or array), length n_blades or n
+            Blade azimuth ψ [rad], any convention shared with ``skew_azimuth`` (only the skewed-wake
+            correction uses it).
+        states : SX column, length ``len(state_names)``
+            The DBEMT states (None or empty when quasi-steady).
+        rho : SX or float
+            Air density [kg/m^3].
+        skew : SX or float, optional
+            χ₀ >= 0 [rad]: angle between the disk-averaged relative wind and the shaft axis.
+        skew_azimuth : SX or float, optional
+            ψ_w [rad]: the azimuth at which a blade points along the in-plane component of that
+            wind (docs/blade_aero.md).
+        tip_radius : SX or float, optional
+            ``R_tip`` [m] (default :attr:`tip_radius`).
+        tsr : SX or float, optional
+            Rotor tip-speed ratio ``Ω R / U_n``; when given, AeroDyn's low-TSR blend of the
+            induction (TSR 1 to 2) is applied, else not.
+        un_disk : SX or float, optional
+            Disk-averaged relative wind along the shaft [m/s] for DBEMT_Mod 2's τ₁; default the
+            mean of ``vx`` over all nodes.
+
+        Returns
+        -------
+        dict of str to SX
+            ``fn``, ``ft`` [N/m], ``m`` [N m/m], ``states_dot`` (empty when quasi-steady), and
+            ``alpha``, ``phi`` [rad], ``vrel`` [m/s], ``axial_induction``, ``tangential_induction``,
+            ``cl``, ``cd``, ``cm``, ``cx``, ``cy``, ``axial_induction_qs``,
+            ``tangential_induction_qs``, ``tau1`` [s].
+        """
+        n = self.n_blades * self.n_nodes
+        vx, vy, r_local, theta = (self._column(v, n, name) for v, name in
+                                  ((vx, "vx"), (vy, "vy"), (r_local, "r_local"), (theta, "theta")))
+        states = self._states(states)
+        tip_radius = self.tip_radius if tip_radius is None else tip_radius
+        a_qs, ap_qs = self._quasi_steady(vx, vy, r_local, theta, states)
+        out: dict[str, Any] = {"axial_induction_qs": a_qs, "tangential_induction_qs": ap_qs,
+                               "states_dot": ca.SX(0, 1), "tau1": ca.SX(0)}
+        a, ap = a_qs, ap_qs
+        fixed = np.tile(self.bem._geometry["fixed"], self.n_blades)  # type: ignore[attr-defined]
+        if self.dbemt_mode:
+            un = ca.sum1(vx) / n if un_disk is None else un_disk
+            tau_1 = dbemt.tau1(self.dbemt_mode, self.tau1_const, a_qs, self._disk_weights(), tip_radius, un)
+            ratio = r_local / tip_radius if self.dbemt_mode == 2 else \
+                np.tile(self.local_radius, self.n_blades).reshape(-1, 1) / self.bem.radius
+            v_s = ca.horzcat(-a_qs * vx, ap_qs * vy)
+            out["states_dot"] = dbemt.derivatives(states, v_s, tau_1, ratio)
+            out["tau1"] = tau_1
+            x = ca.reshape(states, 4, -1).T
+            a_dyn = ca.fmin(ca.fmax(-x[:, 0] * vx / (vx**2 + _VX_EPS2), A_LIMITS[0]), A_LIMITS[1])
+            ap_dyn = ca.fmin(ca.fmax(x[:, 1] * vy / (vy**2 + _VX_EPS2), AP_LIMITS[0]), AP_LIMITS[1])
+            keep = ca.DM(fixed.astype(float))
+            a = keep * a_qs + (1 - keep) * a_dyn
+            ap = keep * ap_qs + (1 - keep) * ap_dyn
+        if self.bem.skew_correction and not _is_zero(skew):
+            psi = self._per_node(azimuth, n)
+            sin_psi_s = ca.cos(psi - skew_azimuth)
+            skewed = skewed_wake(a, skew, sin_psi_s, r_local / tip_radius, self.bem.skew_factor)
+            keep = ca.DM(fixed.astype(float))
+            a = keep * a + (1 - keep) * skewed
+        if tsr is not None and self.bem.low_tsr_blend:
+            weight = low_tsr_weight(tsr)
+            a, ap = a * weight, ap * weight
+        out.update(self._loads(vx, vy, theta, a, ap, rho))
+        return out
+
+    def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any) -> dict[str, Any]:
+        """Loads and diagnostics at the final inductions (AeroDyn's SetOutputsFromBEMT, BEM_Mod 1)."""
+        n = self.n_blades * self.n_nodes
+        ux, uy = vx * (1.0 - a), vy * (1.0 + ap)
+        phi = ca.atan2(ux, uy)
+        alpha = phi - theta
+        coef = self.polars(alpha, np.tile(np.arange(self.n_nodes), self.n_blades))
+        cl, cd, cm = coef["cl"], coef["cd"], coef["cm"]
+        sin_phi, cos_phi = ca.sin(phi), ca.cos(phi)
+        cx, cy = cl * cos_phi + cd * sin_phi, cl * sin_phi - cd * cos_phi
+        vrel2 = ux**2 + uy**2
+        chord = ca.DM(np.tile(self.chord, self.n_blades))
+        q_c = 0.5 * rho * vrel2 * chord
+        m = q_c * chord * cm if self.bem.pitching_moment else ca.SX.zeros(n, 1)
+        return {"fn": q_c * cx, "ft": q_c * cy, "m": m, "alpha": alpha, "phi": phi, "vrel": ca.sqrt(vrel2),
+                "axial_induction": a, "tangential_induction": ap, "cl": cl, "cd": cd, "cm": cm, "cx": cx,
+                "cy": cy}
+
+    def _quasi_steady(self, vx: Any, vy: Any, r_local: Any, theta: Any, states: Any) -> tuple[Any, Any]:
+        """Quasi-steady ``(a, a')`` of every node (AeroDyn's limits; tip/hub nodes 1 and 0)."""
+        g = self.bem._geometry  # type: ignore[attr-defined]
+        b = self.bem
+        fixed = np.tile(g["fixed"], self.n_blades)
+        free = np.flatnonzero(~fixed).tolist()
+        nodes = np.tile(np.arange(self.n_nodes), self.n_blades)[free]
+        e = ElementData(vx=vx[free], vy=vy[free], sigma=b.n_blades * ca.DM(b.chord[nodes]) / (2 * math.pi * r_local[free]),
+                        tip_const=np.tile(g["tip_const"], self.n_blades)[free].reshape(-1, 1),
+                        hub_const=np.tile(g["hub_const"], self.n_blades)[free].reshape(-1, 1), nodes=nodes,
+                        tip_loss=b.tip_loss, hub_loss=b.hub_loss, tangential_induction=b.tangential_induction,
+                        axial_drag=b.axial_drag, tangential_drag=b.tangential_drag)
+        if self.dbemt_mode:  # inflow angle of the induction the states hold
+            x = ca.reshape(states, 4, -1).T
+            guess = ca.atan2(e.vx + x[free, 0], e.vy + x[free, 1])
+        else:
+            guess = ca.atan2(e.vx * (1.0 - QS_GUESS_INDUCTION), e.vy)
+        phi = solve_phi(guess, e, self.polars, theta[free], n_newton=self.n_newton)
+        need_cd = b.axial_drag or b.tangential_drag
+        coef = self.polars(phi - theta[free], nodes, lift_only=not need_cd)
+        ind = induction(phi, coef["cl"], coef.get("cd"), e)
+        a_free = ca.if_else(ind["valid"], ca.fmin(ca.fmax(ind["a"], A_LIMITS[0]), A_LIMITS[1]), 0.0)
+        ap_free = ca.if_else(ind["valid"], ca.fmin(ca.fmax(ind["ap"], AP_LIMITS[0]), AP_LIMITS[1]), 0.0)
+        n = fixed.size
+        a, ap = ca.SX(ca.DM(fixed.astype(float))), ca.SX.zeros(n, 1)
+        a[free] = a_free
+        ap[free] = ap_free
+        return a, ap
+
+    # ------------------------------------------------------------------ numeric helpers
+    def steady_states(self, vx: Any, vy: Any, r_local: Any, theta: Any, azimuth: Any = None, *,
+                      tol: float = 1e-12, max_iter: int = 50, **ignored_rotor_inputs: Any) -> np.ndarray:
+        """Equilibrium of the DBEMT states for numeric inputs (empty array when quasi-steady).
+
+        At rest ``v = v_s`` and ``w = (1 - k) v_s`` whatever τ₁, τ₂ (and the skew, TSR and
+        ``un_disk``, which do not enter DBEMT's input): the fixed point of the graph's own
+        quasi-steady induction started from the states is found by iteration (the Newton
+        solve is exact at its own root).
+
+        Parameters
+        ----------
+        vx, vy, r_local, theta : array_like, length n
+            As in :meth:`evaluate`, numbers.
+        azimuth : ignored
+            Accepted for symmetry with :meth:`evaluate` (the equilibrium does not depend on it).
+        tol : float, optional
+            Largest change of a state between iterations at convergence [m/s].
+        max_iter : int, optional
+
+        Returns
+        -------
+        ndarray, shape (len(state_names),)
+
+        Raises
+        ------
+        DimensionError, ParameterError
+            Wrong lengths, non-finite inputs, an unknown keyword, or no convergence.
+        """
+        unknown = set(ignored_rotor_inputs) - {"rho", "skew", "skew_azimuth", "tip_radius", "tsr", "un_disk"}
+        if unknown:
+            raise TypeError(f"steady_states() got unexpected keyword arguments {sorted(unknown)}.")
+        if not self.dbemt_mode:
+            return np.zeros(0)
+        n = self.n_blades * self.n_nodes
+        args = [self._numeric(v, n, name) for v, name in ((vx, "vx"), (vy, "vy"), (r_local, "r_local"),
+                                                           (theta, "theta"))]
+        f = self._cache.get("qs")  # type: ignore[attr-defined]
+        if f is None:
+            syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta")]
+            x = ca.SX.sym("x", 4 * n)
+            a, ap = self._quasi_steady(*syms, x)
+            f = ca.Function("blade_qs_induction", [*syms, x], [ca.horzcat(-a * syms[0], ap * syms[1])])
+            self._cache["qs"] = f  # type: ignore[attr-defined]
+        quasi = replace_mode(self, 0)
+        a0, ap0 = (np.asarray(v).ravel() for v in quasi._numeric_qs(*args))
+        x = dbemt.equilibrium(np.stack([-a0 * args[0], ap0 * args[1]], axis=1))
+        for _ in range(max_iter):
+            new = dbemt.equilibrium(np.asarray(f(*args, x)))
+            change = np.max(np.abs(new - x))
+            x = new
+            if change <= tol:
+                return x
+        raise ParameterError(f"steady_states did not converge in {max_iter} iterations (last change {change:.3g} "
+                             "m/s); check that the inputs describe an operating rotor (vx, vy > 0).")
+
+    def _numeric_qs(self, *args: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Quasi-steady ``(a, a')`` for numeric inputs (quasi-steady rotor only)."""
+        n = self.n_blades * self.n_nodes
+        syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta")]
+        a, ap = self._quasi_steady(*syms, None)
+        out = ca.Function("qs", syms, [a, ap])(*args)
+        return np.asarray(out[0]).ravel(), np.asarray(out[1]).ravel()
+
+    def _disk_weights(self) -> np.ndarray:
+        w = dbemt.integrate_weights(self.local_radius, self.n_blades)
+        return np.tile(w, self.n_blades)
+
+    # ------------------------------------------------------------------ input checks
+    def _column(self, value: Any, n: int, name: str) -> Any:
+        if isinstance(value, (ca.SX, ca.MX)):
+            if value.shape != (n, 1):
+                raise DimensionError(f"{name} has shape {value.shape}; expected ({n}, 1): one entry per node of "
+                                     f"every blade ({self.n_blades} blades x {self.n_nodes} nodes), blade by blade.")
+            if isinstance(value, ca.MX):
+                raise TypeError(f"{name} is MX; BladeElementRotor builds SX expressions (pass SX symbols).")
+            return value
+        return ca.SX(ca.DM(self._numeric(value, n, name)))
+
+    def _numeric(self, value: Any, n: int, name: str) -> np.ndarray:
+        array = np.asarray(value, dtype=float).ravel()
+        if array.size != n:
+            raise DimensionError(f"{name} has {array.size} values; expected {n} (one per node of every blade: "
+                                 f"{self.n_blades} blades x {self.n_nodes} nodes, blade by blade).")
+        if not np.all(np.isfinite(array)):
+            raise ParameterError(f"{name} must hold finite numbers.")
+        return array
+
+    def _states(self, states: Any) -> Any:
+        n_states = len(self.state_names)
+        if not self.dbemt_mode:
+            if states is not None and (isinstance(states, (ca.SX, ca.MX)) and states.numel() > 0
+                                       or not isinstance(states, (ca.SX, ca.MX)) and np.size(states) > 0):
+                raise DimensionError("this rotor is quasi-steady (no states); pass states=None or an empty vector.")
+            return None
+        if states is None:
+            raise DimensionError(f"this rotor has {n_states} DBEMT states (state_names); pass them.")
+        return self._column(states, n_states, "states")
+
+    def _per_node(self, azimuth: Any, n: int) -> Any:
+        size = azimuth.numel() if isinstance(azimuth, (ca.SX, ca.MX)) else np.size(azimuth)
+        if size == self.n_blades:
+            column = ca.vec(azimuth) if isinstance(azimuth, ca.SX) else ca.DM(np.asarray(azimuth, float).ravel())
+            return ca.vertcat(*[ca.repmat(column[b], self.n_nodes, 1) for b in range(self.n_blades)])
+        if size == n:
+            return self._column(azimuth, n, "azimuth")
+        raise DimensionError(f"azimuth has {size} values; expected {self.n_blades} (one per blade) or {n} (per node).")
+
+
+def _is_zero(value: Any) -> bool:
+    if isinstance(value, (ca.SX, ca.MX)):
+        return value.is_zero()
+    return float(value) == 0.0
+
+
+def _replace(bem: BEMRotor, **changes: Any) -> BEMRotor:
+    import dataclasses
+
+    return dataclasses.replace(bem, **changes)
+
+
+def replace_mode(rotor: BladeElementRotor, mode: int) -> BladeElementRotor:
+    """``rotor`` with another DBEMT mode (0: quasi-steady), other settings equal."""
+    if mode == rotor.dbemt_mode:
+        return rotor
+    return BladeElementRotor(rotor.bem, dbemt_mode=mode, tau1_const=rotor.tau1_const or 1.0,
+                             polar_method=rotor.polar_method, n_newton=None, tip_radius=rotor.tip_radius)

@@ -1,0 +1,127 @@
+"""OpenFAST v5 InflowWind as the reference for wind fields: run OpenFAST with 9 wind output points.
+
+OpenFAST (ElastoDyn + InflowWind only: CompAero = CompServo = 0) writes ``WindNVelX/Y/Z`` at the
+points of ``WindVxiList``/``WindVyiList``/``WindVziList`` (fixed in ground axes), which InflowWind
+evaluates with the same routine as the rotor's points. :func:`run_points` runs one case;
+``python tests/wind/inflow/ifw_reference.py`` regenerates the stored references in ``data/``
+(``ifw_<case>.csv``: time, then 27 columns) from the shared decks and the binary in
+``shared/tools/openfast``. Each run takes 2-4 s.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE / "data"
+
+
+def _shared() -> Path:
+    for parent in HERE.parents:
+        if (parent / "shared" / "openfast").is_dir():
+            return parent / "shared"
+    return HERE.parents[3].parent / "shared"
+
+
+SHARED = _shared()
+OPENFAST = SHARED / "tools" / "openfast" / "openfast"
+FF14 = SHARED / "openfast" / "aero" / "openfast_inputs" / "ff14_flex"
+
+#: The cases: InflowWind settings and 9 points (x, y, z) [m] in ground axes.
+FF_POINTS = [(0.0, 0.0, 90.0), (0.0, 17.3, 101.2), (-31.7, -44.1, 47.9), (25.0, 60.2, 150.3), (0.0, -69.99, 20.01),
+             (-12.0, 69.0, 159.9), (40.0, 3.3, 33.3), (-55.5, -20.0, 120.0), (5.0, 0.0, 130.6)]
+UNI_POINTS = [(0.0, 0.0, 90.0), (0.0, 30.0, 120.0), (10.0, -40.0, 40.0), (-20.0, 15.0, 140.0), (0.0, 0.0, 10.0),
+              (3.0, 63.0, 90.0), (-8.0, -63.0, 27.0), (30.0, 0.0, 153.0), (0.0, 5.0, 0.5)]
+CASES = {
+    "ff14": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=FF_POINTS, tmax=3.0),
+    "ff14_rotated": dict(WindType=3, PropagationDir=12.0, VFlowAng=4.0, points=[(x, 0.8 * y, 90.0 + 0.8 * (z - 90.0))
+                                                                                 for x, y, z in FF_POINTS], tmax=3.0),
+    "uniform": dict(WindType=2, PropagationDir=7.0, VFlowAng=2.0, points=UNI_POINTS, tmax=3.0, RefLength=125.0),
+    "steady_shear": dict(WindType=1, PropagationDir=-15.0, VFlowAng=0.0, points=UNI_POINTS, tmax=0.2,
+                         HWindSpeed=11.0, PLexp=0.2),
+}
+#: The uniform wind file of the "uniform" case: every column non-zero and changing.
+UNIFORM_ROWS = """! mbsym test: every column of a uniform wind file non-zero
+! Time HorSpd WndDir VerSpd HorShr VerShr LnVShr GstSpd Upflow
+0.0  10.0  -8.0  0.4  0.10  0.12  0.05  0.0   1.5
+1.0  11.5   5.0 -0.3  0.25  0.20  0.15  0.8   3.0
+2.0  13.0  20.0  0.1 -0.10  0.30 -0.10  1.2  -2.0
+3.0  12.0  15.0  0.0  0.05  0.14  0.02  0.0   0.5
+"""
+
+
+def _set(text: str, key: str, value) -> str:
+    pattern = re.compile(rf"^(\s*)(\S.*?)(\s+{re.escape(key)}\s)", re.MULTILINE)
+    if not pattern.search(text):
+        raise KeyError(key)
+    return pattern.sub(lambda m: f"{m.group(1)}{value}{m.group(3)}", text, count=1)
+
+
+def write_case(folder: Path, name: str) -> Path:
+    """Write ``<name>.fst`` (+ IfW file, + uniform file) into ``folder``; return the .fst."""
+    case = CASES[name]
+    folder.mkdir(parents=True, exist_ok=True)
+    pts = np.array(case["points"], dtype=float)
+    ifw = (FF14 / "ff14_flex_IfW.dat").read_text()
+    for key in ("WindType", "PropagationDir", "VFlowAng", "HWindSpeed", "PLexp", "RefLength"):
+        if key in case:
+            ifw = _set(ifw, key, case[key])
+    ifw = _set(ifw, "NWindVel", 9)
+    for j, key in enumerate(("WindVxiList", "WindVyiList", "WindVziList")):
+        ifw = _set(ifw, key, ", ".join(repr(float(v)) for v in pts[:, j]))
+    ifw = _set(ifw, "FileName_BTS", f'"{(SHARED / "openfast" / "aero" / "wind" / "ff14.bts").as_posix()}"')
+    (folder / "uniform.hh").write_text(UNIFORM_ROWS)
+    ifw = _set(ifw, "Filename_Uni", '"uniform.hh"')
+    channels = "\n".join(f'"Wind{i}Vel{c}"' for i in range(1, 10) for c in "XYZ")
+    ifw = re.sub(r'OutList.*?\nEND', lambda m: m.group(0).split("\n")[0] + "\n" + channels + "\nEND", ifw, flags=re.S)
+    (folder / f"{name}_IfW.dat").write_text(ifw)
+    fst = (FF14 / "ff14_flex.fst").read_text()
+    for key, value in (("TMax", case["tmax"]), ("CompAero", 0), ("CompServo", 0), ("OutFileFmt", 1),
+                       ("SumPrint", "False"), ("EDFile", f'"{(FF14 / "ff14_flex_ED.dat").as_posix()}"'),
+                       ("InflowFile", f'"{name}_IfW.dat"'), ("OutFmt", '"ES16.8E3"'), ("TabDelim", "True")):
+        fst = _set(fst, key, value)
+    path = folder / f"{name}.fst"
+    path.write_text(fst)
+    return path
+
+
+def run_points(folder: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Run OpenFAST on case ``name`` in ``folder``: times (M,) and velocities (M, 9, 3) [m/s]."""
+    fst = write_case(folder, name)
+    proc = subprocess.run([str(OPENFAST), fst.name], cwd=folder, capture_output=True, text=True, timeout=300)
+    if proc.returncode != 0:
+        raise RuntimeError(f"OpenFAST failed on {name}: {proc.stdout[-2000:]}")
+    lines = (folder / f"{name}.out").read_text().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("Time"))
+    names = lines[start].split()
+    data = np.array([[float(v) for v in line.split()] for line in lines[start + 2:] if line.strip()])
+    cols = [names.index(f"Wind{i}Vel{c}") for i in range(1, 10) for c in "XYZ"]
+    return data[:, 0], data[:, cols].reshape(-1, 9, 3)
+
+
+def read_reference(name: str) -> tuple[np.ndarray, np.ndarray]:
+    """The stored reference of case ``name``: times (M,) and velocities (M, 9, 3)."""
+    data = np.loadtxt(DATA / f"ifw_{name}.csv", delimiter=",", skiprows=1)
+    return data[:, 0], data[:, 1:].reshape(-1, 9, 3)
+
+
+def main() -> None:
+    import tempfile
+
+    DATA.mkdir(exist_ok=True)
+    for name in CASES:
+        with tempfile.TemporaryDirectory() as tmp:
+            t, v = run_points(Path(tmp), name)
+        header = "Time," + ",".join(f"Wind{i}Vel{c}" for i in range(1, 10) for c in "XYZ")
+        rows = [",".join(repr(float(x)) for x in [ti, *vi.reshape(-1)]) for ti, vi in zip(t, v)]
+        (DATA / f"ifw_{name}.csv").write_text(header + "\n" + "\n".join(rows) + "\n")
+        print(f"{name}: {t.size} rows", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
