@@ -209,6 +209,12 @@ def compose(model) -> Dynamics:
     if hasattr(g, "inflow_steady"):
         model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
                                                     [g.inflow_steady], ["x", "u", "p"], ["z"], opts)
+    if model.aero == "blade":
+        from .blade_compose import INFLOW_OUTPUTS
+
+        model._parts["blade_inflow"] = ca.Function(f"{model.name}_blade_inflow", [g.x, g.u, g.p],
+                                                   [g.blade_aero[k] for k in INFLOW_OUTPUTS], ["x", "u", "p"],
+                                                   list(INFLOW_OUTPUTS))
     model._parts["graph"] = g
     defaults = {**dict(eom.defaults), **_aero_defaults(model), **model.actuators.parameters()}
     if not model.spins_freely:
@@ -230,7 +236,8 @@ def _input_defaults(model, g: Graph) -> list[float] | None:
 
 def _aero_defaults(model) -> dict[str, float]:
     if model.aero == "blade":
-        return {"air_density": float(model.rotor.air_density)}
+        rho = getattr(model.rotor, "air_density", None) or model.turbine.simulation.air_density or 1.225
+        return {"air_density": float(rho)}
     return {"air_density": float(model.rotor.air_density), "cp_scale": 1.0, "ct_scale": 1.0}
 
 

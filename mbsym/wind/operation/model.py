@@ -237,7 +237,9 @@ class OperatingTurbine:
                     raise ParameterError(f"no tower DOF to set {modes[0][:3]} displacement {value!r} on; the "
                                          f"coordinates are {list(coords)}.")
                 x[mode] = float(value)
-        if wind_speed is not None:
+        if wind_speed is not None and self.aero == "blade":
+            x.update(self._wake_equilibrium(x, wind_speed, p))
+        elif wind_speed is not None:
             vec = np.array([x[s] for s in dyn.states])
             u = dyn.input_vector({"Wind1VelX": float(wind_speed)})
             if self.dynamic_inflow is not None or self.inflow_lag:
@@ -253,12 +255,33 @@ class OperatingTurbine:
             x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
         return np.array([x[s] for s in dyn.states])
 
+    def _wake_equilibrium(self, x: dict, wind, p) -> dict[str, float]:
+        """Blade-element rotor: the wake states at equilibrium with the inflow of state ``x`` (wind: hub speed
+        [m/s] or the wind inputs by name)."""
+        dyn = self.dynamics()
+        vec = np.array([x[s] for s in dyn.states])
+        u = dyn.input_vector(self._wind_inputs(wind))
+        inflow = self._part("blade_inflow")
+        values = dict(zip(inflow.name_out(), (np.asarray(v, dtype=float).ravel()
+                                               for v in inflow(vec, u, dyn.parameter_vector(p)))))
+        states = self.rotor.steady_states(values["node_vx"], values["node_vy"], values["node_r_local"],
+                                          values["node_theta"], values["node_azimuth"])
+        return dict(zip(self.rotor.state_names, np.asarray(states, dtype=float).ravel()))
+
+    def _wind_inputs(self, wind) -> dict[str, float]:
+        """Wind inputs by name: a number is the hub speed ``Wind1VelX`` (or, for a field, the time ``WindTime``)."""
+        if isinstance(wind, Mapping):
+            return {k: float(v) for k, v in wind.items()}
+        if self.wind is not None and "WindTime" in self.wind.inputs:
+            return {"WindTime": float(wind)}
+        return {"Wind1VelX": float(wind)}
+
     def balancing_torque(self, x: np.ndarray, wind_speed: float, p: Mapping[str, float] | None = None) -> float:
         """Generator torque [N m] (HSS) balancing the aerodynamic torque at state ``x`` and wind [m/s], clipped
         to the torque limits."""
         f = self._part("aero_torque")
         dyn = self.dynamics()
-        q_aero = float(f(x, dyn.input_vector({"Wind1VelX": wind_speed}), dyn.parameter_vector(p)))
+        q_aero = float(f(x, dyn.input_vector(self._wind_inputs(wind_speed)), dyn.parameter_vector(p)))
         a = self.actuators
         return float(np.clip(q_aero / self.gearbox_ratio, a.torque_min, a.torque_max))
 

@@ -63,7 +63,8 @@ class BladePointShapes:
 def _interp(values: np.ndarray, at: np.ndarray, grid: np.ndarray) -> np.ndarray:
     """Linear interpolation along the last axis."""
     flat = values.reshape(-1, values.shape[-1])
-    return np.stack([np.interp(at, grid, row) for row in flat]).reshape(values.shape[:-1] + (at.size,))
+    rows = [np.interp(at, grid, row) for row in flat]
+    return (np.stack(rows) if rows else np.zeros((0, at.size))).reshape(values.shape[:-1] + (at.size,))
 
 
 def blade_point_shapes(structure, blade: int, span) -> BladePointShapes:
