@@ -60,7 +60,12 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
     y_s = structural.function(ca.vertcat(g.q, g.qd), g.u_s, g.p_s)
     rows = [(n, u, y_s[i]) for i, (n, u) in enumerate(zip(structural.names, structural.units))]
     ops = _operation(g)
-    return rows + [(n, OPERATION_CHANNELS[n], ops[n]) for n in OPERATION_CHANNELS]
+    rows += [(n, OPERATION_CHANNELS[n], ops[n]) for n in OPERATION_CHANNELS]
+    if model.aero == "blade":
+        from .blade_channels import blade_channel_rows
+
+        rows += blade_channel_rows(g)
+    return rows
 
 
 def _operation(g) -> dict[str, Any]:

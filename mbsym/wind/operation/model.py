@@ -110,7 +110,7 @@ class OperatingTurbine:
                  dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
                  dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, saturation_width: float = 1e-4,
-                 wind=None, name: str = "operating_turbine") -> None:
+                 wind=None, output_nodes: Sequence[int] = (), name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -150,6 +150,7 @@ class OperatingTurbine:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
                           "hub only (rigid-rotor performance surfaces); their motion is structural only. The "
                           "blade-element rotor (aero='blade') loads them.", UserWarning, stacklevel=2)
+        self.output_nodes = _output_nodes(output_nodes, rotor if blade else None)
         self._dynamics: Dynamics | None = None
         self._parts: dict[str, Any] = {}
 
@@ -291,6 +292,8 @@ class OperatingTurbine:
 
     def __repr__(self) -> str:
         on = [f for f, v in self.dofs.items() if v]
+        if self.aero == "blade":
+            return f"OperatingTurbine(dofs={on}, rotor={self.rotor!r}, wind={self.wind!r})"
         inflow = "dynamic" if self.dynamic_inflow is not None else ("lag" if self.inflow_lag else "quasi-steady")
         return f"OperatingTurbine(dofs={on}, rotor={self.rotor.source!r}, inflow={inflow!r})"
 
@@ -301,6 +304,21 @@ class OperatingTurbine:
         from ..deck.nrel5mw import nrel5mw
 
         return cls(nrel5mw(), dofs=dofs, **options)
+
+
+def _output_nodes(nodes: Sequence[int], rotor) -> tuple[int, ...]:
+    """AeroDyn's ``BlOutNd``: 1-based node numbers of blade 1 with node channels (blade-element rotor only)."""
+    nodes = tuple(nodes)
+    if not nodes:
+        return ()
+    if rotor is None:
+        raise ParameterError("output_nodes lists AeroDyn node channels of a blade-element rotor (aero='blade'); the "
+                             "rotor-effective model has no nodes.")
+    bad = [n for n in nodes if not isinstance(n, (int, np.integer)) or not 1 <= n <= rotor.n_nodes]
+    if bad or len(nodes) > 9:
+        raise ParameterError(f"output_nodes must be at most 9 node numbers in 1..{rotor.n_nodes} (AeroDyn's "
+                             f"BlOutNd); got {list(nodes)}.")
+    return tuple(int(n) for n in nodes)
 
 
 def _is_blade_rotor(rotor) -> bool:

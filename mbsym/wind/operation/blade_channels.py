@@ -1,0 +1,76 @@
+"""OpenFAST channels that only a blade-element rotor has (names, units and signs of ElastoDyn and AeroDyn).
+
+=====================  ======  =============================================================
+channel                unit    definition
+=====================  ======  =============================================================
+RootMxc<k>, RootMyc<k>  kN-m   blade-root moments about the coned root axes i1 (in-plane moment),
+                               i2 (out-of-plane moment): minus the reactions of the locked root
+                               rotations (the equations of the same graph: aerodynamic, gravity
+                               and inertia loads of the whole blade), as ElastoDyn's ``MomH0B·i``
+RootMzc<k>             kN-m    pitching moment about the blade axis i3
+RootMxb<k>, RootMyb<k> kN-m    the same moments in the pitched axes j1, j2
+RtAeroFxh … RtAeroFzh  N       aerodynamic force on the rotor in the (rotating) hub axes
+RtAeroMxh … RtAeroMzh  N-m     aerodynamic moment about the apex in the hub axes
+RtSkew                 deg     skew angle of the disk-averaged relative wind to the shaft
+B1N<j>Alpha …          deg …   AeroDyn node channels of blade 1 (Alpha, Phi [deg], Vrel [m/s],
+                               AxInd, TnInd, Cl, Cd [-], Fn, Ft [N/m]) for the nodes
+                               :attr:`OperatingTurbine.output_nodes` lists
+=====================  ======  =============================================================
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import casadi as ca
+
+from ..structure.turbine import BLADE_ROOT_LOCKED
+
+__all__ = ["blade_channel_rows", "NODE_CHANNELS"]
+
+#: AeroDyn node channels: name -> (key of the aero Function's ``node_*`` outputs, unit, scale).
+NODE_CHANNELS = {"Alpha": ("alpha", "deg", 180.0 / math.pi), "Phi": ("phi", "deg", 180.0 / math.pi),
+                 "Vrel": ("vrel", "m/s", 1.0), "AxInd": ("axial_induction", "-", 1.0),
+                 "TnInd": ("tangential_induction", "-", 1.0), "Cl": ("cl", "-", 1.0), "Cd": ("cd", "-", 1.0),
+                 "Fn": ("fn", "N/m", 1.0), "Ft": ("ft", "N/m", 1.0)}
+
+
+def blade_channel_rows(g) -> list[tuple[str, str, Any]]:
+    """``(name, unit, expression)`` of the blade-element channels of the composed graph ``g``."""
+    rows = _root_moments(g) + _rotor_loads(g)
+    rows.append(("RtSkew", "deg", g.skew * 180.0 / math.pi))
+    return rows + _node_rows(g)
+
+
+def _root_moments(g) -> list[tuple[str, str, Any]]:
+    lam = g.eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
+    locked = g.eom.locked
+    pitch = g.X["BlPitch"]
+    rows = []
+    for k in range(g.model.rotor.n_blades):
+        first = locked.index(f"B{k + 1}{BLADE_ROOT_LOCKED[0]}")
+        mx, my, mz = (-lam[first + i] / 1e3 for i in range(3))
+        rows += [(f"RootMxc{k + 1}", "kN-m", mx), (f"RootMyc{k + 1}", "kN-m", my), (f"RootMzc{k + 1}", "kN-m", mz),
+                 (f"RootMxb{k + 1}", "kN-m", ca.cos(pitch) * mx - ca.sin(pitch) * my),
+                 (f"RootMyb{k + 1}", "kN-m", ca.sin(pitch) * mx + ca.cos(pitch) * my)]
+    return rows
+
+
+def _rotor_loads(g) -> list[tuple[str, str, Any]]:
+    R = g.hub_frame
+    force, moment = g.blade_aero["rotor_force"], g.blade_aero["rotor_moment"]
+    rows = [(f"RtAeroF{a}h", "N", ca.dot(force, R[:, i])) for i, a in enumerate("xyz")]
+    rows += [(f"RtAeroM{a}h", "N-m", ca.dot(moment, R[:, i])) for i, a in enumerate("xyz")]
+    return [r for r in rows if r[0] not in ("RtAeroFxh", "RtAeroMxh")]
+
+
+def _node_rows(g) -> list[tuple[str, str, Any]]:
+    rows = []
+    aero = g.blade_aero
+    for j, node in enumerate(g.model.output_nodes, start=1):      # B1N<j>: the j-th listed node (BlOutNd)
+        for name, (key, unit, scale) in NODE_CHANNELS.items():
+            values = aero.get(f"node_{key}")
+            if values is not None:
+                rows.append((f"B1N{j}{name}", unit, scale * values[node - 1]))
+    return rows
