@@ -207,10 +207,12 @@ class OperatingTurbine:
 
         Parameters
         ----------
-        wind_speed : float, optional
+        wind_speed : float or dict, optional
             Wind at t = 0 [m/s]: the generator torque starts at the value that balances the
             aerodynamic torque (the rotor starts without acceleration), within the torque
-            limits. Without it the torque starts at ``torque`` or 0.
+            limits. Without it the torque starts at ``torque`` or 0. For a blade-element model,
+            the wind inputs by name (a number is ``Wind1VelX``, or ``WindTime`` [s] for a full
+            field); its wake states then start at equilibrium.
         rotor_speed, pitch, torque, tower_fa, tower_ss : float, optional, keyword-only
             Override RotSpeed [rad/s], BlPitch [rad], the generator torque [N m] (HSS),
             TTDspFA, TTDspSS [m].
@@ -250,7 +252,7 @@ class OperatingTurbine:
         if torque is not None:
             x["GenTq"] = float(torque)
         elif wind_speed is not None:
-            x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), float(wind_speed), p)
+            x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), wind_speed, p)
         if "DrTr" in coords and (wind_speed is not None or torque is not None):
             stiffness = dict(zip(dyn.parameters, dyn.parameter_vector(p)))["drivetrain_stiffness"]
             x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
@@ -277,7 +279,8 @@ class OperatingTurbine:
             return {"WindTime": float(wind)}
         return {"Wind1VelX": float(wind)}
 
-    def balancing_torque(self, x: np.ndarray, wind_speed: float, p: Mapping[str, float] | None = None) -> float:
+    def balancing_torque(self, x: np.ndarray, wind_speed: "float | Mapping[str, float]",
+                         p: Mapping[str, float] | None = None) -> float:
         """Generator torque [N m] (HSS) balancing the aerodynamic torque at state ``x`` and wind [m/s], clipped
         to the torque limits."""
         f = self._part("aero_torque")

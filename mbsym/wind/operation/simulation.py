@@ -38,8 +38,10 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     Parameters
     ----------
     model : OperatingTurbine
-    wind : WindSignal, callable or float
-        Hub-height wind speed [m/s] of time [s].
+    wind : WindSignal, callable, float, UniformFieldWind or None
+        Hub-height wind speed [m/s] of time [s]; for a blade-element model with uniform-wind inputs also a
+        :class:`~mbsym.wind.inflow.UniformFieldWind` (every column), and None for a model that carries a
+        full field (its time is the simulation time).
     tmax : float
         End time [s].
     controller : DiscreteController, optional, keyword-only
@@ -79,11 +81,15 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         raise TypeError(f"controller must be a DiscreteController (baseline_in_loop, discon_in_loop) or None; "
                         f"got {type(controller).__name__}.")
     dyn = model.dynamics()
-    u0 = _wind_at(wind, 0.0)
+    if model.aero == "blade":
+        inputs: dict[str, Any] = model.wind.signals(wind)
+        start = {n: _wind_at(inputs[n], 0.0) for n in model.wind.inputs}
+    else:
+        inputs = {"Wind1VelX": wind}
+        start = _wind_at(wind, 0.0)
     if x0 is None:
-        x0 = model.initial_state(u0)
+        x0 = model.initial_state(start)
     x0 = dyn.state_vector(x0)
-    inputs: dict[str, Any] = {"Wind1VelX": wind}
     inputs.update(held_commands(model, x0) if commands is None else dict(commands))
     options: dict[str, Any] = {"t_out": t_out, "p": p, "compile": compile, "progress": progress}
     if controller is not None:

@@ -50,12 +50,16 @@ class UniformWindInputs:
         ``RefLength`` [m] of the linear shears (InflowWind's default for steady wind: the rotor diameter).
     defaults : dict, optional
         Default input values by name (e.g. the deck's power-law exponent).
+    propagation_direction, upflow_angle : float, optional
+        InflowWind's ``PropagationDir`` and ``VFlowAng`` [rad]: the rotation of the whole wind box.
     """
 
     kind = "uniform"
 
-    def __init__(self, ref_height: float, ref_length: float, defaults: Mapping[str, float] | None = None) -> None:
+    def __init__(self, ref_height: float, ref_length: float, defaults: Mapping[str, float] | None = None, *,
+                 propagation_direction: float = 0.0, upflow_angle: float = 0.0) -> None:
         self.ref_height, self.ref_length = float(ref_height), float(ref_length)
+        self.propagation_direction, self.upflow_angle = float(propagation_direction), float(upflow_angle)
         self.defaults = {n: 0.0 for n in UNIFORM_INPUTS}
         self.defaults.update(dict(defaults or {}))
         unknown = sorted(set(self.defaults) - set(UNIFORM_INPUTS))
@@ -74,7 +78,28 @@ class UniformWindInputs:
         from ..inflow import uniform_velocity_expr
 
         columns = {col: U[name] for name, (col, _) in UNIFORM_INPUTS.items()}
-        return uniform_velocity_expr(columns, points, ref_height=self.ref_height, ref_length=self.ref_length)
+        return uniform_velocity_expr(columns, points, ref_height=self.ref_height, ref_length=self.ref_length,
+                                     propagation_direction=self.propagation_direction, upflow_angle=self.upflow_angle)
+
+    @classmethod
+    def from_field(cls, field) -> "UniformWindInputs":
+        """The inputs of a :class:`~mbsym.wind.inflow.UniformFieldWind` (its columns at t = 0 as defaults)."""
+        at0 = field.columns_at(0.0)
+        defaults = {name: float(at0[col]) for name, (col, _) in UNIFORM_INPUTS.items()}
+        return cls(field.reference_height, field.reference_length, defaults,
+                   propagation_direction=field.propagation_direction, upflow_angle=field.upflow_angle)
+
+    def signals(self, wind) -> dict[str, Any]:
+        """Input signals of a simulation: ``wind`` is the hub speed (number, WindSignal or callable of t [s]),
+        or a :class:`~mbsym.wind.inflow.UniformFieldWind` whose columns become the inputs (functions of time);
+        inputs not given keep :attr:`defaults`."""
+        out: dict[str, Any] = dict(self.defaults)
+        if hasattr(wind, "columns_at"):
+            for name, (col, _) in UNIFORM_INPUTS.items():
+                out[name] = lambda t, col=col: wind.columns_at(t)[col]
+        else:
+            out["Wind1VelX"] = wind
+        return out
 
     def __repr__(self) -> str:
         return f"UniformWindInputs(ref_height={self.ref_height:g}, ref_length={self.ref_length:g})"
@@ -108,6 +133,16 @@ class FieldWindInputs:
         if n not in self._functions:
             self._functions[n] = self.field.casadi_function(n)
         return self._functions[n](U["WindTime"], points)
+
+    def signals(self, wind=None) -> dict[str, Any]:
+        """Input signals of a simulation: the field's time is the simulation time. ``wind`` must be None or this
+        field (the field is part of the model)."""
+        if wind is not None and wind is not self.field:
+            from ...exceptions import WindInputError
+
+            raise WindInputError("this model carries its full wind field (wind=... at construction); simulate it "
+                                 "with wind=None, or build a model with the other field.")
+        return {"WindTime": lambda t: t}
 
     def sample(self, t: Any, points: np.ndarray) -> np.ndarray:
         """Numeric velocities (N, 3) [m/s] at times ``t`` [s] and points (N, 3) [m]."""
