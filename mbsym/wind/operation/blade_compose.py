@@ -111,6 +111,12 @@ class BladeGraph(Graph):
         u = 0.5 * (self.u_rel + ca.sqrt(self.u_rel**2 + 0.02**2))
         self.aero = {"u": u}
 
+    def parts(self) -> dict[str, Any]:
+        """``blade_inflow``: ``(x, u, p) ->`` :data:`INFLOW_OUTPUTS` (wake equilibrium, diagnostics)."""
+        f = ca.Function(f"{self.model.name}_blade_inflow", [self.x, self.u, self.p],
+                        [self.blade_aero[k] for k in INFLOW_OUTPUTS], ["x", "u", "p"], list(INFLOW_OUTPUTS))
+        return {"blade_inflow": f}
+
     def aero_function(self) -> ca.Function:
         """``blade_aero(q, qd, u_s, p_s, states, wind, rho)``: the aerodynamics as one SX Function (cached)."""
         parts = self.model._parts
@@ -188,7 +194,6 @@ class _AeroBuilder:
 
     def _frames(self, kin: dict[str, Any], rel: Any) -> dict[str, Any]:
         """AeroDyn's local frames and inflow of every node (BEM_Mod = 1: without sweep, pitch and twist)."""
-        rotor = self.rotor
         c1 = kin["shaft"]["R"][:, 0]
         apex = kin["hub"]["r"]
         n = kin["r"].size2()

@@ -69,7 +69,7 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
 
 
 def _operation(g) -> dict[str, Any]:
-    model, eom, X, U, P = g.model, g.eom, g.X, g.U, g.P
+    model, eom, X, P = g.model, g.eom, g.X, g.P
     R = model.rotor.tip_radius if model.aero == "blade" else model.rotor.radius
     u = g.aero["u"]                                       # floored relative wind [m/s]
     omega = g.rotor_speed

@@ -25,10 +25,11 @@ import casadi as ca
 
 from ...dynamics import Dynamics
 from ...equations import SYMBOLIC_SOLVE_MAX_DOF
+from ...exceptions import ModelDefinitionError
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
 
-__all__ = ["compose", "WIRED_INPUTS"]
+__all__ = ["compose", "check_structure", "Graph", "WIRED_INPUTS"]
 
 #: Structural inputs driven by the composition (the others stay inputs of the Dynamics).
 WIRED_INPUTS = ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd")
@@ -174,24 +175,25 @@ class Graph:
             rows.append(self.lag_rhs)
         return rows
 
+    def parts(self) -> dict[str, Any]:
+        """Extra Functions the model keeps (by key in ``model._parts``)."""
+        return {}
+
     def kinematics_with_accelerations(self, body: str) -> dict[str, Any]:
         """Point kinematics of a body origin with the model's accelerations (for output channels)."""
         return self._kinematics(body, self.u_s, self.qdd)
 
 
-def compose(model) -> Dynamics:
-    """The :class:`mbsym.Dynamics` of ``model`` (an :class:`~.model.OperatingTurbine`)."""
-    from .model import _check_structure
+def compose(model, graph: type | None = None) -> Dynamics:
+    """The :class:`mbsym.Dynamics` of ``model`` (an :class:`~.model.OperatingTurbine`).
 
-    _check_structure(model)
+    ``graph`` is the :class:`Graph` class to build (default :class:`Graph`: the rotor-effective loads;
+    :class:`~.blade_compose.BladeGraph` for blade-element aerodynamics).
+    """
+    check_structure(model)
     eom = model.structure.eom
     kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
-    if model.aero == "blade":
-        from .blade_compose import BladeGraph
-
-        g = BladeGraph(model, kind)
-    else:
-        g = Graph(model, kind)
+    g = (graph or Graph)(model, kind)
     opts = {"cse": True} if kind is ca.SX else {}
     rhs = ca.Function(f"{model.name}_rhs", [g.x, g.u, g.p], [g.xd], ["x", "u", "p"], ["xd"], opts)
     rows = channel_rows(g)
@@ -209,12 +211,7 @@ def compose(model) -> Dynamics:
     if hasattr(g, "inflow_steady"):
         model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
                                                     [g.inflow_steady], ["x", "u", "p"], ["z"], opts)
-    if model.aero == "blade":
-        from .blade_compose import INFLOW_OUTPUTS
-
-        model._parts["blade_inflow"] = ca.Function(f"{model.name}_blade_inflow", [g.x, g.u, g.p],
-                                                   [g.blade_aero[k] for k in INFLOW_OUTPUTS], ["x", "u", "p"],
-                                                   list(INFLOW_OUTPUTS))
+    model._parts.update(g.parts())
     model._parts["graph"] = g
     defaults = {**dict(eom.defaults), **_aero_defaults(model), **model.actuators.parameters()}
     if not model.spins_freely:
@@ -249,3 +246,19 @@ def _deck_state(model, g: Graph) -> list[float]:
     if not model.spins_freely:
         values["GeAz"] = s.initial_generator_azimuth()
     return [values.get(n, 0.0) for n in g.states]
+
+
+#: Parameters the composition adds, for the clash check (aerodynamics, rotor speed).
+_AERO_NAMES = ("air_density", "cp_scale", "ct_scale", "rotor_speed")
+
+
+def check_structure(model) -> None:
+    """The structure drives what the composition needs and its parameter names do not clash with ours."""
+    eom = model.structure.eom
+    missing = [n for n in ("BlPitch", "RotThrust") if n not in eom.inputs]
+    if missing:
+        raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
+    clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(_AERO_NAMES)))
+    if clash:
+        raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "
+                                   "the same names (aerodynamics, actuators, rotor_speed).")

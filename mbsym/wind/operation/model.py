@@ -37,17 +37,20 @@ Outputs: OpenFAST channels with OpenFAST's names and units (:mod:`.channels`).
 from __future__ import annotations
 
 import warnings
-from typing import Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
 from ...dynamics import Dynamics
-from ...exceptions import ModelDefinitionError, ParameterError
+from ...exceptions import ParameterError
 from ..aero.rotor import RotorAero
 from ..deck.parameters import TurbineParameters
 from ..structure.turbine import TurbineModel
-from .actuators import ACTUATOR_PARAMETERS, ActuatorSettings
+from .actuators import ActuatorSettings
 from .dynamic_inflow import DynamicInflow
+
+if TYPE_CHECKING:
+    from ..aero.blade import BladeElementRotor
 
 __all__ = ["OperatingTurbine", "OPERATING_DOFS", "COMMANDS", "AERO_PARAMETERS"]
 
@@ -178,7 +181,10 @@ class OperatingTurbine:
         if self._dynamics is None:
             from .compose import compose
 
-            self._dynamics = compose(self)
+            graph = None
+            if self.aero == "blade":
+                from .blade_compose import BladeGraph as graph
+            self._dynamics = compose(self, graph)
         return self._dynamics
 
     def measurement_dynamics(self) -> Dynamics:
@@ -360,14 +366,3 @@ def _blade_wind(turbine: TurbineParameters, rotor, wind):
         return FieldWindInputs(wind)
     raise TypeError(f"wind must be a UniformWindInputs, a FieldWindInputs or a full field (read_turbsim_bts); got "
                     f"{type(wind).__name__}.")
-
-
-def _check_structure(model: OperatingTurbine) -> None:
-    eom = model.structure.eom
-    missing = [n for n in ("BlPitch", "RotThrust") if n not in eom.inputs]
-    if missing:
-        raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
-    clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(AERO_PARAMETERS) | {"rotor_speed"}))
-    if clash:
-        raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "
-                                   "the same names (aerodynamics, actuators, rotor_speed).")
