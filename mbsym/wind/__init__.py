@@ -37,6 +37,15 @@ _LAZY = {
         ("TurbineModel",),
         ("structure.turbine",)),
     **dict.fromkeys(
+        ("OperatingTurbine",),
+        ("operation.model",)),
+    **dict.fromkeys(
+        ("BladeElementRotor",),
+        ("aero.blade",)),
+    **dict.fromkeys(
+        ("FullFieldWind", "UniformFieldWind", "read_turbsim_bts", "rotor_effective_wind"),
+        ("inflow",)),
+    **dict.fromkeys(
         ("nrel5mw",),
         ("deck.nrel5mw",)),
     **dict.fromkeys(
@@ -91,4 +100,10 @@ __all__ = [
     "fidelity_ladder",
     "FidelityLadder",
     "DEFAULT_LADDER",
+    "OperatingTurbine",
+    "BladeElementRotor",
+    "FullFieldWind",
+    "UniformFieldWind",
+    "read_turbsim_bts",
+    "rotor_effective_wind",
 ]

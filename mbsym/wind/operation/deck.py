@@ -23,13 +23,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
-from ...exceptions import ControllerError, OpenFASTFormatError
+from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
 from ..aero.rotor import RotorAero
 from ..deck.parameters import TurbineParameters
 from .actuators import ActuatorSettings
 from .model import OPERATING_DOFS, OperatingTurbine
 
-__all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT"]
+__all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT", "AERO_MODELS"]
+
+#: Aerodynamic models of an operating turbine: blade-element on every blade, or rotor-effective surfaces.
+AERO_MODELS = ("blade", "rotor")
 
 #: How to get ROSCO's library, for messages.
 ROSCO_HINT = ("'pip download --no-deps rosco==2.10.6' gives a wheel (a zip) holding rosco/lib/libdiscon.so and its "
@@ -88,8 +91,21 @@ class OperatingDeck:
             object.__setattr__(self, "rotor_source", RotorAero.from_openfast(self.rotor_source))
         return self.rotor_source
 
-    def model(self, *, dofs: Sequence[str] | None = None, **options) -> OperatingTurbine:
-        """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's)."""
+    def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, **options) -> OperatingTurbine:
+        """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's; ``aero``: ``"blade"`` or
+        ``"rotor"``, else :meth:`default_aero`)."""
+        dofs = self.dofs if dofs is None else dofs
+        aero = self.default_aero(dofs) if aero is None else aero
+        if aero not in AERO_MODELS:
+            raise ParameterError(f"aero must be one of {list(AERO_MODELS)}; got {aero!r}.")
+        if aero == "blade":
+            return self._blade_model(dofs, **options)
+        if self.inflow is not None and self.inflow.wind_type not in (1, 2):
+            from ...exceptions import WindInputError
+
+            raise WindInputError(f"{self.label}: the rotor-effective model (aero='rotor') takes a hub-height wind; the "
+                                 f"deck's InflowWind has WindType {self.inflow.wind_type}. Drive it with the field's "
+                                 "rotor-effective wind (mbsym.wind.rotor_effective_wind) or use aero='blade'.")
         from .dynamic_inflow import DynamicInflow
 
         inflow = False
@@ -97,8 +113,50 @@ class OperatingDeck:
             mode, tau1 = self.dbemt if self.dbemt is not None else (2, 0.0)
             inflow = DynamicInflow(self.rotor, mode=mode, tau1_const=tau1)
         options.setdefault("dynamic_inflow", inflow)
-        return OperatingTurbine(self.turbine, self.rotor, dofs=self.dofs if dofs is None else dofs,
-                                actuators=self.actuators, **options)
+        options.setdefault("actuators", self.actuators)
+        return OperatingTurbine(self.turbine, self.rotor, dofs=dofs, **options)
+
+    def _blade_model(self, dofs, **options) -> OperatingTurbine:
+        from ..aero.blade import BladeElementRotor
+        from .wind_inputs import UniformWindInputs
+
+        if self.path is None:
+            raise ParameterError("aero='blade' needs an OpenFAST deck (AeroDyn blade files); the built-in turbine "
+                                 "has only the rotor-effective model.")
+        rotor = BladeElementRotor.from_openfast(self.path)
+        wind = options.pop("wind", None)
+        if wind is None and self.inflow is not None:
+            field = self.inflow.field()
+            wind = UniformWindInputs.from_field(field) if hasattr(field, "columns_at") else field
+        options.setdefault("actuators", self.actuators)
+        options.setdefault("output_nodes", self.output_nodes)
+        return OperatingTurbine(self.turbine, rotor, dofs=dofs, wind=wind, **options)
+
+    @property
+    def output_nodes(self) -> tuple[int, ...]:
+        """AeroDyn's ``BlOutNd`` (the first ``NBlOuts``): blade-1 nodes with node channels ``B1N<j>*``."""
+        if self.path is None:
+            return ()
+        from ..deck.aerodyn import read_aerodyn
+
+        extra = read_aerodyn(self.turbine.source_files["aerodyn"], n_blades=self.turbine.number_of_blades).extra
+        try:
+            count = int(str(extra.get("NBlOuts", "0")).split()[0])
+            nodes = [int(v) for v in str(extra.get("BlOutNd", "")).replace(",", " ").split()[:count]]
+        except ValueError:
+            return ()
+        return tuple(nodes)
+
+    def default_aero(self, dofs: Sequence[str] | None = None) -> str:
+        """``"blade"`` when a rotor-effective model cannot represent the deck: a full-field wind, a wind with
+        shear, direction, vertical speed or upflow, or blade or yaw DOFs that the aerodynamics must load;
+        ``"rotor"`` otherwise (uniform hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
+        if self.path is None:
+            return "rotor"
+        if self.inflow is not None and _varies_over_rotor(self.inflow):
+            return "blade"
+        flags = {f for f, on in self.turbine.dofs.items() if on} if dofs is None else set(dofs)
+        return "blade" if flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} else "rotor"
 
     def wind(self):
         """The deck's hub-height wind (InflowWind), or None without InflowWind."""
@@ -142,6 +200,19 @@ class OperatingDeck:
             raise ControllerError(f"controller input file not found: tried '{infile.absolute()}'. Fix ServoDyn's "
                                   "DLL_InFile or pass --discon-input DISCON.IN.")
         return lib, infile
+
+
+def _varies_over_rotor(inflow) -> bool:
+    """Whether an InflowWind wind differs over the rotor (full field, shears, direction, vertical flow)."""
+    from ..inflow import read_uniform_wind
+
+    if inflow.wind_type not in (1, 2) or inflow.propagation_direction != 0.0 or inflow.upflow_angle != 0.0:
+        return True
+    if inflow.wind_type == 1:
+        return inflow.steady_power_law_exponent != 0.0
+    if inflow.uniform_file is None:
+        return False                    # reported when the wind is read
+    return bool(read_uniform_wind(inflow.uniform_file).unmodelled())
 
 
 def operating_deck(fst: str | Path) -> OperatingDeck:

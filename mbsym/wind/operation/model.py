@@ -308,6 +308,30 @@ class OperatingTurbine:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
+    def from_openfast(cls, fst, *, aero: str | None = None, dofs: Sequence[str] | None = None,
+                      **options) -> "OperatingTurbine":
+        """The operating turbine an OpenFAST deck describes (ElastoDyn, AeroDyn 15, InflowWind, ServoDyn).
+
+        Parameters
+        ----------
+        fst : str or Path
+            The ``.fst`` (``CompAero = 2``).
+        aero : {"blade", "rotor"}, optional, keyword-only
+            ``"blade"``: blade-element aerodynamics on every blade (:class:`~mbsym.wind.aero.blade.
+            BladeElementRotor`) in the deck's wind over the rotor (full field, or uniform wind with its
+            shears as inputs); ``"rotor"``: the rotor-effective model (Cp/Ct surfaces of the deck's
+            blades, hub-height wind). Default: :meth:`~.deck.OperatingDeck.default_aero` (``"blade"``
+            whenever the deck's wind or DOFs need it).
+        dofs : sequence of str, optional, keyword-only
+            ElastoDyn DOF flags (default: the deck's).
+        **options
+            Passed to the constructor (``actuators`` default the deck's).
+        """
+        from .deck import operating_deck
+
+        return operating_deck(fst).model(dofs=dofs, aero=aero, **options)
+
+    @classmethod
     def nrel5mw(cls, *, dofs: Sequence[str] = OPERATING_DOFS, **options) -> "OperatingTurbine":
         """The built-in NREL 5 MW (package data) with :data:`OPERATING_DOFS` by default."""
         from ..deck.nrel5mw import nrel5mw
