@@ -95,10 +95,10 @@ def wants_operation(args: argparse.Namespace) -> bool:
 def run_operation(args: argparse.Namespace) -> int:
     """Run ``mbsym simulate`` for an operating turbine (see the module docstring)."""
     from ..simulate import ProgressPrinter, SimulationInterrupted
-    from .simulate import _check_files, _report_comparison
+    from ._run import check_files, report_comparison, write_outputs
 
     options = _integration(args)
-    ref, outputs = _check_files(args)
+    ref, outputs = check_files(args)
     t0 = time.perf_counter()
     deck = _deck(args)
     kind = _controller_kind(args, deck)
@@ -148,12 +148,12 @@ def run_operation(args: argparse.Namespace) -> int:
                  real_time_factor=tmax / max(float(stats.get("integration_wall_s", 0.0)), 1e-12))
     _summary(series, stats)
     if ref is not None:
-        _report_comparison(series, ref)
-    _write_outputs(outputs, series, ref, deck.label)
+        report_comparison(series, ref)
+    write_outputs(outputs, series, ref, deck.label, SUMMARY_CHANNELS)
     if args.stats:
-        from .simulate import _jsonable
+        from ._run import jsonable
 
-        print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
+        print(json.dumps({k: jsonable(v) for k, v in stats.items()}))
     return 0
 
 
@@ -167,21 +167,6 @@ def _input_files(args, deck) -> list[tuple[str, str]]:
         if path is not None:
             files.append((flag, str(path)))
     return files
-
-
-def _write_outputs(outputs, series, ref, label: str) -> None:
-    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
-    from ..wind.analysis.compare import overlay_plot, write_csv
-
-    with outputs:
-        if "--out" in outputs._final:
-            write_csv(outputs.temporary("--out"), series)
-        if "--plot" in outputs._final:
-            overlay_plot(outputs.temporary("--plot"), series, ref, channels=list(SUMMARY_CHANNELS), title=label)
-        written = outputs.commit()
-    for path in written:
-        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
-        print(f"wrote {path}{extra}")
 
 
 def _integration(args) -> dict:
@@ -257,7 +242,7 @@ def _wind(args, deck):
 
 
 def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
-    from .simulate import _time_grid
+    from ._run import time_grid
 
     sim = deck.turbine.simulation
     if deck.path is None:
@@ -266,7 +251,7 @@ def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
         table = isinstance(wind, TabulatedWind) and np.size(wind.time) > 1
         tmax = float(wind.time[-1]) if table else _BUILTIN_TMAX
         sim = SimpleNamespace(total_time=tmax, output_time_step=_BUILTIN_DT_OUT, time_step=deck.controller_dt)
-    tmax, t_out, _ = _time_grid(args, sim)
+    tmax, t_out, _ = time_grid(args, sim)
     return tmax, t_out
 
 

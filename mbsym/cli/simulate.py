@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from . import plain as _plain
+from ._run import check_files, jsonable, report_comparison, time_grid, write_outputs
 
 __all__ = ["add_parser", "run"]
 
@@ -98,10 +99,10 @@ def run(args: argparse.Namespace) -> int:
     if wants_operation(args):       # wind, aerodynamics, actuators, controller (cli/operate.py)
         return run_operation(args)
     options = _integration_options(args)
-    ref, outputs = _check_files(args)        # fail before any expensive work
+    ref, outputs = check_files(args)        # fail before any expensive work
     model, label = _model(args.deck, structure_only=args.structure_only)
     outputs.add_inputs(_deck_inputs(model))
-    tmax, t_out, step = _time_grid(args, model.turbine.simulation)
+    tmax, t_out, step = time_grid(args, model.turbine.simulation)
     t0 = time.perf_counter()
     channels = model.output_function()          # derives the equations and the output Function
     prepare = time.perf_counter() - t0
@@ -119,10 +120,10 @@ def run(args: argparse.Namespace) -> int:
     stats["prepare_wall_s"] = float(stats.get("prepare_wall_s", 0.0)) + prepare
     _summary(series, stats)
     if ref is not None:
-        _report_comparison(series, ref)
-    _write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name)
+        report_comparison(series, ref)
+    write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name)
     if args.stats:
-        print(json.dumps({k: _jsonable(v) for k, v in stats.items()}))
+        print(json.dumps({k: jsonable(v) for k, v in stats.items()}))
     return 0
 
 
@@ -156,73 +157,10 @@ def _integration_options(args) -> dict:
     return out
 
 
-def _time_grid(args, sim) -> tuple[float, np.ndarray, float]:
-    """``(tmax, output times, step of an explicit fixed-step method)``; names the flag or deck key at fault."""
-    from ..exceptions import SimulationOptionError
-
-    def positive(value, flag_given: bool, flag: str, key: str) -> float:
-        where = flag if flag_given else f"the deck's {key}"
-        fix = f"pass a positive {flag}" if flag_given else f"set {key} in the deck or pass {flag}"
-        if value is None or not (np.isfinite(value) and value > 0):
-            shown = "none" if value is None else f"{value:g}"
-            raise SimulationOptionError(f"{where} = {shown} s must be a positive finite time; {fix}.")
-        return float(value)
-
-    tmax = positive(args.tmax if args.tmax is not None else sim.total_time, args.tmax is not None, "--tmax", "TMax")
-    dt_out = positive(args.dt if args.dt is not None else sim.output_time_step, args.dt is not None, "--dt",
-                      "DT_Out")
-    step = positive(args.dt if args.dt is not None else sim.time_step, args.dt is not None, "--dt", "DT")
-    if dt_out > tmax:
-        a = "--dt" if args.dt is not None else "the deck's DT_Out"
-        b = "--tmax" if args.tmax is not None else "the deck's TMax"
-        raise SimulationOptionError(f"{a} = {dt_out:g} s exceeds {b} = {tmax:g} s: there would be no output after "
-                                    f"t = 0; use an output spacing below the simulated time.")
-    from ..simulate.monitor import check_resources, output_count
-
-    check_resources(output_count(tmax, dt_out), 8, None, tmax)        # before allocating the grid
-    n = int(np.floor(tmax / dt_out + 1e-9))
-    t_out = np.round(np.arange(n + 1) * dt_out, 12)
-    if t_out[-1] < tmax * (1 - 1e-12):
-        t_out = np.append(t_out, tmax)
-    return tmax, t_out, step
-
-
-def _check_files(args):
-    """Read --compare and check the --out/--plot destinations before simulating (:mod:`._files`)."""
-    from ._files import Outputs
-
-    outputs = Outputs([("--compare", args.compare), ("deck", args.deck)])
-    if args.out is not None:
-        outputs.add("--out", args.out)
-    if args.plot is not None:
-        outputs.add("--plot", args.plot, image=True)
-    ref = None
-    if args.compare:
-        from ..wind.analysis.compare import read_csv
-
-        ref = read_csv(args.compare)
-    return ref, outputs
-
-
 def _deck_inputs(model) -> list[tuple[str, str]]:
     """The deck's files (never overwritten by an output)."""
     files = getattr(model.turbine, "source_files", {}) or {}
     return [(f"deck's {name}", path) for name, path in files.items()]
-
-
-def _write_outputs(outputs, series, ref, label: str) -> None:
-    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
-    from ..wind.analysis.compare import overlay_plot, write_csv
-
-    with outputs:
-        if "--out" in outputs._final:
-            write_csv(outputs.temporary("--out"), series)
-        if "--plot" in outputs._final:
-            overlay_plot(outputs.temporary("--plot"), series, ref, title=label)
-        written = outputs.commit()
-    for path in written:
-        extra = f" ({len(series.time)} rows, {len(series.names)} channels)" if path.suffix.lower() == ".csv" else ""
-        print(f"wrote {path}{extra}")
 
 
 def _model(deck, *, structure_only: bool = False):
@@ -284,35 +222,3 @@ def _summary(series, stats) -> None:
         print(f"{n:<14} {unit:<8} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y[-1]:12.5g}")
 
 
-def _report_comparison(series, ref) -> None:
-    """The ε/R² table, then what was not compared: channels, time ranges, non-finite samples."""
-    from ..wind.analysis.compare import compare, coverage_notes, not_compared
-
-    rows = compare(series, ref)
-    _print_comparison(rows)
-    missing = not_compared(series, ref)
-    if missing:
-        print(f"not compared (not produced by this model): {', '.join(missing)}")
-    for note in coverage_notes(series, ref):
-        print(f"note: {note}")
-    excluded = [f"{r['channel']} ({r['n_excluded']})" for r in rows if r["n_excluded"]]
-    if excluded:
-        print(f"note: samples left out where a value is not finite (NaN/inf): {', '.join(excluded)}")
-
-
-def _print_comparison(rows) -> None:
-    print(f"\n{'channel':<14} {'ε [%]':>9} {'R²':>10} {'max |Δ|':>12}")
-    for r in rows:
-        eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.4f}"
-        r2 = "-" if np.isnan(r["r2"]) else f"{r['r2']:.6f}"
-        print(f"{r['channel']:<14} {eps:>9} {r2:>10} {r['max_abs_diff']:12.4g}")
-
-
-def _jsonable(v):
-    if isinstance(v, (np.floating, np.integer)):
-        v = v.item()
-    if isinstance(v, float) and not np.isfinite(v):
-        return None                     # strict JSON has no NaN/inf (e.g. no linear prediction on the BDF path)
-    if isinstance(v, (str, int, float, bool)) or v is None:
-        return v
-    return str(v)
