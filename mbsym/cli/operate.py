@@ -55,6 +55,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="hub-height wind: steady:U, step:U0:U1:T, kaimal:U:TI:SEED, ramp:U0:U1:T0:T1, eog:U:T0:VGUST "
                         "or a file (InflowWind uniform wind file, or CSV Time_[s],Wind1VelX_[m/s]); runs the "
                         "turbine with aerodynamics and a controller")
+    p.add_argument("--aero", choices=("blade", "rotor"),
+                   help="aerodynamics: blade (blade-element BEM on every blade node, in the wind over the rotor: "
+                        "full field, shears) or rotor (rotor-effective Cp/Ct surfaces, hub-height wind); default: "
+                        "blade when the deck's wind varies over the rotor or blade/yaw DOFs are on, else rotor")
     p.add_argument("--controller", choices=CONTROLLERS,
                    help="baseline (ours, compiled into the loop), discon (a DISCON library), nmpc (the turbine "
                         "NMPC), none (held commands); default: the deck's DISCON library, baseline without a deck")
@@ -74,7 +78,7 @@ def wants_operation(args: argparse.Namespace) -> bool:
     SimulationOptionError
         ``--structure-only`` together with an operating flag.
     """
-    flags = [f"--{k.replace('_', '-')}" for k in ("wind", "controller", "discon", "discon_input")
+    flags = [f"--{k.replace('_', '-')}" for k in ("wind", "aero", "controller", "discon", "discon_input")
              if getattr(args, k, None) is not None]
     if getattr(args, "structure_only", False):
         if flags:
@@ -105,12 +109,13 @@ def run_operation(args: argparse.Namespace) -> int:
     from .operate_mpc import check_options
 
     mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
-    wind, wind_label = _wind(args, deck)
+    aero = _aero(args, deck, mpc)
+    wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
-        model = _model(deck)
+        model = _model(deck, aero)
         dyn = model.dynamics()
         x0 = _initial_state(model, deck, wind)
         loop = mpc.loop(deck, model, wind) if mpc.active else None
@@ -210,10 +215,27 @@ def _deck(args):
     return _BUILTIN["deck"]
 
 
-def _model(deck):
+def _model(deck, aero: str):
     if deck.path is None and _BUILTIN.get("deck") is deck:
         return _BUILTIN["model"]
-    return deck.model()
+    return deck.model(aero=aero)
+
+
+def _aero(args, deck, mpc) -> str:
+    """``--aero``, else the deck's default; the NMPC and its estimators need the rotor-effective model."""
+    from ..exceptions import SimulationOptionError
+
+    if deck.path is None:
+        if args.aero == "blade":
+            raise SimulationOptionError("--aero blade needs a deck (its AeroDyn blade and airfoil files); the "
+                                        "built-in turbine runs the rotor-effective model (--aero rotor).")
+        return "rotor"
+    aero = args.aero or deck.default_aero()
+    if aero == "blade" and mpc.active:
+        raise SimulationOptionError("the NMPC and its estimators run on the rotor-effective model; this deck runs "
+                                    "blade-element aerodynamics (its wind varies over the rotor, or blade/yaw DOFs "
+                                    "are on). Pass --aero rotor (with --wind SPEC for a full-field deck).")
+    return aero
 
 
 def _controller_kind(args, deck) -> str:
@@ -226,7 +248,9 @@ def _controller_kind(args, deck) -> str:
     return "discon" if deck.uses_library else "none"
 
 
-def _wind(args, deck):
+def _wind(args, deck, aero: str = "rotor"):
+    """``(wind, label)``: ``--wind SPEC`` (hub-height speed), else the deck's InflowWind (for a blade-element model
+    its wind over the rotor: a full field is carried by the model, so the wind is None)."""
     from ..exceptions import WindInputError
     from ..wind.inflow import parse_wind_spec
 
@@ -234,12 +258,14 @@ def _wind(args, deck):
         duration = args.tmax if args.tmax is not None else (
             deck.turbine.simulation.total_time if deck.path is not None else 600.0)
         return parse_wind_spec(args.wind, duration=float(duration)), f"--wind {args.wind}"
-    wind = deck.wind()
-    if wind is None:
+    if deck.inflow is None:
         raise WindInputError(f"{deck.label}: the deck has no InflowWind (CompInflow = 1) to take the wind from; "
                              "give one with --wind SPEC (e.g. steady:12).")
-    return wind, f"InflowWind {deck.inflow.path}"
-
+    label = f"InflowWind {deck.inflow.path}"
+    if aero == "blade":
+        field = deck.inflow.field()
+        return (field if hasattr(field, "columns_at") else None), label
+    return deck.wind(), label
 
 def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
     from ._run import time_grid
@@ -256,8 +282,11 @@ def _grid(args, deck, wind) -> tuple[float, np.ndarray]:
 
 
 def _initial_state(model, deck, wind):
+    from ..wind.operation.simulation import wind_at_start
     from ..wind.operation.steady import steady_guess
 
+    if model.aero == "blade":
+        return model.initial_state(wind_at_start(model, wind))
     u0 = float(np.asarray(wind(0.0)).reshape(-1)[0])
     if deck.path is not None:
         return model.initial_state(u0)          # the deck's ElastoDyn initial conditions, as OpenFAST starts
@@ -294,11 +323,14 @@ def _series(result, dyn):
 def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
     dofs = ", ".join(f for f, on in model.dofs.items() if on)
     inflow = "dynamic inflow (DBEMT)" if model.dynamic_inflow is not None else "quasi-steady inflow"
+    rotor = model.rotor.source if model.aero == "rotor" else f"blade-element {model.rotor!r}"
+    if model.aero == "blade":
+        inflow = f"wind {model.wind!r}"
     ctrl = "none (held commands)" if controller is None else f"{kind} every {controller.dt:g} s"
     how = f"accuracy {options['accuracy']:g}" if "accuracy" in options else "one RK4 step per controller sample" \
         if controller is not None and "method" not in options else f"method {options.get('method', 'auto')}"
     print(f"mbsym simulate: {deck.label} operating in {wind_label}")
-    print(f"DOFs: {dofs}; rotor {model.rotor.source}, {inflow}; controller {ctrl}")
+    print(f"DOFs: {dofs}; rotor {rotor}, {inflow}; controller {ctrl}")
     print(f"{tmax:g} s, {how}", flush=True)
 
 

@@ -25,7 +25,7 @@ from ...simulate.controller import DiscreteController
 from .controllers import held_commands
 from .model import OperatingTurbine
 
-__all__ = ["simulate_turbine"]
+__all__ = ["simulate_turbine", "wind_at_start"]
 
 
 def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float, tmax: float, *,
@@ -81,14 +81,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         raise TypeError(f"controller must be a DiscreteController (baseline_in_loop, discon_in_loop) or None; "
                         f"got {type(controller).__name__}.")
     dyn = model.dynamics()
-    if model.aero == "blade":
-        inputs: dict[str, Any] = model.wind.signals(wind)
-        start = {n: _wind_at(inputs[n], 0.0) for n in model.wind.inputs}
-    else:
-        inputs = {"Wind1VelX": wind}
-        start = _wind_at(wind, 0.0)
+    inputs: dict[str, Any] = model.wind.signals(wind) if model.aero == "blade" else {"Wind1VelX": wind}
     if x0 is None:
-        x0 = model.initial_state(start)
+        x0 = model.initial_state(wind_at_start(model, wind))
     x0 = dyn.state_vector(x0)
     inputs.update(held_commands(model, x0) if commands is None else dict(commands))
     options: dict[str, Any] = {"t_out": t_out, "p": p, "compile": compile, "progress": progress}
@@ -111,6 +106,14 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     # in the loop only the measurements are evaluated; the channels afterwards, from the states
     res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
     return _with_channels(res, dyn, p, compile)
+
+
+def wind_at_start(model: OperatingTurbine, wind) -> "float | dict[str, float]":
+    """The wind at t = 0 as :meth:`OperatingTurbine.initial_state` takes it (hub speed, or the wind inputs)."""
+    if model.aero != "blade":
+        return _wind_at(wind, 0.0)
+    signals = model.wind.signals(wind)
+    return {n: _wind_at(signals[n], 0.0) for n in model.wind.inputs}
 
 
 def _with_channels(res, dyn, p, compile):
