@@ -155,7 +155,9 @@ def _blade_rows(model, val, d) -> list:
     pitch_input = _input(d, "BlPitch")
     rows = []
     for k in range(t.number_of_blades):
-        pitch = pitch_input if pitch_input is not None else ca.SX(float(t.initial_conditions.blade_pitch[k]))
+        own = _input(d, f"BlPitch{k + 1}")                 # individual pitch (pitch_input="individual")
+        pitch = own if own is not None else pitch_input if pitch_input is not None else \
+            ca.SX(float(t.initial_conditions.blade_pitch[k]))
         blade = model.bodies[f"blade{k + 1}"]
         if isinstance(blade, FlexibleBody):
             x, y, z, _ = _tip(blade, val)

@@ -95,6 +95,8 @@ class TurbineModel:
         pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
         ``BlPitch_dd``; default input the deck's pitch), turning every blade about its
         ``j3`` axis as ElastoDyn's pitch does (the blades must share one initial pitch).
+        ``"individual"``: one prescribed pitch per blade (inputs ``BlPitch<k>``, ``BlPitch<k>_d``,
+        ``BlPitch<k>_dd``; default inputs the deck's BlPitch(k)).
     prescribed_azimuth : bool, optional, keyword-only
         With GenDOF off, drive the rotor through the prescribed azimuth inputs (``GeAz``,
         ``GeAz_d``, ``GeAz_dd``) even when the deck's RotSpeed is 0 (Campbell diagrams at
@@ -155,7 +157,10 @@ class TurbineModel:
                 f"{'s' if len(problems) > 1 else ''}):\n" + "\n".join(f"  - {m}" for m in problems))
         self._blade_data: dict[int, ElastoDynBladeData] = {}
         self._yaw = (float(yaw_spring), float(yaw_damping))
-        self.pitch_input = bool(pitch_input)
+        if pitch_input not in (True, False, "individual"):
+            raise ModelDefinitionError(f"pitch_input must be False, True (collective) or 'individual'; got "
+                                       f"{pitch_input!r}.")
+        self.pitch_input = pitch_input if pitch_input == "individual" else bool(pitch_input)
         self.prescribed_azimuth = bool(prescribed_azimuth)
         self.tower_base_reactions = bool(tower_base_reactions)
         self.blade_loads = bool(blade_loads)
@@ -163,7 +168,7 @@ class TurbineModel:
         if self.blade_root_reactions and not pitch_input:
             raise ModelDefinitionError("blade_root_reactions=True needs pitch_input=True (the locked root rotations "
                                        "carry the pitch bearing).")
-        if self.pitch_input and len(set(turbine.initial_conditions.blade_pitch)) > 1:
+        if self.pitch_input is True and len(set(turbine.initial_conditions.blade_pitch)) > 1:
             raise ModelDefinitionError(
                 f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
                 f"({[float(np.rad2deg(b)) for b in turbine.initial_conditions.blade_pitch]} deg); "
@@ -494,14 +499,15 @@ class TurbineModel:
             else:
                 blade = _rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
-            if isinstance(pitch, ca.SX):
+            if pitch is not None:
                 # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
                 # the one prescribed angle through a unit gear ratio.
                 bearing = RigidBody(f"pitch{k + 1}", mass=0.0)
                 R0 = blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)
                 parent, offset, rot = self._blade_root(hub, k, root, R0)
-                self._add(Revolute(parent, bearing, axis=[0, 0, -1], coordinate=pitch, offset=offset, rotation=rot,
-                                   gear_ratio=None if k == 0 else 1.0))
+                own = isinstance(pitch, list)
+                self._add(Revolute(parent, bearing, axis=[0, 0, -1], coordinate=pitch[k] if own else pitch,
+                                   offset=offset, rotation=rot, gear_ratio=None if k == 0 or own else 1.0))
                 self._add(Fixed(bearing, blade))
             else:
                 R = blade_rotation(2 * np.pi * k / n, t.precone[k], t.initial_conditions.blade_pitch[k])
@@ -520,11 +526,20 @@ class TurbineModel:
             parent, offset, rot = hinge, [0.0, 0.0, 0.0], np.eye(3).tolist()
         return parent, offset, rot
 
-    def _pitch(self) -> ca.SX | None:
-        """Collective pitch: a prescribed coordinate (``pitch_input``) or None (deck's BlPitch)."""
+    def _pitch(self) -> "ca.SX | list[ca.SX] | None":
+        """Pitch: a collective prescribed coordinate, one per blade (``"individual"``), or None (deck's BlPitch)."""
         if not self.pitch_input:
             return None
-        b0 = float(self.turbine.initial_conditions.blade_pitch[0])
+        pitches = [float(b) for b in self.turbine.initial_conditions.blade_pitch]
+        if self.pitch_input == "individual":
+            names = [f"BlPitch{k + 1}" for k in range(self.turbine.number_of_blades)]
+            coords = self.system.prescribed(names)
+            coords = list(coords) if isinstance(coords, tuple) else [coords]
+            for name, b0 in zip(names, pitches):
+                self.prescribed.update({name: lambda s, b0=b0: b0, f"{name}_d": lambda s: 0.0,
+                                        f"{name}_dd": lambda s: 0.0})
+            return coords
+        b0 = pitches[0]
         pitch = self.system.prescribed("BlPitch")
         self.prescribed.update({"BlPitch": lambda s, b0=b0: b0, "BlPitch_d": lambda s: 0.0,
                                 "BlPitch_dd": lambda s: 0.0})
