@@ -18,7 +18,7 @@ else ``gcc`` or ``cc`` on the ``PATH``; a command of several words (``"ccache
 gcc"``, ``"gcc -march=native"``) is used whole. ``MBSYM_NO_COMPILE=1`` turns
 compilation off (fallback without a warning, checked before any other work).
 
-Functions defined in hand-written or generated C (CasADi ``External``\ s, e.g. a wind field) can be
+Functions defined in hand-written or generated C (CasADi Externals, e.g. a wind field) can be
 called from SX/MX graphs; when :func:`compile_function` generates C for such a graph, CasADi declares
 ``int <name>(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);``
 and calls it. :func:`register_c_source` tells this module where that definition lives: the source is

@@ -42,7 +42,7 @@ __all__ = ["full_field_function", "full_field_c_source", "FULL_FIELD_C_VERSION"]
 
 #: Version of the generated C (part of the library's cache key).
 FULL_FIELD_C_VERSION = "1"
-_FUNCTIONS: dict[tuple[str, int], ca.Function] = {}       # keeps Callbacks alive and reuses loaded libraries
+_FUNCTIONS: dict[tuple, ca.Function] = {}       # keeps Callbacks alive and reuses loaded libraries
 
 
 def _folder() -> Path:
@@ -60,16 +60,17 @@ def full_field_function(field: FullFieldWind, n_points: int) -> ca.Function:
         raise DimensionError(f"n_points must be a positive integer; got {n_points!r}.")
     n_points = int(n_points)
     name = function_name(field, n_points)
-    known = _FUNCTIONS.get((name, n_points))
+    cc = None if codegen.compile_disabled() else codegen.compiler_command()
+    memo = (name, cc, str(codegen.cache_dir()), codegen.compile_disabled())
+    known = _FUNCTIONS.get(memo)
     if known is not None:
         return known
     if codegen.compile_disabled():
         f = _callback(field, n_points, name)
     else:
-        cc = codegen.compiler_command()
         f = _callback(field, n_points, name, warn="No C compiler found (set MBSYM_CC or CC, or install gcc).") \
             if cc is None else _external(field, n_points, name, cc)
-    _FUNCTIONS[(name, n_points)] = f
+    _FUNCTIONS[memo] = f
     return f
 
 
