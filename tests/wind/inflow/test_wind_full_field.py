@@ -222,3 +222,22 @@ def test_missing_file_and_bad_arrays(tmp_path):
         FullFieldWind(np.zeros((3, 3, 3)), dy=1, dz=1, dt=1, mean_speed=1, reference_height=1, grid_bottom=1)
     with pytest.raises(ValueError, match="mean_speed must be a positive"):
         FullFieldWind(np.zeros((3, 3, 3, 3)), dy=1, dz=1, dt=1, mean_speed=0, reference_height=1, grid_bottom=1)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", list(CASES))
+def test_stored_references_are_what_openfast_writes(case, tmp_path):
+    """Rerun OpenFAST v5 on each stored case (~1-10 s each) and compare with ``data/ifw_<case>.csv``."""
+    import subprocess
+
+    from .ifw_reference import OPENFAST, run_points
+
+    need(OPENFAST)
+    if subprocess.run([str(OPENFAST), "-v"], capture_output=True).returncode != 0:
+        pytest.skip("the OpenFAST binary does not run here (missing runtime libraries)")
+    if case.startswith("ff14"):
+        from .conftest import AERO
+        need(AERO / "wind" / "ff14.bts")
+    t, v = run_points(tmp_path, case)
+    t_ref, v_ref = read_reference(case)
+    assert np.array_equal(t, t_ref) and np.abs(v - v_ref).max() <= 1e-6 * max(1.0, np.abs(v_ref).max())
