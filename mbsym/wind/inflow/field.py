@@ -90,7 +90,8 @@ def _velocity_array(a, name: str, ndim: int) -> np.ndarray:
     if arr.ndim != ndim or arr.shape[-1] != 3:
         raise DimensionError(f"FullFieldWind: {name} has shape {arr.shape}; expected {ndim} axes, the last of "
                              "length 3 (u, v, w).")
-    if not np.isfinite(arr).all():
+    step = max(1, (1 << 22) // max(1, arr[0].size))      # check in blocks: no full-size temporary
+    if not all(np.isfinite(arr[i:i + step]).all() for i in range(0, arr.shape[0], step)):
         raise WindInputError(f"FullFieldWind: {name} must be finite.")
     arr = arr.view()                              # a read-only view: the caller's array stays writeable
     arr.setflags(write=False)
