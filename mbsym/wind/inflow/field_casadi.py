@@ -20,9 +20,12 @@
 Derivatives are finite differences (``enable_fd``): the field is piecewise linear in space and time.
 The name is ``ffwind_<20 hex digits of the content hash>_<n>``.
 
-Measured (this machine kind, gcc -O1): 51 points per call take ~2.4 µs in the compiled External and
-~3 µs in a compiled Function calling it (~130 µs through the numpy Callback); generating and compiling
-the External takes ~0.15 s once, writing the 100.5 MB data file of ``ff14.bts`` ~0.2 s once.
+Measured (this machine kind, gcc -O1, ff14, 51 rotor-like points marching in time): 3.6-6.3 µs per call of
+the External inside a compiled loop (best of 5 over 20000 calls, depending on the load of the 2 cores); a
+call from Python costs ~60 µs (CasADi's argument conversion), :meth:`FullFieldWind.velocity` ~0.7 ms (the
+Callback fallback costs that plus the call). Preparing the External the first time takes ~1.1 s (content
+hash 0.2 s, writing the 100.5 MB data file, generating and compiling the C ~0.5 s); a library in the cache
+loads in milliseconds after the hash.
 """
 
 from __future__ import annotations
