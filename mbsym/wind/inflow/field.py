@@ -234,7 +234,10 @@ class FullFieldWind:
 
     def with_rotation(self, propagation_direction: float = 0.0, upflow_angle: float = 0.0) -> FullFieldWind:
         """The same field (data shared, not copied) with other ``PropagationDir``/``VFlowAng`` [rad]."""
-        return replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle)
+        new = replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle)
+        if "data_hash" in self.__dict__:                  # same data: keep the (0.2 s) hash
+            new.__dict__["data_hash"] = self.__dict__["data_hash"]
+        return new
 
     # ------------------------------------------------------------------ evaluation
     def velocity(self, t, points) -> np.ndarray:
@@ -464,7 +467,7 @@ class FullFieldWind:
         rot = f"{self.propagation_direction!r},{self.upflow_angle!r}"
         return hashlib.blake2b((self.data_hash + rot).encode(), digest_size=20).hexdigest()
 
-    def casadi_function(self, n_points: int):
+    def casadi_function(self, n_points: int) -> "casadi.Function":
         """CasADi Function ``(t [s], xyz [3 x n_points] m) -> uvw [3 x n_points] m/s`` of this field.
 
         A CasADi External in C generated for this field (constants baked in, the data read once from a
