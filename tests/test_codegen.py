@@ -252,3 +252,50 @@ def test_compile_must_be_bool(osc_model):
     with pytest.raises(TypeError, match="compile must be True, False or None"):
         simulate(osc_model, 1.0, compile="yes")
 
+
+
+_EXTERNAL_C = r"""
+typedef double casadi_real;
+typedef long long int casadi_int;
+static const casadi_int sp[] = {2, 1, 0, 2, 0, 1};
+int mbsym_test_ext(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+  const casadi_real* x = arg[0];
+  if (!res[0]) return 0;
+  res[0][0] = x[0] * x[1] + SHIFT;
+  res[0][1] = x[0] - x[1];
+  return 0;
+}
+casadi_int mbsym_test_ext_n_in(void) { return 1; }
+casadi_int mbsym_test_ext_n_out(void) { return 1; }
+const casadi_int* mbsym_test_ext_sparsity_in(casadi_int i) { return sp; }
+const casadi_int* mbsym_test_ext_sparsity_out(casadi_int i) { return sp; }
+"""
+
+
+@needs_cc
+def test_registered_c_source_is_compiled_with_a_graph_that_calls_it(tmp_path):
+    """A hand-written CasADi External called from SX: compile_function compiles its registered source into the
+    same library (reference: the uncompiled graph); editing the source changes the cache key."""
+    import subprocess
+
+    from mbsym.codegen import register_c_source, registered_c_sources
+
+    src = tmp_path / "ext.c"
+    src.write_text("#define SHIFT 1.5\n" + _EXTERNAL_C)
+    lib = tmp_path / "ext.so"
+    subprocess.run([find_compiler(), "-shared", "-fPIC", "-o", str(lib), str(src)], check=True)
+    ext = ca.external("mbsym_test_ext", str(lib))
+    x = ca.SX.sym("x", 2)
+    g = ca.Function("calls_ext", [x], [ca.sin(ext(x)) + x])
+    register_c_source("mbsym_test_ext", src)
+    assert registered_c_sources(g) == [("mbsym_test_ext", src.absolute())]
+    c = compile_function(g)
+    assert c.compiled and not c.cache_hit
+    assert np.allclose(np.array(c.function([0.3, -2.0])), np.array(g([0.3, -2.0])), rtol=0, atol=1e-15)
+    key = function_key(g)
+    src.write_text("#define SHIFT 2.5\n" + _EXTERNAL_C)
+    assert function_key(g) != key
+    with pytest.raises(ValueError, match="C identifier"):
+        register_c_source("not a name", src)
+    with pytest.raises(ValueError, match="not found"):
+        register_c_source("mbsym_test_missing", tmp_path / "none.c")

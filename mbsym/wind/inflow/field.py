@@ -90,7 +90,8 @@ def _velocity_array(a, name: str, ndim: int) -> np.ndarray:
     if arr.ndim != ndim or arr.shape[-1] != 3:
         raise DimensionError(f"FullFieldWind: {name} has shape {arr.shape}; expected {ndim} axes, the last of "
                              "length 3 (u, v, w).")
-    if not np.isfinite(arr).all():
+    step = max(1, (1 << 22) // max(1, arr[0].size))      # check in blocks: no full-size temporary
+    if not all(np.isfinite(arr[i:i + step]).all() for i in range(0, arr.shape[0], step)):
         raise WindInputError(f"FullFieldWind: {name} must be finite.")
     arr = arr.view()                              # a read-only view: the caller's array stays writeable
     arr.setflags(write=False)
@@ -233,7 +234,10 @@ class FullFieldWind:
 
     def with_rotation(self, propagation_direction: float = 0.0, upflow_angle: float = 0.0) -> FullFieldWind:
         """The same field (data shared, not copied) with other ``PropagationDir``/``VFlowAng`` [rad]."""
-        return replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle)
+        new = replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle)
+        if "data_hash" in self.__dict__:                  # same data: keep the (0.2 s) hash
+            new.__dict__["data_hash"] = self.__dict__["data_hash"]
+        return new
 
     # ------------------------------------------------------------------ evaluation
     def velocity(self, t, points) -> np.ndarray:
@@ -463,7 +467,7 @@ class FullFieldWind:
         rot = f"{self.propagation_direction!r},{self.upflow_angle!r}"
         return hashlib.blake2b((self.data_hash + rot).encode(), digest_size=20).hexdigest()
 
-    def casadi_function(self, n_points: int):
+    def casadi_function(self, n_points: int) -> "casadi.Function":
         """CasADi Function ``(t [s], xyz [3 x n_points] m) -> uvw [3 x n_points] m/s`` of this field.
 
         A CasADi External in C generated for this field (constants baked in, the data read once from a

@@ -20,9 +20,12 @@
 Derivatives are finite differences (``enable_fd``): the field is piecewise linear in space and time.
 The name is ``ffwind_<20 hex digits of the content hash>_<n>``.
 
-Measured (this machine kind, gcc -O1): 51 points per call take ~2.4 µs in the compiled External and
-~3 µs in a compiled Function calling it (~130 µs through the numpy Callback); generating and compiling
-the External takes ~0.15 s once, writing the 100.5 MB data file of ``ff14.bts`` ~0.2 s once.
+Measured (this machine kind, gcc -O1, ff14, 51 rotor-like points marching in time): 3.6-6.3 µs per call of
+the External inside a compiled loop (best of 5 over 20000 calls, depending on the load of the 2 cores); a
+call from Python costs ~60 µs (CasADi's argument conversion), :meth:`FullFieldWind.velocity` ~0.7 ms (the
+Callback fallback costs that plus the call). Preparing the External the first time takes ~1.1 s (content
+hash 0.2 s, writing the 100.5 MB data file, generating and compiling the C ~0.5 s); a library in the cache
+loads in milliseconds after the hash.
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ __all__ = ["full_field_function", "full_field_c_source", "FULL_FIELD_C_VERSION"]
 
 #: Version of the generated C (part of the library's cache key).
 FULL_FIELD_C_VERSION = "1"
-_FUNCTIONS: dict[tuple[str, int], ca.Function] = {}       # keeps Callbacks alive and reuses loaded libraries
+_FUNCTIONS: dict[tuple, ca.Function] = {}       # keeps Callbacks alive and reuses loaded libraries
 
 
 def _folder() -> Path:
@@ -60,16 +63,17 @@ def full_field_function(field: FullFieldWind, n_points: int) -> ca.Function:
         raise DimensionError(f"n_points must be a positive integer; got {n_points!r}.")
     n_points = int(n_points)
     name = function_name(field, n_points)
-    known = _FUNCTIONS.get((name, n_points))
+    cc = None if codegen.compile_disabled() else codegen.compiler_command()
+    memo = (name, cc, str(codegen.cache_dir()), codegen.compile_disabled())
+    known = _FUNCTIONS.get(memo)
     if known is not None:
         return known
     if codegen.compile_disabled():
         f = _callback(field, n_points, name)
     else:
-        cc = codegen.compiler_command()
         f = _callback(field, n_points, name, warn="No C compiler found (set MBSYM_CC or CC, or install gcc).") \
             if cc is None else _external(field, n_points, name, cc)
-    _FUNCTIONS[(name, n_points)] = f
+    _FUNCTIONS[memo] = f
     return f
 
 

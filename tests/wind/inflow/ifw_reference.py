@@ -37,11 +37,17 @@ FF_POINTS = [(0.0, 0.0, 90.0), (0.0, 17.3, 101.2), (-31.7, -44.1, 47.9), (25.0, 
              (-12.0, 69.0, 159.9), (40.0, 3.3, 33.3), (-55.5, -20.0, 120.0), (5.0, 0.0, 130.6)]
 UNI_POINTS = [(0.0, 0.0, 90.0), (0.0, 30.0, 120.0), (10.0, -40.0, 40.0), (-20.0, 15.0, 140.0), (0.0, 0.0, 10.0),
               (3.0, 63.0, 90.0), (-8.0, -63.0, 27.0), (30.0, 0.0, 153.0), (0.0, 5.0, 0.5)]
+#: Points of the periodic TurbSim field with 3 tower points (data/tower_periodic.inp: 5 x 15 grid, 130 m square
+#: centred at 90 m, bottom 25 m, dz 9.29 m, tower points at 25, 15.7, 6.4 m; 200 steps of 0.1 s, periodic).
+TOWER_POINTS = [(0.0, 0.0, 90.0), (0.0, 20.0, 100.0), (0.0, 0.0, 20.0), (0.0, 25.0, 12.0), (-10.0, -5.0, 8.0),
+                (5.0, 0.0, 3.0), (0.0, 7.0, 24.995), (0.0, 64.99, 120.0), (-100.0, 0.0, 90.0)]
 CASES = {
     "ff14": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=FF_POINTS, tmax=3.0),
     "ff14_rotated": dict(WindType=3, PropagationDir=12.0, VFlowAng=4.0, points=[(x, 0.8 * y, 90.0 + 0.8 * (z - 90.0))
                                                                                  for x, y, z in FF_POINTS], tmax=3.0),
     "uniform": dict(WindType=2, PropagationDir=7.0, VFlowAng=2.0, points=UNI_POINTS, tmax=3.0, RefLength=125.0),
+    "tower_periodic": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=TOWER_POINTS, tmax=45.0, dt_out=0.25,
+                           bts=DATA / "tower_periodic.bts"),
     "steady_shear": dict(WindType=1, PropagationDir=-15.0, VFlowAng=0.0, points=UNI_POINTS, tmax=0.2,
                          HWindSpeed=11.0, PLexp=0.2),
 }
@@ -74,7 +80,8 @@ def write_case(folder: Path, name: str) -> Path:
     ifw = _set(ifw, "NWindVel", 9)
     for j, key in enumerate(("WindVxiList", "WindVyiList", "WindVziList")):
         ifw = _set(ifw, key, ", ".join(repr(float(v)) for v in pts[:, j]))
-    ifw = _set(ifw, "FileName_BTS", f'"{(SHARED / "openfast" / "aero" / "wind" / "ff14.bts").as_posix()}"')
+    bts = case.get("bts", SHARED / "openfast" / "aero" / "wind" / "ff14.bts")
+    ifw = _set(ifw, "FileName_BTS", f'"{Path(bts).as_posix()}"')
     (folder / "uniform.hh").write_text(UNIFORM_ROWS)
     ifw = _set(ifw, "Filename_Uni", '"uniform.hh"')
     channels = "\n".join(f'"Wind{i}Vel{c}"' for i in range(1, 10) for c in "XYZ")
@@ -83,7 +90,8 @@ def write_case(folder: Path, name: str) -> Path:
     fst = (FF14 / "ff14_flex.fst").read_text()
     for key, value in (("TMax", case["tmax"]), ("CompAero", 0), ("CompServo", 0), ("OutFileFmt", 1),
                        ("SumPrint", "False"), ("EDFile", f'"{(FF14 / "ff14_flex_ED.dat").as_posix()}"'),
-                       ("InflowFile", f'"{name}_IfW.dat"'), ("OutFmt", '"ES16.8E3"'), ("TabDelim", "True")):
+                       ("InflowFile", f'"{name}_IfW.dat"'),
+                       ("DT_Out", case.get("dt_out", 0.05)), ("OutFmt", '"ES16.8E3"'), ("TabDelim", "True")):
         fst = _set(fst, key, value)
     path = folder / f"{name}.fst"
     path.write_text(fst)
