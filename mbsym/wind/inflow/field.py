@@ -40,10 +40,14 @@ Arithmetic: the velocities are float32 as in InflowWind (``SiKi``); positions, w
 from __future__ import annotations
 
 import functools
+from typing import TYPE_CHECKING
 import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+
+if TYPE_CHECKING:                      # casadi is imported where the Function is made
+    import casadi as ca
 
 from ...exceptions import DimensionError, WindFieldDomainError, WindInputError
 
@@ -467,7 +471,7 @@ class FullFieldWind:
         rot = f"{self.propagation_direction!r},{self.upflow_angle!r}"
         return hashlib.blake2b((self.data_hash + rot).encode(), digest_size=20).hexdigest()
 
-    def casadi_function(self, n_points: int) -> "casadi.Function":
+    def casadi_function(self, n_points: int) -> "ca.Function":
         """CasADi Function ``(t [s], xyz [3 x n_points] m) -> uvw [3 x n_points] m/s`` of this field.
 
         A CasADi External in C generated for this field (constants baked in, the data read once from a

@@ -46,9 +46,10 @@ def blade_channel_rows(g) -> list[tuple[str, str, Any]]:
 def _root_moments(g) -> list[tuple[str, str, Any]]:
     lam = g.eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
     locked = g.eom.locked
-    pitch = g.X["BlPitch"]
+    names = g.model.pitch_names
     rows = []
     for k in range(g.model.rotor.n_blades):
+        pitch = g.X[names[k] if len(names) > 1 else names[0]]
         first = locked.index(f"B{k + 1}{BLADE_ROOT_LOCKED[0]}")
         mx, my, mz = (-lam[first + i] / 1e3 for i in range(3))
         rows += [(f"RootMxc{k + 1}", "kN-m", mx), (f"RootMyc{k + 1}", "kN-m", my), (f"RootMzc{k + 1}", "kN-m", mz),

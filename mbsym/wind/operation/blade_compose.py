@@ -30,7 +30,7 @@ import numpy as np
 
 from ..structure.blade_points import blade_point_kinematics, blade_point_loads, blade_point_shapes
 from ..structure.turbine import BLADE_LOAD_INPUTS
-from .compose import WIRED_INPUTS, Graph
+from .compose import WIRED_INPUTS, Graph, actuator_states
 
 __all__ = ["BladeGraph", "blade_load_inputs", "HUB_POINT_OUTPUTS", "INFLOW_OUTPUTS"]
 
@@ -71,13 +71,14 @@ class BladeGraph(Graph):
     """Symbols and expressions of the blade-element operating turbine (see the module docstring)."""
 
     def extra_states(self) -> list[str]:
-        extra = ["BlPitch", "BlPitch_d", "GenTq"]
+        extra = actuator_states(self.model)
         if not self.model.spins_freely:
             extra.append("GeAz")
         return extra + list(self.model.rotor.state_names)
 
     def wired_inputs(self) -> tuple[str, ...]:
-        return WIRED_INPUTS + blade_load_inputs(self.model.structure)
+        pitch = tuple(f"{n}{sfx}" for n in self.model.pitch_names for sfx in ("", "_d", "_dd"))
+        return WIRED_INPUTS + pitch + blade_load_inputs(self.model.structure)
 
     def wind_inputs(self) -> tuple[str, ...]:
         return tuple(self.model.wind.inputs)
@@ -147,8 +148,9 @@ class _AeroBuilder:
         n = kin["r"].size2()
         rel = W[:, :n] - kin["v"]
         frames = self._frames(kin, rel)
-        pitch = u_s[eom.inputs.index("BlPitch")]
-        theta = ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + pitch
+        pitch = ca.vertcat(*[u_s[eom.inputs.index(n)] for n in model.pitch_names])
+        per_node = ca.repmat(pitch.T, rotor.n_nodes, 1)[:] if pitch.numel() > 1 else pitch      # blade by blade
+        theta = ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + per_node.T
         aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,
                               states, rho=rho, **frames["rotor"])
         force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) + frames["e_rot"] * ca.repmat(aero["ft"].T, 3, 1)

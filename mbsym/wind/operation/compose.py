@@ -45,7 +45,7 @@ class Graph:
         nq = eom.n_q
         self.states = tuple(eom.states) + tuple(self.extra_states())
         self.passthrough = tuple(n for n in eom.inputs if n not in self.wired_inputs())
-        self.inputs = tuple(self.wind_inputs()) + ("BlPitchCom", "GenTqCom") + self.passthrough
+        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough
         extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
             extra_p.append("rotor_speed")
@@ -65,7 +65,7 @@ class Graph:
     def extra_states(self) -> list[str]:
         """States after the structure's: actuators, azimuth (GenDOF off), inflow states."""
         model = self.model
-        extra = ["BlPitch", "BlPitch_d", "GenTq"]
+        extra = actuator_states(model)
         if not model.spins_freely:
             extra.append("GeAz")
         if model.dynamic_inflow is not None:
@@ -97,8 +97,8 @@ class Graph:
         """Actuators, rotor and generator speeds."""
         model, eom, X, U, P = self.model, self.eom, self.X, self.U, self.P
         width = model.saturation_width
-        beta, beta_d = X["BlPitch"], X["BlPitch_d"]
-        self.beta_dd = pitch_actuator_rhs(beta, beta_d, U["BlPitchCom"], P, width)
+        self.beta_dd = {n: pitch_actuator_rhs(X[n], X[f"{n}_d"], U[c], P, width)
+                        for n, c in zip(model.pitch_names, model.command_names)}
         self.torque_d = torque_actuator_rhs(X["GenTq"], U["GenTqCom"], P, width)
         # rotor speed about the shaft [rad/s] (LSS) and generator speed relative to the nacelle (HSS)
         coords = eom.coordinates
@@ -140,8 +140,9 @@ class Graph:
     def structural_inputs(self, *, thrust: Any, torque: Any, **loads: Any) -> Any:
         """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
-        values = {"BlPitch": X["BlPitch"], "BlPitch_d": X["BlPitch_d"], "BlPitch_dd": self.beta_dd,
-                  "GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, **loads}
+        values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, **loads}
+        for n in self.model.pitch_names:
+            values.update({n: X[n], f"{n}_d": X[f"{n}_d"], f"{n}_dd": self.beta_dd[n]})
         if not self.model.spins_freely:
             values.update(GeAz=X["GeAz"], GeAz_d=P["rotor_speed"], GeAz_dd=0.0)
         rows = [values[n] if n in values else U[n] for n in self.eom.inputs]
@@ -168,7 +169,7 @@ class Graph:
 
     def _extra_rhs(self) -> list:
         X = self.X
-        rows = [X["BlPitch_d"], self.beta_dd, self.torque_d]
+        rows = [r for n in self.model.pitch_names for r in (X[f"{n}_d"], self.beta_dd[n])] + [self.torque_d]
         if not self.model.spins_freely:
             rows.append(self.P["rotor_speed"])
         if hasattr(self, "lag_rhs"):
@@ -242,7 +243,8 @@ def _deck_state(model, g: Graph) -> list[float]:
     """The deck's initial conditions; actuators at rest at the deck's pitch, zero torque and loads."""
     s = model.structure
     values = dict(zip(s.eom.states, s.initial_state()))
-    values["BlPitch"] = float(model.turbine.initial_conditions.blade_pitch[0])
+    for k, n in enumerate(model.pitch_names):
+        values[n] = float(model.turbine.initial_conditions.blade_pitch[k])
     if not model.spins_freely:
         values["GeAz"] = s.initial_generator_azimuth()
     return [values.get(n, 0.0) for n in g.states]
@@ -252,10 +254,15 @@ def _deck_state(model, g: Graph) -> list[float]:
 _AERO_NAMES = ("air_density", "cp_scale", "ct_scale", "rotor_speed")
 
 
+def actuator_states(model) -> list[str]:
+    """The actuator states: per pitch actuator its angle and rate, then the generator torque."""
+    return [s for n in model.pitch_names for s in (n, f"{n}_d")] + ["GenTq"]
+
+
 def check_structure(model) -> None:
     """The structure drives what the composition needs and its parameter names do not clash with ours."""
     eom = model.structure.eom
-    missing = [n for n in ("BlPitch", "RotThrust") if n not in eom.inputs]
+    missing = [n for n in (*model.pitch_names, "RotThrust") if n not in eom.inputs]
     if missing:
         raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
     clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(_AERO_NAMES)))

@@ -75,7 +75,9 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon") -> Dis
 
 
 def held_commands(model, x0) -> dict[str, float]:
-    """Constant commands that hold the actuators of ``model`` at the state ``x0``: ``{BlPitchCom, GenTqCom}``."""
+    """Constant commands that hold the actuators of ``model`` at the state ``x0``: ``{BlPitchCom…, GenTqCom}``."""
     dyn = model.dynamics()
     x = dict(zip(dyn.states, np.asarray(x0, dtype=float)))
-    return {"BlPitchCom": float(x["BlPitch"]), "GenTqCom": float(x["GenTq"])}
+    out = {c: float(x[n]) for n, c in zip(model.pitch_names, model.command_names)}
+    out["GenTqCom"] = float(x["GenTq"])
+    return out

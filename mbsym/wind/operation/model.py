@@ -59,6 +59,8 @@ __all__ = ["OperatingTurbine", "OPERATING_DOFS", "COMMANDS", "AERO_PARAMETERS"]
 OPERATING_DOFS = ("GenDOF", "TwFADOF1", "TwSSDOF1")
 #: Commands (inputs after the wind), SI units.
 COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
+#: Pitch actuation: one collective actuator, or one per blade (inputs ``BlPitchCom<k>``; blade-element rotor only).
+PITCH_MODES = ("collective", "individual")
 #: Aerodynamic parameters: name -> unit.
 AERO_PARAMETERS = {"air_density": "kg/m^3", "cp_scale": "-", "ct_scale": "-"}
 _UNLOADED = ("FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF")
@@ -88,6 +90,14 @@ class OperatingTurbine:
         Yaw bearing spring [N m/rad] and damper [N m s/rad] (with YawDOF).
     saturation_width : float, optional, keyword-only
         Relative half-width of the smooth saturation corners (:func:`~.actuators.smooth_clip`).
+    wind : UniformWindInputs, FieldWindInputs or FullFieldWind, optional, keyword-only
+        Blade-element rotor only: the wind over the rotor (:mod:`.wind_inputs`); default uniform wind
+        with InflowWind's columns as inputs at the hub height.
+    output_nodes : sequence of int, optional, keyword-only
+        Blade-element rotor only: AeroDyn's ``BlOutNd`` (node channels ``B1N<j>*``).
+    pitch : {"collective", "individual"}, optional, keyword-only
+        One pitch actuator (input ``BlPitchCom``), or one per blade (inputs ``BlPitchCom1..3``, states
+        ``BlPitch1..3``, ``BlPitch1_d..``; blade-element rotor only, for individual pitch control).
     name : str, optional, keyword-only
 
     Raises
@@ -113,7 +123,8 @@ class OperatingTurbine:
                  dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
                  dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, saturation_width: float = 1e-4,
-                 wind=None, output_nodes: Sequence[int] = (), name: str = "operating_turbine") -> None:
+                 wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
+                 name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -130,6 +141,17 @@ class OperatingTurbine:
             raise ParameterError(f"saturation_width must be a float in (0, 0.1); got {saturation_width!r}.")
         self.turbine, self.rotor, self.actuators = turbine, rotor, actuators
         self.aero = "blade" if blade else "rotor"
+        if pitch not in PITCH_MODES:
+            raise ParameterError(f"pitch must be one of {list(PITCH_MODES)}; got {pitch!r}.")
+        if pitch == "individual" and not blade:
+            raise ParameterError("pitch='individual' needs the blade-element rotor (aero='blade'): the rotor-effective "
+                                 "model has one collective pitch.")
+        self.pitch = pitch
+        n = turbine.number_of_blades
+        self.pitch_names = tuple(f"BlPitch{k + 1}" for k in range(n)) if pitch == "individual" else ("BlPitch",)
+        self.command_names = tuple(f"BlPitchCom{k + 1}" for k in range(n)) if pitch == "individual" else \
+            ("BlPitchCom",)
+        self.command_names += ("GenTqCom",)
         self.inflow_lag = bool(inflow_lag)
         if blade:
             if dynamic_inflow is not None or self.inflow_lag:
@@ -145,7 +167,8 @@ class OperatingTurbine:
             self.dynamic_inflow = _rotor_inflow(rotor, dynamic_inflow, self.inflow_lag)
         self.saturation_width = saturation_width
         self.name = str(name)
-        self.structure = TurbineModel(turbine, dofs, pitch_input=True, tower_base_reactions=True,
+        self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
+                                      tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True,
                                       blade_loads=blade, blade_root_reactions=blade)
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
@@ -238,7 +261,7 @@ class OperatingTurbine:
                 raise ParameterError("rotor_speed: GenDOF is off, the rotor turns at the parameter 'rotor_speed'; "
                                      "pass p={'rotor_speed': ...} to the simulation instead.")
         if pitch is not None:
-            x["BlPitch"] = float(pitch)
+            x.update(dict.fromkeys(self.pitch_names, float(pitch)))
         for value, modes in ((tower_fa, ("TFA1", "TFA2")), (tower_ss, ("TSS1", "TSS2"))):
             if value is not None:
                 mode = next((m for m in modes if m in coords), None)
