@@ -204,11 +204,13 @@ def compose(model, graph: type | None = None) -> Dynamics:
     outputs = ca.Function(f"{model.name}_outputs", [g.x, g.u, g.p], [y], ["x", "u", "p"], ["y"], opts)
     model._parts["aero_torque"] = ca.Function(f"{model.name}_aero_torque", [g.x, g.u, g.p], [g.torque],
                                               ["x", "u", "p"], ["Q"], opts)
-    from .controllers import MEASUREMENTS
-    measured = [y[names.index(n)] for n in MEASUREMENTS]
+    from .controllers import measurement_names
+    measured_names = measurement_names(model)
+    measured = [y[names.index(n)] for n in measured_names]
     model._parts["measurements"] = ca.Function(f"{model.name}_measurements", [g.x, g.u, g.p],
                                                [ca.vertcat(*measured)], ["x", "u", "p"], ["y"], opts)
-    model._parts["measurement_units"] = tuple(units[names.index(n)] for n in MEASUREMENTS)
+    model._parts["measurement_units"] = tuple(units[names.index(n)] for n in measured_names)
+    model._parts["measurement_names"] = measured_names
     if hasattr(g, "inflow_steady"):
         model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
                                                     [g.inflow_steady], ["x", "u", "p"], ["z"], opts)

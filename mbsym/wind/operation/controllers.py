@@ -25,53 +25,94 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "baseline_in_loop", "discon_in_loop", "held_commands"]
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "SI_FACTORS", "measurement_names",
+           "baseline_in_loop", "discon_in_loop", "held_commands"]
 
-#: Plant channels the controllers read, in the order of the controllers' ``y``.
+#: Plant channels the controllers read, in the order of their ``y``.
 MEASUREMENTS = ("GenSpeed", "RotSpeed", "BldPitch1", "GenPwr", "Wind1VelX")
 #: Factors from the channels' OpenFAST units (rpm, rpm, deg, kW, m/s) to SI (rad/s, rad/s, rad, W, m/s).
 TO_SI = (math.pi / 30.0, math.pi / 30.0, math.pi / 180.0, 1e3, 1.0)
 #: Plant inputs the controllers set, in the order of their ``u``.
 ACTUATED = ("BlPitchCom", "GenTqCom")
+#: Further channels a blade-element plant measures (individual pitch control reads them): the blade-root
+#: out-of-plane moments [kN-m], the azimuth [deg] and the pitch of blades 2 and 3 [deg].
+BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2", "BldPitch3")
+#: Channel -> factor from its OpenFAST unit to SI.
+SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
+              "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 
 
-def baseline_in_loop(controller: BaselineController, *, name: str = "baseline") -> DiscreteController:
+def measurement_names(model) -> tuple[str, ...]:
+    """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, and for a blade-element
+    plant :data:`BLADE_MEASUREMENTS`)."""
+    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ())
+
+
+def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None) -> DiscreteController:
     """Our baseline controller as a :class:`DiscreteController` of the plant's channels.
 
     Parameters
     ----------
     controller : BaselineController
-        E.g. ``BaselineController.from_discon("DISCON.IN", dt=0.00625)``.
+        E.g. ``BaselineController.from_discon("DISCON.IN", dt=0.00625)``; its ``measurements`` and
+        ``commands`` (individual pitch control adds root moments and azimuth, and commands each blade).
     name : str, optional, keyword-only
         Prefix of the controller's state names in results (``baseline.first`` ...).
+    model : OperatingTurbine, optional, keyword-only
+        The plant, when its pitch is individual: a collective command then drives every blade.
     """
     if not isinstance(controller, BaselineController):
         raise TypeError(f"controller must be a BaselineController; got {type(controller).__name__}.")
     f = controller.function
+    measured = tuple(getattr(controller, "measurements", MEASUREMENTS))
+    commands = tuple(getattr(controller, "commands", ACTUATED))
     xc = ca.SX.sym("xc", f.numel_in(0))
-    y = ca.SX.sym("y", len(MEASUREMENTS))
-    x_next, u = f(xc, y * ca.DM(TO_SI))
+    y = ca.SX.sym("y", len(measured))
+    x_next, u = f(xc, y * ca.DM([SI_FACTORS[n] for n in measured]))
+    u, actuates = _plant_commands(u, commands, model)
     law = ca.Function(f"{name}_in_loop", [xc, y], [x_next, u], ["xc", "y"], ["xc_next", "u"], {"cse": True})
-    return DiscreteController(law, controller.dt, controller.x0, measurements=MEASUREMENTS, actuates=ACTUATED,
+    return DiscreteController(law, controller.dt, controller.x0, measurements=measured, actuates=actuates,
                               state_names=[f"{name}.{s}" for s in controller.state_names], name=name)
 
 
-def discon_in_loop(controller: DisconController, *, name: str = "discon") -> DiscreteController:
+def _plant_commands(u, commands: tuple[str, ...], model) -> tuple:
+    """The controller's commands as the plant's inputs: a collective pitch spread over individual actuators."""
+    plant = tuple(getattr(model, "command_names", ACTUATED)) if model is not None else commands
+    if commands == plant:
+        return u, commands
+    if commands == ACTUATED and "BlPitchCom" not in plant:
+        n = len(plant) - 1
+        return ca.vertcat(*([u[0]] * n), u[1]), plant
+    from ...exceptions import ControllerError
+
+    raise ControllerError(f"the controller commands {list(commands)} but the plant takes {list(plant)}: individual "
+                          "pitch control needs a plant with pitch='individual'.")
+
+
+def discon_in_loop(controller: DisconController, *, name: str = "discon", model=None) -> DiscreteController:
     """A DISCON library as a :class:`DiscreteController` (a Python call per sample).
 
     The library is initialized at the first sample (t = 0) and keeps its state; use a new
-    :class:`DisconController` for every simulation (:meth:`DisconController.close` after).
+    :class:`DisconController` for every simulation (:meth:`DisconController.close` after). With a
+    blade-element ``model`` the library also receives the blade-root moments (records 30-32), the azimuth
+    (60) and every blade's pitch (4, 33, 34); with ``pitch='individual'`` its pitch demands per blade
+    (records 42-44) drive the blades.
     """
     if not isinstance(controller, DisconController):
         raise TypeError(f"controller must be a DisconController; got {type(controller).__name__}.")
-    step = controller.callable(MEASUREMENTS, ("BlPitchCom1", "GenTqCom"))
-    scale = np.asarray(TO_SI)
+    measured = measurement_names(model) if model is not None else MEASUREMENTS
+    individual = getattr(model, "pitch", "collective") == "individual"
+    n = model.turbine.number_of_blades if individual else 1
+    commands = tuple(f"BlPitchCom{k + 1}" for k in range(n)) + ("GenTqCom",)
+    step = controller.callable(measured, commands)
+    scale = np.asarray([SI_FACTORS[m] for m in measured])
     empty = np.zeros(0)
 
     def law(t: float, xc: np.ndarray, y: np.ndarray):
         return empty, step(t, y * scale)
 
-    return DiscreteController(law, controller.dt, measurements=MEASUREMENTS, actuates=ACTUATED, name=name)
+    actuates = model.command_names if individual else ACTUATED
+    return DiscreteController(law, controller.dt, measurements=measured, actuates=actuates, name=name)
 
 
 def held_commands(model, x0) -> dict[str, float]:

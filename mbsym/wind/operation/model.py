@@ -213,16 +213,14 @@ class OperatingTurbine:
     def measurement_dynamics(self) -> Dynamics:
         """The same dynamics with only the controllers' measurements as outputs (cheap to evaluate in a loop).
 
-        Outputs :data:`~.controllers.MEASUREMENTS` (OpenFAST units); every channel is evaluated
+        Outputs :func:`~.controllers.measurement_names` (OpenFAST units); every channel is evaluated
         afterwards from the states (:func:`~.simulation.simulate_turbine` does).
         """
         if "measurement_dynamics" not in self._parts:
-            from .controllers import MEASUREMENTS
-
             d = self.dynamics()
             self._parts["measurement_dynamics"] = Dynamics(
                 d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters, defaults=dict(d.defaults),
-                outputs=self._parts["measurements"], output_names=MEASUREMENTS,
+                outputs=self._parts["measurements"], output_names=self._parts["measurement_names"],
                 output_units=self._parts["measurement_units"], x0=d.x0, u0=d.u0, name=f"{d.name}_measured",
                 eom=d.eom)
         return self._parts["measurement_dynamics"]

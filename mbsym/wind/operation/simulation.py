@@ -105,7 +105,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         return simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
     # in the loop only the measurements are evaluated; the channels afterwards, from the states
     res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
-    return _with_channels(res, dyn, p, compile)
+    return _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
 
 
 def wind_at_start(model: OperatingTurbine, wind) -> "float | dict[str, float]":
@@ -116,15 +116,15 @@ def wind_at_start(model: OperatingTurbine, wind) -> "float | dict[str, float]":
     return {n: _wind_at(signals[n], 0.0) for n in model.wind.inputs}
 
 
-def _with_channels(res, dyn, p, compile):
-    """``res`` with every OpenFAST channel of ``dyn`` (then the controller's states) as outputs."""
+def _with_channels(res, dyn, p, compile, n_meas: int):
+    """``res`` with every OpenFAST channel of ``dyn`` (then the controller's states) as outputs; the first
+    ``n_meas`` outputs of ``res`` are the plant's measurements."""
     import dataclasses
     import time
 
     from ...simulate.model import evaluate_outputs
 
     t0 = time.perf_counter()
-    n_meas = len(res.output_names) - len(_controller_columns(res))
     Y = evaluate_outputs(dyn.rhs, dyn.outputs, np.asarray(res.x), np.asarray(res.u), dyn.parameter_vector(p),
                          compile)
     extra = np.asarray(res.y)[:, n_meas:]
@@ -134,12 +134,6 @@ def _with_channels(res, dyn, p, compile):
     return dataclasses.replace(res, y=np.hstack([Y, extra]), output_names=tuple(dyn.output_names) +
                                tuple(res.output_names[n_meas:]), output_units=tuple(dyn.output_units) + units,
                                statistics=stats)
-
-
-def _controller_columns(res) -> tuple[str, ...]:
-    from .controllers import MEASUREMENTS
-
-    return tuple(res.output_names[len(MEASUREMENTS):])
 
 
 #: Controller samples from which compiling the closed loop (~15 s once, then cached on disk) pays off against
