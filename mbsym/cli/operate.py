@@ -117,6 +117,7 @@ def run_operation(args: argparse.Namespace) -> int:
     try:
         model = _model(deck, aero)
         dyn = model.dynamics()
+        controller = _for_plant(controller, handle, model, kind, args, deck)
         x0 = _initial_state(model, deck, wind)
         loop = mpc.loop(deck, model, wind) if mpc.active else None
         controller = loop.controller() if loop is not None else controller
@@ -306,6 +307,19 @@ def _controller(kind, args, deck):
     library, infile = deck.discon_paths(args.discon, args.discon_input)
     handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades)
     return discon_in_loop(handle), handle
+
+
+def _for_plant(controller, handle, model, kind, args, deck):
+    """The controller wired to a blade-element plant (root moments, azimuth, per-blade pitch), else as built."""
+    from ..wind.control import BaselineController
+    from ..wind.operation.controllers import baseline_in_loop, discon_in_loop
+
+    if controller is None or model.aero != "blade":
+        return controller
+    if kind == "baseline":
+        settings = deck.baseline_settings(discon_in=args.discon_input)
+        return baseline_in_loop(BaselineController(settings), model=model)
+    return discon_in_loop(handle, model=model)
 
 
 def _series(result, dyn):

@@ -130,7 +130,24 @@ class OperatingDeck:
             wind = UniformWindInputs.from_field(field) if hasattr(field, "columns_at") else field
         options.setdefault("actuators", self.actuators)
         options.setdefault("output_nodes", self.output_nodes)
+        options.setdefault("pitch", "individual" if self.individual_pitch_control else "collective")
         return OperatingTurbine(self.turbine, rotor, dofs=dofs, wind=wind, **options)
+
+    @property
+    def individual_pitch_control(self) -> bool:
+        """Whether the deck's controller pitches the blades individually: ServoDyn ``Ptch_Cntrl = 1`` and ROSCO's
+        ``IPC_ControlMode > 0`` in its DISCON.IN (with IPC off ROSCO commands every blade alike)."""
+        if self.servodyn is None or self.discon_in is None or not Path(self.discon_in).is_file():
+            return False
+        if int(getattr(self.servodyn, "individual_pitch", 0) or 0) != 1:
+            return False
+        from ..deck.discon_in import read_discon_in
+
+        value = read_discon_in(self.discon_in).values.get("IPC_ControlMode", 0)
+        try:
+            return int(value) > 0
+        except (TypeError, ValueError):
+            return False
 
     @property
     def output_nodes(self) -> tuple[int, ...]:
