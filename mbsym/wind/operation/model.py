@@ -32,6 +32,15 @@ actuator parameters of :data:`~mbsym.wind.operation.actuators.ACTUATOR_PARAMETER
 ``rotor_speed`` [rad/s] when GenDOF is off.
 
 Outputs: OpenFAST channels with OpenFAST's names and units (:mod:`.channels`).
+
+**The blade-element rung** (``rotor`` a :class:`~mbsym.wind.aero.blade.BladeElementRotor`, or
+``OperatingTurbine.from_openfast(fst, aero="blade")``): instead of thrust and torque on the hub, BEM with
+dynamic wake on every AeroDyn node of every blade, in the wind at the node's current position
+(:mod:`.blade_compose`). The structure then has blade-load inputs and locked blade-root rotations (root
+moments ``RootM*c<k>``); the states add the rotor's wake states (``rotor.state_names``) instead of the
+rotor-averaged inflow; the wind inputs are InflowWind's uniform columns (:data:`.wind_inputs.UNIFORM_INPUTS`)
+or a full field's time ``WindTime`` (:mod:`.wind_inputs`); ``pitch="individual"`` gives every blade its own
+actuator (states ``BlPitch<k>``, inputs ``BlPitchCom<k>``).
 """
 
 from __future__ import annotations
