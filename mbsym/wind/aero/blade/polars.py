@@ -8,8 +8,8 @@ a linearization or an optimizer dislikes, so the default here is smooth:
   **uniform grid** of step ``step`` (0.25° by default) over [-180°, 180°], and a C² cubic
   interpolating spline (not-a-knot ends) is fitted through those values. Because the grid is
   uniform, the cell of α is ``floor((α + π) / step)`` -- no search -- and one O(1) table
-  gather (a CasADi ``linear`` lookup evaluated exactly at the cell number, as
-  :mod:`mbsym.wind.aero.interpolant` does) returns the cell's cubic; Horner's rule evaluates it.
+  gather (an MX Function reading one column of a constant matrix, kept as one call node in the
+  SX graph) returns the cell's cubic; Horner's rule evaluates it.
   The spline rounds the corners of AeroDyn's piecewise-linear polar over about one grid step;
   the measured differences (docs/blade_aero.md) are below 1e-3 in cl and cd in the attached-flow
   range, and 0.04 % on the rotor's Cp.
@@ -39,6 +39,21 @@ __all__ = ["NodePolars", "POLAR_METHODS"]
 #: The polar representations offered.
 POLAR_METHODS = ("spline", "linear")
 _COLUMNS = ("cl", "cd", "cm")
+
+
+def _gather(name: str, rows: np.ndarray) -> ca.Function:
+    """``i -> rows[i]`` for an integer-valued ``i``: an MX Function of one indexed read.
+
+    Called from SX with ``never_inline`` it stays one call node, whose generated C is an array
+    access (about 25 ns; a CasADi ``linear`` interpolant in ``exact`` mode costs about 85 ns).
+    Its derivative with respect to ``i`` is zero (``i`` is a floor anyway).
+    """
+    i = ca.MX.sym("i")
+    flat = ca.MX(ca.DM(np.ascontiguousarray(rows).ravel()))
+    m = rows.shape[1]
+    # one indexed read per coefficient: unlike a column slice with a symbolic index, this form
+    # has a zero (not NaN) derivative with respect to the index in CasADi 3.6-3.8
+    return ca.Function(name, [i], [ca.vertcat(*[flat[m * i + k] for k in range(m)])], ["cell"], ["coefficients"])
 
 
 def _wrap(alpha: Any) -> Any:
@@ -114,20 +129,16 @@ class NodePolars:
                                         np.stack([p.cl, p.cd, p.cm], axis=-1).ravel())
             return out
         cells = np.concatenate([_cell_cubics(p, self.step) for p in unique])  # (n_af*n, 3, 4)
-        self_cells = cells.shape[0]
-        grid = [np.arange(self_cells, dtype=float)]
-        exact = {"lookup_mode": ["exact"]}
         return {
             "n_cells": int(round(2.0 * math.pi / self.step)),
-            "lift": ca.interpolant(f"polar_cl_{key}", "linear", grid,
-                                   cells[:, 0, :].ravel(), exact),
-            "all": ca.interpolant(f"polar_all_{key}", "linear", grid, cells.reshape(self_cells, 12).ravel(),
-                                  exact),
+            "lift": _gather(f"polar_cl_{key}", cells[:, 0, :]),
+            "all": _gather(f"polar_all_{key}", cells.reshape(cells.shape[0], 12)),
             "cells": cells,
         }
 
     # ------------------------------------------------------------------ evaluation
-    def __call__(self, alpha: Any, nodes: Sequence[int], *, lift_only: bool = False) -> dict[str, Any]:
+    def __call__(self, alpha: Any, nodes: Sequence[int], *, lift_only: bool = False,
+                 wrap: bool = True) -> dict[str, Any]:
         """Coefficients at angles of attack ``alpha`` [rad] (SX column, one entry per ``nodes``).
 
         Parameters
@@ -138,6 +149,8 @@ class NodePolars:
             The blade node (0-based, within a blade) of each entry: selects its airfoil.
         lift_only : bool, optional
             Return only ``cl`` (cheaper: what the induction needs without AIDrag/TIDrag).
+        wrap : bool, optional
+            Wrap α into [-π, π) first; False when the caller knows it is there.
 
         Returns
         -------
@@ -145,7 +158,7 @@ class NodePolars:
             ``cl`` (and ``cd``, ``cm`` unless ``lift_only``).
         """
         which = self.airfoil_index[np.asarray(nodes, dtype=int)]
-        wrapped = _wrap(alpha)
+        wrapped = _wrap(alpha) if wrap else alpha
         if self.method == "linear":
             rows = [self._tables[int(w)](wrapped[i]) for i, w in enumerate(which)]
             coef = ca.horzcat(*rows).T  # (m, 3)
@@ -159,13 +172,13 @@ class NodePolars:
         t = scaled - cell
         index = cell + which.reshape(-1, 1) * n_cells
         table = self._tables["lift" if lift_only else "all"]
-        m = index.shape[0]
-        coef = table.map(m)(index.T)  # (4 or 12, m)
-        out = {}
-        for k, name in enumerate(_COLUMNS[:1] if lift_only else _COLUMNS):
-            c = coef[4 * k:4 * k + 4, :].T
-            out[name] = ((c[:, 3] * t + c[:, 2]) * t + c[:, 1]) * t + c[:, 0]
-        return out
+        out: dict[str, list] = {name: [] for name in (_COLUMNS[:1] if lift_only else _COLUMNS)}
+        for i in range(index.shape[0]):
+            coef = table.call([index[i]], False, True)[0]  # a call node: one gather in the C code
+            for k, name in enumerate(out):
+                c = coef[4 * k:4 * k + 4]
+                out[name].append(((c[3] * t[i] + c[2]) * t[i] + c[1]) * t[i] + c[0])
+        return {name: ca.vertcat(*values) for name, values in out.items()}
 
     def numeric(self, alpha: np.ndarray, node: int) -> dict[str, np.ndarray]:
         """cl, cd, cm of node ``node``'s airfoil at ``alpha`` [rad] (numpy, for checks and docs)."""
