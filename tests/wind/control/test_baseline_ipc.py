@@ -14,10 +14,11 @@ so that the P path is exercised too. Open loop the integrators wind up against t
 Tolerance: as for the collective controller (test_baseline_vs_rosco.py), |Δpitch| < 1e-4 deg per blade and
 |Δtorque| < 0.05 N m at every step. ROSCO reads its inputs in single precision; the azimuth's float32
 resolution below 2π is 4.8e-7 rad, which on an IPC amplitude of at most 0.3 rad is 1.4e-7 rad = 8e-6 deg;
-the moments' relative resolution 6e-8 enters the integrators proportionally. Observed: 3.4e-6 deg, 3.0e-3 N m (over 80 s, 6401 steps, per case).
-Shifting our azimuth by 1 mrad, flipping the sign of the azimuth offset, dropping the root-moment band-pass
-or feeding ROSCO's unset 2P yaw input with the real 2P yaw moment changes the commands by 0.011, 2.4, 8.3
-and 0.30 deg: the tolerance resolves each convention.
+the moments' relative resolution 6e-8 enters the integrators proportionally. Observed: 3.4e-6 deg and
+3.0e-3 N m (80 s, 6401 steps per case). In the 1P + 2P case with offsets, shifting our azimuth by 1 mrad,
+flipping the sign of the azimuth offset, dropping the root-moment band-pass or feeding ROSCO's unset 2P yaw
+input with the real 2P yaw moment changes the commands by 0.011, 2.4, 8.3 and 0.30 deg: the tolerance
+resolves each convention.
 """
 
 from __future__ import annotations
