@@ -92,7 +92,7 @@ def bandpass(u, states, corner, damping: float, dt: float, reset):
     reset every state takes the input, as ROSCO's ``NotchFilterSlopes`` does.
     """
     w = ca.fmax(corner, 0.0)
-    in1, in2, out1, out2 = (ca.if_else(reset, u, s) for s in states)
+    in1, _, out1, out2 = (ca.if_else(reset, u, s) for s in states)
     b2 = 2.0 * dt * w
     c = damping * dt**2 * w**2
     a2, a1, a0 = c + 2.0 * dt * w + 4.0 * damping, 2.0 * c - 8.0 * damping, c - 2.0 * dt * w + 4.0 * damping

@@ -40,7 +40,7 @@ import casadi as ca
 
 from ._blocks import bandpass, lpf1, pi
 
-__all__ = ["ROSCO_PI", "coleman", "coleman_inverse", "gain_ramp", "ipc_states", "ipc_step", "IPC_DIAGNOSTICS"]
+__all__ = ["IPC_DIAGNOSTICS", "ROSCO_PI", "coleman", "coleman_inverse", "gain_ramp", "ipc_states", "ipc_step"]
 
 #: ROSCO's value of π (Constants.f90), used in its blade phase angles; kept to stay bit-close.
 ROSCO_PI = 3.14159265359

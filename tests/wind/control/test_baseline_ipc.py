@@ -28,9 +28,9 @@ import shutil
 
 import numpy as np
 import pytest
-
 from _ctrl_data import DECK, need
 from _measurements import ipc_sweep
+
 from mbsym.exceptions import ControllerError, DimensionError, OpenFASTFormatError
 from mbsym.wind.control import BaselineController, DisconController
 from mbsym.wind.control.ipc import coleman, coleman_inverse
@@ -44,7 +44,7 @@ def _variant(tmp_path, changes):
     """The shared NREL 5 MW DISCON.IN with the values of some keys replaced (vectors as one string)."""
     text = need(DECK / "DISCON.IN").read_text()
     for key, value in changes.items():
-        text, n = re.subn(rf"^[^!\n]*?(\s+! {key}\b)", rf"{value}\1", text, count=1, flags=re.M)
+        text, n = re.subn(rf"^[^!\n]*?(\s+! {key}\b)", rf"{value}\1", text, count=1, flags=re.MULTILINE)
         assert n == 1, key
     path = tmp_path / "DISCON.IN"
     path.write_text(text)
