@@ -82,3 +82,19 @@ def interp2(x_grid, y_grid, data, name: str):
     table = ca.interpolant(name, "linear", [y_grid, x_grid], data.ravel(order="F"),
                            {"lookup_mode": ["binary", "binary"]})
     return lambda x, y: table(ca.vertcat(sat(y, y_grid[0], y_grid[-1]), sat(x, x_grid[0], x_grid[-1])))
+
+
+def bandpass(u, states, corner, damping: float, dt: float, reset):
+    """ROSCO's moving "inverted notch" (a band-pass) step; ``states = (in1, in2, out1, out2)`` → (y, next states).
+
+    Tustin discretization of ``H(s) = ω s / (ζ s² + ω s + ζ ω²)`` (unit gain at ``ω``);
+    ``corner`` ω [rad/s] may change every step (negative values count as 0).  On
+    reset every state takes the input, as ROSCO's ``NotchFilterSlopes`` does.
+    """
+    w = ca.fmax(corner, 0.0)
+    in1, _, out1, out2 = (ca.if_else(reset, u, s) for s in states)
+    b2 = 2.0 * dt * w
+    c = damping * dt**2 * w**2
+    a2, a1, a0 = c + 2.0 * dt * w + 4.0 * damping, 2.0 * c - 8.0 * damping, c - 2.0 * dt * w + 4.0 * damping
+    y = 1.0 / a2 * (b2 * u - b2 * in1 - a1 * out1 - a0 * out2)
+    return y, (u, in1, y, out1)

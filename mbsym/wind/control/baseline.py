@@ -21,6 +21,15 @@ Measurements ``y`` (SI units, :attr:`BaselineController.measurement_names`):
 Commands ``u``: ``BlPitchCom`` [rad] (collective pitch demand), ``GenTqCom`` [N m]
 (generator torque demand, >= 0).
 
+With individual pitch control (``settings.ipc_mode > 0``, ROSCO's ``IPC_ControlMode``;
+see :mod:`.ipc`) the measurements grow by ``RootMyc1``, ``RootMyc2``, ``RootMyc3``
+[N m] (blade-root out-of-plane moments) and ``Azimuth`` [rad] (rotor azimuth), after
+the five above (:data:`IPC_MEASUREMENTS`), and the commands are ``BlPitchCom1``,
+``BlPitchCom2``, ``BlPitchCom3`` [rad], ``GenTqCom`` [N m] (:data:`IPC_COMMANDS`).  The
+controller's pitch then is, as in ROSCO, the mean of its three previous commands
+(at the first call: ``BldPitch1`` for every blade).  Wire signals by name with
+:attr:`BaselineController.measurements` and :attr:`BaselineController.commands`.
+
 One step, in ROSCO 2.10.6's order (ROSCO's own source and docs were read to learn
 the scheme; the code is ours):
 
@@ -70,14 +79,19 @@ import numpy as np
 
 from ...exceptions import DimensionError, ParameterError
 from ._blocks import D2R, EPS, R2D, interp1, interp2, lpf1, lpf2, pi, rate_limit, sat
+from .ipc import IPC_DIAGNOSTICS, ipc_states, ipc_step
 from .settings import BaselineSettings
 
-__all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS"]
+__all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS", "IPC_MEASUREMENTS", "IPC_COMMANDS"]
 
 #: Measurement names and units, in the order of ``y``.
 MEASUREMENTS = {"GenSpeed": "rad/s", "RotSpeed": "rad/s", "BldPitch1": "rad", "GenPwr": "W", "Wind1VelX": "m/s"}
 #: Command names and units, in the order of ``u``.
 COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
+#: Measurements with individual pitch control (``ipc_mode > 0``), in the order of ``y``.
+IPC_MEASUREMENTS = {**MEASUREMENTS, "RootMyc1": "N m", "RootMyc2": "N m", "RootMyc3": "N m", "Azimuth": "rad"}
+#: Commands with individual pitch control, in the order of ``u``.
+IPC_COMMANDS = {"BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m"}
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
@@ -125,10 +139,16 @@ class BaselineController:
         Sample time [s].
     x0 : ndarray
         Initial controller state (constant; the first call initializes).
-    state_names, measurement_names, command_names : tuple of str
-        Names (units: :data:`MEASUREMENTS`, :data:`COMMANDS`).
+    measurements, commands : tuple of str
+        Names of the entries of ``y`` and ``u`` (units: :data:`MEASUREMENTS`,
+        :data:`COMMANDS`; with IPC :data:`IPC_MEASUREMENTS`, :data:`IPC_COMMANDS`).
+    measurement_names, command_names : tuple of str
+        The same (older names).
+    state_names, diagnostic_names : tuple of str
+        Names of the states and of the diagnostics.
     diagnostics : casadi.Function
-        ``(xc, y) -> d`` with the internal signals :data:`DIAGNOSTICS` of the same step.
+        ``(xc, y) -> d`` with the internal signals :data:`DIAGNOSTICS` of the same step
+        (followed by :data:`~.ipc.IPC_DIAGNOSTICS` with IPC).
 
     Examples
     --------
@@ -137,6 +157,7 @@ class BaselineController:
     >>> x, u = ctrl.function(ctrl.x0, [116.6, 1.2025, 0.0075, 3.46e6, 10.0])  # doctest: +SKIP
     """
 
+    # names without IPC (class level, as before); instances set their own
     measurement_names = tuple(MEASUREMENTS)
     command_names = tuple(COMMANDS)
 
@@ -145,9 +166,13 @@ class BaselineController:
             raise TypeError(f"settings must be a BaselineSettings; got {type(settings).__name__}.")
         self.settings = settings
         self.dt = settings.dt
+        self.ipc = settings.ipc_mode > 0
+        self.measurements = self.measurement_names = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
+        self.commands = self.command_names = tuple(IPC_COMMANDS if self.ipc else COMMANDS)
+        self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ())
         states = self._layout()
         x = ca.SX.sym("xc", len(states.names))
-        y = ca.SX.sym("y", len(MEASUREMENTS))
+        y = ca.SX.sym("y", len(self.measurements))
         x_next, u, diag = self._step(states.bind(x), y)
         order = [x_next[name] for name in dict.fromkeys(nm.split("[")[0] for nm in states.names)]
         xn = ca.vertcat(*[ca.vec(v) for v in order])
@@ -189,8 +214,11 @@ class BaselineController:
         st.add("torque_integral", 1 if s.torque_mode == 2 else 4)
         st.add("torque_last")
         st.add("pitch_total_last")
-        st.add("pitch_last")
-        st.add("pitch_command_last")
+        blades = 3 if self.ipc else 1
+        st.add("pitch_last", blades)
+        st.add("pitch_command_last", blades)
+        if self.ipc:
+            ipc_states(st, s)
         return st
 
     # ------------------------------------------------------------------ one step
@@ -201,7 +229,13 @@ class BaselineController:
         nxt: dict[str, ca.SX] = {"first": ca.SX(0.0)}
 
         # --- initialization values (ROSCO SetParameters at its first call) and inputs of this call
-        pitch = ca.if_else(r, pitch_meas, x["pitch_command_last"])
+        if self.ipc:    # ROSCO's pitch: the mean of the blades' previous commands (first call: measured)
+            last = x["pitch_command_last"]
+            pitch = ca.if_else(r, (1.0 / 3.0) * (pitch_meas + pitch_meas + pitch_meas),
+                               (1.0 / 3.0) * (last[0] + last[1] + last[2]))
+        else:
+            pitch = ca.if_else(r, pitch_meas, x["pitch_command_last"])
+        pitch_blade1 = ca.if_else(r, pitch_meas, x["pitch_command_last"][0])
         torque0 = ca.if_else(gen_speed > 0.98 * s.pitch_reference_speed, s.rated_torque,
                              ca.fmin(s.rated_torque, s.region2_gain * gen_speed**2))
         last_torque = ca.if_else(r, torque0, x["torque_last"])
@@ -257,7 +291,9 @@ class BaselineController:
         kp = interp1(s.schedule_pitch, s.schedule_kp, "pc_kp")(pitch_f)
         ki = interp1(s.schedule_pitch, s.schedule_ki, "pc_ki")(pitch_f)
         total, nxt["pitch_integral"] = pi(pitch_error, kp, ki, x["min_pitch"], s.pitch_max, dt,
-                                          x["pitch_integral"], pitch, r)
+                                          x["pitch_integral"], pitch_blade1, r)
+        if self.ipc:
+            ipc_pitch, ipc_diag = ipc_step(s, dt, x, nxt, r, [y[5], y[6], y[7]], y[8], rot_f, estimate, pitch)
         if s.peak_shaving:
             min_pitch = ca.fmax(interp1(s.min_pitch_wind_speeds, s.min_pitch_schedule, "ps_min")(est_f),
                                 s.fine_pitch)
@@ -268,15 +304,26 @@ class BaselineController:
         total, nxt["pitch_total_last"] = rate_limit(total, x["pitch_total_last"], s.pitch_rate_min,
                                                     s.pitch_rate_max, dt, r, pitch)
         demand = sat(total, min_pitch, s.pitch_max)
-        demand, nxt["pitch_last"] = rate_limit(demand, x["pitch_last"], s.pitch_rate_min, s.pitch_rate_max,
-                                               dt, r, pitch)
-        command = sat(demand, s.pitch_min, s.pitch_max)
-        command, nxt["pitch_command_last"] = rate_limit(command, x["pitch_command_last"], s.pitch_rate_min,
-                                                        s.pitch_rate_max, dt, r, pitch)
+        if self.ipc:
+            commands = self._blade_commands(x, nxt, r, demand + ca.vertcat(*ipc_pitch), min_pitch, pitch_meas)
+        else:
+            commands = self._blade_commands(x, nxt, r, demand, min_pitch, pitch)
 
         diag = [gen_f, rot_f, estimate, est_f, op, min_pitch, ref_pitch_speed, pitch_error, kp, ki, total, ref,
-                torque_error, shift_f, state_code, cp_op]
-        return nxt, [command, ca.fmax(torque, 0.0)], diag
+                torque_error, shift_f, state_code, cp_op] + (ipc_diag if self.ipc else [])
+        return nxt, commands + [ca.fmax(torque, 0.0)], diag
+
+    def _blade_commands(self, x, nxt, r, demand, min_pitch, reset_pitch):
+        """Per blade: (IPC_SatMode 1: saturate again,) rate limit, hardware saturation, rate limit."""
+        s, dt = self.settings, self.dt
+        if self.ipc and s.ipc_saturation_mode == 1:
+            demand = sat(demand, min_pitch, s.pitch_max)
+        demand, nxt["pitch_last"] = rate_limit(demand, x["pitch_last"], s.pitch_rate_min, s.pitch_rate_max,
+                                               dt, r, reset_pitch)
+        command = sat(demand, s.pitch_min, s.pitch_max)
+        command, nxt["pitch_command_last"] = rate_limit(command, x["pitch_command_last"], s.pitch_rate_min,
+                                                        s.pitch_rate_max, dt, r, reset_pitch)
+        return [command[k] for k in range(command.shape[0])]
 
     def _speed_filter(self, signal, states, r):
         s = self.settings
@@ -395,8 +442,8 @@ class BaselineController:
 
         Parameters
         ----------
-        measurements : array_like, shape (n_steps, 5)
-            ``y`` at each step, columns in :attr:`measurement_names` order (SI units).
+        measurements : array_like, shape (n_steps, n_y)
+            ``y`` at each step, columns in :attr:`measurements` order (SI units).
         x0 : array_like, optional
             Initial state (default :attr:`x0`).
         compiled : bool, optional
@@ -405,15 +452,15 @@ class BaselineController:
 
         Returns
         -------
-        commands : ndarray, shape (n_steps, 2)
+        commands : ndarray, shape (n_steps, n_u)
             ``u`` at each step (held over the following ``dt``).
         states : ndarray, shape (n_steps + 1, n_states)
             The state before each step and after the last.
         """
         y = np.asarray(measurements, dtype=float)
-        if y.ndim != 2 or y.shape[1] != len(MEASUREMENTS):
-            raise DimensionError(f"measurements must have shape (n_steps, {len(MEASUREMENTS)}) with columns "
-                                 f"{list(MEASUREMENTS)}; got {y.shape}.")
+        if y.ndim != 2 or y.shape[1] != len(self.measurements):
+            raise DimensionError(f"measurements must have shape (n_steps, {len(self.measurements)}) with columns "
+                                 f"{list(self.measurements)}; got {y.shape}.")
         if not np.all(np.isfinite(y)):
             raise ParameterError("measurements must be finite.")
         x = np.array(self.x0 if x0 is None else x0, dtype=float).reshape(-1)
@@ -429,13 +476,13 @@ class BaselineController:
             us.append(np.asarray(u_chunk).T)
             x = xs[-1][-1]
         states = np.vstack([self.x0 if x0 is None else np.asarray(x0, dtype=float).reshape(1, -1)] + xs)[:n + 1]
-        commands = np.vstack(us)[:n] if us else np.zeros((0, len(COMMANDS)))
+        commands = np.vstack(us)[:n] if us else np.zeros((0, len(self.commands)))
         return commands, states
 
     def chunk_function(self, *, compiled: bool = False, steps: int = 256):
         """``(xc, Y) -> (Xc, U)``: ``steps`` controller steps in one call (CasADi ``mapaccum``).
 
-        ``Y`` is 5 × steps; ``Xc`` holds the states after each step.  Cached per
+        ``Y`` is ``len(measurements)`` × steps; ``Xc`` holds the states after each step.  Cached per
         controller; ``compiled=True`` returns the compiled version.
         """
         key = (compiled, steps)
@@ -451,7 +498,7 @@ class BaselineController:
     def __repr__(self) -> str:
         s = self.settings
         return (f"BaselineController(dt={self.dt:g} s, torque_mode={s.torque_mode}, wind_estimator="
-                f"{s.wind_estimator}, {len(self.state_names)} states)")
+                f"{s.wind_estimator}, ipc_mode={s.ipc_mode}, {len(self.state_names)} states)")
 
 
 def _split2(v):

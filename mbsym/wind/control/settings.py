@@ -5,7 +5,7 @@ uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
 (``VS_GenEff`` % becomes a fraction, every other value keeps ROSCO's SI unit).
 :meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
 table it names, for the wind-speed estimator) and refuses, naming file and line,
-the ROSCO features the baseline does not implement (IPC, yaw control, power
+the ROSCO features the baseline does not implement (yaw control, power
 reference, start-up/shut-down, floating feedback, tower damper, notch filters,
 fixed-pitch torque control, the I&I estimator, pitch actuator model, ...); use
 :class:`~mbsym.wind.control.discon.DisconController` with the library for those.
@@ -21,7 +21,7 @@ import numpy as np
 
 from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
 
-__all__ = ["BaselineSettings", "DISCON_MAP", "UNSUPPORTED_MODES"]
+__all__ = ["BaselineSettings", "DISCON_MAP", "IPC_MAP", "UNSUPPORTED_MODES"]
 
 #: DISCON.IN key → BaselineSettings attribute.
 DISCON_MAP = {
@@ -42,9 +42,15 @@ DISCON_MAP = {
     "WE_Jtot": "drivetrain_inertia", "WE_RhoAir": "air_density", "WE_FOPoles_v": "estimator_wind_speeds",
     "WE_FOPoles": "estimator_poles", "PS_WindSpeeds": "min_pitch_wind_speeds", "PS_BldPitchMin": "min_pitch_schedule",
 }
+#: DISCON.IN keys of individual pitch control → BaselineSettings attribute (read when IPC_ControlMode > 0).
+IPC_MAP = {
+    "IPC_ControlMode": "ipc_mode", "IPC_SatMode": "ipc_saturation_mode", "IPC_Vramp": "ipc_wind_ramp",
+    "IPC_IntSat": "ipc_integrator_limit", "IPC_KP": "ipc_kp", "IPC_KI": "ipc_ki",
+    "IPC_aziOffset": "ipc_azimuth_offset", "IPC_CornerFreqAct": "ipc_actuator_corner",
+}
 #: Modes the baseline does not implement: key → the values it accepts.
 UNSUPPORTED_MODES = {
-    "IPC_ControlMode": (0,), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
+    "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
     "Fl_Mode": (0,), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0,),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
     "VS_FBP": (0,), "VS_ControlMode": (1, 2), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
@@ -67,6 +73,14 @@ class BaselineSettings:
     estimator (``wind_estimator = 2``, ROSCO's EKF) needs the rotor's power
     coefficient table ``cp`` (rows: ``cp_tsr``, columns: ``cp_pitch`` [rad]) and the
     first-order poles ``estimator_poles`` [1/s] over ``estimator_wind_speeds`` [m/s].
+
+    Individual pitch control (:mod:`~mbsym.wind.control.ipc`, off with ``ipc_mode = 0``):
+    ``ipc_mode`` 1 (1P) or 2 (1P + 2P); per harmonic the PI gains ``ipc_kp``
+    [rad/(N m)], ``ipc_ki`` [rad/(N m s)] and the azimuth offsets ``ipc_azimuth_offset``
+    [rad]; the gains ramp in between the wind speeds ``ipc_wind_ramp`` [m/s]; the
+    integrator limit ``ipc_integrator_limit`` [rad]; ``ipc_saturation_mode`` 0-3
+    (ROSCO's ``IPC_SatMode``); the corner frequency of the low-pass filter on the IPC
+    commands ``ipc_actuator_corner`` [rad/s] (0: none).
     """
 
     dt: float
@@ -117,6 +131,14 @@ class BaselineSettings:
     cp_tsr: tuple[float, ...] = ()
     cp_pitch: tuple[float, ...] = ()
     cp: tuple[tuple[float, ...], ...] = ()
+    ipc_mode: int = 0
+    ipc_saturation_mode: int = 0
+    ipc_wind_ramp: tuple[float, ...] = ()
+    ipc_integrator_limit: float = 0.0
+    ipc_kp: tuple[float, ...] = ()
+    ipc_ki: tuple[float, ...] = ()
+    ipc_azimuth_offset: tuple[float, ...] = ()
+    ipc_actuator_corner: float = 0.0
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -172,8 +194,31 @@ class BaselineSettings:
                      "rated_generator_speed", "gearbox_ratio"):
             if not getattr(self, name) > 0:
                 p.append(f"{name} must be > 0; got {getattr(self, name)}")
+        p += self._ipc_problems()
         if p:
             raise ParameterError("BaselineSettings: " + "; ".join(p) + ".")
+
+    def _ipc_problems(self) -> list[str]:
+        if self.ipc_mode == 0:
+            return []
+        if self.ipc_mode not in (1, 2):
+            return [f"ipc_mode must be 0 (off), 1 (1P) or 2 (1P + 2P); got {self.ipc_mode}"]
+        p = []
+        if self.ipc_saturation_mode not in (0, 1, 2, 3):
+            p.append(f"ipc_saturation_mode must be 0, 1, 2 or 3 (ROSCO's IPC_SatMode); got {self.ipc_saturation_mode}")
+        for name in ("ipc_wind_ramp", "ipc_kp", "ipc_ki", "ipc_azimuth_offset"):
+            if len(getattr(self, name)) != 2:
+                p.append(f"{name} must have 2 entries; got {getattr(self, name)}")
+        if len(self.ipc_wind_ramp) == 2 and not self.ipc_wind_ramp[0] < self.ipc_wind_ramp[1]:
+            p.append(f"ipc_wind_ramp must be (start, end) with start < end [m/s] (the gain ramp is undefined "
+                     f"otherwise); got {self.ipc_wind_ramp}")
+        if any(k < 0 for k in self.ipc_ki):
+            p.append(f"ipc_ki must be >= 0; got {self.ipc_ki}")
+        if not self.ipc_integrator_limit >= 0:
+            p.append(f"ipc_integrator_limit must be >= 0 [rad]; got {self.ipc_integrator_limit}")
+        if not self.ipc_actuator_corner >= 0:
+            p.append(f"ipc_actuator_corner must be >= 0 [rad/s] (0: no filter); got {self.ipc_actuator_corner}")
+        return p
 
     def replace(self, **changes) -> BaselineSettings:
         """A copy with some settings changed (validated again)."""
@@ -214,6 +259,9 @@ class BaselineSettings:
         values["constant_power"] = bool(d["VS_ConstPower"])
         values["setpoint_smoothing"] = bool(d["SS_Mode"])
         values["peak_shaving"] = bool(d["PS_Mode"])
+        if d["IPC_ControlMode"] > 0:
+            _check_ipc(d)
+            values.update({attr: d[key] for key, attr in IPC_MAP.items()})
         if d["WE_Mode"] == 2:
             table = performance if isinstance(performance, PerformanceTable) else \
                 read_performance_table(performance if performance is not None else _performance_path(d))
@@ -222,6 +270,19 @@ class BaselineSettings:
             return cls(dt=dt, **values, source=str(d.path))
         except ParameterError as exc:
             raise ControllerError(f"{d.path}: {exc}") from None
+
+
+def _check_ipc(d) -> None:
+    """Refuse, with file, line and key, IPC values the baseline does not model."""
+    bad = []
+    ramp = d["IPC_Vramp"]
+    if not ramp[0] < ramp[1]:
+        bad.append(f"{d.where('IPC_Vramp')}: the gain ramp needs start < end [m/s]; got {ramp[0]:g} {ramp[1]:g}. "
+                   "Give two increasing wind speeds")
+    if not d["IPC_IntSat"] >= 0:
+        bad.append(f"{d.where('IPC_IntSat')}: must be >= 0 [rad] (a pitch amplitude); got {d['IPC_IntSat']:g}")
+    if bad:
+        raise ControllerError("; ".join(bad) + ".")
 
 
 def _performance_path(d) -> Path:

@@ -13,8 +13,8 @@ Checks (each reported with file, line and key, all problems of a file at once):
 syntax, types, a vector's length against its count key (for keys the active modes
 use), duplicate keys, the mode ranges and limits of ROSCO's ``CheckInputs``
 (corner frequencies > 0, ``PC_MinPit < PC_MaxPit``, ``PC_MinRat < 0 < PC_MaxRat``,
-``VS_MaxTq >= VS_RtTq``, ...), and strictly increasing breakpoints of every table
-ROSCO interpolates (``PC_GS_angles``, ``PS_WindSpeeds``, ``WE_FOPoles_v``, ...).
+``VS_MaxTq >= VS_RtTq``, ``IPC_SatMode`` in 0-3, ``IPC_KI >= 0``, ...), and strictly
+increasing breakpoints of every table ROSCO interpolates (``PC_GS_angles``, ``PS_WindSpeeds``, ``WE_FOPoles_v``, ...).
 Unknown keys are kept, as text, in :attr:`DisconInput.extra`.
 """
 
@@ -366,6 +366,11 @@ def _check_ranges(r: _Reader) -> None:
     need("WE_GearboxRatio", v.get("WE_GearboxRatio", 1) > 0, "must be greater than 0")
     if v.get("WE_Mode"):
         need("WE_Jtot", v.get("WE_Jtot", 1) > 0, "must be greater than 0 [kg m^2] (WE_Mode > 0)")
+    if v.get("IPC_ControlMode"):
+        need("IPC_SatMode", 0 <= v.get("IPC_SatMode", 0) <= 3, "must be 0, 1, 2 or 3 (IPC_ControlMode > 0)")
+        need("IPC_CornerFreqAct", v.get("IPC_CornerFreqAct", 0) >= 0, "must not be negative [rad/s] (0 disables the "
+             "filter)")
+        need("IPC_KI", bool(np.all(v.get("IPC_KI", np.zeros(0)) >= 0)), "must not be negative")
     if v.get("WE_Mode") == 2:
         need("WE_RhoAir", v.get("WE_RhoAir", 1) > 0, "must be greater than 0 [kg/m^3] (WE_Mode = 2)")
     for key, mode in _INCREASING.items():

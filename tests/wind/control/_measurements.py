@@ -3,7 +3,8 @@
 ``openfast_measurements``: the controller inputs of an OpenFAST run (``shared/openfast/aero``, CSV with
 OpenFAST units) interpolated linearly to the controller time step, converted to SI, in the order of
 ``BaselineController.measurement_names`` (GenSpeed, RotSpeed, BldPitch1, GenPwr, Wind1VelX).
-``synthetic_sweep``: a plausible, reproducible sweep from region 2 through rated to region 3 and back.
+``synthetic_sweep``: a plausible, reproducible sweep from region 2 through rated to region 3 and back;
+``ipc_sweep``: the same with blade-root moments (1P and 2P) and a rotating azimuth.
 """
 
 from __future__ import annotations
@@ -45,3 +46,23 @@ def synthetic_sweep(dt: float, t_end: float = 160.0, seed: int = 0) -> tuple[np.
     power = np.minimum(0.5 * 1.225 * np.pi * 63.0**2 * 0.47 * wind**3 * 0.944, 5.0e6)
     y = np.column_stack([97.0 * rotor, rotor, np.zeros(t.size), power, wind])
     return t, y
+
+
+def ipc_sweep(dt: float, t_end: float = 80.0, seed: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`synthetic_sweep` plus blade-root moments and azimuth, for individual pitch control.
+
+    Columns: the five of ``synthetic_sweep``, then ``RootMyc1..3`` [N m] and ``Azimuth`` [rad]. The azimuth
+    integrates the rotor speed from 0.3 rad and is wrapped to [0, 2π) as OpenFAST sends it; blade k sits at
+    ψ + (k − 1)·2π/3 and carries a mean flap moment 6 MN m (± 0.2 MN m slow variation), a 1P part of 1.5 MN m
+    (phase −0.4 rad: a tilt and a yaw moment, as from shear and yaw misalignment), a 2P part of 0.4 MN m and
+    noise (30 kN m): magnitudes of the NREL 5 MW near rated.
+    """
+    t, y = synthetic_sweep(dt, t_end)
+    rng = np.random.default_rng(seed)
+    psi = 0.3 + np.concatenate([[0.0], np.cumsum(y[:-1, 1]) * dt])
+    moments = []
+    for k in range(3):
+        a = psi + 2.0 * np.pi * k / 3.0
+        moments.append(6e6 + 2e5 * np.sin(0.9 * t) + 1.5e6 * np.cos(a - 0.4) + 4e5 * np.cos(2.0 * a + 0.5)
+                       + 3e4 * rng.standard_normal(t.size))
+    return t, np.column_stack([y] + moments + [np.mod(psi, 2.0 * np.pi)])

@@ -120,9 +120,9 @@ def test_free_text_lines_are_skipped_and_listed_like_rosco(deck_copy):
 
 def test_baseline_refuses_unsupported_modes_naming_the_line(deck_copy):
     path = deck_copy / "DISCON.IN"
-    _edit(path, r"^0                   ! IPC_ControlMode", "1                   ! IPC_ControlMode")
-    _edit(path, r"^0.000e\+00    0.000e\+00    ! IPC_KI", "0.1 0.0  ! IPC_KI")
-    with pytest.raises(ControllerError, match=r"line 12, key 'IPC_ControlMode'.*IPC_ControlMode = 1 is not supported"):
+    # (IPC_ControlMode 1 was refused here before the baseline modelled IPC: test_baseline_ipc.py)
+    _edit(path, r"^0                   ! Y_ControlMode", "1                   ! Y_ControlMode")
+    with pytest.raises(ControllerError, match=r"line 17, key 'Y_ControlMode'.*Y_ControlMode = 1 is not supported"):
         BaselineSettings.from_discon(path, dt=0.00625)
 
 

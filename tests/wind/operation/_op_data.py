@@ -38,7 +38,9 @@ def baseline_settings_data(discon_in: Path) -> dict:
     from mbsym.wind.control import BaselineSettings
 
     s = BaselineSettings.from_discon(discon_in, dt=0.01)
-    values = {k: v for k, v in dataclasses.asdict(s).items() if k not in ("dt", "source")}
+    # IPC off (the NREL 5 MW file): the ipc_* settings keep their defaults and are not stored
+    values = {k: v for k, v in dataclasses.asdict(s).items()
+              if k not in ("dt", "source") and not (k.startswith("ipc_") and s.ipc_mode == 0)}
     values["cp"] = [list(row) for row in values["cp"]]
     return {"_source": {
         "controller": "ROSCO 2.10.6 (rosco wheel on PyPI), Examples/Test_Cases/NREL-5MW/DISCON.IN and its "
