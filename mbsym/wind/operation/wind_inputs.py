@@ -60,6 +60,7 @@ class UniformWindInputs:
                  propagation_direction: float = 0.0, upflow_angle: float = 0.0) -> None:
         self.ref_height, self.ref_length = float(ref_height), float(ref_length)
         self.propagation_direction, self.upflow_angle = float(propagation_direction), float(upflow_angle)
+        self.field = None                  # the UniformFieldWind these inputs came from (from_field), if any
         self.defaults = {n: 0.0 for n in UNIFORM_INPUTS}
         self.defaults.update(dict(defaults or {}))
         unknown = sorted(set(self.defaults) - set(UNIFORM_INPUTS))
@@ -86,14 +87,20 @@ class UniformWindInputs:
         """The inputs of a :class:`~mbsym.wind.inflow.UniformFieldWind` (its columns at t = 0 as defaults)."""
         at0 = field.columns_at(0.0)
         defaults = {name: float(at0[col]) for name, (col, _) in UNIFORM_INPUTS.items()}
-        return cls(field.reference_height, field.reference_length, defaults,
-                   propagation_direction=field.propagation_direction, upflow_angle=field.upflow_angle)
+        out = cls(field.reference_height, field.reference_length, defaults,
+                  propagation_direction=field.propagation_direction, upflow_angle=field.upflow_angle)
+        out.field = field
+        return out
 
     def signals(self, wind) -> dict[str, Any]:
         """Input signals of a simulation: ``wind`` is the hub speed (number, WindSignal or callable of t [s]),
-        or a :class:`~mbsym.wind.inflow.UniformFieldWind` whose columns become the inputs (functions of time);
-        inputs not given keep :attr:`defaults`."""
+        or a :class:`~mbsym.wind.inflow.UniformFieldWind` whose columns become the inputs (functions of time),
+        or None: the field these inputs came from (:meth:`from_field`), else :attr:`defaults`; inputs not
+        given keep :attr:`defaults`."""
         out: dict[str, Any] = dict(self.defaults)
+        wind = self.field if wind is None else wind
+        if wind is None:
+            return out
         if hasattr(wind, "columns_at"):
             for name, (col, _) in UNIFORM_INPUTS.items():
                 out[name] = lambda t, col=col: wind.columns_at(t)[col]
