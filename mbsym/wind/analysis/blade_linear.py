@@ -193,7 +193,7 @@ def _state_units(states, model) -> list[str]:
 
 
 def _mass_in_mbc(model, point: PeriodicPoint, keep_azimuth: bool) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Azimuth average of ``T1ᵀ M T1`` [kg, kg m, kg m²] and the coordinate names (blade names kept)."""
+    """Azimuth average of ``T1ᵀ M T1`` [kg, kg m, kg m²] and the coordinate names in multi-blade coordinates."""
     eom = model.structure.eom
     dyn = model.dynamics()
     n = eom.n_q
@@ -210,7 +210,8 @@ def _mass_in_mbc(model, point: PeriodicPoint, keep_azimuth: bool) -> tuple[np.nd
         Mbar += T1.T @ M @ T1
     Mbar = 0.5 * (Mbar + Mbar.T) / len(point.blade_azimuths)
     keep = [i for i, c in enumerate(eom.coordinates) if keep_azimuth or c != "GeAz"]
-    return Mbar[np.ix_(keep, keep)], tuple(eom.coordinates[i] for i in keep)
+    names = mbc_names(eom.coordinates, groups)
+    return Mbar[np.ix_(keep, keep)], tuple(names[i] for i in keep)
 
 
 # ---------------------------------------------------------------------- Campbell diagram
@@ -252,7 +253,7 @@ def blade_aero_campbell(model, starts, *, wind: Mapping[str, float] | None = Non
                                p=p)
         if progress is not None:
             progress(point)
-        lin = blade_linear_model(model, point, outputs=())
+        lin = blade_linear_model(model, point, outputs=(), keep_azimuth=True)
         per.append(labelled_modes(lin))
         speeds.append(start.wind_speed)
         rpm.append(point.rotor_speed * 30 / math.pi)
@@ -270,18 +271,26 @@ def blade_aero_campbell(model, starts, *, wind: Mapping[str, float] | None = Non
 
 
 def labelled_modes(lin: LinearModel) -> tuple[list[str], np.ndarray, np.ndarray]:
-    """``(labels, freq_hz, damping_ratio)`` of the structural modes of a :func:`blade_linear_model` (module docstring)."""
+    """``(labels, freq_hz, damping_ratio)`` of the structural modes of a :func:`blade_linear_model` (module docstring).
+
+    ``lin`` must keep the azimuth (``keep_azimuth=True``): the structural block is ``[q; q̇]`` of
+    every coordinate, the rotor's rotation included (the collective edge mode turns the rotor
+    against the generator).
+    """
     from scipy.optimize import linear_sum_assignment
 
     from .campbell_diagram import _label_modes
 
-    coords = lin.coordinates
+    if "GeAz" not in lin.coordinates:
+        raise ParameterError("labelled_modes needs the rotor azimuth in the model: blade_linear_model(..., "
+                             "keep_azimuth=True).")
+    coords = tuple(_blade_name(c) for c in lin.coordinates)
     n = len(coords)
     groups = blade_indices(coords)
     A = lin.A
     modes = _label_modes(A[:2 * n, :2 * n], lin.M, coords, coords, groups, 0.0, None)
-    lam_s = 2 * np.pi * modes.freq_hz * (-modes.damping_ratio + 1j * np.sqrt(np.maximum(1 - modes.damping_ratio**2,
-                                                                                           0.0)))
+    zeta = modes.damping_ratio
+    lam_s = 2 * np.pi * modes.freq_hz * (-zeta + 1j * np.sqrt(np.maximum(1 - zeta**2, 0.0)))
     lam = np.linalg.eigvals(A)
     lam = lam[lam.imag > 0]
     if lam.size and lam_s.size:
@@ -290,3 +299,10 @@ def labelled_modes(lin: LinearModel) -> tuple[list[str], np.ndarray, np.ndarray]
         lam_s = lam_s.copy()
         lam_s[r] = lam[c]
     return list(modes.labels), np.abs(lam_s) / (2 * np.pi), -lam_s.real / np.abs(lam_s)
+
+
+def _blade_name(name: str) -> str:
+    """``F1_coll`` -> ``B1F1``, ``_cos`` -> blade 2, ``_sin`` -> blade 3 (the triplet's positions), for the labels."""
+    stem, _, part = name.rpartition("_")
+    k = {"coll": 1, "cos": 2, "sin": 3}.get(part)
+    return f"B{k}{stem}" if k and stem in ("F1", "E1", "F2") else name
