@@ -29,6 +29,21 @@ Azimuth convention: ``psi`` is ElastoDyn's ``Azimuth`` output (notes §6), ``q_G
 AzimB1Up + π/2`` (:func:`blade1_azimuth`). A constant offset (AzimB1Up) only rotates the
 (cosine, sine) pair, which leaves eigenvalues and whirl directions unchanged.
 
+**General first-order systems** (:func:`mbc_system`): any state, input or output may come in
+per-blade triplets (blade DOFs and their speeds, pitch actuators, the dynamic-wake states of
+the same node on each blade, per-blade pitch commands, root moments …). Each triplet ``b``
+is ``x_b = T1 z_b``; a triplet that is the time derivative of another (``B1F1_d`` of
+``B1F1``) is ``x_d = T1 z_d + Omega T2 z``, as in the first-order form above, so that its
+fixed-frame coordinates are the derivatives of the other's. With the full ``T`` and ``dT/dt``
+(:func:`mbc_state_matrices`): ``A_B = T^-1 (A T - dT/dt)``, ``B_B = T^-1 B T_u``,
+``C_B = T_y^-1 C T``, ``D_B = T_y^-1 D T_u`` (``T_u``, ``T_y`` of the input and output
+triplets, ``T1`` only). :func:`rotating_triplets` finds the triplets by name and
+:func:`mbc_names` names the results (``B1N5_vind_x`` -> ``N5_vind_x_coll``, ``BlPitch1_d``
+-> ``BlPitch_coll_d``, ``RootMyc1`` -> ``RootMyc_coll``, ``_cos``, ``_sin``). For an
+out-of-plane quantity of blade-1 azimuth ``psi`` measured from the upward vertical (ElastoDyn's
+``Azimuth``), the cosine component is the tilt (vertical asymmetry of the rotor disk) and the
+sine component the yaw (horizontal asymmetry) combination.
+
 In the fixed frame, a rotating-frame blade mode of frequency ``w`` on an isolated rotor
 appears as a collective mode at ``w`` and two whirling modes: forward (the cyclic pattern
 travels with the rotor) at ``w + Omega`` and backward at ``w - Omega``.
@@ -36,6 +51,7 @@ travels with the rotor) at ``w + Omega`` and backward at ``w - Omega``.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -46,7 +62,7 @@ from .dofs import (BLADE_COORDINATE, N_BLADES, blade1_azimuth, blade_dof, blade_
                               mbc_coordinate_names)
 
 __all__ = ["BladeFrame", "ColemanMatrices", "coleman_matrices", "mbc_transform", "mbc_second_order", "whirl_components",
-           "whirl_coordinates", "BLADE_COORDINATE", "blade_dof", "blade_indices", "mbc_coordinate_names",
+           "whirl_coordinates", "rotating_triplets", "mbc_names", "derivative_pairs", "mbc_state_matrices", "mbc_system", "BLADE_COORDINATE", "blade_dof", "blade_indices", "mbc_coordinate_names",
            "blade1_azimuth", "N_BLADES"]
 
 @dataclass(frozen=True)
@@ -281,3 +297,182 @@ class BladeFrame:
         Q = np.linalg.solve(T.T1, lin.Q)
         return LinearModel(M, C, K, Q, A, B, lin.coordinates, lin.states, lin.inputs, lin.operating_point,
                            lin.outputs, lin.Cy @ Tx, lin.Dy, lin.output_units, lin.method)
+
+
+#: Per-blade names: a leading ``B<k>`` followed by a letter (``B1F1``, ``B2N7_vind_x``), or a trailing blade
+#: number, optionally before ``_d`` (``BlPitch3``, ``BlPitch3_d``, ``RootMyc2``, ``BlPitchCom1``).
+_LEADING = re.compile(r"B([1-9])(?=[A-Za-z])(.*)")
+_TRAILING = re.compile(r"(.*\D)([1-9])(_d)?")
+
+
+def _blade_key(name: str) -> tuple[tuple[str, str, str], int] | None:
+    m = _LEADING.fullmatch(name)
+    if m:
+        return ("lead", m.group(2), ""), int(m.group(1))
+    m = _TRAILING.fullmatch(name)
+    if m:
+        return ("trail", m.group(1), m.group(3) or ""), int(m.group(2))
+    return None
+
+
+def rotating_triplets(names: Sequence[str]) -> list[tuple[int, int, int]]:
+    """Index triplets (blades 1, 2, 3) of the per-blade names in ``names`` (module docstring).
+
+    A name belongs to a triplet when the names with the other blade numbers are there too;
+    triplets are listed in the order of their blade-1 name.
+
+    Examples
+    --------
+    >>> rotating_triplets(["TFA1", "B1F1", "B2F1", "B3F1", "BlPitch1", "BlPitch2", "BlPitch3", "TFA2"])
+    [(1, 2, 3), (4, 5, 6)]
+    """
+    groups: dict[tuple[str, str, str], dict[int, int]] = {}
+    for i, name in enumerate(names):
+        key = _blade_key(str(name))
+        if key is not None:
+            groups.setdefault(key[0], {})[key[1]] = i
+    out = [tuple(g[b] for b in range(1, N_BLADES + 1)) for g in groups.values()
+           if set(g) == set(range(1, N_BLADES + 1))]
+    return sorted(out)
+
+
+def mbc_names(names: Sequence[str], triplets: Sequence[Sequence[int]]) -> tuple[str, ...]:
+    """``names`` with each triplet renamed collective, cosine, sine (module docstring).
+
+    Examples
+    --------
+    >>> mbc_names(["B1F1_d", "B2F1_d", "B3F1_d", "RootMyc1", "RootMyc2", "RootMyc3"], [(0, 1, 2), (3, 4, 5)])
+    ('F1_coll_d', 'F1_cos_d', 'F1_sin_d', 'RootMyc_coll', 'RootMyc_cos', 'RootMyc_sin')
+    """
+    out = list(names)
+    for g in triplets:
+        key = _blade_key(str(names[g[0]]))
+        if key is None:
+            raise ModelDefinitionError(f"{names[g[0]]!r} is not a per-blade name (B<k>..., or ...<k>, ...<k>_d).")
+        (kind, stem, tail), _ = key
+        if kind == "lead" and stem.endswith("_d"):
+            stem, tail = stem[:-2], "_d"
+        for i, part in zip(g, ("coll", "cos", "sin")):
+            out[i] = f"{stem}_{part}{tail}"
+    return tuple(out)
+
+
+def derivative_pairs(names: Sequence[str], triplets: Sequence[Sequence[int]]) -> list[tuple[int, int]]:
+    """Pairs ``(a, b)`` of triplet numbers where triplet ``b`` is named as the derivative of ``a`` (``X``, ``X_d``).
+
+    Examples
+    --------
+    >>> derivative_pairs(["B1F1", "B2F1", "B3F1", "B1F1_d", "B2F1_d", "B3F1_d"], [(0, 1, 2), (3, 4, 5)])
+    [(0, 1)]
+    """
+    first = {str(names[g[0]]): k for k, g in enumerate(triplets)}
+    pairs = []
+    for k, g in enumerate(triplets):
+        name = str(names[g[0]])
+        if name.endswith("_d") and name[:-2] in first:
+            pairs.append((first[name[:-2]], k))
+    return pairs
+
+
+def mbc_state_matrices(n: int, triplets: Sequence[Sequence[int]], azimuth: float, rotor_speed: float = 0.0, *,
+                       derivatives: Sequence[tuple[int, int]] = (), rotor_acceleration: float = 0.0
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """``T`` and ``dT/dt`` of ``x = T z`` for a vector with per-blade triplets (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Size of the vector.
+    triplets : sequence of triplets
+        Indices of blades 1, 2, 3 for each per-blade quantity.
+    azimuth : float
+        Blade-1 azimuth [rad].
+    rotor_speed : float, optional
+        [rad/s] (enters ``dT/dt`` and the derivative blocks).
+    derivatives : sequence of (int, int), optional, keyword-only
+        ``(a, b)``: triplet ``b`` is the time derivative of triplet ``a`` (numbers in ``triplets``).
+    rotor_acceleration : float, optional, keyword-only
+        [rad/s²].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``T`` and ``dT/dt``, (n, n).
+
+    Examples
+    --------
+    The first-order form of :func:`mbc_transform`:
+
+    >>> T, Td = mbc_state_matrices(6, [(0, 1, 2), (3, 4, 5)], 0.3, 0.5, derivatives=[(0, 1)])
+    >>> C = coleman_matrices(3, [(0, 1, 2)], 0.3)
+    >>> bool(np.allclose(T[3:, :3], 0.5 * C.T2) and np.allclose(Td[:3, :3], 0.5 * C.T2))
+    True
+    """
+    groups = _groups(triplets, n)
+    blocks = coleman_matrices(N_BLADES, [tuple(range(N_BLADES))], azimuth)
+    T1, T2, T3 = blocks.T1, blocks.T2, blocks.T3
+    om, al = float(rotor_speed), float(rotor_acceleration)
+    T, Td = np.eye(n), np.zeros((n, n))
+    for g in groups:
+        T[np.ix_(g, g)] = T1
+        Td[np.ix_(g, g)] = om * T2
+    for a, b in derivatives:
+        if not (0 <= a < len(groups) and 0 <= b < len(groups)) or a == b:
+            raise ModelDefinitionError(f"derivative pair {(a, b)} must name two different triplets of "
+                                       f"0..{len(groups) - 1}.")
+        T[np.ix_(groups[b], groups[a])] = om * T2
+        Td[np.ix_(groups[b], groups[a])] = om**2 * T3 + al * T2
+    return T, Td
+
+
+def mbc_system(A, B, C, D, azimuth: float, rotor_speed: float, *, states: Sequence[Sequence[int]] = (),
+               derivatives: Sequence[tuple[int, int]] = (), inputs: Sequence[Sequence[int]] = (),
+               outputs: Sequence[Sequence[int]] = (), rotor_acceleration: float = 0.0):
+    """A linear model ``(A, B, C, D)`` at one azimuth in multi-blade coordinates (module docstring).
+
+    Parameters
+    ----------
+    A, B, C, D : array
+        (n_x, n_x), (n_x, n_u), (n_y, n_x), (n_y, n_u).
+    azimuth, rotor_speed : float
+        Blade-1 azimuth [rad] and ``dpsi/dt`` [rad/s].
+    states, inputs, outputs : sequence of triplets, keyword-only
+        Per-blade triplets of each vector (:func:`rotating_triplets`).
+    derivatives : sequence of (int, int), keyword-only
+        State triplets that are derivatives of others (:func:`derivative_pairs`).
+    rotor_acceleration : float, keyword-only
+        [rad/s²].
+
+    Returns
+    -------
+    tuple of ndarray
+        ``(A_B, B_B, C_B, D_B)``.
+
+    Raises
+    ------
+    DimensionError
+        Inconsistent shapes.
+
+    Examples
+    --------
+    Per-blade first-order lags ``x_b' = -x_b + u_b`` with outputs ``y_b = x_b``: an isotropic
+    rotor, so the fixed-frame model is constant: the collective stays a lag, the cyclic pair
+    couples through the rotation (``-Omega`` and ``+Omega`` off the diagonal).
+
+    >>> A, I = -np.eye(3), np.eye(3)
+    >>> Ab, Bb, Cb, Db = mbc_system(A, I, I, np.zeros((3, 3)), 0.7, 0.5, states=[(0, 1, 2)], inputs=[(0, 1, 2)],
+    ...                             outputs=[(0, 1, 2)])
+    >>> (Ab.round(12) + 0.0).tolist(), bool(np.allclose(Bb, I) and np.allclose(Cb, I))
+    ([[-1.0, 0.0, 0.0], [0.0, -1.0, -0.5], [0.0, 0.5, -1.0]], True)
+    """
+    A, B, C, D = (np.asarray(M, dtype=float) for M in (A, B, C, D))
+    nx, nu, ny = A.shape[0], B.shape[1], C.shape[0]
+    if A.shape != (nx, nx) or B.shape != (nx, nu) or C.shape != (ny, nx) or D.shape != (ny, nu):
+        raise DimensionError(f"inconsistent shapes A {A.shape}, B {B.shape}, C {C.shape}, D {D.shape}; expected "
+                             "(n_x, n_x), (n_x, n_u), (n_y, n_x), (n_y, n_u).")
+    T, Td = mbc_state_matrices(nx, states, azimuth, rotor_speed, derivatives=derivatives,
+                               rotor_acceleration=rotor_acceleration)
+    Tu = mbc_state_matrices(nu, inputs, azimuth)[0]
+    Ty = mbc_state_matrices(ny, outputs, azimuth)[0]
+    return (np.linalg.solve(T, A @ T - Td), np.linalg.solve(T, B @ Tu), np.linalg.solve(Ty, C @ T),
+            np.linalg.solve(Ty, D @ Tu))
