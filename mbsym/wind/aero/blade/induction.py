@@ -136,16 +136,28 @@ def _momentum_residual(phi: Any, cl: Any, cd: Any, e: ElementData) -> Any:
 
 
 def solve_phi(guess: Any, e: ElementData, polars: Any, theta: Any, *, n_newton: int) -> Any:
-    """``n_newton`` clamped Newton steps on Ning's residual from ``guess`` (SX column) [rad]."""
+    """``n_newton`` clamped Newton steps on Ning's residual from ``guess`` (SX column) [rad].
+
+    The slope ``dR/dφ = ∂R/∂φ + ∂R/∂cl dcl/dα (+ ∂R/∂cd dcd/dα)`` is built from the residual
+    written in placeholder symbols for the coefficients and the cubics' own derivatives, so
+    the graph never differentiates through the polar gather (whose forward derivative is
+    expensive in CasADi's generated code).
+    """
     lo, hi = PHI_EPS, math.pi / 2.0 - PHI_EPS
-    phi_sym = ca.SX.sym("phi", guess.shape[0])
+    n = guess.shape[0]
+    phi_sym, cl_sym, cd_sym = (ca.SX.sym(name, n) for name in ("phi", "cl", "cd"))
     need_cd = e.axial_drag or e.tangential_drag
-    # α = φ - θ stays in (-π, π) for φ in (0, π/2) and |θ| < π/2 (checked by the rotor)
-    coef = polars(phi_sym - theta, e.nodes, lift_only=not need_cd, wrap=False)
-    residual = _momentum_residual(phi_sym, coef["cl"], coef.get("cd"), e)
-    slope = ca.jtimes(residual, phi_sym, ca.DM.ones(guess.shape[0]))  # diagonal: R_i(φ_i)
+    residual = _momentum_residual(phi_sym, cl_sym, cd_sym if need_cd else None, e)
+    ones = ca.DM.ones(n)
+    dr_dphi, dr_dcl = ca.jtimes(residual, phi_sym, ones), ca.jtimes(residual, cl_sym, ones)
+    dr_dcd = ca.jtimes(residual, cd_sym, ones) if need_cd else 0.0
     phi = ca.fmin(ca.fmax(guess, lo), hi)
     for _ in range(n_newton):
-        r, dr = ca.substitute([residual, slope], [phi_sym], [phi])
-        phi = ca.fmin(ca.fmax(phi - r / dr, lo), hi)
+        # α = φ - θ stays in (-π, π) for φ in (0, π/2) and |θ| < π/2
+        coef = polars(phi - theta, e.nodes, lift_only=not need_cd, wrap=False, slope=True)
+        cd, dcd = (coef["cd"], coef["dcd"]) if need_cd else (0.0 * phi, 0.0 * phi)
+        r, a1, a2, a3 = ca.substitute([residual, dr_dphi, dr_dcl, ca.SX(dr_dcd) * ones],
+                                      [phi_sym, cl_sym, cd_sym], [phi, coef["cl"], cd])
+        slope = a1 + a2 * coef["dcl"] + a3 * dcd
+        phi = ca.fmin(ca.fmax(phi - r / slope, lo), hi)
     return phi

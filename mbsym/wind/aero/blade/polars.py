@@ -138,7 +138,7 @@ class NodePolars:
 
     # ------------------------------------------------------------------ evaluation
     def __call__(self, alpha: Any, nodes: Sequence[int], *, lift_only: bool = False,
-                 wrap: bool = True) -> dict[str, Any]:
+                 wrap: bool = True, slope: bool = False) -> dict[str, Any]:
         """Coefficients at angles of attack ``alpha`` [rad] (SX column, one entry per ``nodes``).
 
         Parameters
@@ -151,6 +151,10 @@ class NodePolars:
             Return only ``cl`` (cheaper: what the induction needs without AIDrag/TIDrag).
         wrap : bool, optional
             Wrap α into [-π, π) first; False when the caller knows it is there.
+        slope : bool, optional
+            Also return ``dcl``, ``dcd`` (d/dα of the same cubics), for a Newton step that
+            must not differentiate through the gather (its forward derivative clears a
+            table-sized vector in CasADi's generated code).
 
         Returns
         -------
@@ -158,26 +162,33 @@ class NodePolars:
             ``cl`` (and ``cd``, ``cm`` unless ``lift_only``).
         """
         which = self.airfoil_index[np.asarray(nodes, dtype=int)]
-        wrapped = _wrap(alpha) if wrap else alpha
+        names = _COLUMNS[:1] if lift_only else _COLUMNS
         if self.method == "linear":
-            rows = [self._tables[int(w)](wrapped[i]) for i, w in enumerate(which)]
-            coef = ca.horzcat(*rows).T  # (m, 3)
-            out = {"cl": coef[:, 0]}
-            if not lift_only:
-                out.update(cd=coef[:, 1], cm=coef[:, 2])
-            return out
+            symbol = ca.SX.sym("alpha", alpha.shape[0])
+            wrapped = _wrap(symbol) if wrap else symbol
+            rows = ca.horzcat(*[self._tables[int(w)](wrapped[i]) for i, w in enumerate(which)]).T  # (m, 3)
+            values = {name: rows[:, k] for k, name in enumerate(names)}
+            if slope:  # the interpolant's own derivative (its forward mode is cheap)
+                values.update({"d" + name: ca.jtimes(values[name], symbol, ca.DM.ones(alpha.shape[0]))
+                               for name in names})
+            keys = list(values)
+            return dict(zip(keys, ca.substitute([values[k] for k in keys], [symbol], [alpha])))
+        wrapped = _wrap(alpha) if wrap else alpha
         n_cells = self._tables["n_cells"]
         scaled = (wrapped + math.pi) / self.step
         cell = ca.fmin(ca.fmax(ca.floor(scaled), 0), n_cells - 1)
         t = scaled - cell
         index = cell + which.reshape(-1, 1) * n_cells
         table = self._tables["lift" if lift_only else "all"]
-        out: dict[str, list] = {name: [] for name in (_COLUMNS[:1] if lift_only else _COLUMNS)}
+        out: dict[str, list] = {}
         for i in range(index.shape[0]):
             coef = table.call([index[i]], False, True)[0]  # a call node: one gather in the C code
-            for k, name in enumerate(out):
+            for k, name in enumerate(names):
                 c = coef[4 * k:4 * k + 4]
-                out[name].append(((c[3] * t[i] + c[2]) * t[i] + c[1]) * t[i] + c[0])
+                out.setdefault(name, []).append(((c[3] * t[i] + c[2]) * t[i] + c[1]) * t[i] + c[0])
+                if slope:
+                    out.setdefault("d" + name, []).append(((3.0 * c[3] * t[i] + 2.0 * c[2]) * t[i] + c[1])
+                                                          / self.step)
         return {name: ca.vertcat(*values) for name, values in out.items()}
 
     def numeric(self, alpha: np.ndarray, node: int) -> dict[str, np.ndarray]:
