@@ -10,7 +10,7 @@ settings.load_profile("ci")
 
 #: Time limit of a test marked ``slow`` [s] (pytest-timeout), unless it sets its own with
 #: ``@pytest.mark.timeout(seconds)``; other tests have the ``timeout`` of pyproject.toml.
-SLOW_TIMEOUT_S = 1800
+SLOW_TIMEOUT_S = 3600
 
 
 def pytest_collection_modifyitems(config, items):
