@@ -214,6 +214,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
                 extra = None
     except SimulationInterrupted as exc:
         raise SimulationInterrupted(exc.t, _partial(exc.partial, plant, signal, p_vec)) from None
+    except KeyboardInterrupt:                       # before or between the integrations (compiling, preparing)
+        raise SimulationInterrupted(0.0 if monitor is None else monitor.t) from None
     if monitor is not None:
         monitor.update(tmax)
     U = signal(times) if extra is None else extra.u

@@ -163,6 +163,21 @@ def test_interrupted_run_carries_the_outputs_so_far(monkeypatch, sigint_delivere
         assert partial.statistics["message"] == "interrupted"
 
 
+def test_ctrl_c_while_preparing_is_an_interruption_at_the_start(monkeypatch):
+    """A Ctrl-C before the integration starts (here while the step is compiled, seconds with an empty compile
+    cache) is the same SimulationInterrupted, at t = 0 s, not a bare KeyboardInterrupt from inside mbsym."""
+    from mbsym.simulate import base
+
+    def interrupted_compiler(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(base, "maybe_compile", interrupted_compiler)
+    with pytest.raises(KeyboardInterrupt) as info:                # a bare one must not end the whole session
+        simulate(pendulum(), 1.0, x0=[1.0, 0.0], method="rk4", dt=1e-3, compile=True)   # a new model: not prepared
+    assert isinstance(info.value, SimulationInterrupted), repr(info.value)
+    assert str(info.value) == "interrupted at t = 0 s" and info.value.t == 0.0 and info.value.partial is None
+
+
 def test_sigterm_is_left_alone_while_sigint_works(sigint_delivered):
     """SIGINT delivered: a run does not touch SIGTERM (it keeps ending the process)."""
     with monitor.interruptible() as handled:
