@@ -17,7 +17,7 @@ from .checks import (SimulationOptionWarning, check_accuracy, check_step, check_
 from .inputs import input_signal
 from .methods import get_method
 from .model import Plant, plant_of
-from .monitor import RunMonitor, SimulationInterrupted, check_resources, output_count
+from .monitor import RunMonitor, SimulationInterrupted, check_resources, interruptible, output_count
 from .result import SimulationResult
 
 __all__ = ["simulate", "DEFAULT_OUTPUT_POINTS", "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_OUTPUT_DT"]
@@ -133,7 +133,10 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         or a number of steps beyond the limits of :mod:`mbsym.simulate.monitor`; a second-order
         method on first-order dynamics.
     SimulationInterrupted
-        Ctrl-C (a ``KeyboardInterrupt``): "interrupted at t = ... s", with the partial result.
+        Ctrl-C (a ``KeyboardInterrupt``): "interrupted at t = ... s", with the partial result. Ctrl-C
+        needs SIGINT to reach Python; when SIGINT is ignored (a process started in the background by a
+        script, ``nohup``), SIGTERM (``kill PID``) during the run does the same (see
+        :func:`mbsym.simulate.monitor.interruptible`).
     TypeError
         Unknown keyword arguments, a model of the wrong type.
 
@@ -191,25 +194,28 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     h, n_steps, times = _grid(cls, tmax, dt, t_out, auto, plant, ctrl)
     monitor = RunMonitor(tmax, progress) if progress is not None else None
     try:
-        if ctrl is not None:
-            from .closed_loop import run_closed_loop
+        with interruptible():                        # SIGTERM too when SIGINT is ignored
+            if ctrl is not None:
+                from .closed_loop import run_closed_loop
 
-            X, stats, extra = run_closed_loop(ctrl, plant, x_init, p_vec, signal, times, tmax, accuracy=accuracy,
-                                              dt=h, compile=compile, monitor=monitor)
-        elif auto:
-            from .auto import run_auto
+                X, stats, extra = run_closed_loop(ctrl, plant, x_init, p_vec, signal, times, tmax, accuracy=accuracy,
+                                                  dt=h, compile=compile, monitor=monitor)
+            elif auto:
+                from .auto import run_auto
 
-            X, stats = run_auto(plant, x_init, p_vec, signal, times, tmax, accuracy, compile, monitor)
-            extra = None
-        else:
-            if n_steps is not None:
-                check_resources(times.size, 1, n_steps, tmax)
-            problem = Problem(plant, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol, atol=atol,
-                              compile=bool(compile), monitor=monitor)
-            X, stats = cls(problem).solve()
-            extra = None
+                X, stats = run_auto(plant, x_init, p_vec, signal, times, tmax, accuracy, compile, monitor)
+                extra = None
+            else:
+                if n_steps is not None:
+                    check_resources(times.size, 1, n_steps, tmax)
+                problem = Problem(plant, x_init, p_vec, signal, times, tmax, dt=h, n_steps=n_steps, rtol=rtol,
+                                  atol=atol, compile=bool(compile), monitor=monitor)
+                X, stats = cls(problem).solve()
+                extra = None
     except SimulationInterrupted as exc:
         raise SimulationInterrupted(exc.t, _partial(exc.partial, plant, signal, p_vec)) from None
+    except KeyboardInterrupt:                       # before or between the integrations (compiling, preparing)
+        raise SimulationInterrupted(0.0 if monitor is None else monitor.t) from None
     if monitor is not None:
         monitor.update(tmax)
     U = signal(times) if extra is None else extra.u

@@ -8,6 +8,14 @@ and a Ctrl-C that arrived meanwhile ends the run with :class:`SimulationInterrup
 methods (cvodes, adams, idas) run as one call: CasADi stops them within milliseconds of a
 Ctrl-C, with the same exception; scipy methods are checked after every step.
 
+Ctrl-C needs SIGINT to reach Python. A process started in the background by a non-interactive
+shell (``cmd &`` in a script, ``nohup cmd &``, many CI runners and job schedulers) inherits
+SIGINT as *ignored*, and Ctrl-C or ``kill -INT`` then does nothing. For that case
+:func:`interruptible` (entered by :func:`mbsym.simulate` for the length of a run) turns SIGTERM
+(``kill PID``) into the same interruption while the run is active, when SIGINT is ignored and
+SIGTERM has its default action; outside a run, and when SIGINT works, SIGTERM keeps its usual
+meaning (the process ends).
+
 Before integrating, :func:`check_resources` estimates the memory of the result (output
 times x columns) and the number of steps, and refuses runs beyond :data:`MEMORY_LIMIT_BYTES`
 or :data:`MAX_STEPS` with a :class:`~mbsym.exceptions.SimulationOptionError` saying how to
@@ -31,8 +39,8 @@ import numpy as np
 
 from ..exceptions import SimulationOptionError
 
-__all__ = ["SimulationInterrupted", "RunMonitor", "ProgressPrinter", "check_resources", "MEMORY_LIMIT_BYTES",
-           "MAX_STEPS", "CHUNK_WALL_S"]
+__all__ = ["SimulationInterrupted", "RunMonitor", "ProgressPrinter", "check_resources", "interruptible",
+           "MEMORY_LIMIT_BYTES", "MAX_STEPS", "CHUNK_WALL_S"]
 
 #: Largest estimated memory of a result (outputs x columns x 8 bytes x copies) [bytes]; above it the run is
 #: refused. Override with the environment variable ``MBSYM_MEMORY_LIMIT`` (bytes, e.g. ``8e9``).
@@ -47,7 +55,7 @@ _COPIES = 3
 
 class SimulationInterrupted(KeyboardInterrupt):
     """A run of :func:`mbsym.simulate` ended by Ctrl-C (a ``KeyboardInterrupt``, so it is not caught by
-    ``except Exception``).
+    ``except Exception``), or by SIGTERM when SIGINT is ignored (see :func:`interruptible`).
 
     Attributes
     ----------
@@ -131,35 +139,81 @@ class ProgressPrinter:
             self._drawn = False
 
 
+def _terminate_as_interrupt(signum, frame) -> None:
+    """SIGTERM handler of :func:`interruptible`: the run ends as after a Ctrl-C."""
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def interruptible() -> Iterator[bool]:
+    """Keep a run interruptible when SIGINT cannot reach Python: while the block runs, SIGTERM ends it as
+    Ctrl-C would (``KeyboardInterrupt``, hence :class:`SimulationInterrupted`).
+
+    Only when all of these hold: the block runs in the main thread (only there can Python handle signals),
+    SIGINT is ignored (``signal.getsignal(SIGINT) is SIG_IGN``: inherited from a non-interactive shell that
+    started the process in the background, or set by the program) and SIGTERM has its default action (a
+    handler set by the program is left alone). The previous SIGTERM action is restored on leaving. Nested
+    blocks keep the outer handler. Yields whether SIGTERM is handled by this block.
+    """
+    import signal
+
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGTERM"):
+        yield False
+        return
+    if signal.getsignal(signal.SIGINT) != signal.SIG_IGN or signal.getsignal(signal.SIGTERM) != signal.SIG_DFL:
+        yield False
+        return
+    try:
+        signal.signal(signal.SIGTERM, _terminate_as_interrupt)
+    except (ValueError, OSError):           # not allowed here (embedded interpreter): nothing changes
+        yield False
+        return
+    try:
+        yield True
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 @contextlib.contextmanager
 def sigint_seen() -> Iterator[list]:
     """Record whether SIGINT (Ctrl-C) arrives during the block (CasADi's SUNDIALS interfaces turn it into a
-    solver failure without saying so); the previous handler still runs. Yields a list, non-empty once seen.
-    Outside the main thread (no signal handlers there) nothing is recorded."""
+    solver failure without saying so); the previous handler still runs. SIGTERM is recorded the same way
+    while :func:`interruptible` handles it; an ignored SIGINT stays ignored. Yields a list, non-empty once
+    seen. Outside the main thread (no signal handlers there) nothing is recorded."""
     import signal
 
     seen: list = []
     if threading.current_thread() is not threading.main_thread():
         yield seen
         return
-    previous = signal.getsignal(signal.SIGINT)
+    signums = [] if signal.getsignal(signal.SIGINT) == signal.SIG_IGN else [signal.SIGINT]
+    if hasattr(signal, "SIGTERM") and signal.getsignal(signal.SIGTERM) is _terminate_as_interrupt:
+        signums.append(signal.SIGTERM)
+    previous = {signum: signal.getsignal(signum) for signum in signums}
 
     def handler(signum, frame):
         seen.append(time.perf_counter())
-        if callable(previous):
-            previous(signum, frame)
-        elif previous == signal.SIG_DFL:
+        before = previous[signum]
+        if callable(before):
+            before(signum, frame)
+        elif before == signal.SIG_DFL:
             raise KeyboardInterrupt
 
+    installed = []
     try:
-        signal.signal(signal.SIGINT, handler)
+        for signum in signums:
+            signal.signal(signum, handler)
+            installed.append(signum)
     except (ValueError, OSError):           # not allowed here (embedded interpreter): record nothing
+        for signum in installed:
+            signal.signal(signum, previous[signum])
         yield seen
         return
     try:
         yield seen
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for signum in signums:
+            signal.signal(signum, previous[signum])
 
 
 def memory_limit() -> float:

@@ -1,4 +1,9 @@
-"""Models shared by the simulation tests, each built once per session."""
+"""Models shared by the simulation tests, each built once per session; the SIGINT disposition of the tests that
+send signals."""
+
+import signal
+import sys
+import threading
 
 import casadi as ca
 import pytest
@@ -70,3 +75,32 @@ def osc():
 @pytest.fixture(scope="session")
 def pend():
     return pendulum()
+
+
+def _set_sigint(action):
+    """Set SIGINT to ``action`` for one test and give back the previous action, or skip where it cannot be."""
+    if sys.platform == "win32":
+        pytest.skip("Windows cannot deliver SIGINT to the own process (os.kill ends it instead)")
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signal handlers can only be set in the main thread")
+    return signal.signal(signal.SIGINT, action)
+
+
+@pytest.fixture
+def sigint_delivered():
+    """SIGINT raises KeyboardInterrupt during the test (Python's default handler), whatever the test process
+    inherited: started in the background by a non-interactive shell (``bash .ci/run &``, ``nohup``), it inherits
+    SIGINT as ignored. Child processes started meanwhile get the default action (handled signals are reset by
+    exec), so a Python child turns SIGINT into KeyboardInterrupt too. The previous handler is restored after."""
+    previous = _set_sigint(signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.fixture
+def sigint_ignored():
+    """SIGINT ignored during the test, as inherited by a process started in the background by a script; child
+    processes started meanwhile inherit it (ignored signals stay ignored across exec). Restored after."""
+    previous = _set_sigint(signal.SIG_IGN)
+    yield
+    signal.signal(signal.SIGINT, previous)

@@ -112,27 +112,45 @@ def test_explicit_method_keeps_the_deck_step(capsys):
     assert stats["method"] == "rk4" and stats["steps"] == 50 and "accuracy" not in stats
 
 
-def test_ctrl_c_ends_the_command_without_files(tmp_path):
-    """A default run of 1e5 s (millions of steps), SIGINT after start-up: exit 130 within seconds, "interrupted at
-    t = ...", no CSV."""
-    out = tmp_path / "never.csv"
+def _interrupt_the_command(out, signum):
+    """Start a default run of 1e5 s (millions of steps), send ``signum`` a second after the header: (return code,
+    stderr, seconds from the signal to the end). Bounded: the command is killed 30 s after the signal."""
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     proc = subprocess.Popen([sys.executable, "-m", "mbsym", "simulate", "--tmax", "1e5", "--dt", "10", "--out",
                              str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    deadline = time.time() + 120
-    line = ""
-    while time.time() < deadline and "DOFs" not in line:       # the header is printed before integrating
-        line = proc.stdout.readline()
-        if not line and proc.poll() is not None:
-            break
-    assert "DOFs" in line, proc.stderr.read()
-    time.sleep(1.0)
-    t0 = time.time()
-    proc.send_signal(signal.SIGINT)
     try:
+        deadline = time.time() + 120
+        line = ""
+        while time.time() < deadline and "DOFs" not in line:       # the header is printed before integrating
+            line = proc.stdout.readline()
+            if not line and proc.poll() is not None:
+                break
+        assert "DOFs" in line, proc.stderr.read()
+        time.sleep(1.0)
+        t0 = time.time()
+        proc.send_signal(signum)
         _, err = proc.communicate(timeout=30)
+        return proc.returncode, err, time.time() - t0
     finally:
         proc.kill()
-    assert proc.returncode == 130, err
-    assert time.time() - t0 < 5.0
+        proc.wait()
+
+
+def test_ctrl_c_ends_the_command_without_files(tmp_path, sigint_delivered):
+    """SIGINT after start-up: exit 130 within seconds, "interrupted at t = ...", no CSV. (The command gets SIGINT's
+    default action from the sigint_delivered fixture, even when the test process inherited it as ignored.)"""
+    out = tmp_path / "never.csv"
+    code, err, elapsed = _interrupt_the_command(out, signal.SIGINT)
+    assert code == 130, err
+    assert elapsed < 5.0
+    assert "interrupted at t = " in err and not out.exists()
+
+
+def test_sigterm_ends_the_command_when_sigint_is_ignored(tmp_path, sigint_ignored):
+    """Started in the background by a script, the command inherits SIGINT as ignored (Ctrl-C cannot reach it);
+    SIGTERM (``kill PID``) then ends the run as Ctrl-C would: exit 130, "interrupted at t = ...", no CSV."""
+    out = tmp_path / "never.csv"
+    code, err, elapsed = _interrupt_the_command(out, signal.SIGTERM)
+    assert code == 130, (code, err)                             # -15: killed by SIGTERM, nothing reported
+    assert elapsed < 5.0
     assert "interrupted at t = " in err and not out.exists()
