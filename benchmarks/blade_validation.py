@@ -23,6 +23,7 @@ benchmarks/figures/blade_validation.json (merged per case, so single ``--case`` 
 
     python benchmarks/blade_validation.py [--quick] [--no-write] [--case NAME ...] [--rung blade|rotor ...]
                                           [--dt DT] [--n-newton N] [--dbemt MODE] [--tag TAG]
+                                          [--series DIR] [--report-only]
 """
 
 from __future__ import annotations
@@ -267,8 +268,8 @@ def field_table(results: dict) -> str:
 def means_table(results: dict) -> str:
     chans = ("RotSpeed", "BldPitch1", "GenPwr", "TTDspFA", "TTDspSS", "RtAeroFxh", "TwrBsMyt", "TwrBsMxt",
              "RootMyc1")
-    lines = ["| case | rung | " + " | ".join(f"{c}" for c in chans) + " | RootMyc1 1P amplitude kN m (Δ %) |",
-             "|" + "---|" * (len(chans) + 3)]
+    lines = ["| case | rung | " + " | ".join(f"{c}" for c in chans) + " | RootMyc1 1P amplitude kN m (Δ %) "
+             "| DEL TwrBsMyt / TwrBsMxt / RootMyc1 Δ % |", "|" + "---|" * (len(chans) + 4)]
     for r in results.values():
         m = r["metrics"]
         cells = []
@@ -283,7 +284,8 @@ def means_table(results: dict) -> str:
         amp = (f"{m['root_1p']:.0f} vs {m['root_1p_of']:.0f} ({_pct(m['root_1p_rel'])})"
                if "root_1p" in m else "n/a")
         label = r["rung"] + (f" ({r['tag']})" if r.get("tag") else "")
-        lines.append(f"| {r['case']} | {label} | " + " | ".join(cells) + f" | {amp} |")
+        dels = " / ".join(_pct(m["del_rel"].get(c)) for c in WOHLER)
+        lines.append(f"| {r['case']} | {label} | " + " | ".join(cells) + f" | {amp} | {dels} |")
     return "\n".join(lines)
 
 
@@ -335,7 +337,7 @@ def plot_accuracy(results: dict, path: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     markers = {"ff14_rigid": "o", "ff14_flex": "s"}
     for r in results.values():
-        if r["case"] not in FIELD_CASES:
+        if r["case"] not in FIELD_CASES or r["timing"]["simulated_s"] < 600:   # 120 s variants: other window
             continue
         tm, m = r["timing"], r["metrics"]
         wall = tm["integration_s"] / tm["simulated_s"]
@@ -375,6 +377,7 @@ def main() -> None:
     ap.add_argument("--dt", type=float, default=CONTROLLER_DT, help="plant and controller step [s]")
     ap.add_argument("--n-newton", type=int, default=None, help="Newton steps of the blade-element induction")
     ap.add_argument("--dbemt", type=int, default=None, help="DBEMT_Mod of the blade-element rotor (0: off)")
+    ap.add_argument("--report-only", action="store_true", help="rewrite README and chart from the JSON, no runs")
     ap.add_argument("--series", type=Path, default=None, help="save each run's channels (npz) in this folder")
     ap.add_argument("--tag", default="", help="label of a variant (stored separately in the JSON)")
     args = ap.parse_args()
@@ -385,7 +388,7 @@ def main() -> None:
         tag = (tag + ", " if tag else "") + "120 s"
     stored = {} if args.no_write else load_json()
     flex_runs = {}
-    for case in args.case:
+    for case in ([] if args.report_only else args.case):
         tmax = 120.0 if (args.quick or case in STEADY_CASES) else 660.0
         ref = reference(case)
         for rung in args.rung:
@@ -434,7 +437,42 @@ def report(results: dict) -> str:
             "![accuracy vs time](figures/blade_accuracy_time.png)")
 
 
-DIAGNOSIS = ""
+DIAGNOSIS = """\
+**Diagnosis** (measured on these runs):
+
+* **Time alignment is exact.** Our `Wind1VelX` (the field at the hub point) equals OpenFAST's to ε 0.00 %,
+  R² 1.000, lag 0: InflowWind's full-field convention (Taylor advection from half a grid width upwind,
+  `τ = t + (W/2 − x)/URef`) is reproduced. Aerodynamic and structural channels align within one output
+  sample (cross-correlation lags −0.05 … +0.05 s, sub-sample fit); the blade-element rung's disk-averaged
+  wind `RtVAvgxh` has ε 0.8 % (rigid) and 1.4 % (flexible blades), mean within 0.01 %.
+* **Rigid blades (ff14_rigid): every target met** (ε ≤ 1.3 %, R² ≥ 0.984, DELs within 3.9 %, means within
+  0.6 %). **Flexible blades (ff14_flex): every target met except R² of TTDspFA (0.889 for ≥ 0.95; its ε is
+  2.0 %)**; TwrBsMyt (R² 0.854) and RtAeroFxh (0.895) follow. The overlay (figure below) shows where: the
+  series are indistinguishable while the pitch is active and split for 10–20 s after the pitch comes back
+  to its floor (ROSCO's peak-shaving minimum pitch, 3.1–4°, where the blade pitch stops acting on the
+  thrust), e.g. 372–390 s: OpenFAST and mbsym bounce off the floor with a different number of pitch
+  pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA variance in the
+  reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the record).
+  The DELs and means are unaffected (TwrBsMyt DEL −2.0 %, mean
+  +0.2 %). Of the aerodynamic channels the torque differs most, and much more with flexible blades: RtAeroMxh
+  ε 5.4 % / R² 0.67 (flexible) against 2.7 % / 0.90 (rigid); the speed loop, hence the pitch pulses at the
+  floor, is driven by it. Which flexible-blade or drivetrain detail produces it is not yet isolated; the
+  reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the difference is model, not chaos.
+* **Steady shear and 10° yaw: means within 1.1 %** (TwrBsMxt −1.1 % with shear, the only one above 1 %), RootMyc1
+  1P amplitude within 0.8 %, phase-aligned (R² of RootMyc1 0.998). The TwrBsMxt DEL (+5.5 % / +5.1 %) is the
+  3P side-side cycle of a steady run, a small range (a few tens of kN m) on a large mean.
+* **Rotor-effective rung:** a disk average is not the wind a sheared, turbulent rotor converts: over ff14 the
+  cube-mean of the disk `⟨u³⟩^(1/3)` is 1.8 % above the average (0.6 % from the shear alone). Above rated the
+  surfaces need less pitch (mean −0.23° flexible, −0.47° rigid) and carry more thrust (RtAeroFxh mean +4 to
+  +6 %). Without rotationally sampled turbulence (3P) the tower fore-aft DEL is low by 11 % (rigid) to 34 %
+  (flexible blades, whose flap modes the reference excites); without rotor side forces and yaw/tilt moments
+  TTDspSS and TwrBsMxt are wrong (ε 16–18 %, R² < 0, TwrBsMxt mean −23 to −29 %). Its `Wind1VelX` is the disk
+  average, so its ε against the hub point (8.5 %) only measures the 0.70 correlation of the two winds.
+* **Integration step:** one RK4 step per 6.25 ms controller sample (OpenFAST's DT). Rows tagged `dt=…, 120 s`
+  (if present) are 120 s runs with plant and controller at the larger step, compared over 60–120 s with the
+  untagged `120 s` row; the reference's own DT 0.005 s rerun moves ε by ≤ 0.7 %.
+* **Not done in this session:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (each is another compile of
+  ~5 min on the loaded machine; the script takes `--n-newton N --dbemt MODE`)."""
 
 
 if __name__ == "__main__":
