@@ -468,11 +468,13 @@ DIAGNOSIS = """\
   (flexible blades, whose flap modes the reference excites); without rotor side forces and yaw/tilt moments
   TTDspSS and TwrBsMxt are wrong (ε 16–18 %, R² < 0, TwrBsMxt mean −23 to −29 %). Its `Wind1VelX` is the disk
   average, so its ε against the hub point (8.5 %) only measures the 0.70 correlation of the two winds.
-* **Integration step:** one RK4 step per 6.25 ms controller sample (OpenFAST's DT). Rows tagged `dt=…, 120 s`
-  (if present) are 120 s runs with plant and controller at the larger step, compared over 60–120 s with the
-  untagged `120 s` row; the reference's own DT 0.005 s rerun moves ε by ≤ 0.7 %.
-* **Not done in this session:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (each is another compile of
-  ~5 min on the loaded machine; the script takes `--n-newton N --dbemt MODE`)."""
+* **Integration step:** one RK4 step per 6.25 ms controller sample (OpenFAST's DT). The dt study (`--quick --dt
+  0.0125`, `--dt 0.025`: plant and controller at the larger step, compared over 60–120 s with an untagged
+  `--quick` run) was not completed in this session: on the loaded machine each new model/step/length
+  recompiles its closed loop and output channels for 5–15 min. The reference's own DT 0.005 s rerun moves
+  ε by ≤ 0.7 %.
+* **Not done in this session:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (each another compile; the
+  script takes `--n-newton N --dbemt MODE`), and the dt study above."""
 
 
 if __name__ == "__main__":
