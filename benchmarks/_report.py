@@ -17,3 +17,11 @@ def write_section(marker: str, table: str, path: Path = README) -> None:
     else:
         text += f"\n{block}\n"
     path.write_text(text)
+
+
+def shared_aero() -> Path:
+    """``shared/openfast/aero`` next to the repository (or above a worktree); exits if absent."""
+    for parent in README.parents:
+        if (parent / "shared" / "openfast" / "aero").is_dir():
+            return parent / "shared" / "openfast" / "aero"
+    raise SystemExit("shared/openfast/aero not found")

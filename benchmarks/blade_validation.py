@@ -39,17 +39,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from _report import write_section  # noqa: E402
+from _report import shared_aero, write_section  # noqa: E402
 
 
-def _shared() -> Path:
-    for parent in HERE.parents:
-        if (parent / "shared" / "openfast" / "aero").is_dir():
-            return parent / "shared" / "openfast" / "aero"
-    raise SystemExit("shared/openfast/aero not found")
-
-
-AERO = _shared()
+AERO = shared_aero()
 INPUTS = AERO / "openfast_inputs"
 FIELD_CASES = ("ff14_rigid", "ff14_flex")
 STEADY_CASES = ("ss14_shear_flex", "ss14_yaw10_flex")

@@ -35,21 +35,14 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from _report import write_section  # noqa: E402
+from _report import shared_aero, write_section  # noqa: E402
 
 CHANNELS = {"RotSpeed": ("rpm", "rel", 0.5), "BldPitch1": ("deg", "abs", 0.3), "GenPwr": ("kW", "rel", 1.0),
             "RtAeroFxh": ("kN", "rel", 2.0), "TTDspFA": ("m", "rel", 3.0)}
 RATED_WIND = 11.4
 
 
-def _shared() -> Path:
-    for parent in HERE.parents:
-        if (parent / "shared" / "openfast" / "aero").is_dir():
-            return parent / "shared" / "openfast" / "aero"
-    raise SystemExit("shared/openfast/aero not found")
-
-
-AERO = _shared()
+AERO = shared_aero()
 FST = AERO / "openfast_inputs" / "steady_12" / "steady_12.fst"
 
 

@@ -28,17 +28,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from _report import write_section  # noqa: E402
+from _report import shared_aero, write_section  # noqa: E402
 
 
-def _shared() -> Path:
-    for parent in HERE.parents:
-        if (parent / "shared" / "openfast" / "aero").is_dir():
-            return parent / "shared" / "openfast" / "aero"
-    raise SystemExit("shared/openfast/aero not found")
-
-
-AERO = _shared()
+AERO = shared_aero()
 INPUTS = AERO / "openfast_inputs"
 CASES = {4: "4", 5: "5", 6: "6", 7: "7", 8: "8", 9: "9", 10: "10", 11: "11", 11.4: "11p4", 12: "12", 13: "13",
          14: "14", 16: "16", 18: "18", 20: "20", 22: "22", 24: "24"}

@@ -280,7 +280,7 @@ class OperatingTurbine:
             x.update(self._wake_equilibrium(x, wind_speed, p))
         elif wind_speed is not None:
             vec = np.array([x[s] for s in dyn.states])
-            u = dyn.input_vector({"Wind1VelX": float(wind_speed)})
+            u = dyn.input_vector(self._wind_inputs(wind_speed))
             if self.dynamic_inflow is not None or self.inflow_lag:
                 names = ("DBEMT_w", "DBEMT_v") if self.dynamic_inflow is not None else ("RotThrustLag", "RotTorqLag")
                 eq = np.asarray(self._part("inflow_steady")(vec, u, dyn.parameter_vector(p)), dtype=float)
