@@ -36,22 +36,31 @@ from typing import Callable, Sequence
 import casadi as ca
 import numpy as np
 
-from ... import FlexibleBody, RigidBody, System
 from ...bodies.base import Body
+from ...bodies.flexible import FlexibleBody
+from ...bodies.rigid import RigidBody
 from ...exceptions import ModelDefinitionError
 from ...joints import Fixed, Joint, Revolute
 from ...kinematics import rotation
+from ...system import System
+from ..deck.parameters import TurbineParameters
 from .dof_tables import (
     BLADE_FLAGS,
     MODELLED_DOFS,
     NON_BLADE_DOFS,
-    PLATFORM_FLAGS as _PLATFORM,
     STATE_ORDER,
     SUPPORTED_DOFS,
-    TOWER_FLAGS as _TOWER,
     blade_coordinate,
-    resolve_dofs as _resolve_dofs,
     unsupported_features,
+)
+from .dof_tables import (
+    PLATFORM_FLAGS as _PLATFORM,
+)
+from .dof_tables import (
+    TOWER_FLAGS as _TOWER,
+)
+from .dof_tables import (
+    resolve_dofs as _resolve_dofs,
 )
 from .elastodyn_bodies import (
     BLADE_DOFS,
@@ -67,7 +76,6 @@ from .mbc import BladeFrame
 from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
-from ..deck.parameters import TurbineParameters
 
 #: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
 TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
