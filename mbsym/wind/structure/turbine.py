@@ -48,19 +48,13 @@ from .dof_tables import (
     BLADE_FLAGS,
     MODELLED_DOFS,
     NON_BLADE_DOFS,
+    PLATFORM_FLAGS as _PLATFORM,
     STATE_ORDER,
     SUPPORTED_DOFS,
-    blade_coordinate,
-    unsupported_features,
-)
-from .dof_tables import (
-    PLATFORM_FLAGS as _PLATFORM,
-)
-from .dof_tables import (
     TOWER_FLAGS as _TOWER,
-)
-from .dof_tables import (
+    blade_coordinate,
     resolve_dofs as _resolve_dofs,
+    unsupported_features,
 )
 from .elastodyn_bodies import (
     BLADE_DOFS,
