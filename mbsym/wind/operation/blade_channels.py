@@ -12,6 +12,7 @@ RootMxb<k>, RootMyb<k> kN-m    the same moments in the pitched axes j1, j2
 RtAeroFxh … RtAeroFzh  N       aerodynamic force on the rotor in the (rotating) hub axes
 RtAeroMxh … RtAeroMzh  N-m     aerodynamic moment about the apex in the hub axes
 RtSkew                 deg     skew angle of the disk-averaged relative wind to the shaft
+Wind1VelY, Wind1VelZ   m/s     the wind at the hub point (0, 0, hub height), as InflowWind's output point
 B1N<j>Alpha …          deg …   AeroDyn node channels of blade 1 (Alpha, Phi [deg], Vrel [m/s],
                                AxInd, TnInd, Cl, Cd [-], Fn, Ft [N/m]) for the nodes
                                :attr:`OperatingTurbine.output_nodes` lists
@@ -40,6 +41,8 @@ def blade_channel_rows(g) -> list[tuple[str, str, Any]]:
     """``(name, unit, expression)`` of the blade-element channels of the composed graph ``g``."""
     rows = _root_moments(g) + _rotor_loads(g)
     rows.append(("RtSkew", "deg", g.skew * 180.0 / math.pi))
+    hub = g.blade_aero["hub_wind"]
+    rows += [("Wind1VelY", "m/s", hub[1]), ("Wind1VelZ", "m/s", hub[2])]
     return rows + _node_rows(g)
 
 

@@ -81,7 +81,7 @@ def test_blades_share_the_load_of_an_axisymmetric_inflow(steady14):
 
 
 def test_full_field_hub_wind_channel_is_the_field_at_the_hub_point():
-    """Wind1VelX of a full-field model = the field at (0, 0, hub height) (numpy reference; float32 data: 1e-5)."""
+    """Wind1VelX/Y/Z of a full-field model = the field at (0, 0, hub height) (numpy reference; float32 data: 1e-5)."""
     import mbsym as mb
 
     fst = need(INPUTS / "ff14_rigid" / "ff14_rigid.fst")
@@ -92,5 +92,8 @@ def test_full_field_hub_wind_channel_is_the_field_at_the_hub_point():
     for t in (0.0, 37.5, 123.456):
         x = model.initial_state({"WindTime": t})
         y = _outputs(model, x, {"WindTime": t})
-        assert y["Wind1VelX"] == pytest.approx(float(field.velocity(t, hub)[0, 0]), rel=1e-5)
+        v = field.velocity(t, hub)[0]
+        assert y["Wind1VelX"] == pytest.approx(float(v[0]), rel=1e-5)
+        assert y["Wind1VelY"] == pytest.approx(float(v[1]), abs=1e-5 * abs(float(v[0])))
+        assert y["Wind1VelZ"] == pytest.approx(float(v[2]), abs=1e-5 * abs(float(v[0])))
     assert "WindTime" in d.inputs and "Wind1VelX" not in d.inputs
