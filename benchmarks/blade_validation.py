@@ -103,7 +103,7 @@ def rotor_model(fst: Path):
 
 
 # ---------------------------------------------------------------------------------------------------- running
-def simulate(model, deck, wind, wind0, tmax: float, dt: float):
+def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4"):
     from mbsym.wind.control.baseline import BaselineController
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
@@ -113,10 +113,12 @@ def simulate(model, deck, wind, wind0, tmax: float, dt: float):
     x0 = model.initial_state(wind0, rotor_speed=ic.rotor_speed, pitch=float(ic.blade_pitch[0]),
                              tower_fa=ic.tower_top_fa_displacement, tower_ss=ic.tower_top_ss_displacement)
     t_out = np.round(np.arange(0.0, tmax + 1e-9, 0.05), 10)
-    return simulate_turbine(model, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True)
+    return simulate_turbine(model, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True,
+                            method=method if model.aero == "blade" else "rk4")
 
 
-def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None) -> tuple[dict, object]:
+def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
+        method: str = "rk4") -> tuple[dict, object]:
     fst = INPUTS / case / f"{case}.fst"
     t0 = time.perf_counter()
     if rung == "blade":
@@ -136,7 +138,7 @@ def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None)
         build = time.perf_counter() - t0
         wind, wind0 = rew["signal"], float(rew["average"][0])
     t1 = time.perf_counter()
-    res = simulate(model, deck, wind, wind0, tmax, dt)
+    res = simulate(model, deck, wind, wind0, tmax, dt, method)
     total = time.perf_counter() - t1
     st = res.statistics
     timing = {"build_s": build, "compile_s": float(st.get("prepare_wall_s", 0.0)),
@@ -370,12 +372,17 @@ def main() -> None:
     ap.add_argument("--dt", type=float, default=CONTROLLER_DT, help="plant and controller step [s]")
     ap.add_argument("--n-newton", type=int, default=None, help="Newton steps of the blade-element induction")
     ap.add_argument("--dbemt", type=int, default=None, help="DBEMT_Mod of the blade-element rotor (0: off)")
+    ap.add_argument("--method", choices=("rk4", "rk4-held"), default="rk4",
+                    help="integration of the blade-element rung (rk4-held: aerodynamics once per step)")
     ap.add_argument("--report-only", action="store_true", help="rewrite README and chart from the JSON, no runs")
     ap.add_argument("--series", type=Path, default=None, help="save each run's channels (npz) in this folder")
     ap.add_argument("--tag", default="", help="label of a variant (stored separately in the JSON)")
     args = ap.parse_args()
-    tag = args.tag or ("" if args.dt == CONTROLLER_DT and args.n_newton is None and args.dbemt is None else
-                       f"dt={args.dt:g}" + (f", n_newton={args.n_newton}" if args.n_newton else "")
+    variant = args.dt != CONTROLLER_DT or args.n_newton is not None or args.dbemt is not None or \
+        args.method != "rk4"
+    tag = args.tag or ("" if not variant else
+                       f"dt={args.dt:g}" + (f", {args.method}" if args.method != "rk4" else "")
+                       + (f", n_newton={args.n_newton}" if args.n_newton else "")
                        + (f", DBEMT_Mod={args.dbemt}" if args.dbemt is not None else ""))
     if args.quick:
         tag = (tag + ", " if tag else "") + "120 s"
@@ -389,7 +396,7 @@ def main() -> None:
                 continue
             print(f"{case} / {rung} ({tmax:g} s, dt {args.dt:g} s{', ' + tag if tag else ''})", flush=True)
             timing, res = run(case, rung, tmax, args.dt,
-                              *((args.n_newton, args.dbemt) if rung == "blade" else (None, None)))
+                              *((args.n_newton, args.dbemt) if rung == "blade" else (None, None)), method=args.method)
             m = metrics(res, ref, tmax)
             key = f"{case}/{rung}" + (f"/{tag}" if tag else "")
             stored[key] = {"case": case, "rung": rung, "tag": tag, "dt": args.dt, "metrics": m, "timing": timing}

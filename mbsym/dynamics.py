@@ -28,6 +28,7 @@ import numpy as np
 
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError, ParameterError
+from .held import HeldPart
 from .protocol import read_hooks
 
 __all__ = ["Dynamics", "as_dynamics"]
@@ -64,6 +65,9 @@ class Dynamics:
     name : str, optional
     eom : EquationsOfMotion, optional
         The structural equations when ``x`` starts with their ``[q; qd]``.
+    held : HeldPart, optional
+        The same right-hand side (and outputs) split into a part that an integrator may hold over a
+        step and the remainder (:mod:`mbsym.held`; used by the method ``"rk4-held"``).
 
     Raises
     ------
@@ -86,7 +90,7 @@ class Dynamics:
                  parameters: Sequence[str] = (), defaults: Mapping[str, float] | None = None,
                  outputs: ca.Function | None = None, output_names: Sequence[str] = (),
                  output_units: Sequence[str] | None = None, x0=None, u0=None, name: str | None = None,
-                 eom: EquationsOfMotion | None = None) -> None:
+                 eom: EquationsOfMotion | None = None, held: HeldPart | None = None) -> None:
         self._states = _names(states, "state")
         self._inputs = _names(inputs, "input")
         self._parameters = _names(parameters, "parameter")
@@ -110,6 +114,11 @@ class Dynamics:
         self._u0 = self._fixed(u0, self.n_u, "u0", self._inputs)
         self._name = name or rhs.name()
         self._eom = eom
+        if held is not None:
+            if not isinstance(held, HeldPart):
+                raise TypeError(f"held must be an mbsym.held.HeldPart; got {type(held).__name__}.")
+            held.check(self.n_x, self.n_u, self.n_p, self.n_y if outputs is not None else None)
+        self._held = held
 
     # ------------------------------------------------------------ description
     @property
@@ -133,6 +142,7 @@ class Dynamics:
     output_units = property(lambda self: self._output_units, doc="Units of y.")
     defaults = property(lambda self: self._defaults, doc="Default parameter values (read-only).")
     eom = property(lambda self: self._eom, doc="The structural equations, or None.")
+    held = property(lambda self: self._held, doc="The held-part split of the right-hand side (HeldPart), or None.")
     n_x = property(lambda self: len(self._states))
     n_u = property(lambda self: len(self._inputs))
     n_p = property(lambda self: len(self._parameters))

@@ -18,6 +18,9 @@ from mbsym.codegen import (COMPILE_TIMEOUT_S, DEFAULT_FLAGS, CompilationWarning,
                            compile_function, compiler_command, find_compiler, function_key)
 from mbsym.simulate import METHODS, clear_cache, simulate
 
+#: Methods for any model (rk4-held needs dynamics with a held part: tests/simulate/test_held_rk4.py).
+GENERIC = [m for m in METHODS if not METHODS[m].needs_held]
+
 needs_cc = pytest.mark.skipif(find_compiler() is None, reason="no C compiler on this machine")
 
 
@@ -161,7 +164,7 @@ def test_clear_disk_cache_removes_stale_build_directories():
 
 
 @needs_cc
-@pytest.mark.parametrize("method", list(METHODS))
+@pytest.mark.parametrize("method", GENERIC)
 def test_simulate_compiled_equals_virtual_machine(method):
     """The double pendulum (nonlinear, mbsym.demo): compiled and VM runs agree to round-off (fixed
     step: 1e-11), or within the tolerance for adaptive methods at rtol = 1e-8, whose step control may

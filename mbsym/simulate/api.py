@@ -220,7 +220,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         monitor.update(tmax)
     U = signal(times) if extra is None else extra.u
     t0 = time.perf_counter()
-    Y = plant.outputs(X, U, p_vec, compile=compile if auto else bool(compile))
+    Y = _outputs(plant, X, U, p_vec, compile if auto else bool(compile), extra)
     stats["outputs_wall_s"] = time.perf_counter() - t0
     names, units = plant.output_names, plant.output_units
     if extra is not None:
@@ -228,6 +228,22 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         names, units = names + extra.names, units + extra.units
     return SimulationResult(times, X, plant.states, U, plant.inputs, Y, names, stats, units, plant.n_q,
                             _state_units(model))
+
+
+def _outputs(plant: Plant, X: np.ndarray, U: np.ndarray, p: np.ndarray, compile, extra) -> np.ndarray:
+    """The plant's outputs at the rows of X: those the closed loop evaluated, the others here."""
+    Y = None if extra is None else extra.plant_y
+    if Y is None:
+        return plant.outputs(X, U, p, compile=compile)
+    missing = np.flatnonzero(np.isnan(Y).any(axis=1))
+    if missing.size > 64:
+        Y[missing] = plant.outputs(X[missing], U[missing], p, compile=compile)
+    else:                     # a few rows (the end time): direct calls rather than a mapped or compiled Function
+        for i in missing:
+            out = plant.output_function(X[i], U[i], p)
+            Y[i] = np.concatenate([np.asarray(v, dtype=float).reshape(-1) for v in
+                                   (out if isinstance(out, (list, tuple)) else [out])])
+    return Y
 
 
 def _state_units(model) -> dict[str, str]:

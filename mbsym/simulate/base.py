@@ -153,6 +153,8 @@ class Method:
     implicit : bool
         Whether the method solves (non)linear systems with the Jacobian (suited
         to stiff problems).
+    needs_held : bool
+        Whether the method needs dynamics with a held part (:class:`mbsym.held.HeldPart`).
     second_order : bool
         Whether the method integrates the residual form of an EquationsOfMotion
         (``e(q, qd, qdd) = 0``); such a method refuses first-order dynamics that are
@@ -164,6 +166,8 @@ class Method:
     kind: ClassVar[str] = "fixed-step"
     implicit: ClassVar[bool] = False
     second_order: ClassVar[bool] = False
+    #: Whether the method needs dynamics that declare a held part (:mod:`mbsym.held`).
+    needs_held: ClassVar[bool] = False
     default_dt: ClassVar[float] = 0.01
 
     def __init__(self, problem: Problem) -> None:

@@ -21,6 +21,7 @@ from .base import BufferedFunction, Problem, dense_rhs, maybe_compile, prepared
 from .checks import first_bad_column, raise_diverged
 from .controller import BoundController, DiscreteController
 from .fixed import RK4, PreparedLoop
+from .held_rk4 import HeldRK4, held_rk4_step
 from .monitor import CHUNK_WALL_S, SimulationInterrupted
 
 __all__ = ["run_closed_loop", "CALLABLE_BATCH"]
@@ -39,6 +40,9 @@ class Extra:
     y: np.ndarray
     names: tuple[str, ...]
     units: tuple[str, ...]
+    #: The plant's outputs at the output times the loop evaluated them (sample starts, "rk4-held"), NaN rows
+    #: elsewhere; None: none evaluated in the loop.
+    plant_y: np.ndarray | None = None
 
 
 def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, accuracy, dt, compile, monitor):
@@ -50,7 +54,7 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     u_init = signal.at(0.0)
     t0 = time.perf_counter()
     if bc.substep_dt is not None:
-        m, reason = int(round(c.dt / bc.substep_dt)), f"rk4, dt = {bc.substep_dt:.4g} s (given)"
+        m, reason = int(round(c.dt / bc.substep_dt)), f"{bc.method}, dt = {bc.substep_dt:.4g} s (given)"
     elif accuracy is None:
         m = max(1, int(math.ceil(c.dt / RK4.default_dt - 1e-9)))
         reason = f"rk4, {m} sub-step(s) of at most {RK4.default_dt} s per sample"
@@ -102,7 +106,7 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
                  controller_samples=res.samples, substeps=m, dt=res.h)
     stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
-    return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc)
+    return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc, res.y)
 
 
 def _reset(c) -> None:
@@ -145,6 +149,7 @@ class _Run:
     stats: dict
     samples: int
     h: float
+    y: np.ndarray | None = None
 
 
 class _ClosedLoop:
@@ -156,7 +161,7 @@ class _ClosedLoop:
         self.samples = max(int(math.ceil(tmax / c.dt - 1e-9)), 1)
         self.u_init = signal.at(0.0)[bc.act]
         dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
-        self.rk4 = RK4(dummy)
+        self.rk4 = (HeldRK4 if bc.method == "rk4-held" else RK4)(dummy)
 
     # ---------------------------------------------------------------- the generated body
     def body(self, m: int) -> ca.Function:
@@ -164,33 +169,60 @@ class _ClosedLoop:
         plant, bc = self.plant, self.bc
 
         def build():
-            step = self.rk4.symbolic_step()
-            inner = step.mapaccum(f"{step.name()}_sub{m}", m, [0], [0])
             n_x, n_u, n_a, n_xc = plant.n_x, plant.n_u, bc.act.size, bc.ctrl.n_xc
             z, U = ca.MX.sym("z", n_x + n_xc + n_a), ca.MX.sym("U", n_u, 3 * m)
-            p, h = ca.MX.sym("p", plant.n_p), ca.MX.sym("h")
+            p, hf = ca.MX.sym("p", plant.n_p), ca.MX.sym("h", 2 if self.outputs_in_loop(m) else 1)
+            h = hf[0]
             x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:]
             keep, put = _masks(n_u, bc.act)
             u_meas = ca.mtimes(keep, U[:, 0]) + ca.mtimes(put, ua_prev)
-            y = bc.measure(x, u_meas, p)
+            shared = self._shares_held_part()
+            if shared:                    # one evaluation of the held part serves measurement and first step
+                held_z = plant.held.part(x, u_meas, p)
+                y = bc.measure_held(x, u_meas, p, held_z)
+            else:
+                y = bc.measure(x, u_meas, p)
             xc1, ua = bc.ctrl.law(xc, y)
             Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
-            Xs, K1 = inner(x, Uh, ca.repmat(p, 1, m), ca.repmat(h, 1, m))
-            k_end = plant.rhs(Xs[:, -1], Uh[:, -1], p)
+            Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None)
             z_next = ca.vertcat(Xs[:, -1], xc1, ua)
             aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
-            return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, h], [z_next, aux],
+            if self.outputs_in_loop(m):   # the outputs at the sample start, from the held part already evaluated,
+                aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))   # where h[1] asks
+            return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, hf], [z_next, aux],
                                ["z", "U", "p", "h"], ["z_next", "aux"])
 
         return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
-                                           bc.ctrl.measurements, m), build)[0]
+                                           bc.ctrl.measurements, m, bc.method), build)[0]
+
+    def outputs_in_loop(self, m: int) -> bool:
+        """Whether the body returns the plant's outputs at every sample start (shared held part, m = 1)."""
+        return m == 1 and self._shares_held_part() and self.plant.output_function is not None
+
+    def _shares_held_part(self) -> bool:
+        """With "rk4-held" and one sub-step per sample, the held part at the sample serves the measurement
+        and the step when it does not depend on the commanded inputs (the commands change at the sample)."""
+        held = self.plant.held if self.bc.method == "rk4-held" else None
+        return held is not None and held.outputs is not None and not held.depends_on_inputs(self.bc.act)
+
+    def _substeps(self, x, Uh, p, h, m: int, held_z):
+        """``m`` sub-steps from ``x`` with inputs ``Uh`` (n_u, 3 m): states, stage-1 derivatives and the
+        derivative at the end (for the dense output)."""
+        plant = self.plant
+        if held_z is not None and m == 1:
+            x1, k1 = held_rk4_step(plant.held, x, Uh, p, h, held_z)
+            return x1, k1, plant.held.rhs(x1, Uh[:, -1], p, held_z)
+        step = self.rk4.symbolic_step()
+        inner = step.mapaccum(f"{step.name()}_sub{m}", m, [0], [0])
+        Xs, K1 = inner(x, Uh, ca.repmat(p, 1, m), ca.repmat(h, 1, m))
+        return Xs, K1, plant.rhs(Xs[:, -1], Uh[:, -1], p)
 
     def sample_seconds(self, f: ca.Function) -> float:
         """Wall time of one sample of the body ``f`` [s] (buffered calls, best of two)."""
         z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
         U = np.repeat(self.signal.at(0.0)[:, None], f.size2_in(1), axis=1)
         args = [z, np.asfortranarray(U).reshape(-1, order="F"), np.ascontiguousarray(self.p, dtype=float),
-                np.array([self.bc.ctrl.dt])]
+                np.array([self.bc.ctrl.dt, 1.0][:f.numel_in(3)])]
         outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
         buf, trigger = f.buffer()
         for i, a in enumerate(args):
@@ -222,7 +254,8 @@ class _ClosedLoop:
             meas = BufferedFunction(self.bc.measure, self.p)
             prep = time.perf_counter() - t0
             out = self._run_callable(loop, rhs, meas, times, m, monitor)
-        out.stats.update(prepare_wall_s=prep, compiled=on, method="rk4", cache_hit=None, disk_cache_hit=None,
+        out.stats.update(prepare_wall_s=prep, compiled=on, method=self.bc.method, cache_hit=None,
+                         disk_cache_hit=None,
                          success=True, n_jac=0)
         return out
 
@@ -251,7 +284,10 @@ class _ClosedLoop:
                 start, length = self._sample_grid(k0, k0 + L)
                 U = self._exogenous(start, length, m)
                 t1 = time.perf_counter()
-                Zn, A = loop.run(z, U, self.p, length / m)
+                H = length / m
+                if self.outputs_in_loop(m):             # second row: whether an output time is the sample start
+                    H = np.vstack([H, collector.wanted(start)])
+                Zn, A = loop.run(z, U, self.p, H)
                 dt_run = time.perf_counter() - t1
                 wall += dt_run
                 per = max(dt_run / L, 1e-8)
@@ -259,8 +295,10 @@ class _ClosedLoop:
                 K1 = A[n_x * m: 2 * n_x * m].reshape(n_x, m, L, order="F")
                 k_end = A[2 * n_x * m: 2 * n_x * m + n_x]
                 xc = A[2 * n_x * m + n_x: 2 * n_x * m + n_x + n_xc]
-                ua = A[2 * n_x * m + n_x + n_xc:]
-                collector.add(k0, z[:n_x], Xs, K1, k_end, xc, ua, start, length)
+                off = 2 * n_x * m + n_x + n_xc
+                ua, Y = A[off:off + self.bc.act.size], A[off + self.bc.act.size:]
+                collector.add(k0, z[:n_x], Xs, K1, k_end, xc, ua, start, length,
+                              Y if self.outputs_in_loop(m) else None)
                 z = Zn[:, -1].copy()
                 k0 += L
                 if monitor is not None:
@@ -311,6 +349,18 @@ class _ClosedLoop:
         return collector.result(wall, m)
 
 
+def _outputs_when(plant) -> ca.Function:
+    """``(x, u, p, z, flag) -> y``: the held outputs when flag > 0.5, else zeros, evaluated only then (a
+    short-circuit ``if_else`` inside its own Function: given the body's expressions, the branch would take
+    the body's symbols as inputs and evaluate the held part again)."""
+    held = plant.held
+    x, u, p = ca.MX.sym("x", plant.n_x), ca.MX.sym("u", plant.n_u), ca.MX.sym("p", plant.n_p)
+    z, flag = ca.MX.sym("z", held.n_z), ca.MX.sym("flag")
+    y = ca.vec(held.outputs(x, u, p, z))
+    return ca.Function(f"{plant.name}_outputs_when", [x, u, p, z, flag],
+                       [ca.if_else(flag > 0.5, y, ca.MX.zeros(y.numel()), True)])
+
+
 def _first_chunk(loop: _ClosedLoop, body: ca.Function) -> int:
     """Samples of the first chunk: all of them unless one sample's timed cost says they take > 0.3 s."""
     return loop.samples if loop.samples <= 64 else _chunk(loop.samples, loop.sample_seconds(body))
@@ -336,12 +386,12 @@ class _SampleLoop:
         self.body = body
         loop = body.mapaccum(f"{body.name()}_loop{n}", n, [0], [0])
         z, U = ca.MX.sym("z", body.size1_in(0)), ca.MX.sym("U", body.size1_in(1), body.size2_in(1) * n)
-        p, H = ca.MX.sym("p", body.size1_in(2)), ca.MX.sym("H", 1, n)
+        p, H = ca.MX.sym("p", body.size1_in(2)), ca.MX.sym("H", body.size1_in(3), n)
         self.loop = ca.Function(f"{body.name()}_loop{n}", [z, U, p, H], loop(z, U, ca.repmat(p, 1, n), H))
 
     def run(self, z0, U, p, H):
         args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
-                np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(H, dtype=float)]
+                np.ascontiguousarray(p, dtype=float), np.asfortranarray(H, dtype=float).reshape(-1, order="F")]
         outs = [np.empty(self.n * self.body.numel_out(i)) for i in range(2)]
         buf, trigger = self.loop.buffer()
         for i, a in enumerate(args):
@@ -395,15 +445,18 @@ class _Collector:
         self.done = 0
         self.steps = 0
         self.h = c.dt / m
+        self.y = (np.full((times.size, len(loop.plant.output_names)), np.nan) if loop.outputs_in_loop(m)
+                  else None)
 
-    def add(self, k0, x_start, Xs, K1, k_end, xc, ua, start, length) -> None:
-        """Samples k0.. of one chunk: sub-step end states Xs (n_x, m, L), start derivatives K1, end derivatives."""
+    def add(self, k0, x_start, Xs, K1, k_end, xc, ua, start, length, Y=None) -> None:
+        """Samples k0.. of one chunk: sub-step end states Xs (n_x, m, L), start derivatives K1, end derivatives
+        and, when the loop evaluates them, the plant's outputs at the sample starts Y (n_y, L)."""
         lp, m = self.loop, self.m
         n_x, L = Xs.shape[0], Xs.shape[2]
         bad = first_bad_column(Xs.reshape(n_x, -1, order="F"), lp.x0)
         if bad is not None:
             j = bad // m
-            raise_diverged("rk4", float(start[j] + (bad % m + 1) * length[j] / m), float(length[j] / m),
+            raise_diverged(lp.bc.method, float(start[j] + (bad % m + 1) * length[j] / m), float(length[j] / m),
                            Xs.reshape(n_x, -1, order="F")[:, bad], lp.plant.states, lp.x0,
                            where=f"controller sample {k0 + j + 1} of {lp.samples}")
         self.steps += L * m
@@ -431,7 +484,18 @@ class _Collector:
         U[:, lp.bc.act] = ua[:, j].T
         self.u[self.done:hi] = U
         self.xc[self.done:hi] = xc[:, j].T
+        if Y is not None:
+            at_start = (i == 0) & (s[:, 0] <= 1e-9) & (self.wanted(start)[j] > 0.5)     # the rows evaluated
+            rows = self.done + np.flatnonzero(at_start)
+            self.y[rows] = Y[:, j[at_start]].T
         self.done = hi
+
+    def wanted(self, start: np.ndarray) -> np.ndarray:
+        """1.0 for the samples whose start is an output time (to the tolerance of :meth:`add`), else 0.0."""
+        k = np.clip(np.searchsorted(self.times, start), 0, self.times.size - 1)
+        k0 = np.maximum(k - 1, 0)
+        near = np.minimum(np.abs(self.times[k] - start), np.abs(self.times[k0] - start))
+        return (near <= 1e-9 * self.h).astype(float)
 
     def partial(self):
         return self.times[: self.done], self.x[: self.done].copy()
@@ -439,9 +503,9 @@ class _Collector:
     def result(self, wall: float, m: int) -> _Run:
         lp = self.loop
         stats = {"steps": self.steps, "n_rhs": self.steps * 4 + lp.samples, "integration_wall_s": wall,
-                 "message": f"{lp.samples} controller samples of {lp.bc.ctrl.dt:g} s, {m} RK4 sub-step(s) each, "
+                 "message": f"{lp.samples} controller samples of {lp.bc.ctrl.dt:g} s, {m} {lp.bc.method} sub-step(s) each, "
                             f"up to t = {lp.tmax:g} s."}
-        return _Run(self.x, self.u, self.xc, stats, lp.samples, lp.bc.ctrl.dt / m)
+        return _Run(self.x, self.u, self.xc, stats, lp.samples, lp.bc.ctrl.dt / m, self.y)
 
 
 def x_start_rows(x_start: np.ndarray, Xs: np.ndarray, j: np.ndarray) -> np.ndarray:

@@ -178,15 +178,21 @@ class BoundController:
     measure: ca.Function          # (x, u, p) -> y
     substep_dt: float | None      # step given explicitly (method "rk4", dt), else None
     n_columns: int
+    method: str = "rk4"           # "rk4", or "rk4-held" (the plant's held part once per sub-step)
+    measure_held: ca.Function | None = None   # (x, u, p, z) -> y, "rk4-held" only
 
 
 def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float) -> BoundController:
     """Check ``controller`` against ``plant`` and the options; build the measurement Function."""
     if not isinstance(controller, DiscreteController):
         raise TypeError(f"controller must be an mbsym.simulate.DiscreteController; got {type(controller).__name__}.")
-    if method not in (None, "rk4"):
+    if method not in (None, "rk4", "rk4-held"):
         raise SimulationOptionError(f"a controller runs with RK4 sub-steps between its samples; method {method!r} is "
-                                    "not supported with controller= (leave method unset, or use 'rk4').")
+                                    "not supported with controller= (leave method unset, or use 'rk4' or "
+                                    "'rk4-held').")
+    if method == "rk4-held" and getattr(plant, "held", None) is None:
+        raise SimulationOptionError(f"method 'rk4-held' holds the part of the dynamics that {plant.name!r} declares "
+                                    "as held (mbsym.held.HeldPart), but this model declares none; use 'rk4'.")
     c = controller
     missing = [n for n in c.actuates if n not in plant.inputs]
     if missing:
@@ -207,8 +213,27 @@ def bind_controller(controller: Any, plant, method: str | None, dt: float | None
                                         "steps must not straddle a sample, where the held inputs jump); choose "
                                         f"dt = {c.dt:g} / m or leave method and dt unset.")
         h = c.dt / round(m)
+    held = method == "rk4-held"
     return BoundController(c, np.array([plant.inputs.index(n) for n in c.actuates], dtype=int),
-                           _measurement_function(plant, c.measurements), h, c.n_xc)
+                           _measurement_function(plant, c.measurements), h, c.n_xc, method or "rk4",
+                           _held_measurement_function(plant, c.measurements) if held else None)
+
+
+def _held_measurement_function(plant, names: Sequence[str]) -> ca.Function:
+    """``(x, u, p, z) -> y``: the measurements with the plant's held part ``z`` as an argument."""
+    held = plant.held
+    x, u, p = (ca.MX.sym(s, n) for s, n in (("x", plant.n_x), ("u", plant.n_u), ("p", plant.n_p)))
+    z = ca.MX.sym("z", held.n_z)
+    y_all = None
+    if any(n in plant.output_names for n in names):
+        if held.outputs is None:
+            raise SimulationOptionError(f"the controller measures outputs of {plant.name!r}, whose held part has no "
+                                        "outputs Function (HeldPart.outputs); use method 'rk4'.")
+        y_all = held.outputs(x, u, p, z)
+    rows = [y_all[plant.output_names.index(n)] if n in plant.output_names else x[plant.states.index(n)]
+            for n in names]
+    y = ca.vertcat(*rows) if rows else ca.MX(0, 1)
+    return ca.Function(f"{plant.name}_held_measurements", [x, u, p, z], [y], ["x", "u", "p", "z"], ["y"])
 
 
 def _measurement_function(plant, names: Sequence[str]) -> ca.Function:

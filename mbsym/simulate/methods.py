@@ -9,6 +9,7 @@ give ``nodes`` and ``_step``), declare ``name``, ``order``, ``kind`` and
 name                   kind         order  implicit  what
 =====================  ===========  =====  ========  =========================================
 ``rk4``                fixed-step   4      no        classical Runge-Kutta, loop in CasADi
+``rk4-held``           fixed-step   1      no        RK4, the dynamics' held part once per step
 ``newmark``            fixed-step   2      yes       average acceleration, residual form
 ``generalized-alpha``  fixed-step   2      yes       Chung-Hulbert rho_inf = 0.8, residual form
 ``adams``              adaptive     5      no        CVODES Adams-Moulton, functional iteration
@@ -28,6 +29,7 @@ from .base import Method
 from .casadi_methods import Adams, Cvodes, Idas
 from .checks import SimulationOptionError
 from .fixed import RK4
+from .held_rk4 import HeldRK4
 from .scipy_methods import ScipyBDF, ScipyRadau
 from .second_order import GeneralizedAlpha, Newmark
 
@@ -35,7 +37,7 @@ __all__ = ["METHODS", "get_method"]
 
 #: Integration methods by name (read-only).
 METHODS: Mapping[str, type[Method]] = MappingProxyType({m.name: m for m in (
-    RK4, Newmark, GeneralizedAlpha, Adams, Cvodes, Idas, ScipyRadau, ScipyBDF)})
+    RK4, HeldRK4, Newmark, GeneralizedAlpha, Adams, Cvodes, Idas, ScipyRadau, ScipyBDF)})
 
 
 def get_method(name) -> type[Method]:

@@ -154,6 +154,8 @@ class Plant:
     output_function : casadi.Function or None
         ``(x, u, p) -> y`` (one vector, or one output per channel).
     output_names, output_units : tuple of str
+    held : HeldPart or None
+        The held-part split of the dynamics (:mod:`mbsym.held`), for the method ``"rk4-held"``.
     """
 
     rhs: ca.Function
@@ -170,6 +172,7 @@ class Plant:
     output_units: tuple[str, ...]
     _parameter_vector: Any = None
     n_q: int | None = None
+    held: Any = None
 
     n_x = property(lambda self: len(self.states))
     n_u = property(lambda self: len(self.inputs))
@@ -248,7 +251,7 @@ def _from_dynamics(dyn: Dynamics, model: Any) -> Plant:
             default_p = dict(model.default_parameters())
     return Plant(dyn.rhs, tuple(dyn.states), tuple(dyn.inputs), tuple(dyn.parameters), dyn.name, eom, default_x,
                  default_p, default_u, dyn.outputs, tuple(dyn.output_names), tuple(dyn.output_units),
-                 dyn.parameter_vector, _coordinates(dyn))
+                 dyn.parameter_vector, _coordinates(dyn), dyn.held)
 
 
 def _coordinates(dyn: Dynamics) -> int | None:

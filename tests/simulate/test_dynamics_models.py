@@ -15,6 +15,9 @@ import mbsym as mb
 from mbsym.simulate import METHODS, SimulationOptionError, simulate
 from mbsym.simulate.auto import epsilon
 
+#: Methods for any model (rk4-held needs dynamics with a held part: tests/simulate/test_held_rk4.py).
+GENERIC = [m for m in METHODS if not METHODS[m].needs_held]
+
 A = np.array([[0.0, 1.0, 0.0], [-4.0, -0.2, 1.0], [0.0, 0.0, -2.0]])
 B = np.array([[0.0], [0.0], [2.0]])
 X0 = np.array([1.0, 0.0, 0.0])
@@ -35,7 +38,7 @@ def exact(t):
     return np.array([expm(A * ti) @ X0 + (Ainv @ (expm(A * ti) - np.eye(3)) @ B).ravel() * U0 for ti in t])
 
 
-FIRST_ORDER = [m for m, cls in METHODS.items() if not cls.second_order]
+FIRST_ORDER = [m for m, cls in METHODS.items() if not cls.needs_held and not cls.second_order]
 
 
 @pytest.mark.parametrize("method", FIRST_ORDER + [None])
@@ -58,7 +61,7 @@ def test_every_first_order_method_runs_a_dynamics(method):
         res.q
 
 
-@pytest.mark.parametrize("method", [m for m, cls in METHODS.items() if cls.second_order])
+@pytest.mark.parametrize("method", [m for m, cls in METHODS.items() if not cls.needs_held and cls.second_order])
 def test_second_order_methods_refuse_a_pure_dynamics(method):
     with pytest.raises(SimulationOptionError, match=rf"method '{method}' integrates the second-order residual form"):
         simulate(linear_dynamics(), 1.0, method=method, dt=0.01)

@@ -94,7 +94,7 @@ class BladeGraph(Graph):
         states = ca.vertcat(*[self.X[n] for n in rotor.state_names])
         wind = ca.vertcat(*[self.U[n] for n in model.wind.inputs])
         zero = self.structural_inputs(thrust=0.0, torque=0.0, **{n: 0.0 for n in blade_load_inputs(model.structure)})
-        out = dict(zip(f.name_out(), f(self.q, self.qd, zero, self.p_s, states, wind, self.P["air_density"])))
+        out = self._held(f, f(self.q, self.qd, zero, self.p_s, states, wind, self.P["air_density"]))
         names = blade_load_inputs(model.structure)
         self.loads = {"thrust": 0.0, "torque": 0.0, **{n: out["loads"][i] for i, n in enumerate(names)}}
         self.lag_rhs = out["states_dot"]
@@ -112,10 +112,23 @@ class BladeGraph(Graph):
         u = 0.5 * (self.u_rel + ca.sqrt(self.u_rel**2 + 0.02**2))
         self.aero = {"u": u}
 
+    def _held(self, f: ca.Function, values: list) -> dict[str, Any]:
+        """The outputs of the aerodynamics by name, as slices of the held symbol ``held_z`` whose value is
+        ``held_value`` (every output of ``f``, stacked): the composition builds the full right-hand side by
+        substitution (:meth:`close`) and the held-part split from the same graph (:mod:`mbsym.held`)."""
+        self.held_value = ca.vertcat(*[ca.vec(v) for v in values])
+        self.held_z = self.kind.sym("z", self.held_value.numel())
+        out, k = {}, 0
+        for name, v in zip(f.name_out(), values):
+            out[name] = ca.reshape(self.held_z[k:k + v.numel()], v.size1(), v.size2())
+            k += v.numel()
+        return out
+
     def parts(self) -> dict[str, Any]:
         """``blade_inflow``: ``(x, u, p) ->`` :data:`INFLOW_OUTPUTS` (wake equilibrium, diagnostics)."""
         f = ca.Function(f"{self.model.name}_blade_inflow", [self.x, self.u, self.p],
-                        [self.blade_aero[k] for k in INFLOW_OUTPUTS], ["x", "u", "p"], list(INFLOW_OUTPUTS))
+                        self.close([self.blade_aero[k] for k in INFLOW_OUTPUTS]), ["x", "u", "p"],
+                        list(INFLOW_OUTPUTS))
         return {"blade_inflow": f}
 
     def aero_function(self) -> ca.Function:

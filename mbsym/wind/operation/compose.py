@@ -26,6 +26,7 @@ import casadi as ca
 from ...dynamics import Dynamics
 from ...equations import SYMBOLIC_SOLVE_MAX_DOF
 from ...exceptions import ModelDefinitionError
+from ...held import HeldPart
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
 
@@ -180,6 +181,16 @@ class Graph:
         """Extra Functions the model keeps (by key in ``model._parts``)."""
         return {}
 
+    #: The held symbol and its value (the blade-element graph's aerodynamics; None: nothing held).
+    held_z: Any = None
+    held_value: Any = None
+
+    def close(self, exprs: list) -> list:
+        """``exprs`` with the held symbol replaced by its value (unchanged when nothing is held)."""
+        if self.held_z is None:
+            return list(exprs)
+        return ca.substitute(list(exprs), [self.held_z], [self.held_value])
+
     def kinematics_with_accelerations(self, body: str) -> dict[str, Any]:
         """Point kinematics of a body origin with the model's accelerations (for output channels)."""
         return self._kinematics(body, self.u_s, self.qdd)
@@ -196,24 +207,30 @@ def compose(model, graph: type | None = None) -> Dynamics:
     kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
     g = (graph or Graph)(model, kind)
     opts = {"cse": True} if kind is ca.SX else {}
-    rhs = ca.Function(f"{model.name}_rhs", [g.x, g.u, g.p], [g.xd], ["x", "u", "p"], ["xd"], opts)
     rows = channel_rows(g)
     names = tuple(r[0] for r in rows)
     units = tuple(r[1] for r in rows)
     y = ca.vertcat(*[r[2] for r in rows])
-    outputs = ca.Function(f"{model.name}_outputs", [g.x, g.u, g.p], [y], ["x", "u", "p"], ["y"], opts)
-    model._parts["aero_torque"] = ca.Function(f"{model.name}_aero_torque", [g.x, g.u, g.p], [g.torque],
-                                              ["x", "u", "p"], ["Q"], opts)
     from .controllers import measurement_names
     measured_names = measurement_names(model)
-    measured = [y[names.index(n)] for n in measured_names]
-    model._parts["measurements"] = ca.Function(f"{model.name}_measurements", [g.x, g.u, g.p],
-                                               [ca.vertcat(*measured)], ["x", "u", "p"], ["y"], opts)
+    measured = ca.vertcat(*[y[names.index(n)] for n in measured_names])
+    exprs = {"xd": g.xd, "y": y, "torque": g.torque, "measured": measured}
+    if hasattr(g, "inflow_steady"):
+        exprs["inflow_steady"] = g.inflow_steady
+    closed = dict(zip(exprs, g.close(list(exprs.values()))))
+    xup = [g.x, g.u, g.p]
+    rhs = ca.Function(f"{model.name}_rhs", xup, [closed["xd"]], ["x", "u", "p"], ["xd"], opts)
+    outputs = ca.Function(f"{model.name}_outputs", xup, [closed["y"]], ["x", "u", "p"], ["y"], opts)
+    model._parts["aero_torque"] = ca.Function(f"{model.name}_aero_torque", xup, [closed["torque"]],
+                                              ["x", "u", "p"], ["Q"], opts)
+    model._parts["measurements"] = ca.Function(f"{model.name}_measurements", xup, [closed["measured"]],
+                                               ["x", "u", "p"], ["y"], opts)
     model._parts["measurement_units"] = tuple(units[names.index(n)] for n in measured_names)
     model._parts["measurement_names"] = measured_names
-    if hasattr(g, "inflow_steady"):
-        model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", [g.x, g.u, g.p],
-                                                    [g.inflow_steady], ["x", "u", "p"], ["z"], opts)
+    if "inflow_steady" in closed:
+        model._parts["inflow_steady"] = ca.Function(f"{model.name}_inflow_steady", xup, [closed["inflow_steady"]],
+                                                    ["x", "u", "p"], ["z"], opts)
+    held = _held_part(model, g, y, measured, opts)
     model._parts.update(g.parts())
     model._parts["graph"] = g
     defaults = {**dict(eom.defaults), **_aero_defaults(model), **model.actuators.parameters()}
@@ -222,7 +239,22 @@ def compose(model, graph: type | None = None) -> Dynamics:
     x0 = _deck_state(model, g)
     u0 = _input_defaults(model, g)
     return Dynamics(rhs, states=g.states, inputs=g.inputs, parameters=g.parameters, defaults=defaults,
-                    outputs=outputs, output_names=names, output_units=units, x0=x0, u0=u0, name=model.name, eom=eom)
+                    outputs=outputs, output_names=names, output_units=units, x0=x0, u0=u0, name=model.name, eom=eom,
+                    held=held)
+
+
+def _held_part(model, g: Graph, y: Any, measured: Any, opts: dict) -> HeldPart | None:
+    """The split of the right-hand side at the graph's held symbol (blade-element aerodynamics), or None;
+    the measurements with the held symbol are kept as ``model._parts["measurements_held"]``."""
+    if g.held_z is None:
+        return None
+    xupz, names = [g.x, g.u, g.p, g.held_z], ["x", "u", "p", "z"]
+    part = ca.Function(f"{model.name}_held_part", [g.x, g.u, g.p], [g.held_value], names[:3], ["z"], opts)
+    rhs = ca.Function(f"{model.name}_held_rhs", xupz, [g.xd], names, ["xd"], opts)
+    outputs = ca.Function(f"{model.name}_held_outputs", xupz, [y], names, ["y"], opts)
+    model._parts["measurements_held"] = ca.Function(f"{model.name}_held_measurements", xupz, [measured], names,
+                                                    ["y"], opts)
+    return HeldPart(part, rhs, outputs, "blade-element aerodynamics")
 
 
 def _input_defaults(model, g: Graph) -> list[float] | None:

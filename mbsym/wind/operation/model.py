@@ -52,6 +52,7 @@ import numpy as np
 
 from ...dynamics import Dynamics
 from ...exceptions import ParameterError
+from ...held import HeldPart
 from ..aero.rotor import RotorAero
 from ..deck.parameters import TurbineParameters
 from ..structure.turbine import TurbineModel
@@ -227,11 +228,14 @@ class OperatingTurbine:
         """
         if "measurement_dynamics" not in self._parts:
             d = self.dynamics()
+            held = None
+            if d.held is not None:
+                held = HeldPart(d.held.part, d.held.rhs, self._parts["measurements_held"], d.held.description)
             self._parts["measurement_dynamics"] = Dynamics(
                 d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters, defaults=dict(d.defaults),
                 outputs=self._parts["measurements"], output_names=self._parts["measurement_names"],
                 output_units=self._parts["measurement_units"], x0=d.x0, u0=d.u0, name=f"{d.name}_measured",
-                eom=d.eom)
+                eom=d.eom, held=held)
         return self._parts["measurement_dynamics"]
 
     # ------------------------------------------------------------------ initial states

@@ -103,6 +103,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     options = {k: v for k, v in options.items() if v is not None}
     if controller is None:
         return simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
+    if options.get("method") == "rk4-held":
+        # the loop evaluates every channel at the samples from the aerodynamics it holds over the step
+        return simulate(dyn, tmax, x0=x0, inputs=inputs, controller=controller, **options)
     # in the loop only the measurements are evaluated; the channels afterwards, from the states
     res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
     return _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))

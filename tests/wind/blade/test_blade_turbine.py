@@ -97,3 +97,27 @@ def test_full_field_hub_wind_channel_is_the_field_at_the_hub_point():
         assert y["Wind1VelY"] == pytest.approx(float(v[1]), abs=1e-5 * abs(float(v[0])))
         assert y["Wind1VelZ"] == pytest.approx(float(v[2]), abs=1e-5 * abs(float(v[0])))
     assert "WindTime" in d.inputs and "Wind1VelX" not in d.inputs
+
+
+def test_held_split_is_the_same_model(steady14):
+    """The blade-element aerodynamics as the held part (mbsym.held, method "rk4-held"): rhs, outputs and
+    measurements with the held part substituted equal the composed model's own, at a perturbed state
+    (rounding: 1e-12 relative); the held part does not depend on the controller's commands, so the closed
+    loop may evaluate it once per sample for measurement, step and outputs."""
+    d = steady14.dynamics()
+    h = d.held
+    assert h is not None and h.description == "blade-element aerodynamics"
+    wind = {"Wind1VelX": 13.0}
+    x = steady14.initial_state(wind, pitch=np.deg2rad(7.0))
+    x = x + 1e-3 * np.random.default_rng(3).standard_normal(x.size) * np.maximum(np.abs(x), 1.0)
+    u = d.input_vector({**wind, "BlPitchCom": 0.1, "GenTqCom": 4e4})
+    p = d.parameter_vector()
+    z = h.part(x, u, p)
+    for full, held in ((d.rhs, h.rhs), (d.outputs, h.outputs)):
+        a, b = np.asarray(full(x, u, p)).ravel(), np.asarray(held(x, u, p, z)).ravel()
+        np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12 * np.max(np.abs(a)))
+    m = steady14.measurement_dynamics()
+    np.testing.assert_allclose(np.asarray(m.held.outputs(x, u, p, z)).ravel(), np.asarray(m.outputs(x, u, p)).ravel(),
+                               rtol=1e-12)
+    commands = [d.inputs.index(n) for n in steady14.command_names]
+    assert not h.depends_on_inputs(commands) and h.depends_on_inputs([d.inputs.index("Wind1VelX")])

@@ -1,0 +1,115 @@
+"""The method "rk4-held" and the HeldPart split of a Dynamics (mbsym.held).
+
+Model: a spring-mass-damper whose extra spring and damper (an "aerodynamic" force F = -κ x - γ v) form the held
+part ``z``: the full system is the damped oscillator with k + κ and c + γ, whose free response is closed form.
+Holding F over a step is a first-order error in F's variation (``rk4-held``, order 1), so:
+
+* the error against the closed form falls as h¹ (fitted order 1 ± 0.3 over h = 10, 5, 2.5 ms);
+* with κ = γ = 0 nothing varies in z and rk4-held equals rk4 to rounding;
+* in a closed loop, the outputs the loop evaluates at the samples from the held part equal the plant's
+  outputs evaluated afterwards at the same states and inputs (to rounding), and rows between samples
+  are evaluated afterwards.
+"""
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import mbsym as mb
+from mbsym.exceptions import DimensionError, SimulationOptionError
+from mbsym.held import HeldPart
+from mbsym.simulate import DiscreteController, simulate
+
+from ._reference import sdof_response
+
+M, K, C = 2.0, 80.0, 0.4          # kg, N/m, N s/m
+KAPPA, GAMMA = 20.0, 1.6          # N/m, N s/m: the held force
+
+
+def held_oscillator(kappa: float = KAPPA, gamma: float = GAMMA) -> mb.Dynamics:
+    """x = [x, v], u = [f] (an applied force), outputs [x, F, acceleration]."""
+    x, u, p = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("p", 0)
+    z = ca.SX.sym("z", 1)
+    force = -kappa * x[0] - gamma * x[1]
+    xd_z = ca.vertcat(x[1], (-K * x[0] - C * x[1] + z[0] + u[0]) / M)
+    y_z = ca.vertcat(x[0], z[0], xd_z[1])
+    part = ca.Function("part", [x, u, p], [force])
+    rhs_z = ca.Function("rhs_z", [x, u, p, z], [xd_z])
+    out_z = ca.Function("out_z", [x, u, p, z], [y_z])
+    rhs = ca.Function("rhs", [x, u, p], [rhs_z(x, u, p, part(x, u, p))])
+    out = ca.Function("out", [x, u, p], [out_z(x, u, p, part(x, u, p))])
+    return mb.Dynamics(rhs, states=["x", "x_d"], inputs=["f"], outputs=out, output_names=["X", "F", "A"],
+                       held=HeldPart(part, rhs_z, out_z, "spring and damper"))
+
+
+def _error(h: float) -> float:
+    res = simulate(held_oscillator(), 4.0, x0=[0.1, 0.0], method="rk4-held", dt=h, t_out=np.linspace(0, 4, 81))
+    x_ref, _ = sdof_response(res.t, M, C + GAMMA, K + KAPPA, x0=0.1, v0=0.0)
+    return float(np.max(np.abs(res.state("x") - x_ref)))
+
+
+def test_first_order_convergence_to_the_closed_form():
+    hs = np.array([0.01, 0.005, 0.0025])
+    errors = np.array([_error(h) for h in hs])
+    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
+    assert abs(slope - 1.0) < 0.3, f"fitted order {slope:.2f}; errors {errors}"
+    # at 2.5 ms the holding delays the force by h/2 = 1.25 ms, 0.9 % of a period ω h / 2 = 0.0088 rad: the
+    # error stays below 1 % of the 0.1 m amplitude (measured 0.53 %)
+    assert errors[-1] < 1e-2 * 0.1
+
+
+def test_nothing_varying_held_equals_rk4():
+    dyn = held_oscillator(0.0, 0.0)
+    a = simulate(dyn, 2.0, x0=[0.1, 0.3], method="rk4-held", dt=0.01)
+    b = simulate(dyn, 2.0, x0=[0.1, 0.3], method="rk4", dt=0.01)
+    np.testing.assert_allclose(a.x, b.x, rtol=0, atol=1e-14)
+    assert a.statistics["method"] == "rk4-held"
+
+
+def test_model_without_held_part_is_refused():
+    dyn = held_oscillator()
+    plain = mb.Dynamics(dyn.rhs, states=dyn.states, inputs=dyn.inputs)
+    with pytest.raises(SimulationOptionError, match="declares none"):
+        simulate(plain, 1.0, method="rk4-held", dt=0.01)
+
+
+def test_held_part_sizes_are_checked():
+    dyn = held_oscillator()
+    h = dyn.held
+    x, u, p, z = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("p", 0), ca.SX.sym("z", 2)
+    with pytest.raises(DimensionError, match="z of 2 entries"):
+        HeldPart(h.part, ca.Function("r", [x, u, p, z], [x]))
+    with pytest.raises(DimensionError, match="4 arguments"):
+        HeldPart(h.part, dyn.rhs)
+    with pytest.raises(TypeError, match="casadi.Function"):
+        HeldPart(h.part, "rhs")
+    x3 = ca.SX.sym("x", 3)
+    bad = HeldPart(ca.Function("g", [x3, u, p], [x3[0]]), ca.Function("r", [x3, u, p, z[0]], [x3]))
+    with pytest.raises(DimensionError, match="sizes"):
+        mb.Dynamics(dyn.rhs, states=dyn.states, inputs=dyn.inputs, held=bad)
+
+
+def test_depends_on_inputs():
+    x, u, p = ca.SX.sym("x", 2), ca.SX.sym("u", 3), ca.SX.sym("p", 0)
+    z = ca.SX.sym("z")
+    h = HeldPart(ca.Function("g", [x, u, p], [x[0] * u[2]]), ca.Function("r", [x, u, p, z], [x * z]))
+    assert h.depends_on_inputs([2]) and not h.depends_on_inputs([0, 1]) and not h.depends_on_inputs([])
+
+
+def _p_controller(dt: float) -> DiscreteController:
+    xc, y = ca.SX.sym("xc", 0), ca.SX.sym("y", 2)
+    law = ca.Function("P", [xc, y], [xc, -50.0 * y[0] - 5.0 * y[1]])
+    return DiscreteController(law, dt, measurements=["X", "x_d"], actuates=["f"])
+
+
+def test_closed_loop_outputs_from_the_held_part_equal_the_outputs():
+    dyn = held_oscillator()
+    t_out = np.round(np.concatenate([np.arange(0.0, 2.0, 0.05), [2.0]]), 12)       # samples of 0.05 s
+    t_out = np.sort(np.concatenate([t_out, [0.512, 1.337]]))                         # and two in between
+    res = simulate(dyn, 2.0, x0=[0.1, 0.0], controller=_p_controller(0.05), method="rk4-held", dt=0.05,
+                   t_out=t_out)
+    again = np.vstack([np.asarray(dyn.outputs(x, u, [])).ravel() for x, u in zip(res.x, res.u)])
+    np.testing.assert_allclose(np.asarray(res.y)[:, :3], again, rtol=0, atol=1e-12)
+    ref = simulate(dyn, 2.0, x0=[0.1, 0.0], controller=_p_controller(0.05), method="rk4", dt=0.0125, t_out=t_out)
+    # the same loop with the force not held (4 sub-steps): rk4-held's first-order error at 50 ms steps
+    assert np.max(np.abs(res.state("x") - ref.state("x"))) < 0.05 * 0.1
