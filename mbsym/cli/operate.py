@@ -24,7 +24,10 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   ``none`` (pitch and torque held at their initial values). Default: ``discon``
   when the deck's ServoDyn runs a DISCON library, ``baseline`` without a deck, else ``none``.
 * Integration: one RK4 step per controller sample (``--method rk4 --dt`` changes the step, a
-  divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller);
+  divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller); with
+  blade-element aerodynamics ``rk4-held`` by default: the aerodynamics once per step, held over its
+  RK4 stages as OpenFAST's glue code holds AeroDyn's loads (``--method rk4`` evaluates them at every
+  stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md "blade-speed");
   compiled to C from 2000 controller samples on (``--compile`` forces it).
 * ``--tmax`` defaults to the deck's TMax (built-in: the length of a tabulated wind, else 60 s);
   ``--dt`` is the output spacing (default: the deck's DT_Out; built-in 0.05 s).
@@ -183,16 +186,17 @@ def _integration(args) -> dict:
     if args.rtol is not None or args.atol is not None:
         raise SimulationOptionError("--rtol/--atol do not apply to an operating turbine: it runs RK4 steps between "
                                     "controller samples (choose the step with --method rk4 --dt, or --accuracy).")
-    if args.method is not None and args.method != "rk4":
+    if args.method is not None and args.method not in ("rk4", "rk4-held"):
         raise SimulationOptionError(f"--method {args.method}: an operating turbine runs RK4 steps between controller "
-                                    "samples; use --method rk4 (with --dt as the step) or leave --method unset.")
+                                    "samples; use --method rk4 or rk4-held (blade-element aerodynamics held over "
+                                    "each step; with --dt as the step) or leave --method unset.")
     if args.accuracy is not None and args.method is not None:
         raise SimulationOptionError("--accuracy chooses the step itself; it cannot be combined with --method.")
     out: dict = {}
     if args.accuracy is not None:
         out["accuracy"] = check_accuracy(args.accuracy)
     if args.method is not None:
-        out["method"] = "rk4"
+        out["method"] = args.method
         if args.dt is not None:
             out["dt"] = float(args.dt)
     if args.compile:

@@ -11,7 +11,12 @@
 * integration: with a controller, one RK4 step per controller sample (the sample time of ROSCO's
   deck, 6.25 ms, resolves every mode of the model; the accuracy-driven default of
   :func:`mbsym.simulate` re-runs the loop to check the step, which a DISCON library — a state
-  machine outside our control — cannot follow); without, the accuracy-driven default.
+  machine outside our control — cannot follow); without, the accuracy-driven default. With
+  blade-element aerodynamics the default method is ``"rk4-held"`` (:mod:`mbsym.held`): the
+  aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds AeroDyn's loads
+  over an ElastoDyn step; one evaluation serves the controller's measurements, the step and every
+  channel at the samples. Against OpenFAST on ``ff14_flex`` it gives the figures of ``"rk4"`` (which
+  evaluates the aerodynamics at every stage) to the third digit at 3-4x less cost.
 """
 
 from __future__ import annotations
@@ -56,9 +61,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     p : dict, optional, keyword-only
         Parameter values by name.
     method, dt, accuracy, compile, progress
-        As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"`` with
-        ``dt = controller.dt``; ``accuracy`` asks for the accuracy-driven sub-steps instead
-        (CasADi-Function controllers only); ``compile`` defaults to compiling runs of more than
+        As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"``
+        (``"rk4-held"`` with blade-element aerodynamics) with ``dt = controller.dt``; ``accuracy``
+        asks for the accuracy-driven sub-steps instead (CasADi-Function controllers only); ``compile`` defaults to compiling runs of more than
         :data:`COMPILE_FROM_SAMPLES` controller samples.
 
     Returns
@@ -95,7 +100,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
                                             "follow; give method='rk4' and dt instead.")
             options["accuracy"] = accuracy
         else:
-            options.update(method=method or "rk4", dt=controller.dt if dt is None else dt)
+            options.update(method=method or ("rk4-held" if model.aero == "blade" else "rk4"),
+                           dt=controller.dt if dt is None else dt)
         if compile is None:
             options["compile"] = _compile_pays_off(tmax / controller.dt)
     else:
