@@ -1,0 +1,125 @@
+"""Cost of one controller sample of the blade-element turbine in its compiled closed loop, rk4 against rk4-held.
+
+The ``ff14_flex`` deck's blade-element model (NREL 5 MW, 15 DOFs, 3 x 19 AeroDyn nodes with DBEMT) with mbsym's
+baseline controller (ROSCO's DISCON.IN) in the loop, as :func:`mbsym.wind.operation.simulate_turbine` runs it:
+the generated closed-loop body (measurement, control law, one RK4 step, outputs) compiled with the default
+flags, called through ``Function.buffer``; CPU time of this process (``time.process_time``: the machine's 2
+cores are shared, wall time measures the neighbours), median of 7 batches. Methods:
+
+* ``rk4``: the blade-element aerodynamics evaluated in every RK4 stage, in the measurement and afterwards for
+  the channels;
+* ``rk4-held`` (the default): the aerodynamics once per sample, held over the stages (OpenFAST's coupling);
+  the same evaluation gives the measurements and, at the output times, every channel.
+
+Baseline in the same run: the rotor-effective model of the same deck (rigid-blade DOFs) at 6.25 ms.
+The projection to the 660 s case counts one output sample in 8 (6.25 ms) / 4 / 2 (0.05 s output spacing);
+``blade_validation.py`` measures whole runs (its "run CPU" column) and their accuracy.
+
+    python benchmarks/blade_loop_speed.py [--no-write]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from _report import write_section  # noqa: E402
+
+INPUTS = next((p / "shared" / "openfast" / "aero" / "openfast_inputs" for p in HERE.parents
+               if (p / "shared" / "openfast" / "aero").is_dir()), None)
+T_CASE, DT_OUT = 660.0, 0.05
+VARIANTS = (("rk4", 0.00625), ("rk4-held", 0.00625), ("rk4-held", 0.0125), ("rk4-held", 0.025))
+
+
+def cpu_us(f, args, batches: int = 7, n: int = 200) -> float:
+    """Median CPU time of one call [µs] through the Function's buffer."""
+    args = [np.ascontiguousarray(np.asarray(a, dtype=float).ravel()) for a in args]
+    outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
+    buf, trigger = f.buffer()
+    for i, a in enumerate(args):
+        buf.set_arg(i, memoryview(a))
+    for i, o in enumerate(outs):
+        buf.set_res(i, memoryview(o))
+    trigger()
+    times = []
+    for _ in range(batches):
+        t0 = time.process_time()
+        for _ in range(n):
+            trigger()
+        times.append((time.process_time() - t0) / n * 1e6)
+    return float(np.median(times))
+
+
+def sample_costs(model, method: str, dt: float, wind: dict) -> tuple[float, float, float]:
+    """CPU µs of one sample without and with the outputs, and the compile time [s] of the body."""
+    from mbsym.simulate.base import maybe_compile
+    from mbsym.simulate.closed_loop import _ClosedLoop
+    from mbsym.simulate.controller import bind_controller
+    from mbsym.simulate.inputs import input_signal
+    from mbsym.simulate.model import plant_of
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+
+    ctrl = baseline_in_loop(BaselineController.from_discon(INPUTS / "deck" / "DISCON.IN", dt=dt))
+    dyn = model.dynamics() if method == "rk4-held" else model.measurement_dynamics()
+    plant = plant_of(dyn)
+    bc = bind_controller(ctrl, plant, method, None, T_CASE)
+    x0 = dyn.state_vector(model.initial_state(wind))
+    sig = input_signal({**dict(zip(dyn.inputs, dyn.u0)), **wind}, plant.inputs, T_CASE)
+    loop = _ClosedLoop(bc, plant, x0, dyn.parameter_vector(), sig, T_CASE)
+    t0 = time.perf_counter()
+    body, _ = maybe_compile(loop.body(1), True)
+    compile_s = time.perf_counter() - t0
+    z = np.concatenate([x0, ctrl.x0, loop.u_init])
+    U = np.repeat(sig.at(0.0)[:, None], 3, axis=1)
+    p = dyn.parameter_vector()
+    if body.numel_in(3) == 1:          # rk4: every channel evaluated afterwards at the output times
+        from mbsym import codegen
+
+        full = model.dynamics()
+        outputs = codegen.compile_function(full.outputs).function
+        c = cpu_us(body, (z, U, p, [dt]))
+        return c, c + cpu_us(outputs, (x0, full.input_vector(wind), p)), compile_s
+    return cpu_us(body, (z, U, p, [dt, 0.0])), cpu_us(body, (z, U, p, [dt, 1.0])), compile_s
+
+
+def main() -> None:
+    from mbsym.wind.operation.deck import operating_deck
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--no-write", action="store_true")
+    args = parser.parse_args()
+    if INPUTS is None:
+        raise SystemExit("shared/openfast/aero not found")
+    deck = operating_deck(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    base = replace(deck, inflow=None).model(aero="rotor", dofs=("GenDOF", "TwFADOF1", "TwSSDOF1"))
+    b0, _, _ = sample_costs(base, "rk4", 0.00625, {"Wind1VelX": 14.0})
+    blade = deck.model(aero="blade")
+    rows = [("rotor-effective, rigid (baseline)", "rk4", 0.00625, b0, b0, 0.0)]
+    for method, dt in VARIANTS:
+        c0, c1, comp = sample_costs(blade, method, dt, {"WindTime": 30.0})
+        rows.append(("blade-element, ff14_flex DOFs", method, dt, c0, c1, comp))
+        print(rows[-1], flush=True)
+    table = ["| model | method | step = controller sample [ms] | CPU per sample [µs] (with the channels) | vs baseline | "
+             "660 s case, projected CPU [s] | faster than real time |", "|---|---|---:|---:|---:|---:|---:|"]
+    for label, method, dt, c0, c1, _ in rows:
+        n = int(round(T_CASE / dt))
+        n_out = int(round(T_CASE / max(dt, DT_OUT)))
+        cpu = ((n - n_out) * c0 + n_out * c1) * 1e-6
+        table.append(f"| {label} | {method} | {1e3 * dt:g} | {c0:.0f} ({c1:.0f}) | {c0 / b0:.0f}× | {cpu:.1f} | "
+                     f"{T_CASE / cpu:.0f}× |")
+    text = "\n".join(table)
+    print(text)
+    if not args.no_write:
+        write_section("blade-loop-speed", text)
+
+
+if __name__ == "__main__":
+    main()
