@@ -162,6 +162,7 @@ class _ClosedLoop:
         self.u_init = signal.at(0.0)[bc.act]
         dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
         self.rk4 = (HeldRK4 if bc.method == "rk4-held" else RK4)(dummy)
+        self._shares: bool | None = None
 
     # ---------------------------------------------------------------- the generated body
     def body(self, m: int) -> ca.Function:
@@ -202,8 +203,11 @@ class _ClosedLoop:
     def _shares_held_part(self) -> bool:
         """With "rk4-held" and one sub-step per sample, the held part at the sample serves the measurement
         and the step when it does not depend on the commanded inputs (the commands change at the sample)."""
-        held = self.plant.held if self.bc.method == "rk4-held" else None
-        return held is not None and held.outputs is not None and not held.depends_on_inputs(self.bc.act)
+        if self._shares is None:
+            held = self.plant.held if self.bc.method == "rk4-held" else None
+            self._shares = held is not None and held.outputs is not None and \
+                not held.depends_on_inputs(self.bc.act)
+        return self._shares
 
     def _substeps(self, x, Uh, p, h, m: int, held_z):
         """``m`` sub-steps from ``x`` with inputs ``Uh`` (n_u, 3 m): states, stage-1 derivatives and the
