@@ -477,13 +477,20 @@ DIAGNOSIS = """\
   (flexible blades, whose flap modes the reference excites); without rotor side forces and yaw/tilt moments
   TTDspSS and TwrBsMxt are wrong (ε 16–18 %, R² < 0, TwrBsMxt mean −23 to −29 %). Its `Wind1VelX` is the disk
   average, so its ε against the hub point (8.5 %) only measures the 0.70 correlation of the two winds.
-* **Integration step:** one RK4 step per 6.25 ms controller sample (OpenFAST's DT). The dt study (`--quick --dt
-  0.0125`, `--dt 0.025`: plant and controller at the larger step, compared over 60–120 s with an untagged
-  `--quick` run) was not completed in this session: on the loaded machine each new model/step/length
-  recompiles its closed loop and output channels for 5–15 min. The reference's own DT 0.005 s rerun moves
-  ε by ≤ 0.7 %.
-* **Not done in this session:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (each another compile; the
-  script takes `--n-newton N --dbemt MODE`), and the dt study above."""
+* **Integration:** one step per 6.25 ms controller sample (OpenFAST's DT), by default `rk4-held`: the
+  aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds AeroDyn's loads. Against
+  `rk4` (tag "rk4": the aerodynamics in every stage) the figures agree to the third digit at a quarter of the
+  CPU. Larger steps (tags "dt=…": plant and controller at that step) are cheaper: 12.5 ms keeps every DEL
+  within 3.6 %, 25 ms misses them (TwrBsMyt +5.1 %, TwrBsMxt +7.0 %). The loss comes from the controller's
+  sample time: with the plant at 6.25 ms and the controller at 25 ms the DELs are +4.4 / +6.0 %. The
+  reference's own DT 0.005 s rerun moves ε by ≤ 0.7 %.
+* **Spectra (ff14_flex, rk4-held at 6.25 ms, RMS per band against OpenFAST's):** within ±6 % in every band
+  from 0 to 10 Hz for TTDspFA, RtAeroFxh, IPDefl1 and (below 1.3 Hz) RotSpeed, GenTq, RootMxc1, TwrBsMxt; the
+  band 1.7–1.9 Hz (the drivetrain-torsion / collective-edge mode) is 1.4× OpenFAST's in RotSpeed, TwrBsMxt and
+  RootMxc1, its peak 3 % higher (1.73 against 1.68 Hz in RotSpeed). So the lower R² of TTDspFA is a phase
+  (timing) difference, not missing energy.
+* **Not done:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (the script takes `--n-newton N --dbemt
+  MODE`)."""
 
 
 if __name__ == "__main__":
