@@ -60,6 +60,8 @@ from .elastodyn_bodies import (
     BLADE_DOFS,
     ElastoDynBladeData,
     blade_elastodyn_data,
+    blade_rotation,
+    rigid_blade,
     blade_shape_integrals,
     tower_elastodyn_data,
     tower_shape_integrals,
@@ -124,20 +126,12 @@ class TurbineModel:
         Attach every blade through three *locked* rotations about its root's coned axes
         ``i1, i2, i3`` (:data:`BLADE_ROOT_LOCKED`, after the tower-base ones): their reactions
         are minus ElastoDyn's ``RootMxc``, ``RootMyc``, ``RootMzc`` [N m]. Needs ``pitch_input``.
-    blade_root_forces : bool, optional, keyword-only
-        Also three *locked* translations along each root's ``i1, i2, i3`` (:data:`BLADE_ROOT_FORCE_LOCKED`,
-        before the rotations): their reactions are minus ``RootFxc``, ``RootFyc``, ``RootFzc`` [N].
-        Needs ``pitch_input``. Default False.
-    shaft_reactions : bool, optional, keyword-only
-        Attach the rotor (low-speed shaft, hub and blades) to the nonrotating shaft frame through three
-        *locked* translations along the shaft axes (:data:`SHAFT_LOCKED`): their reactions are minus
-        ``LSShftFxa``, ``LSShftFys``, ``LSShftFzs`` [N]. Default False.
-    yaw_bearing_reactions : bool, optional, keyword-only
-        Attach the nacelle to the tower top through three *locked* translations and three *locked*
-        rotations along and about the tower-top axes (:data:`YAW_BEARING_LOCKED`): their reactions are
-        minus ``YawBrFxp`` … ``YawBrFzp`` [N] and ``YawBrMxp`` … ``YawBrMzp`` [N m]. Default False.
-        Every locked coordinate leaves the equations of motion unchanged; what the channels mean is
-        in :mod:`.load_cuts`.
+    blade_root_forces, shaft_reactions, yaw_bearing_reactions : bool, optional, keyword-only
+        More *locked* joints (:mod:`.load_cuts`, equations unchanged): translations along each root's
+        ``i1, i2, i3`` before its rotations (reactions: minus ``RootFxc..RootFzc`` [N]; needs
+        ``pitch_input``), along the shaft axes between the shaft and the rotor (minus ``LSShftFxa``,
+        ``LSShftFys``, ``LSShftFzs``), and along and about the tower-top axes between the tower and
+        the nacelle (minus ``YawBrFxp..YawBrFzp`` [N], ``YawBrMxp..YawBrMzp`` [N m]). Default False.
 
     Raises
     ------
@@ -528,7 +522,7 @@ class TurbineModel:
                                      kinematics="exact",
                                      **({} if mats is None else {"stiffness": mats[0], "damping": mats[1]}))
             else:
-                blade = _rigid_blade(self.blade_data(k), name)
+                blade = rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
             if pitch is not None:
                 # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
@@ -611,31 +605,3 @@ class TurbineModel:
 
 #: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
 BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
-
-
-def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
-    """Blade frame (ElastoDyn's j1, j2, j3 as columns) in hub axes (IEC x, y, z).
-
-    Hub axes relate to ElastoDyn's g frame by g1 = x, g2 = z, g3 = -y; the blade is
-    rotated by ``gamma`` [rad] about x, coned by ``cone`` and pitched by ``pitch``
-    (notes §4). ``j3`` is the blade axis (radial).
-    """
-    g1, g2, g3 = np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), np.array([0, -1.0, 0])
-    g2p = np.cos(gamma) * g2 + np.sin(gamma) * g3
-    g3p = -np.sin(gamma) * g2 + np.cos(gamma) * g3
-    i1 = np.cos(cone) * g1 - np.sin(cone) * g3p
-    i2 = g2p
-    i3 = np.sin(cone) * g1 + np.cos(cone) * g3p
-    j1 = np.cos(pitch) * i1 - np.sin(pitch) * i2
-    j2 = np.sin(pitch) * i1 + np.cos(pitch) * i2
-    return np.column_stack([j1, j2, i3])
-
-
-def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
-    """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
-    m = np.append(np.asarray(data.element_mass), data.tip_mass)
-    z = np.append(np.asarray(data.span), data.length)
-    mass = float(m.sum())
-    zc = float(m @ z / mass)
-    i_xx = float(m @ (z - zc) ** 2)
-    return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
