@@ -73,6 +73,13 @@ def locked_chain(model, parent, names: Sequence[str], *, offset, rotation, label
     The first hinge sits at ``offset`` [m] with axes ``rotation`` (parent axes); the others follow at
     zero offset. Returns ``(last hinge, [0, 0, 0], identity)``: where the outboard joint attaches.
     ``model`` is the :class:`~.turbine.TurbineModel` being built (its ``system`` and ``_add``).
+
+    Examples
+    --------
+    >>> from mbsym.wind import nrel5mw
+    >>> from mbsym.wind.structure.turbine import TurbineModel
+    >>> TurbineModel(nrel5mw(), ["GenDOF"], shaft_reactions=True).eom.locked
+    ('LSShftTrnX', 'LSShftTrnY', 'LSShftTrnZ')
     """
     locks = model.system.locked(list(names))
     locks = locks if isinstance(locks, tuple) else (locks,)
@@ -95,6 +102,12 @@ def reaction_rows(locked: Sequence[str], reactions: Any, pitch: Sequence[Any] = 
         ``eom.functions.reactions(q, qd, qdd, u, p)`` [N, N m].
     pitch : sequence, optional
         Pitch angle of each blade [rad] (for the ``...b<k>`` channels; none without it).
+
+    Examples
+    --------
+    >>> rows = reaction_rows(SHAFT_LOCKED, [-94.0e3, 0.0, 1.07e6])     # the shaft holds the rotor up
+    >>> [(name, unit, round(float(value), 1)) for name, unit, value in rows]
+    [('LSShftFxa', 'kN', 94.0), ('LSShftFys', 'kN', -0.0), ('LSShftFzs', 'kN', -1070.0)]
     """
     def load(name: str, scale: float = 1e-3):
         return -reactions[locked.index(name)] * scale if name in locked else None

@@ -227,3 +227,41 @@ def test_blade_rung_shaft_force_is_the_aerodynamic_force_plus_the_rotor_weight()
     bearing = (aero + (rotor + defaults["nacelle_mass"]) * g) / 1e3      # rigid tower, no yaw: tower-top = ground axes
     np.testing.assert_allclose([y[f"YawBrF{a}p"] for a in "xyz"], bearing, rtol=1e-9, atol=1e-9 * np.abs(bearing).max())
     assert {f"RootF{a}c{k}" for a in "xyz" for k in (1, 2, 3)} <= set(y)
+
+
+def test_rotor_rung_bearing_force_balances_the_shaft_force_and_the_nacelle():
+    """Rotor-effective rung (built-in NREL 5 MW, TwFA1, TwSS1, GenDOF) at random moving states: YawBrF = LSShftF +
+    nacelle (m g − m a) exactly, and LSShftFxa equals the Newton–Euler ``RotThrust`` (thrust + m_rotor (g − a_apex)·c₁)
+    up to the acceleration of the rotor's centre of mass relative to the apex (coning puts it ~1 m along the
+    shaft; with the tower top turning at these speeds m_rotor ω² d < 1e-3 of the thrust)."""
+    from mbsym.wind.operation import OperatingTurbine
+
+    model = OperatingTurbine.nrel5mw(load_channels=True)
+    d = model.dynamics()
+    eom = model.structure.eom
+    n = eom.n_q
+    p = np.array([d.defaults[name] for name in d.parameters])
+    ps = eom.parameter_vector({})
+    defaults = dict(eom.defaults)
+    g = np.array([0.0, 0.0, -defaults["gravity"]])
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        x = np.asarray(d.x0, dtype=float).copy()
+        x[:n] += rng.normal(scale=0.3, size=n)
+        x[n:2 * n] += rng.normal(scale=0.5, size=n)
+        u = np.array([14.0, 0.15, 3e4])
+        y = dict(zip(d.output_names, 1e3 * np.asarray(d.outputs(x, u, p)).ravel()))
+        qdd = np.asarray(d.rhs(x, u, p)).ravel()[n:2 * n]
+        us = np.zeros(len(eom.inputs))
+
+        def kin(body, point=(0.0, 0.0, 0.0)):
+            out = eom.point_kinematics(body, point)(x[:n], x[n:2 * n], qdd, us, ps)
+            return np.asarray(out[1]), np.asarray(out[4]).ravel()
+
+        R_shaft, _ = kin("shaft")
+        R_top, _ = kin("yaw_bearing")
+        _, a_nac = kin("nacelle", model.turbine.nacelle_cm)
+        expected = R_shaft @ [y["LSShftFxa"], y["LSShftFys"], y["LSShftFzs"]] + defaults["nacelle_mass"] * (g - a_nac)
+        np.testing.assert_allclose(R_top @ [y[f"YawBrF{a}p"] for a in "xyz"], expected, rtol=1e-9,
+                                   atol=1e-9 * np.abs(expected).max())
+        assert y["LSShftFxa"] == pytest.approx(y["RotThrust"], rel=1e-3)
