@@ -8,6 +8,10 @@ References
   ``RootF*c/b``, ``RootM*c/b``, ``LSShftF*``, ``YawBrF*p``, ``YawBrM*p``, ``TwrBsM*t``. The states are stored to 12
   digits and the accelerations of the two codes agree to ~1e-5 relative (test_openfast_large_motion.py), so the
   tolerance is 1e-5 of the largest magnitude of each channel (observed ≤ 4e-7).
+- OpenFAST v5.0.0 with quasi-steady AeroDyn 15 (``data/ad_loads_ss14.csv``, made by ``ad_loads_reference.py``: the
+  shared ``ss14_shear_flex`` deck, DBEMT off and no ServoDyn so that OpenFAST's states determine the loads): the
+  blade-element model's channels at OpenFAST's states within 2 % of each channel's magnitude (two BEM codes);
+  ``RootMzc`` is an open discrepancy (strict xfail).
 - Closed forms: a rotor at rest under gravity (root forces = blade weight, shaft force = rotor weight, yaw-bearing
   force and moment = the weight of nacelle and rotor and its moment about the tower top).
 - Newton's law on the parts between cuts at random moving states with random applied loads (two independent
@@ -15,7 +19,7 @@ References
   the thrust input; yaw-bearing force = shaft force + the nacelle's weight and inertia force.
 - The blade-element operating turbine: with rigid blades on a fixed tower the rotor's centre of mass does not
   accelerate, so the shaft force is the aerodynamic force of the BEM nodes (``RtAeroF*h``) plus the rotor weight.
-All identities are exact: tolerance 1e-9 relative (round-off of sums of 10^5–10^6 N terms).
+The identities are exact: tolerance 1e-9 relative (round-off of sums of 10^5–10^6 N terms).
 """
 
 from __future__ import annotations
@@ -265,3 +269,64 @@ def test_rotor_rung_bearing_force_balances_the_shaft_force_and_the_nacelle():
         np.testing.assert_allclose(R_top @ [y[f"YawBrF{a}p"] for a in "xyz"], expected, rtol=1e-9,
                                    atol=1e-9 * np.abs(expected).max())
         assert y["LSShftFxa"] == pytest.approx(y["RotThrust"], rel=1e-3)
+
+
+@pytest.fixture(scope="module")
+def aerodyn_case():
+    """The blade-element model of ``ad_loads_reference``'s deck and OpenFAST's rows (quasi-steady AeroDyn)."""
+    import ad_loads_reference as ad
+
+    if not (ad.INPUTS / ad.CASE).is_dir():
+        pytest.skip(f"shared OpenFAST aero cases not found at {ad.INPUTS}")
+    from mbsym.wind.operation.deck import operating_deck
+
+    with tempfile.TemporaryDirectory() as tmp:
+        deck = operating_deck(ad.write_deck(Path(tmp)))
+        model = deck.model(aero="blade", load_channels=True)
+        d = model.dynamics()
+    data = ref.read_reference(ad.NAME)
+    eom = model.structure.eom
+    n = eom.n_q
+    p = np.array([d.defaults[k] for k in d.parameters])
+    rows = []
+    for i in range(1, data["Time"].size):            # t = 0: AeroDyn's inputs are not yet those of the state
+        x = np.asarray(d.x0, dtype=float).copy()
+        for j, c in enumerate(eom.coordinates):
+            s = -1.0 if c.startswith("TSS") else 1.0
+            x[j], x[n + j] = s * data[f"Q_{c}"][i], s * data[f"QD_{c}"][i]
+        x[d.states.index("BlPitch")] = np.deg2rad(data["BldPitch1"][i])
+        x[d.states.index("BlPitch_d")] = x[d.states.index("GenTq")] = 0.0      # no ServoDyn: fixed pitch, no torque
+        u = np.asarray(d.u0, dtype=float).copy()                                # the deck's steady sheared wind
+        u[d.inputs.index("BlPitchCom")], u[d.inputs.index("GenTqCom")] = x[d.states.index("BlPitch")], 0.0
+        rows.append(dict(zip(d.output_names, np.asarray(d.outputs(x, u, p)).ravel())))
+    return ad, rows, {k: v[1:] for k, v in data.items()}
+
+
+def test_blade_rung_load_channels_equal_openfast_with_aerodyn_at_its_states(aerodyn_case):
+    """OpenFAST v5 + quasi-steady AeroDyn 15 (``data/ad_loads_ss14.csv``, sheared 14 m/s, flexible blades and tower,
+    12 rows over 3 s) against the blade-element model at OpenFAST's states: every root force and moment, shaft force,
+    yaw-bearing and tower-base load within 2 % of the channel's largest magnitude. The aerodynamic loads are not the
+    same code (our BEM solves with a fixed number of Newton steps on C² polars at AeroDyn's nodes); the shared
+    ss14 runs give the scale: RootMyc1 means within 0.3 %, 1P amplitudes within 0.8 % (benchmarks/README.md).
+    Observed here: ≤ 0.8 % (root and shaft forces), ≤ 1.4 % (YawBrMzp)."""
+    ad, rows, data = aerodyn_case
+    checked = 0
+    for name in ad.LOAD_CHANNELS:
+        if name.startswith("RootMzc"):
+            continue                                # see the xfail below
+        got = np.array([r[name] for r in rows])
+        want = data[name]
+        np.testing.assert_allclose(got, want, rtol=0, atol=0.02 * np.abs(want).max(), err_msg=name)
+        checked += 1
+    assert checked == len(ad.LOAD_CHANNELS) - 3
+
+
+@pytest.mark.xfail(strict=True, reason="open: blade-element RootMzc misses ~60 kN m of OpenFAST's torsion from the aero "
+                                       "forces on the deflected blade (the Cm part agrees); found with this reference")
+def test_blade_rung_root_pitching_moment_equals_openfast_with_aerodyn(aerodyn_case):
+    """RootMzc: OpenFAST's aero pitching part (UseBlCm True − False: −89 … −102 kN m) equals ours, but the rest
+    (forces × deflections) is +44 … +61 kN m in OpenFAST and −17 … +8 kN m here."""
+    _, rows, data = aerodyn_case
+    for k in (1, 2, 3):
+        got = np.array([r[f"RootMzc{k}"] for r in rows])
+        np.testing.assert_allclose(got, data[f"RootMzc{k}"], rtol=0, atol=0.1 * np.abs(data[f"RootMzc{k}"]).max())
