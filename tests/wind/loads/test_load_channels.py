@@ -324,8 +324,11 @@ def test_blade_rung_load_channels_equal_openfast_with_aerodyn_at_its_states(aero
 @pytest.mark.xfail(strict=True, reason="open: blade-element RootMzc misses ~60 kN m of OpenFAST's torsion from the aero "
                                        "forces on the deflected blade (the Cm part agrees); found with this reference")
 def test_blade_rung_root_pitching_moment_equals_openfast_with_aerodyn(aerodyn_case):
-    """RootMzc: OpenFAST's aero pitching part (UseBlCm True − False: −89 … −102 kN m) equals ours, but the rest
-    (forces × deflections) is +44 … +61 kN m in OpenFAST and −17 … +8 kN m here."""
+    """RootMzc: OpenFAST's aero pitching part (UseBlCm True − False: −89 … −102 kN m) equals ours and the gravity and
+    inertia part is exact (the ElastoDyn-only test above), but the torsion of the aerodynamic forces on the deflected
+    blade differs: OpenFAST's exceeds ours by 66, 55, 46 kN m at B1F1 = 4.0, 3.0, 2.1 m (t = 0.75, 1.5, 2.25 s), about
+    16–22 kN m per metre of flap deflection: a lever arm of the aerodynamic forces (where or along which axes
+    AeroDyn's loads act on the deflected blade) that the blade-element rung does not reproduce."""
     _, rows, data = aerodyn_case
     for k in (1, 2, 3):
         got = np.array([r[f"RootMzc{k}"] for r in rows])
