@@ -10,8 +10,8 @@ References
   tolerance is 1e-5 of the largest magnitude of each channel (observed ≤ 4e-7).
 - OpenFAST v5.0.0 with quasi-steady AeroDyn 15 (``data/ad_loads_ss14.csv``, made by ``ad_loads_reference.py``: the
   shared ``ss14_shear_flex`` deck, DBEMT off and no ServoDyn so that OpenFAST's states determine the loads): the
-  blade-element model's channels at OpenFAST's states within 2 % of each channel's magnitude (two BEM codes);
-  ``RootMzc`` is an open discrepancy (strict xfail).
+  blade-element model's channels at OpenFAST's states within 2 % of each channel's magnitude (two BEM codes),
+  ``RootMzc`` within 3 kN m (it needs AeroDyn's aerodynamic-centre offsets as lever arms).
 - Closed forms: a rotor at rest under gravity (root forces = blade weight, shaft force = rotor weight, yaw-bearing
   force and moment = the weight of nacelle and rotor and its moment about the tower top).
 - Newton's law on the parts between cuts at random moving states with random applied loads (two independent
@@ -308,12 +308,12 @@ def test_blade_rung_load_channels_equal_openfast_with_aerodyn_at_its_states(aero
     yaw-bearing and tower-base load within 2 % of the channel's largest magnitude. The aerodynamic loads are not the
     same code (our BEM solves with a fixed number of Newton steps on C² polars at AeroDyn's nodes); the shared
     ss14 runs give the scale: RootMyc1 means within 0.3 %, 1P amplitudes within 0.8 % (benchmarks/README.md).
-    Observed here: ≤ 0.8 % (root and shaft forces), ≤ 1.4 % (YawBrMzp)."""
+    Observed here: ≤ 0.8 % (root and shaft forces), ≤ 0.9 % (YawBrMzp)."""
     ad, rows, data = aerodyn_case
     checked = 0
     for name in ad.LOAD_CHANNELS:
         if name.startswith("RootMzc"):
-            continue                                # see the xfail below
+            continue                                # its own tolerance below
         got = np.array([r[name] for r in rows])
         want = data[name]
         np.testing.assert_allclose(got, want, rtol=0, atol=0.02 * np.abs(want).max(), err_msg=name)
@@ -321,15 +321,12 @@ def test_blade_rung_load_channels_equal_openfast_with_aerodyn_at_its_states(aero
     assert checked == len(ad.LOAD_CHANNELS) - 3
 
 
-@pytest.mark.xfail(strict=True, reason="open: blade-element RootMzc misses ~60 kN m of OpenFAST's torsion from the aero "
-                                       "forces on the deflected blade (the Cm part agrees); found with this reference")
 def test_blade_rung_root_pitching_moment_equals_openfast_with_aerodyn(aerodyn_case):
-    """RootMzc: OpenFAST's aero pitching part (UseBlCm True − False: −89 … −102 kN m) equals ours and the gravity and
-    inertia part is exact (the ElastoDyn-only test above), but the torsion of the aerodynamic forces on the deflected
-    blade differs: OpenFAST's exceeds ours by 66, 55, 46 kN m at B1F1 = 4.0, 3.0, 2.1 m (t = 0.75, 1.5, 2.25 s), about
-    16–22 kN m per metre of flap deflection: a lever arm of the aerodynamic forces (where or along which axes
-    AeroDyn's loads act on the deflected blade) that the blade-element rung does not reproduce."""
+    """RootMzc is a small difference of large terms: the airfoils' pitching moment (UseBlCm True − False in OpenFAST:
+    −89 … −102 kN m) and the lever arms of the aerodynamic forces on the deflected blade and at the aerodynamic
+    centres (AeroDyn's BlSwpAC, up to 0.6 m from the pitch axis: without them ours was 46–66 kN m off, growing with
+    the flap force). Tolerance 3 kN m (3 % of the pitching part); observed ≤ 1.2 kN m."""
     _, rows, data = aerodyn_case
     for k in (1, 2, 3):
         got = np.array([r[f"RootMzc{k}"] for r in rows])
-        np.testing.assert_allclose(got, data[f"RootMzc{k}"], rtol=0, atol=0.1 * np.abs(data[f"RootMzc{k}"]).max())
+        np.testing.assert_allclose(got, data[f"RootMzc{k}"], rtol=0, atol=3.0, err_msg=f"RootMzc{k}")
