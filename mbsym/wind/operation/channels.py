@@ -33,8 +33,8 @@ With ``OperatingTurbine(..., load_channels=True)`` the structure also has the lo
 low-speed shaft and the yaw bearing, and these channels follow (:mod:`mbsym.wind.structure.load_cuts`):
 
 =============  ======  ==================================================================
-LSShftFxa      kN      rotor's force on the shaft along it (ElastoDyn's ``RotThrust``; here
-                       exact, with the inertia of every blade node)
+LSShftFxa      kN      rotor's force on the shaft along it (ElastoDyn's ``RotThrust``, which
+                       then equals it: exact, with the inertia of every blade node)
 LSShftFys/Fzs  kN      rotor's shear force on the shaft, nonrotating shaft axes (y lateral,
                        z up in the shaft's vertical plane)
 YawBrFxp …     kN      force of nacelle, generator and rotor on the tower top (tower-top axes
@@ -128,7 +128,14 @@ def _lss_torque(g) -> Any:
 
 
 def _lss_thrust(g) -> Any:
-    """Low-speed-shaft axial force [N]: thrust plus the rotor's weight and inertia force along the shaft."""
+    """Low-speed-shaft axial force [N]: thrust plus the rotor's weight and inertia force along the shaft.
+
+    With the shaft's locked joints (``load_channels=True``) the exact reaction (ElastoDyn's ``LSShftFxa``);
+    otherwise the rotor as one mass at the apex.
+    """
+    rows = dict((n, v) for n, _, v in reaction_rows(g.eom.locked, reactions(g)) if n == "LSShftFxa")
+    if rows:
+        return 1e3 * rows["LSShftFxa"]
     model, P = g.model, g.P
     mass = P["hub_mass"] + float(sum(rotor_mass_properties(model.turbine).blade_mass))
     apex = g.kinematics_with_accelerations("hub")

@@ -235,13 +235,16 @@ def test_blade_rung_shaft_force_is_the_aerodynamic_force_plus_the_rotor_weight()
 
 def test_rotor_rung_bearing_force_balances_the_shaft_force_and_the_nacelle():
     """Rotor-effective rung (built-in NREL 5 MW, TwFA1, TwSS1, GenDOF) at random moving states: YawBrF = LSShftF +
-    nacelle (m g − m a) exactly, and LSShftFxa equals the Newton–Euler ``RotThrust`` (thrust + m_rotor (g − a_apex)·c₁)
-    up to the acceleration of the rotor's centre of mass relative to the apex (coning puts it ~1 m along the
-    shaft; with the tower top turning at these speeds m_rotor ω² d < 1e-3 of the thrust)."""
+    nacelle (m g − m a) exactly, and LSShftFxa equals the Newton–Euler axial force of the model without the shaft
+    joints (thrust + m_rotor (g − a_apex)·c₁) up to the acceleration of the rotor's centre of mass relative to the
+    apex (coning puts it ~1 m along the shaft; with the tower top turning at these speeds m_rotor ω² d < 1e-3 of
+    the thrust). With the joints, ``RotThrust`` is ``LSShftFxa`` (ElastoDyn's alias)."""
     from mbsym.wind.operation import OperatingTurbine
 
     model = OperatingTurbine.nrel5mw(load_channels=True)
     d = model.dynamics()
+    plain = OperatingTurbine.nrel5mw().dynamics()
+    assert plain.states == d.states and plain.inputs == d.inputs and plain.parameters == d.parameters
     eom = model.structure.eom
     n = eom.n_q
     p = np.array([d.defaults[name] for name in d.parameters])
@@ -255,6 +258,8 @@ def test_rotor_rung_bearing_force_balances_the_shaft_force_and_the_nacelle():
         x[n:2 * n] += rng.normal(scale=0.5, size=n)
         u = np.array([14.0, 0.15, 3e4])
         y = dict(zip(d.output_names, 1e3 * np.asarray(d.outputs(x, u, p)).ravel()))
+        y_plain = dict(zip(plain.output_names, 1e3 * np.asarray(plain.outputs(x, u, p)).ravel()))
+        np.testing.assert_allclose(np.asarray(d.rhs(x, u, p)), np.asarray(plain.rhs(x, u, p)), rtol=1e-12, atol=1e-12)
         qdd = np.asarray(d.rhs(x, u, p)).ravel()[n:2 * n]
         us = np.zeros(len(eom.inputs))
 
@@ -268,7 +273,8 @@ def test_rotor_rung_bearing_force_balances_the_shaft_force_and_the_nacelle():
         expected = R_shaft @ [y["LSShftFxa"], y["LSShftFys"], y["LSShftFzs"]] + defaults["nacelle_mass"] * (g - a_nac)
         np.testing.assert_allclose(R_top @ [y[f"YawBrF{a}p"] for a in "xyz"], expected, rtol=1e-9,
                                    atol=1e-9 * np.abs(expected).max())
-        assert y["LSShftFxa"] == pytest.approx(y["RotThrust"], rel=1e-3)
+        assert y["RotThrust"] == pytest.approx(y["LSShftFxa"], rel=1e-12)
+        assert y["LSShftFxa"] == pytest.approx(y_plain["RotThrust"], rel=1e-3)
 
 
 @pytest.fixture(scope="module")
