@@ -9,6 +9,9 @@ RootMxc<k>, RootMyc<k>  kN-m   blade-root moments about the coned root axes i1 (
                                and inertia loads of the whole blade), as ElastoDyn's ``MomH0B·i``
 RootMzc<k>             kN-m    pitching moment about the blade axis i3
 RootMxb<k>, RootMyb<k> kN-m    the same moments in the pitched axes j1, j2
+RootFxc<k> … RootFzc<k> kN     (``load_channels=True``) the blade's force on the hub at its root along
+                               i1, i2, i3: minus the reactions of locked root translations
+RootFxb<k>, RootFyb<k> kN      the same forces along j1, j2 (:mod:`mbsym.wind.structure.load_cuts`)
 RtAeroFxh … RtAeroFzh  N       aerodynamic force on the rotor in the (rotating) hub axes
 RtAeroMxh … RtAeroMzh  N-m     aerodynamic moment about the apex in the hub axes
 RtSkew                 deg     skew angle of the disk-averaged relative wind to the shaft
@@ -26,7 +29,7 @@ from typing import Any
 
 import casadi as ca
 
-from ..structure.turbine import BLADE_ROOT_LOCKED
+from ..structure.load_cuts import reaction_rows
 
 __all__ = ["blade_channel_rows", "NODE_CHANNELS"]
 
@@ -39,26 +42,20 @@ NODE_CHANNELS = {"Alpha": ("alpha", "deg", 180.0 / math.pi), "Phi": ("phi", "deg
 
 def blade_channel_rows(g) -> list[tuple[str, str, Any]]:
     """``(name, unit, expression)`` of the blade-element channels of the composed graph ``g``."""
-    rows = _root_moments(g) + _rotor_loads(g)
+    rows = _root_loads(g) + _rotor_loads(g)
     rows.append(("RtSkew", "deg", g.skew * 180.0 / math.pi))
     hub = g.blade_aero["hub_wind"]
     rows += [("Wind1VelY", "m/s", hub[1]), ("Wind1VelZ", "m/s", hub[2])]
     return rows + _node_rows(g)
 
 
-def _root_moments(g) -> list[tuple[str, str, Any]]:
-    lam = g.eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
-    locked = g.eom.locked
+def _root_loads(g) -> list[tuple[str, str, Any]]:
+    """Root moments (and with ``load_channels`` the root forces) of every blade: minus the root reactions."""
+    from .channels import reactions
+
     names = g.model.pitch_names
-    rows = []
-    for k in range(g.model.rotor.n_blades):
-        pitch = g.X[names[k] if len(names) > 1 else names[0]]
-        first = locked.index(f"B{k + 1}{BLADE_ROOT_LOCKED[0]}")
-        mx, my, mz = (-lam[first + i] / 1e3 for i in range(3))
-        rows += [(f"RootMxc{k + 1}", "kN-m", mx), (f"RootMyc{k + 1}", "kN-m", my), (f"RootMzc{k + 1}", "kN-m", mz),
-                 (f"RootMxb{k + 1}", "kN-m", ca.cos(pitch) * mx - ca.sin(pitch) * my),
-                 (f"RootMyb{k + 1}", "kN-m", ca.sin(pitch) * mx + ca.cos(pitch) * my)]
-    return rows
+    pitch = [g.X[names[k] if len(names) > 1 else names[0]] for k in range(g.model.rotor.n_blades)]
+    return [r for r in reaction_rows(g.eom.locked, reactions(g), pitch) if r[0].startswith("Root")]
 
 
 def _rotor_loads(g) -> list[tuple[str, str, Any]]:

@@ -243,14 +243,17 @@ class _AeroBuilder:
 
     def _loads(self, kin: dict[str, Any], force: Any, moment: Any) -> tuple[list, Any, Any]:
         rotor = self.rotor
-        loads, cols = [], rotor.n_nodes
+        loads, cols, arms = [], rotor.n_nodes, []
+        # AeroDyn's loads act at the aerodynamic centres: BlCrvAC along j1 (downwind at zero pitch), BlSwpAC along j2
+        offsets = np.vstack([rotor.curve_ac, rotor.sweep_ac, np.zeros(cols)])
         for k, (shapes, frame, bk) in enumerate(self.blades):
             sl = slice(k * cols, (k + 1) * cols)
-            out = blade_point_loads(bk, frame["R"], force[:, sl], moment[:, sl], rotor.node_weights)
+            out = blade_point_loads(bk, frame["R"], force[:, sl], moment[:, sl], rotor.node_weights, offsets=offsets)
             loads += ca.vertsplit(out["F"]) + ca.vertsplit(out["M"]) + list(out["Q"])
+            arms.append(frame["R"] @ ca.DM(offsets))
         w = ca.repmat(ca.DM(np.tile(np.asarray(rotor.node_weights, dtype=float), rotor.n_blades)).T, 3, 1)
         apex = kin["hub"]["r"]
-        d = kin["r"] - ca.repmat(apex, 1, kin["r"].size2())
+        d = kin["r"] - ca.repmat(apex, 1, kin["r"].size2()) + ca.horzcat(*arms)
         total_force = ca.sum2(force * w)
         total_moment = ca.sum2(_pair_cross(d, force * w) + moment * w)
         return loads, total_force, total_moment

@@ -29,6 +29,20 @@ TwrBsMyt       kN-m    tower-base pitch (fore-aft) moment: minus the reaction ab
 YawBrTAxp/yp   m/s^2   tower-top acceleration along the yaw bearing's x and y axes
 =============  ======  ==================================================================
 
+With ``OperatingTurbine(..., load_channels=True)`` the structure also has the locked joints of the
+low-speed shaft and the yaw bearing, and these channels follow (:mod:`mbsym.wind.structure.load_cuts`):
+
+=============  ======  ==================================================================
+LSShftFxa      kN      rotor's force on the shaft along it (ElastoDyn's ``RotThrust``, which
+                       then equals it: exact, with the inertia of every blade node)
+LSShftFys/Fzs  kN      rotor's shear force on the shaft, nonrotating shaft axes (y lateral,
+                       z up in the shaft's vertical plane)
+YawBrFxp …     kN      force of nacelle, generator and rotor on the tower top (tower-top axes
+YawBrFzp               x, y, z: deflected, not yawed)
+YawBrMxp …     kN-m    their moment about the tower-top point (roll, pitch, yaw)
+YawBrMzp
+=============  ======  ==================================================================
+
 Signs follow OpenFAST: a downwind thrust gives positive ``TwrBsMyt``; the rotor's reaction
 torque on the nacelle gives positive ``TwrBsMxt``.
 """
@@ -41,6 +55,7 @@ from typing import Any
 import casadi as ca
 
 from ..structure.elastodyn_nodes import rotor_mass_properties
+from ..structure.load_cuts import reaction_rows
 
 __all__ = ["channel_rows", "OPERATION_CHANNELS"]
 
@@ -65,7 +80,17 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
         from .blade_channels import blade_channel_rows
 
         rows += blade_channel_rows(g)
+    rows += [r for r in reaction_rows(g.eom.locked, reactions(g)) if r[0].startswith(("LSShft", "YawBr"))]
     return rows
+
+
+def reactions(g) -> Any:
+    """The reactions of the structure's locked coordinates (``eom.locked``) in the graph ``g``, computed once."""
+    lam = getattr(g, "_channel_reactions", None)
+    if lam is None:
+        lam = g.eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
+        g._channel_reactions = lam
+    return lam
 
 
 def _operation(g) -> dict[str, Any]:
@@ -82,8 +107,8 @@ def _operation(g) -> dict[str, Any]:
            "GenTq": gen_tq / 1e3, "GenPwr": P["generator_efficiency"] * gen_tq * g.generator_speed / 1e3}
     lss = _lss_torque(g)
     out.update(RotTorq=lss / 1e3, RotPwr=lss * omega / 1e3, RotThrust=_lss_thrust(g) / 1e3)
-    lam = eom.functions.reactions(g.q, g.qd, g.qdd, g.u_s, g.p_s)
-    out.update(TwrBsMxt=-lam[0] / 1e3, TwrBsMyt=-lam[1] / 1e3)
+    tower = dict((n, v) for n, _, v in reaction_rows(eom.locked, reactions(g)) if n.startswith("TwrBs"))
+    out.update(TwrBsMxt=tower["TwrBsMxt"], TwrBsMyt=tower["TwrBsMyt"])
     yb = g.kinematics_with_accelerations("yaw_bearing")
     out.update(YawBrTAxp=ca.dot(yb["a"], yb["R"][:, 0]), YawBrTAyp=ca.dot(yb["a"], yb["R"][:, 1]))
     return out
@@ -103,7 +128,14 @@ def _lss_torque(g) -> Any:
 
 
 def _lss_thrust(g) -> Any:
-    """Low-speed-shaft axial force [N]: thrust plus the rotor's weight and inertia force along the shaft."""
+    """Low-speed-shaft axial force [N]: thrust plus the rotor's weight and inertia force along the shaft.
+
+    With the shaft's locked joints (``load_channels=True``) the exact reaction (ElastoDyn's ``LSShftFxa``);
+    otherwise the rotor as one mass at the apex.
+    """
+    rows = dict((n, v) for n, _, v in reaction_rows(g.eom.locked, reactions(g)) if n == "LSShftFxa")
+    if rows:
+        return 1e3 * rows["LSShftFxa"]
     model, P = g.model, g.P
     mass = P["hub_mass"] + float(sum(rotor_mass_properties(model.turbine).blade_mass))
     apex = g.kinematics_with_accelerations("hub")

@@ -108,6 +108,11 @@ class OperatingTurbine:
     pitch : {"collective", "individual"}, optional, keyword-only
         One pitch actuator (input ``BlPitchCom``), or one per blade (inputs ``BlPitchCom1..3``, states
         ``BlPitch1..3``, ``BlPitch1_d..``; blade-element rotor only, for individual pitch control).
+    load_channels : bool, optional, keyword-only
+        Add the locked joints (:mod:`mbsym.wind.structure.load_cuts`) whose reactions give the channels
+        ``LSShftFxa``, ``LSShftFys``, ``LSShftFzs``, ``YawBrFxp`` … ``YawBrMzp`` and, with the blade-element
+        rotor, ``RootFxc<k>`` … ``RootFzc<k>``, ``RootFxb<k>``, ``RootFyb<k>``. The right-hand side is unchanged;
+        the output Function grows (benchmarks/README.md, "Load channels"). Default False.
     name : str, optional, keyword-only
 
     Raises
@@ -134,7 +139,7 @@ class OperatingTurbine:
                  dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
-                 name: str = "operating_turbine") -> None:
+                 load_channels: bool = False, name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -176,11 +181,15 @@ class OperatingTurbine:
             self.wind = None
             self.dynamic_inflow = _rotor_inflow(rotor, dynamic_inflow, self.inflow_lag)
         self.saturation_width = saturation_width
+        if not isinstance(load_channels, bool):
+            raise TypeError(f"load_channels must be True or False; got {load_channels!r}.")
         self.name = str(name)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True,
-                                      blade_loads=blade, blade_root_reactions=blade)
+                                      blade_loads=blade, blade_root_reactions=blade,
+                                      blade_root_forces=blade and bool(load_channels),
+                                      shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels))
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
         if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "

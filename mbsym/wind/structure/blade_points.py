@@ -164,7 +164,8 @@ def _cross_columns(a: Any, B: Any) -> Any:
                       a[0] * B[1, :] - a[1] * B[0, :])
 
 
-def blade_point_loads(kin: dict[str, Any], R: Any, force: Any, moment: Any, weights) -> dict[str, Any]:
+def blade_point_loads(kin: dict[str, Any], R: Any, force: Any, moment: Any, weights, *,
+                      offsets=None) -> dict[str, Any]:
     """The structure's blade-load inputs from loads per unit length at the points.
 
     Parameters
@@ -177,6 +178,10 @@ def blade_point_loads(kin: dict[str, Any], R: Any, force: Any, moment: Any, weig
         Force [N/m] and moment [N m/m] per unit length at the points, ground axes.
     weights : array_like (N,)
         Integration weights of the points [m] (``Σ w_j f_j`` is the resultant).
+    offsets : array_like (3, N), optional, keyword-only
+        Where the loads act relative to the points, body axes [m] (AeroDyn's aerodynamic centres,
+        ``BlCrvAC`` along the first and ``BlSwpAC`` along the second axis): lever arms of the root
+        moment only (the points' shapes, hence ``Q``, are those of the pitch axis). Default: at the points.
 
     Returns
     -------
@@ -189,7 +194,8 @@ def blade_point_loads(kin: dict[str, Any], R: Any, force: Any, moment: Any, weig
     m_body = R.T @ moment
     fw = f_body * ca.repmat(w, 3, 1)
     F = ca.sum2(fw)
-    M = ca.sum2(_cross_pairs(kin["p"], fw) + m_body * ca.repmat(w, 3, 1))
+    arm = kin["p"] if offsets is None else kin["p"] + ca.DM(np.asarray(offsets, dtype=float))
+    M = ca.sum2(_cross_pairs(arm, fw) + m_body * ca.repmat(w, 3, 1))
     Q = [ca.sum2(ca.sum1(d * fw)) for d in kin["dp"]]
     return {"F": F, "M": M, "Q": Q}
 

@@ -50,6 +50,7 @@ import numpy as np
 
 from ...beam.lumped import lumped_shape_integrals
 from ...beam.sid import ShapeIntegrals, damping_matrix
+from ...bodies.rigid import RigidBody
 from ...exceptions import ParameterError
 from .elastodyn_nodes import blade_nodes, mode_shape, tower_nodes, tower_top_mass
 from ..deck.parameters import TurbineParameters
@@ -57,8 +58,7 @@ from ..deck.parameters import TurbineParameters
 __all__ = [
     "BLADE_DOFS", "TOWER_DOFS", "ElastoDynBladeData", "ElastoDynTowerData",
     "blade_elastodyn_data", "tower_elastodyn_data", "blade_shape_integrals",
-    "tower_shape_integrals",
-]
+    "tower_shape_integrals", "blade_rotation", "rigid_blade"]
 
 #: ElastoDyn's blade DOF flags, in the order of :class:`ElastoDynBladeData` arrays.
 BLADE_DOFS: tuple[str, ...] = ("FlapDOF1", "FlapDOF2", "EdgeDOF")
@@ -445,3 +445,31 @@ def tower_shape_integrals(turbine: TurbineParameters, *, dofs: Sequence[str] = T
     return lumped_shape_integrals(d.height, d.element_mass, u, ax, length=d.length, tip_displacement=ut,
                                   tip_slope=st, tip_axial_reduction=axt, stiffness=k, damping=c,
                                   tip_mass=d.top_mass if top_mass_included else 0.0)
+
+
+def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
+    """Blade frame (ElastoDyn's j1, j2, j3 as columns) in hub axes (IEC x, y, z).
+
+    Hub axes relate to ElastoDyn's g frame by g1 = x, g2 = z, g3 = -y; the blade is
+    rotated by ``gamma`` [rad] about x, coned by ``cone`` and pitched by ``pitch``
+    (notes §4). ``j3`` is the blade axis (radial).
+    """
+    g1, g2, g3 = np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), np.array([0, -1.0, 0])
+    g2p = np.cos(gamma) * g2 + np.sin(gamma) * g3
+    g3p = -np.sin(gamma) * g2 + np.cos(gamma) * g3
+    i1 = np.cos(cone) * g1 - np.sin(cone) * g3p
+    i2 = g2p
+    i3 = np.sin(cone) * g1 + np.cos(cone) * g3p
+    j1 = np.cos(pitch) * i1 - np.sin(pitch) * i2
+    j2 = np.sin(pitch) * i1 + np.cos(pitch) * i2
+    return np.column_stack([j1, j2, i3])
+
+
+def rigid_blade(data: "ElastoDynBladeData", name: str) -> RigidBody:
+    """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
+    m = np.append(np.asarray(data.element_mass), data.tip_mass)
+    z = np.append(np.asarray(data.span), data.length)
+    mass = float(m.sum())
+    zc = float(m @ z / mass)
+    i_xx = float(m @ (z - zc) ** 2)
+    return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])

@@ -60,22 +60,29 @@ from .elastodyn_bodies import (
     BLADE_DOFS,
     ElastoDynBladeData,
     blade_elastodyn_data,
+    blade_rotation,
+    rigid_blade,
     blade_shape_integrals,
     tower_elastodyn_data,
     tower_shape_integrals,
 )
 from .elastodyn_nodes import rotor_mass_properties
 from .initial_conditions import initial_blade_deflection
+from .load_cuts import (
+    BLADE_ROOT_FORCE_LOCKED,
+    BLADE_ROOT_LOCKED,
+    SHAFT_LOCKED,
+    TOWER_BASE_LOCKED,
+    YAW_BEARING_LOCKED,
+    locked_chain,
+)
 from .mbc import BladeFrame
 from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
 
-#: Locked tower-base rotations about the platform's x and y axes (``tower_base_reactions=True``).
-TOWER_BASE_LOCKED = ("TwrBsRotX", "TwrBsRotY")
-
-__all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
-           "STATE_ORDER", "TOWER_BASE_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
+__all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "BLADE_ROOT_FORCE_LOCKED", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+           "SHAFT_LOCKED", "STATE_ORDER", "TOWER_BASE_LOCKED", "YAW_BEARING_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
 
 
 class TurbineModel:
@@ -119,6 +126,12 @@ class TurbineModel:
         Attach every blade through three *locked* rotations about its root's coned axes
         ``i1, i2, i3`` (:data:`BLADE_ROOT_LOCKED`, after the tower-base ones): their reactions
         are minus ElastoDyn's ``RootMxc``, ``RootMyc``, ``RootMzc`` [N m]. Needs ``pitch_input``.
+    blade_root_forces, shaft_reactions, yaw_bearing_reactions : bool, optional, keyword-only
+        More *locked* joints (:mod:`.load_cuts`, equations unchanged): translations along each root's
+        ``i1, i2, i3`` before its rotations (reactions: minus ``RootFxc..RootFzc`` [N]; needs
+        ``pitch_input``), along the shaft axes between the shaft and the rotor (minus ``LSShftFxa``,
+        ``LSShftFys``, ``LSShftFzs``), and along and about the tower-top axes between the tower and
+        the nacelle (minus ``YawBrFxp..YawBrFzp`` [N], ``YawBrMxp..YawBrMzp`` [N m]). Default False.
 
     Raises
     ------
@@ -147,7 +160,8 @@ class TurbineModel:
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
-                 blade_loads: bool = False, blade_root_reactions: bool = False) -> None:
+                 blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
+                 shaft_reactions: bool = False, yaw_bearing_reactions: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
@@ -167,9 +181,13 @@ class TurbineModel:
         self.tower_base_reactions = bool(tower_base_reactions)
         self.blade_loads = bool(blade_loads)
         self.blade_root_reactions = bool(blade_root_reactions)
-        if self.blade_root_reactions and not pitch_input:
-            raise ModelDefinitionError("blade_root_reactions=True needs pitch_input=True (the locked root rotations "
-                                       "carry the pitch bearing).")
+        self.blade_root_forces = bool(blade_root_forces)
+        self.shaft_reactions = bool(shaft_reactions)
+        self.yaw_bearing_reactions = bool(yaw_bearing_reactions)
+        for key in ("blade_root_reactions", "blade_root_forces"):
+            if getattr(self, key) and not pitch_input:
+                raise ModelDefinitionError(f"{key}=True needs pitch_input=True (the locked root joints carry the "
+                                           "pitch bearing).")
         if self.pitch_input is True and len(set(turbine.initial_conditions.blade_pitch)) > 1:
             raise ModelDefinitionError(
                 f"pitch_input=True drives all blades with one collective pitch, but the deck's BlPitch differ "
@@ -417,6 +435,8 @@ class TurbineModel:
         # ElastoDyn's only nacelle inertia: about the yaw axis through the CM (notes §4)
         i_zz = p["nacelle_yaw_inertia"] - p["nacelle_mass"] * (cm[0] ** 2 + cm[1] ** 2)
         nacelle = RigidBody("nacelle", mass=p["nacelle_mass"], com=cm, inertia=[0.0, 0.0, i_zz])
+        if self.yaw_bearing_reactions:       # locked joints at the tower top: the yaw-bearing loads
+            tower, top, _ = locked_chain(self, tower, YAW_BEARING_LOCKED, offset=top, rotation=None, label="yaw")
         if "Yaw" in self.coords:
             self._add(Revolute(tower, nacelle, axis=[0, 0, 1], coordinate=self.coords["Yaw"], offset=top))
             k, c = self._yaw
@@ -459,10 +479,13 @@ class TurbineModel:
             self._add(Revolute(shaft, gen, axis=[1, 0, 0], coordinate=psi, gear_ratio=ratio))
         else:
             self._add(Fixed(shaft, gen, rotation=rotation("x", ratio * psi)))
-        lss = shaft
+        cut = shaft                          # the rotor's side of the shaft: locked joints for the shaft loads
+        if self.shaft_reactions:
+            cut = locked_chain(self, shaft, SHAFT_LOCKED, offset=[0.0, 0.0, 0.0], rotation=None, label="lss")[0]
+        lss = cut
         if "DrTr" in self.coords:
             lss = RigidBody("lss", mass=0.0)
-            self._joint_about_x(shaft, lss, psi)
+            self._joint_about_x(cut, lss, psi)
             self._add(Revolute(lss, hub, axis=[1, 0, 0], coordinate=self.coords["DrTr"]))
             self.system.add_spring(self.coords["DrTr"], p["drivetrain_stiffness"])
             self.system.add_damper(self.coords["DrTr"], p["drivetrain_damping"])
@@ -499,7 +522,7 @@ class TurbineModel:
                                      kinematics="exact",
                                      **({} if mats is None else {"stiffness": mats[0], "damping": mats[1]}))
             else:
-                blade = _rigid_blade(self.blade_data(k), name)
+                blade = rigid_blade(self.blade_data(k), name)
             root = (t.hub_radius * blade_rotation(2 * np.pi * k / n, t.precone[k], 0.0)[:, 2]).tolist()
             if pitch is not None:
                 # pitch about -j3 (notes §4: j1 = cos i1 - sin i2) of a massless pitch frame; blades 2.. follow
@@ -517,16 +540,13 @@ class TurbineModel:
 
     def _blade_root(self, hub: Body, k: int, root: list, R0: np.ndarray) -> tuple[Body, list, list]:
         """Parent, offset and rotation of blade ``k``'s pitch bearing: the hub, or with
-        ``blade_root_reactions`` three locked rotations about the root's i1, i2, i3 axes (reactions)."""
-        if not self.blade_root_reactions:
+        the locked root translations (``blade_root_forces``) and rotations (``blade_root_reactions``)."""
+        names = (BLADE_ROOT_FORCE_LOCKED if self.blade_root_forces else ()) + \
+            (BLADE_ROOT_LOCKED if self.blade_root_reactions else ())
+        if not names:
             return hub, root, R0.tolist()
-        locks = self.system.locked([f"B{k + 1}{name}" for name in BLADE_ROOT_LOCKED])
-        parent, offset, rot = hub, root, R0.tolist()
-        for axis, lock in zip(np.eye(3), locks):
-            hinge = RigidBody(f"root{k + 1}_{lock.name()}", mass=0.0)
-            self._add(Revolute(parent, hinge, axis=axis.tolist(), coordinate=lock, offset=offset, rotation=rot))
-            parent, offset, rot = hinge, [0.0, 0.0, 0.0], np.eye(3).tolist()
-        return parent, offset, rot
+        return locked_chain(self, hub, [f"B{k + 1}{n}" for n in names], offset=root, rotation=R0.tolist(),
+                            label=f"root{k + 1}")
 
     def _pitch(self) -> "ca.SX | list[ca.SX] | None":
         """Pitch: a collective prescribed coordinate, one per blade (``"individual"``), or None (deck's BlPitch)."""
@@ -583,35 +603,5 @@ class TurbineModel:
         return tuple(blade_coordinate(blade, f) for f in BLADE_DOFS if self.dofs.get(f))
 
 
-#: Locked rotations at each blade root about i1, i2, i3 (``blade_root_reactions=True``): ``B{k}`` + these.
-BLADE_ROOT_LOCKED = ("RootRotX", "RootRotY", "RootRotZ")
 #: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
 BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
-
-
-def blade_rotation(gamma: float, cone: float, pitch: float) -> np.ndarray:
-    """Blade frame (ElastoDyn's j1, j2, j3 as columns) in hub axes (IEC x, y, z).
-
-    Hub axes relate to ElastoDyn's g frame by g1 = x, g2 = z, g3 = -y; the blade is
-    rotated by ``gamma`` [rad] about x, coned by ``cone`` and pitched by ``pitch``
-    (notes §4). ``j3`` is the blade axis (radial).
-    """
-    g1, g2, g3 = np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), np.array([0, -1.0, 0])
-    g2p = np.cos(gamma) * g2 + np.sin(gamma) * g3
-    g3p = -np.sin(gamma) * g2 + np.cos(gamma) * g3
-    i1 = np.cos(cone) * g1 - np.sin(cone) * g3p
-    i2 = g2p
-    i3 = np.sin(cone) * g1 + np.cos(cone) * g3p
-    j1 = np.cos(pitch) * i1 - np.sin(pitch) * i2
-    j2 = np.sin(pitch) * i1 + np.cos(pitch) * i2
-    return np.column_stack([j1, j2, i3])
-
-
-def _rigid_blade(data: ElastoDynBladeData, name: str) -> RigidBody:
-    """One rigid blade of ElastoDyn's node masses (no rotary inertia of the elements)."""
-    m = np.append(np.asarray(data.element_mass), data.tip_mass)
-    z = np.append(np.asarray(data.span), data.length)
-    mass = float(m.sum())
-    zc = float(m @ z / mass)
-    i_xx = float(m @ (z - zc) ** 2)
-    return RigidBody(name, mass=mass, com=[0.0, 0.0, zc], inertia=[i_xx, i_xx, 0.0])
