@@ -33,7 +33,7 @@ __all__ = ["ClosedLoopEquations", "closed_equations"]
 
 
 def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[str, float] | None, *,
-                     name: str = "mbsym", stages: int = 4, newton_steps: int = 3) -> "ClosedLoopEquations":
+                     name: str = "mbsym", stages: int = 4, newton_steps: int = 2) -> "ClosedLoopEquations":
     """Equations of a system with closed loops in its independent coordinates.
 
     Parameters
@@ -50,7 +50,8 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     stages : int, optional
         Continuation stages from the assembled configuration (default 4).
     newton_steps : int, optional
-        Newton steps per stage (default 3).
+        Newton corrections per stage after the tangent predictor (default 2; the last stage takes
+        two more).
 
     Raises
     ------

@@ -19,7 +19,8 @@ body *b* at the point [N, ground axes].
 
 The dependent coordinates ``q_d(q_i, p)`` are solved inside the same SX graph by a fixed
 continuation: from the assembled configuration ``(q_i*, q_d*)`` along the straight path to
-``q_i`` in ``stages`` equal steps, ``newton_steps`` Newton steps on ``g`` at each. Independent
+``q_i`` in ``stages`` equal steps, each an Euler predictor along the tangent ``A_rs`` and
+``newton_steps`` Newton steps on ``g`` (two more at the end). Independent
 coordinates on which ``g`` is 2π-periodic (revolute joints) take the shorter way round
 (``q_i - q_i*`` wrapped to (-π, π]), so a crank turns any number of revolutions on one branch. The
 last Newton step at a converged point makes the first derivatives of ``q_d`` exact
@@ -54,7 +55,7 @@ class Reduction:
 
 
 def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_ref: np.ndarray,
-                     periodic: list[bool], stages: int, newton_steps: int) -> Reduction:
+                     periodic: list[bool], stages: int, newton_steps: int, final_steps: int = 2) -> Reduction:
     """Kane's equations of the independent speeds with ``q_d`` solved in the graph (module docstring).
 
     Parameters
@@ -93,7 +94,7 @@ def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_
     qdd_full = C @ qdd_i + c0
     lam = ca.solve(Gd.T, (M @ qdd_full - F)[dep_l])
     qd_dep = Ars @ qd_i
-    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps)
+    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps, final_steps)
     res = ca.mmax(ca.fabs(g))
     q_dep = q[dep_l]
     out = ca.substitute([Mr, Fr, T, d.V, power, qd_dep, lam, res, C, c0], [q_dep], [z])
@@ -102,23 +103,29 @@ def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_
 
 
 def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, periodic: list[bool],
-                    stages: int, newton_steps: int) -> ca.SX:
-    """``q_d`` as an SX expression of ``q_i`` and ``p``: continuation from ``q_ref`` with Newton steps."""
+                    stages: int, newton_steps: int, final_steps: int = 2) -> ca.SX:
+    """``q_d`` as an SX expression of ``q_i`` and ``p``: continuation from ``q_ref`` (module docstring).
+
+    Each stage takes an Euler predictor step along the tangent ``A_rs`` and ``newton_steps`` Newton
+    corrections; the last stage ``final_steps`` more.
+    """
     ind_l, dep_l = list(ind), list(dep)
     qi, qdep = q[ind_l], q[dep_l]
     Gd = ca.jacobian(g, qdep)
-    step = ca.Function("newton_step", [qi, qdep, p], [qdep - ca.solve(Gd, g)])
+    newton = ca.Function("newton_step", [qi, qdep, p], [qdep - ca.solve(Gd, g)])
+    dqi = ca.SX.sym("dqi", len(ind_l))
+    tangent = ca.Function("tangent_step", [qi, qdep, p, dqi], [qdep - ca.solve(Gd, ca.jtimes(g, qi, dqi))])
     qi_ref = ca.DM(q_ref[ind_l])
     delta = qi - qi_ref
     wrapped = [ca.atan2(ca.sin(delta[j]), ca.cos(delta[j])) if periodic[j] else delta[j] for j in range(len(ind))]
     delta = ca.vertcat(*wrapped)
     z = ca.SX(ca.DM(q_ref[dep_l]))
-    for s in range(1, stages + 1):
-        qs = qi_ref + (s / stages) * delta
-        for _ in range(newton_steps):
-            z = step(qs, z, p)
+    for s in range(stages):
+        z = tangent(qi_ref + (s / stages) * delta, z, p, delta / stages)     # Euler predictor along the path
+        qs = qi_ref + ((s + 1) / stages) * delta
+        for _ in range(newton_steps + (final_steps if s == stages - 1 else 0)):
+            z = newton(qs, z, p)
     return z
-
 
 def periodic_coordinates(g_fn: ca.Function, q_ref: np.ndarray, p: np.ndarray, ind, seed: int = 0) -> list[bool]:
     """Per independent coordinate: is ``g`` unchanged by a shift of 2π in it (checked at random points)?
