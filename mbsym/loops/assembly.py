@@ -149,7 +149,7 @@ def _damped(step: np.ndarray, limit: float = 0.5) -> np.ndarray:
     return step if big <= limit else step * (limit / big)
 
 
-def check_redundant(G: np.ndarray, row_names: Sequence[str]) -> None:
+def check_redundant(G: np.ndarray, row_names: Sequence[str], where: str = "at the assembled configuration") -> None:
     """Name the first constraint row that is a combination of the previous ones."""
     scale = max(np.max(np.abs(G)), 1.0)
     for k in range(1, G.shape[0] + 1):
@@ -159,7 +159,7 @@ def check_redundant(G: np.ndarray, row_names: Sequence[str]) -> None:
             partners = [row_names[i] for i in np.flatnonzero(np.abs(coef) > 1e-9)]
             with_ = f"a combination of {partners}" if partners else "identically zero"
             raise ConstraintError(
-                f"constraint row {row_names[k - 1]!r} is redundant at the assembled configuration: its Jacobian "
+                f"constraint row {row_names[k - 1]!r} is redundant {where}: its Jacobian "
                 f"row is {with_}. Remove it (e.g. close a planar loop along its two in-plane axes only, "
                 "directions='xz'), or assemble at a non-singular configuration.")
 
