@@ -33,7 +33,7 @@ __all__ = ["ClosedLoopEquations", "closed_equations"]
 
 
 def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[str, float] | None, *,
-                     name: str = "mbsym", stages: int = 4, newton_steps: int = 2) -> "ClosedLoopEquations":
+                     name: str = "mbsym", stages: int = 2, newton_steps: int = 3) -> "ClosedLoopEquations":
     """Equations of a system with closed loops in its independent coordinates.
 
     Parameters
@@ -48,9 +48,10 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
         it are where the loop is assembled (the reference of the dependent-coordinate solver).
     name : str
     stages : int, optional
-        Continuation stages from the assembled configuration (default 4).
+        Continuation stages from the assembled configuration (default 2; more for loops whose
+        dependent coordinates swing far over the range of the independent ones).
     newton_steps : int, optional
-        Newton corrections per stage after the tangent predictor (default 2; the last stage takes
+        Newton corrections per stage after the tangent predictor (default 3; the last stage takes
         two more).
 
     Raises
