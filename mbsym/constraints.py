@@ -127,31 +127,38 @@ def check_name(name, taken: list[str], default: str) -> str:
     return name
 
 
-def constraint_rows(constraints, kin) -> tuple[ca.SX, list[str]]:
-    """All constraint rows ``g(q, p)`` (SX, held attachment orientations resolved) and their names.
+def constraint_rows(constraints, kin) -> tuple[ca.SX, ca.SX, list[str]]:
+    """All constraint rows ``g(q, p)``, their velocities ``ġ(q, q̇, p)`` and their names.
+
+    The velocities are the tree's own point velocities (``kin.point_velocity``): for rigid bodies
+    exactly ``∂g/∂q q̇``; for flexible bodies the attachment kinematics' velocity, which is what
+    Kane's partial velocities of the tree use (it differs from ``d/dt`` of the position at first
+    order in the deflection times the speed). Held attachment orientations are resolved in ``g``
+    and left in ``ġ`` (for :meth:`~mbsym.kane._Kinematics.rate`).
 
     Parameters
     ----------
     constraints : sequence of PointClosure or HolonomicConstraint
     kin : mbsym.kane._Kinematics
-        The tree's kinematics (positions of body points).
+        The tree's kinematics (positions and velocities of body points).
     """
-    rows, names = [], []
+    rows, vels, names = [], [], []
     for c in constraints:
         if isinstance(c, PointClosure):
-            ra = _point(kin, c.body_a, c.point_a)
-            rb = _point(kin, c.body_b, c.point_b)
+            ra, va = _point(kin, c.body_a, c.point_a)
+            rb, vb = _point(kin, c.body_b, c.point_b)
             for a in c.directions:
                 rows.append((rb - ra)[AXES.index(a)])
+                vels.append((vb - va)[AXES.index(a)])
         else:
             rows.extend(ca.vertsplit(c.expression))
+            vels.extend(ca.vertsplit(ca.jtimes(c.expression, kin.q_all, kin.qd_all)))
         names.extend(c.row_names)
     g = ca.vertcat(*rows)
-    return kin.resolve([g])[0], names
+    return kin.resolve([g])[0], ca.vertcat(*vels), names
 
 
-def _point(kin, body: Body, point: ca.SX) -> ca.SX:
+def _point(kin, body: Body, point: ca.SX) -> tuple[ca.SX, ca.SX]:
     if isinstance(body, Ground):
-        return point
-    r, _ = kin.point_velocity(body, point)
-    return r
+        return point, ca.SX.zeros(3, 1)
+    return kin.point_velocity(body, point)

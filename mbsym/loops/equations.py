@@ -75,7 +75,7 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
             "with a closure.")
     d = derive(system)
     coords = list(d.names["coordinate"])
-    g, row_names = constraint_rows(system.constraints, d.kinematics)
+    g, g_dot, row_names = constraint_rows(system.constraints, d.kinematics)
     if not system.constraints:
         choose(coords, 0, [], independent, guess)            # raises: no closure
     G = ca.jacobian(g, d.q)
@@ -87,7 +87,7 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     choice = choose(coords, g.numel(), row_names, independent, guess)
     q_ref = assemble(g_fn, choice, p_ref, coords, row_names)
     periodic = periodic_coordinates(ca.Function("g", [d.q, d.p], [g]), q_ref, p_ref, choice.independent)
-    red = reduce_equations(d, g, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps)
+    red = reduce_equations(d, g, g_dot, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps)
     units = system.coordinate_units()
     return ClosedLoopEquations(d, red, choice, q_ref, row_names, name=name, units=units)
 

@@ -13,6 +13,11 @@ velocities of the constrained motion, ``Cᵀ (F - M q̈) = 0``:
 
 ``M_r q̈_i = F_r``,  ``M_r = Cᵀ M C``,  ``F_r = Cᵀ (F - M c₀)``.
 
+``G`` is read from the velocities of the closure points as the tree computes them (the same
+partial velocities Kane's terms use; for rigid bodies exactly ``∂g/∂q``; for flexible bodies the
+attachment kinematics', which differ from ``∂g/∂q`` at first order in the deflection), and ``Ġ q̇``
+is their rate at ``q̈ = 0``. The position constraint ``g = 0`` fixes the dependent coordinates.
+
 The reaction of the cut joints follows from ``M q̈ - F = Gᵀ λ`` on the dependent rows,
 ``λ = G_d⁻ᵀ (M q̈ - F)_d``: for a point closure ``g = r_b - r_a``, λ is the force body *a* exerts on
 body *b* at the point [N, ground axes].
@@ -54,7 +59,7 @@ class Reduction:
     c0: ca.SX         # (n,) acceleration of every coordinate at q̈_i = 0
 
 
-def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_ref: np.ndarray,
+def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_ref: np.ndarray,
                      periodic: list[bool], stages: int, newton_steps: int, final_steps: int = 2) -> Reduction:
     """Kane's equations of the independent speeds with ``q_d`` solved in the graph (module docstring).
 
@@ -64,6 +69,9 @@ def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_
         The tree's derivation (every coordinate, speeds are q̇).
     g : SX
         Constraint rows, expressions of ``d.q`` and ``d.p``.
+    g_dot : SX
+        Their velocities by the tree's point kinematics (linear in ``d.qd``;
+        :func:`mbsym.constraints.constraint_rows`).
     ind, dep : tuple of int
         Indices of the independent and dependent coordinates.
     q_ref : ndarray
@@ -76,7 +84,8 @@ def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_
     q, qd, qdd = d.q, d.qd, d.qdd
     n, k, m = q.numel(), len(ind), len(dep)
     ind_l, dep_l = list(ind), list(dep)
-    G = ca.jacobian(g, q)
+    kin = d.kinematics
+    G = kin.resolve([ca.jacobian(g_dot, qd)])[0]                       # velocity constraint G q̇ = 0
     Gi, Gd = G[:, ind_l], G[:, dep_l]
     Ars = -ca.solve(Gd, Gi)
     C = ca.SX.zeros(n, k)
@@ -84,7 +93,9 @@ def reduce_equations(d, g: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_
     C[dep_l, :] = Ars
     qd_i, qdd_i = qd[ind_l], qdd[ind_l]
     qd_full = C @ qd_i
-    gamma = ca.substitute(ca.jtimes(G @ qd, q, qd), qd, qd_full)      # Ġ q̇ along the constrained motion
+    n_all = kin.q_all.numel()
+    rate = kin.rate(g_dot, ca.vertcat(kin.q_all, kin.qd_all), ca.vertcat(kin.qd_all, ca.SX.zeros(n_all)))
+    gamma = ca.substitute(kin.resolve([rate])[0], qd, qd_full)        # Ġ q̇ along the constrained motion
     c0 = ca.SX.zeros(n, 1)
     c0[dep_l] = -ca.solve(Gd, gamma)
     M = d.M
