@@ -196,3 +196,72 @@ def _pivoted_qr(G: np.ndarray):
         v /= np.linalg.norm(v)
         A[k:, :] -= 2.0 * np.outer(v, v @ A[k:, :])
     return A, None, piv
+
+
+
+def turn_series(g_fn: ca.Function, q_ref: np.ndarray, j: int, dep: Sequence[int], p: np.ndarray, *,
+                samples: int = 64, tol: float = 1e-4, max_harmonics: int = 12) -> dict | None:
+    """A Fourier series of the dependent coordinates over a full turn of independent coordinate ``j``.
+
+    For a loop with one independent coordinate that turns fully (a crank): the dependent coordinates
+    are assembled at ``samples`` angles around the turn by numeric continuation from the assembly;
+    each is ``w δ + periodic(δ)`` with ``δ = q_j - q_j*`` and ``w`` its whole number of turns per turn
+    of ``q_j`` (a relative joint angle that winds). The series keeps the fewest harmonics that
+    predict the odd samples from the even ones to ``tol``. None when the coordinate cannot turn
+    (the continuation fails: a rocker) or no series up to ``max_harmonics`` is that good.
+
+    Returns
+    -------
+    dict or None
+        ``winding`` (m,), ``a`` and ``b`` (N + 1, m): the series' coefficients.
+    """
+    dep = list(dep)
+    h = 2.0 * np.pi / samples
+    q = q_ref.copy()
+    Z = [q[dep].copy()]
+    for k in range(1, samples + 1):
+        for _ in range(4):
+            q[j] += h / 4
+            if not _newton_numeric(g_fn, q, dep, p):
+                return None
+        Z.append(q[dep].copy())
+    Z = np.array(Z)
+    turns = (Z[-1] - Z[0]) / (2 * np.pi)
+    winding = np.round(turns)
+    if np.max(np.abs(turns - winding)) > 1e-8:
+        return None                                 # not back on the same configuration after a turn
+    delta = h * np.arange(samples)
+    Y = Z[:-1] - np.outer(delta, winding)
+    for n in range(1, max_harmonics + 1):
+        a, b = _fit(delta[::2], Y[::2], n)
+        if np.max(np.abs(_series(a, b, delta[1::2]) - Y[1::2])) < tol:
+            return {"winding": winding, "a": a, "b": b}
+    return None
+
+
+def _newton_numeric(g_fn: ca.Function, q: np.ndarray, dep: list[int], p: np.ndarray) -> bool:
+    """Newton on the dependent coordinates in place; False when singular or not converged."""
+    for _ in range(30):
+        gv, G = (np.array(v, dtype=float) for v in g_fn(q, p))
+        gv = gv.reshape(-1)
+        if np.max(np.abs(gv)) < 1e-14:
+            return True
+        Gd = G[:, dep]
+        if np.linalg.cond(Gd) > 1e8:
+            return False
+        q[dep] -= np.linalg.solve(Gd, gv)
+    return bool(np.max(np.abs(gv)) < 1e-12)
+
+
+def _fit(delta: np.ndarray, Y: np.ndarray, n: int):
+    """Least-squares Fourier coefficients (n harmonics) of the columns of Y at angles delta."""
+    cols = [np.ones_like(delta)] + [f(k * delta) for k in range(1, n + 1) for f in (np.cos, np.sin)]
+    coef = np.linalg.lstsq(np.column_stack(cols), Y, rcond=None)[0]
+    a = np.vstack([coef[0], coef[1::2]])
+    b = np.vstack([np.zeros_like(coef[0]), coef[2::2]])
+    return a, b
+
+
+def _series(a: np.ndarray, b: np.ndarray, delta: np.ndarray) -> np.ndarray:
+    k = np.arange(a.shape[0])
+    return np.cos(np.outer(delta, k)) @ a + np.sin(np.outer(delta, k)) @ b

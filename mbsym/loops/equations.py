@@ -26,14 +26,15 @@ from ..constraints import constraint_rows
 from ..equations import EquationsOfMotion
 from ..exceptions import ConstraintError, ExportError, OptionError, UnsupportedFeatureError
 from ..kane import Derivation, derive
-from .assembly import assemble, check_redundant, choose, guess_vector
+from .assembly import assemble, check_redundant, choose, guess_vector, turn_series
 from .reduce import Reduction, periodic_coordinates, reduce_equations
 
 __all__ = ["ClosedLoopEquations", "closed_equations"]
 
 
 def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[str, float] | None, *,
-                     name: str = "mbsym", stages: int = 2, newton_steps: int = 3) -> "ClosedLoopEquations":
+                     name: str = "mbsym", stages: int = 2, newton_steps: int = 3,
+                     references: int = 64) -> "ClosedLoopEquations":
     """Equations of a system with closed loops in its independent coordinates.
 
     Parameters
@@ -54,6 +55,12 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
         Newton corrections per stage after the tangent predictor (default 3; the last stage takes
         two more).
 
+    references : int, optional
+        One independent coordinate that turns fully (a crank): the number of configurations per
+        turn assembled in advance (default 64, even; 0: none); a Fourier series fitted to them
+        predicts the dependent coordinates and ``newton_steps`` Newton steps correct them (no
+        path to follow). The path from the assembly serves when the coordinate cannot turn.
+
     Raises
     ------
     ConstraintError
@@ -63,10 +70,11 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     OptionError
         Non-positive ``stages`` or ``newton_steps``.
     """
-    for v, what in ((stages, "stages"), (newton_steps, "newton_steps")):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-            raise OptionError(f"{what}={v!r} must be a positive integer (continuation of the dependent "
-                              "coordinates: stages x newton_steps Newton steps per evaluation).")
+    for v, what in ((stages, "stages"), (newton_steps, "newton_steps"), (references, "references")):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < (0 if what == "references" else 1) \
+                or (what == "references" and (v % 2 or v == 2)):
+            raise OptionError(f"{what}={v!r} must be a positive integer (references: 0 or an even number >= 4; "
+                              "the dependent-coordinate solver takes stages x newton_steps Newton steps).")
     st = system.symbols
     if st.prescribed() or st.locked():
         raise UnsupportedFeatureError(
@@ -87,7 +95,11 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     choice = choose(coords, g.numel(), row_names, independent, guess)
     q_ref = assemble(g_fn, choice, p_ref, coords, row_names)
     periodic = periodic_coordinates(ca.Function("g", [d.q, d.p], [g]), q_ref, p_ref, choice.independent)
-    red = reduce_equations(d, g, g_dot, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps)
+    refs = None
+    if references and len(choice.independent) == 1 and periodic[0]:
+        refs = turn_series(g_fn, q_ref, choice.independent[0], choice.dependent, p_ref, samples=references)
+    red = reduce_equations(d, g, g_dot, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps,
+                           references=refs)
     units = system.coordinate_units()
     return ClosedLoopEquations(d, red, choice, q_ref, row_names, name=name, units=units)
 

@@ -60,7 +60,8 @@ class Reduction:
 
 
 def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_ref: np.ndarray,
-                     periodic: list[bool], stages: int, newton_steps: int, final_steps: int = 2) -> Reduction:
+                     periodic: list[bool], stages: int, newton_steps: int, final_steps: int = 2,
+                     references: dict | None = None) -> Reduction:
     """Kane's equations of the independent speeds with ``q_d`` solved in the graph (module docstring).
 
     Parameters
@@ -80,6 +81,11 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
         Per independent coordinate: ``g`` is 2π-periodic in it.
     stages, newton_steps : int
         Continuation stages and Newton steps per stage.
+    final_steps : int
+        Newton steps added to the last stage.
+    references : dict, optional
+        Fourier series of the dependent coordinates over a full turn of the one independent
+        coordinate (see :func:`solve_dependent`).
     """
     q, qd, qdd = d.q, d.qd, d.qdd
     n, k, m = q.numel(), len(ind), len(dep)
@@ -105,7 +111,7 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
     qdd_full = C @ qdd_i + c0
     lam = ca.solve(Gd.T, (M @ qdd_full - F)[dep_l])
     qd_dep = Ars @ qd_i
-    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps, final_steps)
+    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps, final_steps, references)
     res = ca.mmax(ca.fabs(g))
     q_dep = q[dep_l]
     out = ca.substitute([Mr, Fr, T, d.V, power, qd_dep, lam, res, C, c0], [q_dep], [z])
@@ -114,11 +120,14 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
 
 
 def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, periodic: list[bool],
-                    stages: int, newton_steps: int, final_steps: int = 2) -> ca.SX:
+                    stages: int, newton_steps: int, final_steps: int = 2, references: dict | None = None) -> ca.SX:
     """``q_d`` as an SX expression of ``q_i`` and ``p``: continuation from ``q_ref`` (module docstring).
 
     Each stage takes an Euler predictor step along the tangent ``A_rs`` and ``newton_steps`` Newton
-    corrections; the last stage ``final_steps`` more.
+    corrections; the last stage ``final_steps`` more. With ``references`` (one independent
+    coordinate that turns fully: a Fourier series of the dependent coordinates over a turn,
+    :func:`mbsym.loops.assembly.turn_series`) the series predicts ``q_d`` and ``newton_steps``
+    Newton steps correct it: no path to follow.
     """
     ind_l, dep_l = list(ind), list(dep)
     qi, qdep = q[ind_l], q[dep_l]
@@ -131,12 +140,31 @@ def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, p
     wrapped = [ca.atan2(ca.sin(delta[j]), ca.cos(delta[j])) if periodic[j] else delta[j] for j in range(len(ind))]
     delta = ca.vertcat(*wrapped)
     z = ca.SX(ca.DM(q_ref[dep_l]))
+    if references is not None:                                         # one stage from the Fourier predictor
+        z = _fourier_predictor(references, delta[0])
+        return _newton_steps(newton, qi, z, p, newton_steps)
     for s in range(stages):
         z = tangent(qi_ref + (s / stages) * delta, z, p, delta / stages)     # Euler predictor along the path
         qs = qi_ref + ((s + 1) / stages) * delta
-        for _ in range(newton_steps + (final_steps if s == stages - 1 else 0)):
-            z = newton(qs, z, p)
+        z = _newton_steps(newton, qs, z, p, newton_steps + (final_steps if s == stages - 1 else 0))
     return z
+
+
+def _newton_steps(newton: ca.Function, qs, z, p, count: int):
+    for _ in range(count):
+        z = newton(qs, z, p)
+    return z
+
+
+def _fourier_predictor(series: dict, delta: ca.SX) -> ca.SX:
+    """``w δ + a₀ + Σ_n (a_n cos nδ + b_n sin nδ)`` per dependent coordinate (see :func:`fourier_series`)."""
+    c1, s1 = ca.cos(delta), ca.sin(delta)
+    out = series["winding"] * delta + ca.DM(series["a"][0])
+    cn, sn = c1, s1
+    for n in range(1, series["a"].shape[0]):
+        out = out + ca.DM(series["a"][n]) * cn + ca.DM(series["b"][n]) * sn
+        cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
+    return out
 
 def periodic_coordinates(g_fn: ca.Function, q_ref: np.ndarray, p: np.ndarray, ind, seed: int = 0) -> list[bool]:
     """Per independent coordinate: is ``g`` unchanged by a shift of 2π in it (checked at random points)?

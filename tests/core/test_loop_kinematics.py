@@ -35,20 +35,26 @@ def wrap(a):
     return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
 
 
-@pytest.fixture(scope="module")
-def crank_rocker():
+def four_bar(lengths, guess):
+    a, b, c, d = lengths
     s = mb.System(gravity=[0.0, -9.81, 0.0])
     q1, q2, q3 = s.coordinates("q1 q2 q3")
     parent, offset = s.ground, [0.0, 0.0, 0.0]
-    for name, q, l in zip(("crank", "coupler", "rocker"), (q1, q2, q3), (A, B, C)):
+    for name, q, l in zip(("crank", "coupler", "rocker"), (q1, q2, q3), (a, b, c)):
         body = mb.RigidBody(name, 1.0, com=[l / 2, 0, 0], inertia=np.diag([0.01, 0.1, 0.1]))
         s.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
         parent, offset = body, [l, 0.0, 0.0]
-    s.add_closure(parent, [C, 0, 0], s.ground, [D, 0, 0], directions="xy")
-    return s.equations(independent=["q1"], guess={"q2": 1.2, "q3": -2.4})
+    s.add_closure(parent, [c, 0, 0], s.ground, [d, 0, 0], directions="xy")
+    return s.equations(independent=["q1"], guess=guess)
 
 
-def closed_form_crank_rocker(theta, w1):
+@pytest.fixture(scope="module")
+def crank_rocker():
+    return four_bar((A, B, C, D), {"q2": 1.2, "q3": -2.4})
+
+
+def closed_form_crank_rocker(theta, w1, lengths=(A, B, C, D)):
+    A, B, C, D = lengths
     Bp = A * np.array([np.cos(theta), np.sin(theta)])
     O4 = np.array([D, 0.0])
     e = O4 - Bp
@@ -74,6 +80,22 @@ def test_crank_rocker_positions_and_speeds_over_two_turns(crank_rocker):
         assert np.max(np.abs(wrap(y[:2] - q_ref))) < 1e-12, theta
         assert np.max(np.abs(y[2:4] - qd_ref)) < 1e-12 * max(1.0, np.max(np.abs(qd_ref))), theta
         assert y[-1] < 1e-12                                  # closure residual
+
+
+def test_double_rocker_within_its_range():
+    """Non-Grashof (crank 2, coupler 1, rocker 2, ground 2.5: a + d > b + c): q1 cannot turn fully (it
+    assembles for cos q1 in [0.125, 0.925], q1 in [0.39, 1.45] rad on this side), so the dependent
+    coordinates follow the path from the assembly at q1 = 0.9 (no series over a turn); closed form over
+    [0.45, 1.4]."""
+    lengths = (2.0, 1.0, 2.0, 2.5)
+    q0, _ = closed_form_crank_rocker(0.9, 0.0, lengths)
+    eom = four_bar(lengths, {"q1": 0.9, "q2": q0[0] + 0.1, "q3": q0[1] - 0.1})
+    f = eom.output_function()
+    for theta in np.linspace(0.45, 1.4, 15):
+        q_ref, qd_ref = closed_form_crank_rocker(theta, 0.8, lengths)
+        y = np.asarray(f([theta, 0.8], [], [])).ravel()
+        assert np.max(np.abs(wrap(y[:2] - q_ref))) < 1e-12, theta
+        assert np.max(np.abs(y[2:4] - qd_ref)) < 1e-12 * max(1.0, np.max(np.abs(qd_ref))), theta
 
 
 def test_crank_rocker_closure_point_coincides(crank_rocker):
