@@ -12,8 +12,9 @@ Columns: derivation = empty ``System`` → ready CasADi Functions (best of 7); S
 the first-order rhs; evaluation = one rhs evaluation, compiled (generated C, gcc -O1), measured over
 a ``map`` of 20 000 points called through ``Function.buffer()`` (best of 7 calls), so that neither
 Python's call overhead nor array conversions are counted. The
-loop's rhs contains the dependent-coordinate solver (on
-``g``: 2 tangent predictors + 8 Newton steps, the defaults) besides the reduced Kane equations.
+loop's rhs contains the dependent-coordinate solver besides the reduced Kane equations (four-bar:
+the crank's Fourier predictor + 3 Newton steps; five-bar, two independent coordinates: 2
+continuation stages, tangent predictor + 3 Newton steps each, 2 more at the end).
 
 Real-time factor: the four-bar released at q1 = 0.3 rad, q1_d = 4 rad/s (the crank turns ~6 times in
 10 s), ``mb.simulate(eom, 10.0, x0=..., compile=True)`` with its default output times (rk4 at three

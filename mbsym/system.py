@@ -464,8 +464,8 @@ class System:
             (missing ones are 0); the dependent coordinates are found from them, so the guess
             picks the assembly branch.
         **options
-            Closed loops only: ``stages`` and ``newton_steps`` of the dependent-coordinate
-            solver (see :func:`mbsym.loops.closed_equations`).
+            Closed loops only: ``stages``, ``newton_steps`` and ``references`` of the
+            dependent-coordinate solver (see :func:`mbsym.loops.closed_equations`).
 
         Returns
         -------

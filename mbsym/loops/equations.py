@@ -87,7 +87,7 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     if not system.constraints:
         choose(coords, 0, [], independent, guess)            # raises: no closure
     G = ca.jacobian(g, d.q)
-    g_fn = ca.Function("closure", [d.q, d.p], [g, G])
+    g_fn = ca.Function("closure", [d.q, d.p], [g, ca.densify(G)])
     p_ref = _reference_parameters(d, ca.symvar(g))
     q0 = guess_vector(coords, guess)
     generic = q0 + np.random.default_rng(0).uniform(-0.5, 0.5, q0.size)    # structural redundancy, anywhere
