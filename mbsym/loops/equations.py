@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from ..constraints import constraint_rows
-from ..equations import EquationsOfMotion
+from ..equations import SYMBOLIC_SOLVE_MAX_DOF, EquationsOfMotion
 from ..exceptions import ConstraintError, ExportError, OptionError, UnsupportedFeatureError
 from ..kane import Derivation, derive
 from .assembly import assemble, check_redundant, choose, guess_vector, turn_series
@@ -192,11 +192,18 @@ class ClosedLoopEquations(EquationsOfMotion):
 
     def _output_function(self) -> ca.Function:
         d, red = self._derivation, self._red
-        qdd = ca.solve(red.M, red.F)
-        lam = ca.substitute(red.lam, d.qdd, qdd)
-        y = ca.vertcat(red.q_dep, red.qd_dep, lam, red.residual)
         x = ca.vertcat(d.q, d.qd)
-        return ca.Function(f"{self.name}_loop_outputs", [x, d.u, d.p], [y], ["x", "u", "p"], ["y"], {"cse": True})
+        y = ca.vertcat(red.q_dep, red.qd_dep, red.lam, red.residual)         # λ depends on q̈_i
+        name = f"{self.name}_loop_outputs"
+        if self.n_q <= SYMBOLIC_SOLVE_MAX_DOF:
+            y = ca.substitute(y, d.qdd, ca.solve(red.M, red.F))
+            return ca.Function(name, [x, d.u, d.p], [y], ["x", "u", "p"], ["y"], {"cse": True})
+        at = ca.Function(f"{name}_at", [x, d.u, d.p, d.qdd], [y], {"cse": True})
+        X, U, P = ca.MX.sym("x", x.numel()), ca.MX.sym("u", d.u.numel()), ca.MX.sym("p", d.p.numel())
+        n = self.n_q
+        M = self.functions.mass_matrix(X[:n], P)
+        qdd = ca.solve(M, self.functions.forcing(X[:n], X[n:], U, P), "qr")    # numeric beyond 8 DOF
+        return ca.Function(name, [X, U, P], [at(X, U, P, qdd)], ["x", "u", "p"], ["y"])
 
     # ------------------------------------------------------------ numeric
     def configuration(self, q, p: Mapping[str, float] | None = None) -> np.ndarray:

@@ -160,3 +160,26 @@ def test_nmpc_positions_the_crank():
         x = mb.simulate(eom, 0.05, x0=x, inputs={"tau": taus[-1]}, method="cvodes", rtol=1e-10, atol=1e-12).x[-1]
     assert mpc.failures == 0
     assert abs(x[0] - 1.5) < 0.01 and max(abs(v) for v in taus) <= 30 + 1e-6
+
+
+def test_nine_independent_coordinates_numeric_solve():
+    """Beyond 8 independent coordinates (the rhs and outputs solve M_r numerically): a chain of 8 pendulum
+    links hanging from the coupler; energy conserved over 0.5 s of rk4 at 5 ms (measured 2e-9, bound 1e-7)."""
+    s = mb.System(gravity=[0.0, -9.81, 0.0])
+    q1, q2, q3 = s.coordinates("q1 q2 q3")
+    parent, offset = s.ground, [0.0, 0.0, 0.0]
+    for name, q, l in zip(("crank", "coupler", "rocker"), (q1, q2, q3), (1.0, 2.0, 2.0)):
+        body = mb.RigidBody(name, 1.0, com=[l / 2, 0, 0], inertia=np.diag([0.01, 0.1, 0.1]))
+        s.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
+        parent, offset = body, [l, 0.0, 0.0]
+    s.add_closure(parent, [2.0, 0, 0], s.ground, [2.5, 0, 0], directions="xy")
+    names = [f"p{i}" for i in range(8)]
+    parent = s.body("coupler")
+    for i, c in enumerate(s.coordinates(names)):
+        b = mb.RigidBody(f"pend{i}", 0.1, com=[0, -0.2, 0], inertia=np.diag([1e-3] * 3))
+        s.add_joint(mb.Revolute(parent, b, axis=[0, 0, 1], coordinate=c, offset=[0.0 if i else 1.0, -0.2 if i else 0.0, 0]))
+        parent = b
+    eom = s.equations(independent=["q1", *names], guess={"q2": 1.2, "q3": -2.4})
+    res = mb.simulate(eom, 0.5, x0={"q1": 0.3, "q1_d": 1.0, "p3": 0.2}, method="rk4", dt=0.005)
+    assert eom.n_q == 9 and np.max(res.output("closure_residual")) < 1e-12
+    assert _drift(eom, res) < 1e-7
