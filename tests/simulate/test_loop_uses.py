@@ -1,5 +1,5 @@
 """Every use of mbsym on a closed loop: simulation (all methods), linearization, modal analysis, export,
-identification, NMPC.
+identification, NMPC, sweeps, static equilibrium, EKF.
 
 Model: a four-bar (crank 1, coupler 2, rocker 2, ground link d [m]; rigid links, gravity -y) in mbsym's
 contract form (``add_closure(..., directions="xy")``, ``equations(independent=["q1"], guess=...)``). The
@@ -20,8 +20,9 @@ References and tolerances:
 - identification: m2 and d recovered from CVODES data (rtol 1e-11) of q1 and the dependent q3 to the
   RK4 discretization of the fit (4 sub-steps of 5 ms: ~1e-6 relative).
 - NMPC: a torque on the crank brings it to 1.5 rad (within 0.01 rad after 2 s), |τ| ≤ 30 N m.
+- sweep, static equilibrium, EKF: see each test.
 
-Runtime ~15 s (all eight integration methods ~6 s).
+Runtime ~18 s (all eight integration methods ~6 s).
 """
 
 from __future__ import annotations
@@ -183,3 +184,30 @@ def test_nine_independent_coordinates_numeric_solve():
     res = mb.simulate(eom, 0.5, x0={"q1": 0.3, "q1_d": 1.0, "p3": 0.2}, method="rk4", dt=0.005)
     assert eom.n_q == 9 and np.max(res.output("closure_residual")) < 1e-12
     assert _drift(eom, res) < 1e-7
+
+
+def test_sweep_over_the_ground_link_matches_single_runs(eom):
+    """mb.sweep varies a closure parameter (the ground link d): each row's statistics of the dependent
+    coordinate q3 equal a direct simulation with that d (the same rk4 run: 1e-12)."""
+    kw = dict(x0={"q1": 0.3, "q1_d": 1.0})
+    res = mb.sweep(eom, {"d": [2.4, 2.6]}, tmax=1.0, dt=0.01, channels=["q3"], **kw)
+    assert res.table.failed == []
+    for row in res.table:
+        q3 = mb.simulate(eom, 1.0, p={"d": row["d"]}, method="rk4", dt=0.01, **kw).output("q3")
+        assert row["q3_max"] == pytest.approx(np.max(q3), abs=1e-12)
+        assert row["q3_min"] == pytest.approx(np.min(q3), abs=1e-12)
+
+
+def test_static_equilibrium_and_ekf_on_the_dependent_coordinate(eom):
+    """static_equilibrium finds a rest point (M_r⁻¹F_r = 0 there: 1e-10); an EKF measuring only the dependent
+    rocker angle q3 (σ = 1 mrad) tracks the crank angle q1 of a CVODES run to ~mrad (bound 0.01 rad)."""
+    from mbsym.control import EKF
+
+    eq = mb.static_equilibrium(eom, q0=[1.0])
+    assert eq.success and abs(eom.accelerations(eq.q, [0.0])[0]) < 1e-10
+    true = mb.simulate(eom, 2.0, x0={"q1": 0.5, "q1_d": 0.0}, method="cvodes", rtol=1e-10, atol=1e-12, dt=0.01)
+    ekf = EKF(eom, dt=0.01, measurements=["q3"], process_noise={"q1_d": 0.1}, measurement_noise={"q3": 1e-3},
+              x0=[0.45, 0.0])
+    rng = np.random.default_rng(0)
+    est = [ekf.step(np.array([y + rng.normal(0, 1e-3)]), np.zeros(0)) for y in true.output("q3")[1:]]
+    assert np.max(np.abs(np.array(est)[-100:, 0] - true.state("q1")[-100:])) < 0.01
