@@ -12,10 +12,12 @@ these constructors, then keep the records):
 - :class:`HolonomicConstraint`: any expressions ``g(q, p) = 0`` of coordinates and parameters (its
   multipliers are generalized reaction forces in the units of ``[force] / [g]``).
 
-Velocity (non-holonomic) constraints are not modelled: a rolling contact must be written as a
-holonomic constraint where it integrates to one. :func:`constraint_rows` turns the records into
-one SX vector of the tree's coordinates, with a name per row; the equations live in
-:mod:`mbsym.loops`.
+- :class:`VelocityConstraint`: non-holonomic rows ``A(q, p) q̇ + b(q, p) = 0`` (a knife edge, a
+  rolling contact), linear in the speeds; their equations are first-order dynamics
+  (:mod:`mbsym.loops.nonholonomic`).
+
+:func:`constraint_rows` turns the holonomic records into one SX vector of the tree's coordinates,
+with a name per row; the equations live in :mod:`mbsym.loops`.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from .bodies.base import Body, Ground
 from .exceptions import ModelDefinitionError
 from .kinematics import as_vector3
 
-__all__ = ["PointClosure", "HolonomicConstraint", "constraint_rows", "AXES"]
+__all__ = ["PointClosure", "HolonomicConstraint", "VelocityConstraint", "constraint_rows", "AXES"]
 
 #: Ground axes a point closure may act along.
 AXES = "xyz"
@@ -66,6 +68,19 @@ class PointClosure:
 @dataclass(frozen=True)
 class HolonomicConstraint:
     """A general holonomic constraint ``g(q, p) = 0`` (one or more rows)."""
+
+    name: str
+    expression: ca.SX
+
+    @property
+    def row_names(self) -> list[str]:
+        n = self.expression.numel()
+        return [f"{self.name}_lambda"] if n == 1 else [f"{self.name}_lambda{i + 1}" for i in range(n)]
+
+
+@dataclass(frozen=True)
+class VelocityConstraint:
+    """A non-holonomic constraint ``A(q, p) q̇ + b(q, p) = 0`` (one or more rows, linear in the speeds)."""
 
     name: str
     expression: ca.SX

@@ -412,9 +412,38 @@ class System:
                                        "motion, so it must contain coordinates from sys.coordinates(...).")
         self._constraints.append(rec)
 
+    def add_velocity_constraint(self, expression, *, name: str | None = None) -> None:
+        """Add a non-holonomic constraint ``A(q, p) q̇ + b(q, p) = 0`` (linear in the speeds).
+
+        Write it with the speed symbols of :meth:`speed`, e.g. a knife edge that cannot slide
+        sideways: ``-sin(th) * sys.speed(x) + cos(th) * sys.speed(y)``. The equations are then
+        first-order dynamics in the coordinates and the independent speeds
+        (``sys.equations(independent_speeds=[...])``, :mod:`mbsym.loops.nonholonomic`).
+
+        Raises
+        ------
+        ModelDefinitionError
+            If the expression has inputs or undeclared symbols, no speed, or is not linear in the
+            speeds. The System is unchanged on error.
+        """
+        from .constraints import VelocityConstraint, check_name, holonomic_constraint
+
+        nm = check_name(name, [c.name for c in self._constraints], f"constraint{len(self._constraints) + 1}")
+        g = holonomic_constraint(nm, expression).expression
+        self._symbols.check_expression(g, f"velocity constraint {nm!r}", inputs=False)
+        qd = ca.vertcat(*self._symbols.speeds())
+        A = ca.jacobian(g, qd)
+        if A.nnz() == 0 or all(A[i].is_zero() for i in range(A.numel())):
+            raise ModelDefinitionError(f"velocity constraint {nm!r} has no speed; use sys.speed(q) for the speeds, "
+                                       "or sys.add_constraint for a constraint on the coordinates.")
+        if ca.depends_on(ca.vec(A), qd):
+            raise ModelDefinitionError(f"velocity constraint {nm!r} is not linear in the speeds; write it as "
+                                       "A(q) q̇ + b(q) = 0.")
+        self._constraints.append(VelocityConstraint(nm, g))
+
     @property
     def constraints(self) -> tuple:
-        """Loop closures and holonomic constraints in the order they were added."""
+        """Loop closures, holonomic and velocity constraints in the order they were added."""
         return tuple(self._constraints)
 
     # ------------------------------------------------------------------ build
@@ -465,18 +494,27 @@ class System:
             picks the assembly branch.
         **options
             Closed loops only: ``stages``, ``newton_steps`` and ``references`` of the
-            dependent-coordinate solver (see :func:`mbsym.loops.closed_equations`).
+            dependent-coordinate solver (see :func:`mbsym.loops.closed_equations`). With velocity
+            constraints: ``independent_speeds``, the coordinates whose speeds are independent
+            (:func:`mbsym.loops.nonholonomic.nonholonomic_dynamics`).
 
         Returns
         -------
         EquationsOfMotion
             Immutable object holding CasADi Functions and names; for a closed loop a
-            :class:`mbsym.loops.ClosedLoopEquations` in the independent coordinates.
+            :class:`mbsym.loops.ClosedLoopEquations` in the independent coordinates; with velocity
+            constraints a :class:`mbsym.Dynamics` (first-order: coordinates and independent speeds).
         """
         from .equations import EquationsOfMotion
         from .kane import derive
 
         self.validate()
+        from .constraints import VelocityConstraint
+
+        if any(isinstance(c, VelocityConstraint) for c in self._constraints) or "independent_speeds" in options:
+            from .loops.nonholonomic import nonholonomic_dynamics
+
+            return nonholonomic_dynamics(self, name=name, independent=independent, guess=guess, **options)
         if self._constraints or independent is not None or guess is not None or options:
             from .loops import closed_equations
 
