@@ -17,6 +17,7 @@ steps in the graph), so the constraint holds to the solver's convergence (the ch
 
 from __future__ import annotations
 
+import warnings
 from typing import Mapping, Sequence
 
 import casadi as ca
@@ -24,7 +25,7 @@ import numpy as np
 
 from ..constraints import constraint_rows
 from ..equations import SYMBOLIC_SOLVE_MAX_DOF, EquationsOfMotion
-from ..exceptions import ConstraintError, ExportError, OptionError, UnsupportedFeatureError
+from ..exceptions import ConstraintError, ExportError, ModelWarning, OptionError, UnsupportedFeatureError
 from ..kane import Derivation, derive
 from .assembly import assemble, check_redundant, choose, guess_vector, turn_series
 from .reduce import Reduction, periodic_coordinates, reduce_equations
@@ -47,6 +48,9 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     guess : dict
         Coordinate values near the wanted assembly (missing ones 0); the independent values in
         it are where the loop is assembled (the reference of the dependent-coordinate solver).
+        When the closures use parameters without default values the loop cannot be assembled
+        numerically: a ModelWarning says so and every evaluation assembles it from the guess
+        (6 more Newton steps), without the rank checks.
     name : str
     stages : int, optional
         Continuation stages from the assembled configuration (default 2; more for loops whose
@@ -88,31 +92,35 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
         choose(coords, 0, [], independent, guess)            # raises: no closure
     G = ca.jacobian(g, d.q)
     g_fn = ca.Function("closure", [d.q, d.p], [g, ca.densify(G)])
-    p_ref = _reference_parameters(d, ca.symvar(g))
+    p_ref, missing = _reference_parameters(d, ca.symvar(g))
     q0 = guess_vector(coords, guess)
     generic = q0 + np.random.default_rng(0).uniform(-0.5, 0.5, q0.size)    # structural redundancy, anywhere
     check_redundant(np.array(g_fn(generic, p_ref)[1]), row_names, where="at any configuration")
     choice = choose(coords, g.numel(), row_names, independent, guess)
-    q_ref = assemble(g_fn, choice, p_ref, coords, row_names)
+    refs, assembly_steps = None, 0
+    if missing:                                     # no numbers to assemble with: assemble in the graph
+        warnings.warn(f"the closures depend on parameters {missing} that have no default value: the loop cannot be "
+                      "assembled (nor checked) now, so every evaluation first assembles it from the guess by Newton "
+                      "steps (watch the output closure_residual). Give defaults (sys.parameters(..., values=...)) "
+                      "for the checks and a cheaper graph.", ModelWarning, stacklevel=3)
+        q_ref, assembly_steps = q0, 6
+    else:
+        q_ref = assemble(g_fn, choice, p_ref, coords, row_names)
     periodic = periodic_coordinates(ca.Function("g", [d.q, d.p], [g]), q_ref, p_ref, choice.independent)
-    refs = None
-    if references and len(choice.independent) == 1 and periodic[0]:
+    if references and not missing and len(choice.independent) == 1 and periodic[0]:
         refs = turn_series(g_fn, q_ref, choice.independent[0], choice.dependent, p_ref, samples=references)
     red = reduce_equations(d, g, g_dot, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps,
-                           references=refs)
+                           references=refs, assembly_steps=assembly_steps)
     units = system.coordinate_units()
     return ClosedLoopEquations(d, red, choice, q_ref, row_names, name=name, units=units)
 
 
-def _reference_parameters(d: Derivation, used: list) -> np.ndarray:
-    """Default parameter values for the assembly; ConstraintError if the constraints use one without a default."""
+def _reference_parameters(d: Derivation, used: list) -> tuple[np.ndarray, list[str]]:
+    """Default parameter values for the assembly (1.0 where none), and the constraint parameters without one."""
     names = d.names["parameter"]
     keys = {s.element_hash() for s in used}
     missing = [n for i, n in enumerate(names) if n not in d.defaults and d.p[i].element_hash() in keys]
-    if missing:
-        raise ConstraintError(f"the closures depend on parameters {missing} that have no default value, so the loop "
-                              "cannot be assembled; declare them with values=, e.g. sys.parameters('l', values=[1.0]).")
-    return np.array([d.defaults.get(n, 0.0) for n in names], dtype=float)
+    return np.array([d.defaults.get(n, 1.0) for n in names], dtype=float), missing
 
 
 class ClosedLoopEquations(EquationsOfMotion):

@@ -61,7 +61,7 @@ class Reduction:
 
 def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple[int, ...], q_ref: np.ndarray,
                      periodic: list[bool], stages: int, newton_steps: int, final_steps: int = 2,
-                     references: dict | None = None) -> Reduction:
+                     references: dict | None = None, assembly_steps: int = 0) -> Reduction:
     """Kane's equations of the independent speeds with ``q_d`` solved in the graph (module docstring).
 
     Parameters
@@ -86,6 +86,8 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
     references : dict, optional
         Fourier series of the dependent coordinates over a full turn of the one independent
         coordinate (see :func:`solve_dependent`).
+    assembly_steps : int
+        Newton steps at the reference before the continuation, when ``q_ref`` is only a guess.
     """
     q, qd, qdd = d.q, d.qd, d.qdd
     n, k, m = q.numel(), len(ind), len(dep)
@@ -111,7 +113,8 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
     qdd_full = C @ qdd_i + c0
     lam = ca.solve(Gd.T, (M @ qdd_full - F)[dep_l])
     qd_dep = Ars @ qd_i
-    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps, final_steps, references)
+    z = solve_dependent(g, q, d.p, ind, dep, q_ref, periodic, stages, newton_steps, final_steps, references,
+                        assembly_steps)
     res = ca.mmax(ca.fabs(g))
     q_dep = q[dep_l]
     out = ca.substitute([Mr, Fr, T, d.V, power, qd_dep, lam, res, C, c0], [q_dep], [z])
@@ -120,7 +123,8 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
 
 
 def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, periodic: list[bool],
-                    stages: int, newton_steps: int, final_steps: int = 2, references: dict | None = None) -> ca.SX:
+                    stages: int, newton_steps: int, final_steps: int = 2, references: dict | None = None,
+                    assembly_steps: int = 0) -> ca.SX:
     """``q_d`` as an SX expression of ``q_i`` and ``p``: continuation from ``q_ref`` (module docstring).
 
     Each stage takes an Euler predictor step along the tangent ``A_rs`` and ``newton_steps`` Newton
@@ -140,6 +144,7 @@ def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, p
     wrapped = [ca.atan2(ca.sin(delta[j]), ca.cos(delta[j])) if periodic[j] else delta[j] for j in range(len(ind))]
     delta = ca.vertcat(*wrapped)
     z = ca.SX(ca.DM(q_ref[dep_l]))
+    z = _newton_steps(newton, qi_ref, z, p, assembly_steps)          # q_ref not assembled (no parameter values)
     if references is not None:                                         # one stage from the Fourier predictor
         z = _fourier_predictor(references, delta[0])
         return _newton_steps(newton, qi, z, p, newton_steps)

@@ -134,3 +134,28 @@ def test_prescribed_coordinates_with_a_loop_are_refused():
     s.add_closure(s.body("rocker"), [LEN[2], 0, 0], s.ground, [LEN[3], 0, 0], directions="xy")
     with pytest.raises(UnsupportedFeatureError, match="prescribed"):
         s.equations(independent=["q1"], guess=GUESS)
+
+
+def test_parameters_without_defaults_assemble_in_the_graph():
+    """Link lengths as parameters without defaults: a ModelWarning, then the same equations as the numeric
+    model at those values (1e-12), the loop assembled from the guess at every evaluation."""
+    from mbsym.exceptions import ModelWarning
+
+    s = mb.System(gravity=[0.0, -9.81, 0.0])
+    qs = s.coordinates("q1 q2 q3")
+    ls = s.parameters("l1 l2 l3 l4")
+    parent, offset = s.ground, [0.0, 0.0, 0.0]
+    for name, q, l in zip(("crank", "coupler", "rocker"), qs, ls[:3]):
+        body = mb.RigidBody(name, 1.0, com=[l / 2, 0, 0], inertia=np.diag([0.01, 0.1, 0.1]))
+        s.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
+        parent, offset = body, [l, 0.0, 0.0]
+    s.add_closure(parent, [ls[2], 0, 0], s.ground, [ls[3], 0, 0], directions="xy")
+    with pytest.warns(ModelWarning, match="no default value"):
+        sym = s.equations(independent=["q1"], guess=GUESS)
+    p = dict(zip(("l1", "l2", "l3", "l4"), LEN))
+    s_numeric = tree()[0]
+    s_numeric.add_closure(s_numeric.body("rocker"), [LEN[2], 0, 0], s_numeric.ground, [LEN[3], 0, 0], directions="xy")
+    ref = s_numeric.equations(independent=["q1"], guess=GUESS)
+    for q, w in [(0.3, 1.0), (2.0, -1.0)]:
+        assert np.allclose(sym.forcing([q], [w], p), ref.forcing([q], [w]), rtol=1e-12, atol=1e-12)
+        assert np.allclose(sym.configuration([q], p), ref.configuration([q]), rtol=0, atol=1e-12)
