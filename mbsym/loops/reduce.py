@@ -22,8 +22,10 @@ The reaction of the cut joints follows from ``M q̈ - F = Gᵀ λ`` on the depen
 ``λ = G_d⁻ᵀ (M q̈ - F)_d``: for a point closure ``g = r_b - r_a``, λ is the force body *a* exerts on
 body *b* at the point [N, ground axes].
 
-The dependent coordinates ``q_d(q_i, p)`` are solved inside the same SX graph by a fixed
-continuation: from the assembled configuration ``(q_i*, q_d*)`` along the straight path to
+The dependent coordinates ``q_d(q_i, p)`` are solved inside the same SX graph. For one independent
+coordinate that turns fully (a crank) a Fourier series of ``q_d`` over a turn, fitted at derivation
+(:func:`mbsym.loops.assembly.turn_series`), predicts them and Newton steps correct the prediction.
+Otherwise a fixed continuation runs from the assembled configuration ``(q_i*, q_d*)`` along the straight path to
 ``q_i`` in ``stages`` equal steps, each an Euler predictor along the tangent ``A_rs`` and
 ``newton_steps`` Newton steps on ``g`` (two more at the end). Independent
 coordinates on which ``g`` is 2π-periodic (revolute joints) take the shorter way round
@@ -141,13 +143,13 @@ def solve_dependent(g: ca.SX, q: ca.SX, p: ca.SX, ind, dep, q_ref: np.ndarray, p
     tangent = ca.Function("tangent_step", [qi, qdep, p, dqi], [qdep - ca.solve(Gd, ca.jtimes(g, qi, dqi))])
     qi_ref = ca.DM(q_ref[ind_l])
     delta = qi - qi_ref
+    if references is not None:                                         # one stage from the Fourier predictor
+        z = _fourier_predictor(references, delta[0])                   # unwrapped: outputs continuous over turns
+        return _newton_steps(newton, qi, z, p, newton_steps)
     wrapped = [ca.atan2(ca.sin(delta[j]), ca.cos(delta[j])) if periodic[j] else delta[j] for j in range(len(ind))]
     delta = ca.vertcat(*wrapped)
     z = ca.SX(ca.DM(q_ref[dep_l]))
     z = _newton_steps(newton, qi_ref, z, p, assembly_steps)          # q_ref not assembled (no parameter values)
-    if references is not None:                                         # one stage from the Fourier predictor
-        z = _fourier_predictor(references, delta[0])
-        return _newton_steps(newton, qi, z, p, newton_steps)
     for s in range(stages):
         z = tangent(qi_ref + (s / stages) * delta, z, p, delta / stages)     # Euler predictor along the path
         qs = qi_ref + ((s + 1) / stages) * delta
@@ -162,7 +164,7 @@ def _newton_steps(newton: ca.Function, qs, z, p, count: int):
 
 
 def _fourier_predictor(series: dict, delta: ca.SX) -> ca.SX:
-    """``w δ + a₀ + Σ_n (a_n cos nδ + b_n sin nδ)`` per dependent coordinate (see :func:`fourier_series`)."""
+    """``w δ + a₀ + Σ_n (a_n cos nδ + b_n sin nδ)`` per dependent coordinate (:func:`mbsym.loops.assembly.turn_series`)."""
     c1, s1 = ca.cos(delta), ca.sin(delta)
     out = series["winding"] * delta + ca.DM(series["a"][0])
     cn, sn = c1, s1
@@ -170,6 +172,7 @@ def _fourier_predictor(series: dict, delta: ca.SX) -> ca.SX:
         out = out + ca.DM(series["a"][n]) * cn + ca.DM(series["b"][n]) * sn
         cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
     return out
+
 
 def periodic_coordinates(g_fn: ca.Function, q_ref: np.ndarray, p: np.ndarray, ind, seed: int = 0) -> list[bool]:
     """Per independent coordinate: is ``g`` unchanged by a shift of 2π in it (checked at random points)?
