@@ -92,7 +92,7 @@ def reduce_equations(d, g: ca.SX, g_dot: ca.SX, ind: tuple[int, ...], dep: tuple
         Newton steps at the reference before the continuation, when ``q_ref`` is only a guess.
     """
     q, qd, qdd = d.q, d.qd, d.qdd
-    n, k, m = q.numel(), len(ind), len(dep)
+    n, k = q.numel(), len(ind)
     ind_l, dep_l = list(ind), list(dep)
     kin = d.kinematics
     G = kin.resolve([ca.jacobian(g_dot, qd)])[0]                       # velocity constraint G q̇ = 0
@@ -164,7 +164,10 @@ def _newton_steps(newton: ca.Function, qs, z, p, count: int):
 
 
 def _fourier_predictor(series: dict, delta: ca.SX) -> ca.SX:
-    """``w δ + a₀ + Σ_n (a_n cos nδ + b_n sin nδ)`` per dependent coordinate (:func:`mbsym.loops.assembly.turn_series`)."""
+    """``w δ + a₀ + Σ_n (a_n cos nδ + b_n sin nδ)`` per dependent coordinate.
+
+    ``series`` comes from :func:`mbsym.loops.assembly.turn_series`.
+    """
     c1, s1 = ca.cos(delta), ca.sin(delta)
     out = series["winding"] * delta + ca.DM(series["a"][0])
     cn, sn = c1, s1

@@ -30,7 +30,7 @@ def tree(ground_link: float = LEN[3]):
 
 
 def closed(directions="xy", ground_link=LEN[3]):
-    s, qs, d = tree(ground_link)
+    s, _, d = tree(ground_link)
     s.add_closure(s.body("rocker"), [LEN[2], 0, 0], s.ground, [d, 0, 0], directions=directions)
     return s
 

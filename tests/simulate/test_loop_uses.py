@@ -178,7 +178,8 @@ def test_nine_independent_coordinates_numeric_solve():
     parent = s.body("coupler")
     for i, c in enumerate(s.coordinates(names)):
         b = mb.RigidBody(f"pend{i}", 0.1, com=[0, -0.2, 0], inertia=np.diag([1e-3] * 3))
-        s.add_joint(mb.Revolute(parent, b, axis=[0, 0, 1], coordinate=c, offset=[0.0 if i else 1.0, -0.2 if i else 0.0, 0]))
+        offset = [0.0, -0.2, 0.0] if i else [1.0, 0.0, 0.0]
+        s.add_joint(mb.Revolute(parent, b, axis=[0, 0, 1], coordinate=c, offset=offset))
         parent = b
     eom = s.equations(independent=["q1", *names], guess={"q2": 1.2, "q3": -2.4})
     res = mb.simulate(eom, 0.5, x0={"q1": 0.3, "q1_d": 1.0, "p3": 0.2}, method="rk4", dt=0.005)
