@@ -19,7 +19,7 @@ continuation stages, tangent predictor + 3 Newton steps each, 2 more at the end)
 Real-time factor: the four-bar released at q1 = 0.3 rad, q1_d = 4 rad/s (the crank turns ~6 times in
 10 s), ``mb.simulate(eom, 10.0, x0=..., compile=True)`` with its default output times (rk4 at three
 steps; the accuracy-driven default); wall time of the whole call (checks, integration, outputs) =
-best of 7 runs after a warm-up (the compiled library cached); real-time factor = 10 s / wall.
+best of 15 runs after a warm-up (the compiled library cached); real-time factor = 10 s / wall.
 Accuracy: max |q1 - q1_ref| at the output times, q1_ref from CVODES at rtol 1e-12.
 
 Run: ``python benchmarks/closed_loops.py`` (rewrites its section of benchmarks/README.md).
@@ -118,7 +118,7 @@ def rtf_rows() -> list[str]:
         def run(kw=kw):
             return mb.simulate(eom, 10.0, x0=x0, compile=True, **kw)
         run()
-        wall, res = best_time(run)
+        wall, res = best_time(run, 15)
         ref = mb.simulate(eom, 10.0, x0=x0, method="cvodes", rtol=1e-12, atol=1e-12, t_out=res.t)
         err = np.max(np.abs(res.state("q1") - ref.state("q1")))
         rows.append(f"| {label} | {res.t.size} | {wall * 1e3:.2f} | {10.0 / wall:,.0f}× | {err:.1e} |")
