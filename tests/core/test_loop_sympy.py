@@ -8,14 +8,15 @@ and gravity along -y, configuration constraints ``fh = [loop·x, loop·y]``, vel
 reduced dynamic row ``k_d`` and the two differentiated velocity constraints, so its reduced
 quantities in the independent speed are ``M_r = k_d C_s`` (``C_s = [1; A_rs]``, A_rs from SymPy's
 velocity constraints) and ``F_r = M_r u1'`` with ``u' = M_s⁻¹ F_s``; its constrained
-linearization (``to_linearizer().linearize(A_and_B=True)``) gives A in the independent states
-[q1, u1]. mbsym's model is a tree of three revolute joints about z closed with
+linearization (``to_linearizer().linearize(A_and_B=True)``) gives A and B in the independent states
+[q1, u1] and the crank's motor torque T (an input on both sides). mbsym's model is a tree of three revolute joints about z closed with
 ``add_closure(..., directions="xy")``.
 
 Tolerance 1e-10 (relative to the largest entry): both sides are exact expressions of the same
 numbers evaluated in double precision by different routes; the dependent coordinates are solved
-by Newton to ~1e-15 (SymPy's linearizer works in 40-digit Floats, see the test). Runtime: ~12 s
-(SymPy's derivation ~2 s, each SymPy linearization ~5 s).
+by Newton to ~1e-15 (SymPy's linearizer works in 40-digit Floats, see the test). Runtime: ~9 s by
+default (SymPy's derivation ~2 s, one SymPy linearization ~6 s); two more linearizations, moving and
+with torque, are marked slow.
 """
 
 from __future__ import annotations
@@ -43,6 +44,8 @@ def mbsym_fourbar() -> mb.ClosedLoopEquations:
         s.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
         parent, offset = body, [l, 0.0, 0.0]
     s.add_closure(parent, [L[2], 0, 0], s.ground, [L[3], 0, 0], directions="xy")
+    tau = s.inputs("tau")
+    s.add_torque(s.body("crank"), [0, 0, tau])
     return s.equations(independent=["q1"], guess=GUESS)
 
 
@@ -73,6 +76,8 @@ def sympy_fourbar():
         I = me.inertia(frame, sm.Float(0.01, 40), sm.Float(0.01 + izz, 40), sm.Float(izz, 40))
         bodies.append(me.RigidBody(nm, Gc, frame, sm.Float(m, 40), (I, Gc)))
         loads.append((Gc, -sm.Float(m, 40) * sm.Float(G, 40) * N.y))
+    T = me.dynamicsymbols("T")
+    loads.append((A, T * N.z))                          # the crank's motor torque (the input)
     loop = P3.pos_from(O) - l4 * N.x
     fh = [loop.dot(N.x), loop.dot(N.y)]
     fnh = [P3.vel(N).dot(N.x), P3.vel(N).dot(N.y)]
@@ -82,10 +87,10 @@ def sympy_fourbar():
     km.kanes_equations(bodies, loads)
     q, u = [q1, q2, q3], [u1, u2, u3]
     Mf = sm.lambdify([q], km.mass_matrix, "numpy")
-    Ff = sm.lambdify([q, u], km.forcing, "numpy")
+    Ff = sm.lambdify([q, u, T], km.forcing, "numpy")
     Jnh = sm.Matrix(fnh).jacobian(u)
     Jf = sm.lambdify([q], Jnh, "numpy")
-    return dict(km=km, M=Mf, F=Ff, J=Jf, q=q, u=u, t=t)
+    return dict(km=km, M=Mf, F=Ff, J=Jf, q=q, u=u, t=t, T=T)
 
 
 @pytest.fixture(scope="module")
@@ -106,36 +111,39 @@ def _sympy_state(eom, ref, q1, u1):
     return q, u, np.vstack([[1.0], Ars])
 
 
-CONFIGS = [(0.3, 0.0), (1.1, -0.7), (2.4, 1.5), (-1.0, 2.0)]
+CONFIGS = [(0.3, 0.0, 0.0), (1.1, -0.7, 2.0), (2.4, 1.5, -1.0), (-1.0, 2.0, 0.5)]     # q1, u1, torque
 
 
-@pytest.mark.parametrize("q1,u1", CONFIGS)
-def test_mass_matrix_and_forcing_match_sympy(both, q1, u1):
+@pytest.mark.parametrize("q1,u1,tau", CONFIGS)
+def test_mass_matrix_and_forcing_match_sympy(both, q1, u1, tau):
     eom, ref = both
     q, u, Cs = _sympy_state(eom, ref, q1, u1)
     Ms = np.asarray(ref["M"](q), float)
-    Fs = np.asarray(ref["F"](q, u), float).ravel()
+    Fs = np.asarray(ref["F"](q, u, tau), float).ravel()
     ud = np.linalg.solve(Ms, Fs)
     Mr = Ms[:1] @ Cs                                  # SymPy's reduced mass matrix in the independent speed
     _close(eom.mass_matrix([q1]), Mr)
-    _close(eom.forcing([q1], [u1]), Mr @ ud[:1])
-    _close(eom.accelerations([q1], [u1]), ud[:1])
-    y = eom.output_function()(np.array([q1, u1]), [], [])
+    _close(eom.forcing([q1], [u1], [tau]), Mr @ ud[:1])
+    _close(eom.accelerations([q1], [u1], [tau]), ud[:1])
+    y = eom.output_function()(np.array([q1, u1]), [tau], [])
     _close(np.asarray(y).ravel()[2:4], u[1:])          # dependent speeds from SymPy's velocity constraints
 
 
-@pytest.mark.parametrize("q1,u1", [CONFIGS[0], CONFIGS[2]])      # at rest, and moving (~5 s each)
-def test_linearized_A_matches_sympy(both, q1, u1):
+@pytest.mark.parametrize("q1,u1,tau", [CONFIGS[0], pytest.param(*CONFIGS[2], marks=pytest.mark.slow),
+                                       pytest.param(*CONFIGS[3], marks=pytest.mark.slow)])   # ~6-11 s each
+def test_linearized_A_and_B_match_sympy(both, q1, u1, tau):
     eom, ref = both
     q, u, _ = _sympy_state(eom, ref, q1, u1)
     Ms = np.asarray(ref["M"](q), float)
-    ud = np.linalg.solve(Ms, np.asarray(ref["F"](q, u), float).ravel())
+    ud = np.linalg.solve(Ms, np.asarray(ref["F"](q, u, tau), float).ravel())
     t = ref["t"]
     # SymPy's linearizer manipulates the substituted expressions symbolically: with 15-digit Floats its
     # cancellations lose ~5 digits (A off by 3e-7 relative), so the operating point is given in 40 digits
     hp = [{k: sm.Float(float(v), 40) for k, v in zip(keys, vals)} for keys, vals in
-          ((ref["q"], q), (ref["u"], u), ([ui.diff(t) for ui in ref["u"]], ud))]
+          ((ref["q"], q), (ref["u"], u), ([ui.diff(t) for ui in ref["u"]], ud), ([ref["T"]], [tau]))]
     lin = ref["km"].to_linearizer()
-    A_s = np.asarray(lin.linearize(op_point=hp, A_and_B=True, simplify=False)[0].evalf(40), float)
-    A = mb.linearize(eom, [q1], [u1], [], {}).A
-    _close(A, A_s)
+    A_s, B_s = lin.linearize(op_point=hp, A_and_B=True, simplify=False)
+    assert list(lin.r) == [ref["T"]]                       # B's column: the motor torque
+    lm = mb.linearize(eom, [q1], [u1], [tau], {})
+    _close(lm.A, np.asarray(A_s.evalf(40), float))
+    _close(lm.B, np.asarray(B_s.evalf(40), float))
