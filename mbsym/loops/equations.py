@@ -34,7 +34,7 @@ __all__ = ["ClosedLoopEquations", "closed_equations"]
 
 
 def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[str, float] | None, *,
-                     name: str = "mbsym", stages: int = 2, newton_steps: int = 3,
+                     name: str = "mbsym", stages: int | None = None, newton_steps: int = 3,
                      references: int = 64) -> "ClosedLoopEquations":
     """Equations of a system with closed loops in its independent coordinates.
 
@@ -54,11 +54,11 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     name : str
     stages : int, optional
         Continuation stages from the assembled configuration (default 2; more for loops whose
-        dependent coordinates swing far over the range of the independent ones).
+        dependent coordinates swing far over the range of the independent ones). Given
+        explicitly, the continuation is used even for a crank (no Fourier series).
     newton_steps : int, optional
         Newton corrections per stage after the tangent predictor (default 3; the last stage takes
         two more).
-
     references : int, optional
         One independent coordinate that turns fully (a crank): the number of configurations per
         turn assembled in advance (default 64, even; 0: none); a Fourier series fitted to them
@@ -74,6 +74,8 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     OptionError
         Non-positive ``stages`` or ``newton_steps``.
     """
+    explicit_stages = stages is not None
+    stages = 2 if stages is None else stages
     for v, what in ((stages, "stages"), (newton_steps, "newton_steps"), (references, "references")):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < (0 if what == "references" else 1) \
                 or (what == "references" and (v % 2 or v == 2)):
@@ -107,7 +109,7 @@ def closed_equations(system, independent: Sequence[str] | None, guess: Mapping[s
     else:
         q_ref = assemble(g_fn, choice, p_ref, coords, row_names)
     periodic = periodic_coordinates(ca.Function("g", [d.q, d.p], [g]), q_ref, p_ref, choice.independent)
-    if references and not missing and len(choice.independent) == 1 and periodic[0]:
+    if references and not explicit_stages and not missing and len(choice.independent) == 1 and periodic[0]:
         refs = turn_series(g_fn, q_ref, choice.independent[0], choice.dependent, p_ref, samples=references)
     red = reduce_equations(d, g, g_dot, choice.independent, choice.dependent, q_ref, periodic, stages, newton_steps,
                            references=refs, assembly_steps=assembly_steps)

@@ -35,7 +35,7 @@ def wrap(a):
     return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
 
 
-def four_bar(lengths, guess):
+def four_bar(lengths, guess, **options):
     a, b, c, d = lengths
     s = mb.System(gravity=[0.0, -9.81, 0.0])
     q1, q2, q3 = s.coordinates("q1 q2 q3")
@@ -45,7 +45,7 @@ def four_bar(lengths, guess):
         s.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
         parent, offset = body, [l, 0.0, 0.0]
     s.add_closure(parent, [c, 0, 0], s.ground, [d, 0, 0], directions="xy")
-    return s.equations(independent=["q1"], guess=guess)
+    return s.equations(independent=["q1"], guess=guess, **options)
 
 
 @pytest.fixture(scope="module")
@@ -70,8 +70,10 @@ def closed_form_crank_rocker(theta, w1, lengths=(A, B, C, D)):
     return np.array([phi2 - theta, phi3 - phi2]), np.array([w2 - w1, w3 - w2])
 
 
-def test_crank_rocker_positions_and_speeds_over_two_turns(crank_rocker):
-    eom = crank_rocker
+@pytest.mark.parametrize("solver", ["series", "continuation"])
+def test_crank_rocker_positions_and_speeds_over_two_turns(crank_rocker, solver):
+    """Default: the crank's Fourier series + Newton; stages given: the path continuation (wrapped angle)."""
+    eom = crank_rocker if solver == "series" else four_bar((A, B, C, D), {"q2": 1.2, "q3": -2.4}, stages=3)
     f = eom.output_function()
     for theta in np.linspace(-4 * np.pi, 4 * np.pi, 41) + 0.1:
         w1 = 1.7
