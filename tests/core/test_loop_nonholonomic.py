@@ -72,5 +72,5 @@ def test_velocity_constraint_errors():
         sleigh().equations(independent_speeds=["x", "y"])           # the edge says nothing about the yaw rate
     with pytest.raises(UnsupportedFeatureError, match="without holonomic closures"):
         sleigh(closure=True).equations(independent_speeds=["x", "th"])
-    with pytest.raises(mb.exceptions.ArgumentTypeError):
+    with pytest.raises(mb.exceptions.ArgumentTypeError, match="velocity constraints"):
         mb.linearize(sleigh().equations(independent_speeds=["x", "th"]))
