@@ -24,6 +24,7 @@ from .exceptions import (
     SolverError,
     SweepError,
     ControlDefinitionError,
+    ConstraintError,
     DataError,
     IdentificationOptionError,
     IdentifiabilityWarning,
@@ -31,6 +32,7 @@ from .exceptions import (
 from .joints import Fixed, Free, Joint, Prismatic, Revolute
 from .kinematics import rotation, rotation_about, rotation_sequence, skew, small_rotation
 from .system import System
+from .loops import ClosedLoopEquations
 from .simulate import SimulationResult, simulate
 from .sweep import sweep
 from .identify import IdentificationResult, identify
@@ -98,6 +100,8 @@ __all__ = [
     "ExportError",
     "SweepError",
     "ControlDefinitionError",
+    "ConstraintError",
+    "ClosedLoopEquations",
     "sweep",
     "DataError",
     "IdentificationOptionError",

@@ -275,6 +275,8 @@ def as_dynamics(model: Any) -> Dynamics:
             raise TypeError(f"{type(model).__name__}.dynamics() must return an mbsym.Dynamics; "
                             f"got {type(dyn).__name__}.")
         return dyn
+    if isinstance(model, EquationsOfMotion) and callable(getattr(model, "output_function", None)):
+        return _from_simulation_model(model)     # a subclass with hooks (a closed loop's equations)
     if isinstance(model, EquationsOfMotion):
         return Dynamics(model.functions.rhs, states=model.states, inputs=model.inputs, parameters=model.parameters,
                         defaults=dict(model.defaults), name=model.name, eom=model)

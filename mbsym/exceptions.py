@@ -34,6 +34,7 @@ __all__ = [
     "IdentificationOptionError",
     "IdentifiabilityWarning",
     "ControlDefinitionError",
+    "ConstraintError",
 ]
 
 
@@ -135,3 +136,7 @@ class IdentifiabilityWarning(UserWarning):
     """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
 class ControlDefinitionError(MbsymError, ValueError):
     """An optimal-control or estimation problem is ill-defined (unknown signal name, bad weight, horizon or bound)."""
+class ConstraintError(ModelDefinitionError):
+    """Loop-closure constraints cannot define the motion as asked: redundant or inconsistent at the
+    assembled configuration (names the offending constraint), or a bad choice of independent
+    coordinates or guess."""

@@ -78,22 +78,24 @@ def read_hooks(model: Any) -> ModelHooks:
                         f"{type(model).__name__}.{hint}")
     zeros = np.zeros(eom.n_x)
     default_x = zeros
-    if eom is not model and callable(getattr(model, "default_state", None)):
+    # a wrapper object, or a subclass of EquationsOfMotion (a closed loop's) may carry the hooks
+    hooked = eom is not model or type(model) is not EquationsOfMotion
+    if hooked and callable(getattr(model, "default_state", None)):
         default_x = initial_state(model.default_state(), eom.states, zeros)
     default_p: Mapping[str, float] = {}
-    if eom is not model and callable(getattr(model, "default_parameters", None)):
+    if hooked and callable(getattr(model, "default_parameters", None)):
         default_p = model.default_parameters()
         if not isinstance(default_p, Mapping):
             raise TypeError(f"{type(model).__name__}.default_parameters() must return a dict by parameter name; "
                             f"got {type(default_p).__name__}.")
     default_u: Mapping[str, Any] = {}
-    if eom is not model and callable(getattr(model, "default_inputs", None)):
+    if hooked and callable(getattr(model, "default_inputs", None)):
         default_u = model.default_inputs()
         if not isinstance(default_u, Mapping):
             raise TypeError(f"{type(model).__name__}.default_inputs() must return a dict by input name; "
                             f"got {type(default_u).__name__}.")
     f_out, names = None, ()
-    if eom is not model and callable(getattr(model, "output_function", None)):
+    if hooked and callable(getattr(model, "output_function", None)):
         f_out = model.output_function()
         names = getattr(model, "output_names", None)
         if not isinstance(f_out, ca.Function) and isinstance(getattr(f_out, "function", None), ca.Function):

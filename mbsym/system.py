@@ -56,6 +56,7 @@ class System:
         self._bodies: dict[str, Body] = {}
         self._loads: list = []
         self._owner: dict[str, str] = {}   # coordinate name -> joint/body name using it
+        self._constraints: list = []        # closures of kinematic loops (mbsym.constraints)
 
     # ------------------------------------------------------------------ symbols
     @property
@@ -344,6 +345,107 @@ class System:
             )
         return self._symbols.names("coordinate").index(entry.name)
 
+    # ------------------------------------------------------------------ loops
+    def add_closure(self, body_a: Body, point_a: Sequence, body_b: Body, point_b: Sequence, *,
+                    directions: str = "xyz", name: str | None = None) -> None:
+        """Close a kinematic loop: a point of ``body_a`` and a point of ``body_b`` coincide.
+
+        Cut one joint of the loop, build the rest as a tree, then declare the cut joint here.
+        The equations then need the independent coordinates (:meth:`equations`).
+
+        Parameters
+        ----------
+        body_a, body_b : Body
+            The bodies on either side of the cut joint (either may be ``sys.ground``).
+        point_a, point_b : sequence of 3
+            The coinciding points, each in its body's frame [m] (numbers or parameters).
+        directions : str, optional
+            Ground axes along which the points coincide: ``"xz"`` for a planar loop moving in
+            the x-z plane (a revolute cut joint about y), ``"xyz"`` (default) for a spherical one.
+        name : str, optional
+            Name of the closure (default ``closure<k>``); its reaction force on ``body_b`` [N,
+            ground axes] is the output channel ``<name>_F<axis>``.
+
+        Raises
+        ------
+        ModelDefinitionError
+            Unknown body, same body twice, bad directions, a point that is not 3 numbers or
+            parameters, a name already taken. The System is unchanged on error.
+        """
+        from .constraints import check_name, point_closure
+
+        nm = check_name(name, [c.name for c in self._constraints], f"closure{len(self._constraints) + 1}")
+        rec = point_closure(nm, body_a, point_a, body_b, point_b, directions)
+        for b in (rec.body_a, rec.body_b):
+            if b is not self._ground:
+                self._check_body(b, "closure")
+        for b, pt in ((rec.body_a, rec.point_a), (rec.body_b, rec.point_b)):
+            self._symbols.check_expression(pt, f"closure point on {b.name!r}", speeds=False, inputs=False,
+                                           coordinates=False)
+            b.attachment(pt)            # flexible bodies: root or end only
+        self._constraints.append(rec)
+
+    def add_constraint(self, expression, *, name: str | None = None) -> None:
+        """Add a general holonomic constraint ``g(q, p) = 0`` (one expression or a list of them).
+
+        Parameters
+        ----------
+        expression : SX or sequence of SX
+            Expressions of coordinates and parameters that the motion keeps at zero.
+        name : str, optional
+            Name (default ``constraint<k>``); its multipliers are the output channels
+            ``<name>_lambda`` (generalized reaction forces).
+
+        Raises
+        ------
+        ModelDefinitionError
+            If the expression has speeds, inputs or undeclared symbols, or no coordinate.
+        """
+        from .constraints import check_name, holonomic_constraint
+
+        nm = check_name(name, [c.name for c in self._constraints], f"constraint{len(self._constraints) + 1}")
+        rec = holonomic_constraint(nm, expression)
+        self._symbols.check_expression(rec.expression, f"constraint {nm!r}", speeds=False, inputs=False)
+        coords = {s.element_hash() for s in self._symbols.symbols("coordinate")}
+        if not any(s.element_hash() in coords for s in ca.symvar(rec.expression)):
+            raise ModelDefinitionError(f"constraint {nm!r} depends on no coordinate; a constraint restricts the "
+                                       "motion, so it must contain coordinates from sys.coordinates(...).")
+        self._constraints.append(rec)
+
+    def add_velocity_constraint(self, expression, *, name: str | None = None) -> None:
+        """Add a non-holonomic constraint ``A(q, p) q̇ + b(q, p) = 0`` (linear in the speeds).
+
+        Write it with the speed symbols of :meth:`speed`, e.g. a knife edge that cannot slide
+        sideways: ``-sin(th) * sys.speed(x) + cos(th) * sys.speed(y)``. The equations are then
+        first-order dynamics in the coordinates and the independent speeds
+        (``sys.equations(independent_speeds=[...])``, :mod:`mbsym.loops.nonholonomic`).
+
+        Raises
+        ------
+        ModelDefinitionError
+            If the expression has inputs or undeclared symbols, no speed, or is not linear in the
+            speeds. The System is unchanged on error.
+        """
+        from .constraints import VelocityConstraint, check_name, holonomic_constraint
+
+        nm = check_name(name, [c.name for c in self._constraints], f"constraint{len(self._constraints) + 1}")
+        g = holonomic_constraint(nm, expression).expression
+        self._symbols.check_expression(g, f"velocity constraint {nm!r}", inputs=False)
+        qd = ca.vertcat(*self._symbols.speeds())
+        A = ca.jacobian(g, qd)
+        if A.nnz() == 0 or all(A[i].is_zero() for i in range(A.numel())):
+            raise ModelDefinitionError(f"velocity constraint {nm!r} has no speed; use sys.speed(q) for the speeds, "
+                                       "or sys.add_constraint for a constraint on the coordinates.")
+        if ca.depends_on(ca.vec(A), qd):
+            raise ModelDefinitionError(f"velocity constraint {nm!r} is not linear in the speeds; write it as "
+                                       "A(q) q̇ + b(q) = 0.")
+        self._constraints.append(VelocityConstraint(nm, g))
+
+    @property
+    def constraints(self) -> tuple:
+        """Loop closures, holonomic and velocity constraints in the order they were added."""
+        return tuple(self._constraints)
+
     # ------------------------------------------------------------------ build
     def problems(self) -> list[str]:
         """Every reason the system cannot be turned into equations (empty if none)."""
@@ -375,18 +477,48 @@ class System:
         if problems:
             raise ModelDefinitionError("the system cannot be built:\n  - " + "\n  - ".join(problems))
 
-    def equations(self, *, name: str = "mbsym"):
+    def equations(self, *, name: str = "mbsym", independent: Sequence[str] | None = None,
+                  guess: Mapping[str, float] | None = None, **options):
         """Derive the equations of motion (Kane's method).
+
+        Parameters
+        ----------
+        name : str, optional
+            Prefix of the CasADi Functions.
+        independent : sequence of str, optional
+            Systems with closed loops (:meth:`add_closure`, :meth:`add_constraint`) only: the
+            names of the independent coordinates, one per degree of freedom.
+        guess : dict, optional
+            Closed loops only: values of coordinates near the assembled configuration, by name
+            (missing ones are 0); the dependent coordinates are found from them, so the guess
+            picks the assembly branch.
+        **options
+            Closed loops only: ``stages``, ``newton_steps`` and ``references`` of the
+            dependent-coordinate solver (see :func:`mbsym.loops.closed_equations`). With velocity
+            constraints: ``independent_speeds``, the coordinates whose speeds are independent
+            (:func:`mbsym.loops.nonholonomic.nonholonomic_dynamics`).
 
         Returns
         -------
         EquationsOfMotion
-            Immutable object holding CasADi Functions and names.
+            Immutable object holding CasADi Functions and names; for a closed loop a
+            :class:`mbsym.loops.ClosedLoopEquations` in the independent coordinates; with velocity
+            constraints a :class:`mbsym.Dynamics` (first-order: coordinates and independent speeds).
         """
         from .equations import EquationsOfMotion
         from .kane import derive
 
         self.validate()
+        from .constraints import VelocityConstraint
+
+        if any(isinstance(c, VelocityConstraint) for c in self._constraints) or "independent_speeds" in options:
+            from .loops.nonholonomic import nonholonomic_dynamics
+
+            return nonholonomic_dynamics(self, name=name, independent=independent, guess=guess, **options)
+        if self._constraints or independent is not None or guess is not None or options:
+            from .loops import closed_equations
+
+            return closed_equations(self, independent, guess, name=name, **options)
         return EquationsOfMotion(derive(self), name=name, units=self.coordinate_units())
 
     def coordinate_units(self) -> dict[str, str]:

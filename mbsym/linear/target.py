@@ -25,8 +25,11 @@ class Target:
         elif isinstance(getattr(model, "eom", None), EquationsOfMotion):
             self.eom, self.owner = model.eom, model
         else:
+            why = (" A Dynamics without equations of motion (e.g. a system with velocity constraints: more "
+                   "coordinates than speeds) has no residual M q̈ = F to linearize; take casadi.jacobian of its "
+                   "rhs instead." if type(model).__name__ == "Dynamics" else "")
             raise ArgumentTypeError(f"model must be an EquationsOfMotion or an object whose attribute 'eom' is "
-                                    f"one; got {type(model).__name__}.")
+                                    f"one; got {type(model).__name__}.{why}")
 
     def _hook(self, name: str):
         f = getattr(self.owner, name, None) if self.owner is not None else None

@@ -77,6 +77,21 @@ def turbine(prescribed: bool = False):
     return TurbineModel(nrel5mw(), dofs=dofs, prescribed_azimuth=prescribed).eom
 
 
+def four_bar():
+    """A closed loop (crank 1, coupler 2, rocker 2, ground 2.5 m): 1 independent coordinate, a torque input."""
+    sys = mb.System(gravity=[0.0, -9.81, 0.0])
+    qs = sys.coordinates("q1 q2 q3")
+    tau = sys.inputs("tau")
+    parent, offset = sys.ground, [0.0, 0.0, 0.0]
+    for i, (q, l) in enumerate(zip(qs, (1.0, 2.0, 2.0))):
+        body = mb.RigidBody(f"link{i}", 1.0, com=[l / 2, 0, 0], inertia=[0.01, 0.1, 0.1])
+        sys.add_joint(mb.Revolute(parent, body, axis=[0, 0, 1], coordinate=q, offset=offset))
+        parent, offset = body, [l, 0.0, 0.0]
+    sys.add_torque(sys.body("link0"), [0, 0, tau])
+    sys.add_closure(parent, [2.0, 0, 0], sys.ground, [2.5, 0, 0], directions="xy")
+    return sys.equations(name="four_bar", independent=["q1"], guess={"q2": 1.2, "q3": -2.4})
+
+
 def random_point(eom, seed: int = 0):
     """Random q, qd, qdd, u and p (parameters: defaults scaled by 0.8..1.2, else 0.5..2)."""
     rng = np.random.default_rng(seed)

@@ -66,6 +66,12 @@ def test_pendulum_with_input_and_defaults(tmp_path):
 
 
 @needs_cc
+def test_closed_loop_four_bar(tmp_path):
+    """A closed loop: the dependent-coordinate Newton steps are plain SX, so every function exports."""
+    check(_models.four_bar(), tmp_path)
+
+
+@needs_cc
 def test_turbine_with_prescribed_azimuth(tmp_path):
     """Mass matrix (q, u, p) of a model with prescribed coordinates; M, F, rhs and the Jacobians."""
     check(_models.turbine(prescribed=True), tmp_path)

@@ -32,7 +32,7 @@ def load(path):
 NO_JACOBIANS = ("chain9",)
 MODELS = {"pendulum": _models.pendulum, "double_pendulum": _models.double_pendulum,
           "beam": _models.flexible_beam, "chain9": _models.chain, "turbine": _models.turbine,
-          "turbine_prescribed": lambda: _models.turbine(prescribed=True)}
+          "turbine_prescribed": lambda: _models.turbine(prescribed=True), "four_bar": _models.four_bar}
 
 
 @pytest.fixture(scope="module", params=list(MODELS))
