@@ -118,11 +118,13 @@ class OperatingPoints:
             lines.append("  ".join(v.rjust(w) for v, w in zip(r, widths)) if len(r) == len(head) else "  ".join(r))
         return "\n".join(lines)
 
-    def linearize(self, *, outputs: Sequence[str] | None = None) -> list:
-        """Linear models about every successful point (:func:`~.trim_linear.linearize_point`)."""
+    def linearize(self, *, outputs: Sequence[str] | None = None, keep_azimuth: bool = False) -> list:
+        """Linear models about every successful point (:func:`~.trim_linear.linearize_point`): SI units,
+        the free azimuth left out unless ``keep_azimuth``."""
         from .trim_linear import linearize_point
 
-        return [linearize_point(self.trimmer, p, outputs=outputs) for p in self.points if p.success]
+        return [linearize_point(self.trimmer, p, outputs=outputs, keep_azimuth=keep_azimuth)
+                for p in self.points if p.success]
 
     def campbell(self):
         """Frequencies and damping of the labelled modes with aerodynamics (:func:`~.trim_linear.aero_campbell`)."""
