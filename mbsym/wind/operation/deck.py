@@ -91,13 +91,24 @@ class OperatingDeck:
             object.__setattr__(self, "rotor_source", RotorAero.from_openfast(self.rotor_source))
         return self.rotor_source
 
-    def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, **options) -> OperatingTurbine:
+    def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, t_end: float | None = None,
+              **options) -> OperatingTurbine:
         """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's; ``aero``: ``"blade"`` or
-        ``"rotor"``, else :meth:`default_aero`)."""
+        ``"rotor"``, else :meth:`default_aero`), with ServoDyn's yaw spring and damper.
+
+        ServoDyn's settings that act on the modelled DOFs before ``t_end`` [s] (default the deck's
+        TMax) are modelled or refused (:func:`~mbsym.wind.deck.servo_audit.servo_audit`).
+
+        Raises
+        ------
+        OpenFASTFormatError
+            A ServoDyn setting that would act and is not modelled (file, line, key).
+        """
         dofs = self.dofs if dofs is None else dofs
         aero = self.default_aero(dofs) if aero is None else aero
         if aero not in AERO_MODELS:
             raise ParameterError(f"aero must be one of {list(AERO_MODELS)}; got {aero!r}.")
+        self._yaw_drive(dofs, t_end, options)
         if aero == "blade":
             return self._blade_model(dofs, **options)
         if self.inflow is not None and self.inflow.wind_type not in (1, 2):
@@ -115,6 +126,20 @@ class OperatingDeck:
         options.setdefault("dynamic_inflow", inflow)
         options.setdefault("actuators", self.actuators)
         return OperatingTurbine(self.turbine, self.rotor, dofs=dofs, **options)
+
+    def _yaw_drive(self, dofs, t_end: float | None, options: dict) -> None:
+        """Audit ServoDyn for these DOFs and put its yaw spring and damper into ``options``."""
+        from ..deck.servo_audit import servo_audit
+
+        flags = dict(self.turbine.dofs)
+        if dofs is not None:
+            flags = {f: f in set(dofs) for f in flags} | {f: True for f in dofs}
+        end = float(self.turbine.simulation.total_time if t_end is None else t_end)
+        drive = servo_audit(self.servodyn, flags, end)
+        if drive is not None:
+            options.setdefault("yaw_spring", drive.spring)
+            options.setdefault("yaw_damping", drive.damping)
+            options.setdefault("yaw_neutral", drive.neutral)
 
     def _blade_model(self, dofs, **options) -> OperatingTurbine:
         from ..aero.blade import BladeElementRotor
