@@ -57,9 +57,41 @@ def test_yaw_spring_and_damper_follow_servodyns_law():
 
 
 def _copy_deck(fst, tmp_path):
+    """A copy of ROSCO's deck with the AeroDyn settings mbsym refuses switched off (tower influence and drag,
+    unsteady airfoil aerodynamics: test_stock_deck_is_refused_with_file_line_key)."""
     target = tmp_path / "deck"
     shutil.copytree(fst.parent, target)
+    aero = target / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat"
+    _edit(aero, r"^\s*1\s+TwrPotent", "0   TwrPotent")
+    _edit(aero, r"^True\s+TwrAero", "False   TwrAero")
+    _edit(aero, r"^3\s+UA_Mod", "0   UA_Mod")
     return target / fst.name, target / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
+
+
+def test_stock_deck_is_refused_with_file_line_key(rosco_deck, rosco_lib):
+    """The issue's command on ROSCO's deck as shipped: a clear error naming every AeroDyn setting not modelled."""
+    from contextlib import redirect_stderr
+
+    from mbsym.cli import main
+
+    err = io.StringIO()
+    with redirect_stderr(err), redirect_stdout(io.StringIO()):
+        status = main(["simulate", str(rosco_deck), "--aero", "rotor", "--discon", str(rosco_lib), "--tmax", "60",
+                       "--wind", "steady:14"])
+    text = err.getvalue()
+    assert status == 2
+    for line, key in ((7, "TwrPotent"), (9, "TwrAero"), (48, "UA_Mod")):
+        assert f"AeroDyn15.dat, line {line}, key '{key}'" in text
+
+
+def test_yaw_friction_is_refused(rosco_deck, tmp_path):
+    from mbsym.exceptions import ModelDefinitionError
+    from mbsym.wind.operation.deck import operating_deck
+
+    fst, _ = _copy_deck(rosco_deck, tmp_path)
+    _edit(fst.parent / "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat", r"^\s*0\s+YawFrctMod", "1   YawFrctMod")
+    with pytest.raises(ModelDefinitionError, match="YawFrctMod = 1"):
+        operating_deck(fst).model(dofs=["YawDOF", "GenDOF"], aero="rotor")
 
 
 def _edit(path, old, new):
@@ -154,12 +186,13 @@ def test_rotor_driven_backwards_stops_the_run(rigid_tower):
 
 @pytest.mark.slow
 def test_stock_rosco_deck_runs_sensibly(rosco_deck, rosco_lib, tmp_path):
-    """The issue's command (rotor-effective aerodynamics: the deck's UA_Mod 3 is refused by the blade-element rotor)."""
+    """The issue's command on the deck without the AeroDyn settings mbsym refuses (rotor-effective aerodynamics)."""
     from mbsym.cli import main
 
+    fst, _ = _copy_deck(rosco_deck, tmp_path)
     out = tmp_path / "run.csv"
     with redirect_stdout(io.StringIO()):
-        status = main(["simulate", str(rosco_deck), "--aero", "rotor", "--discon", str(rosco_lib), "--tmax", "60",
+        status = main(["simulate", str(fst), "--aero", "rotor", "--discon", str(rosco_lib), "--tmax", "60",
                        "--wind", "steady:14", "--out", str(out)])
     assert status == 0
     with open(out) as fh:
