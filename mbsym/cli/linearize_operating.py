@@ -4,8 +4,8 @@ Contract (kept for acceptance checks)::
 
     mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
 
-The turbine the deck describes (ElastoDyn DOFs, AeroDyn 15 rotor, pitch and torque actuators,
-dynamic inflow; no deck: the built-in NREL 5 MW) is trimmed at the hub-height wind U [m/s] under
+The turbine the deck describes (ElastoDyn DOFs, AeroDyn 15 rotor as rotor-effective performance
+surfaces, pitch and torque actuators, dynamic inflow; no deck: the built-in NREL 5 MW) is trimmed at the hub-height wind U [m/s] under
 its controller's steady settings (:mod:`mbsym.wind.operation.trim`, as ``mbsym operating-points``)
 and linearized there (:func:`mbsym.wind.analysis.trim_linear.linearize_point`), open loop: the
 inputs are ``Wind1VelX`` [m/s], ``BlPitchCom`` [rad], ``GenTqCom`` [N m]. Everything is in SI
@@ -63,7 +63,7 @@ def run_operating(args) -> int:
     if clash:
         raise OptionError(f"{', '.join(clash)} apply to the structural linearization without --wind; with --wind "
                           "the rotor speed, pitch and deflections come from the trim and derivatives are exact.")
-    model, control, label = turbine_and_control(args.deck, discon_in=args.discon_input)
+    model, control, label = turbine_and_control(args.deck, discon_in=args.discon_input, aero="rotor")
     ops = operating_points(model, speeds, control, label=label)
     point = ops[0]
     if not point.success:

@@ -180,7 +180,7 @@ class LinearModel:
                         if mat.size and np.any(np.abs(mat[:, [j]]) > tol * scale)]
         if coupled:
             raise ModelDefinitionError(f"cannot remove {coupled}: other states or outputs depend on them (e.g. an "
-                                       "azimuth-dependent rotor); keep them (keep_azimuth=True) or average over "
+                                       "azimuth-dependent rotor); keep them (keep_azimuth=True, mbsym linearize --keep-azimuth) or average over "
                                        "the azimuth (multi-blade coordinates) first.")
         op = dict(self.operating_point)
         x = op.get("x")

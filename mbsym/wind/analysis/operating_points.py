@@ -235,7 +235,8 @@ def parse_wind_speeds(text: str) -> list[float]:
     return _check_speeds(values)
 
 
-def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path | None = None):
+def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path | None = None,
+                        aero: str | None = None):
     """``(model, control, label)`` of a deck, or of the built-in NREL 5 MW without one.
 
     Parameters
@@ -245,6 +246,8 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         (``DLL_InFile``); its DOFs are the deck's.
     discon_in : str or Path, optional, keyword-only
         The controller's input file instead of the deck's (or with the built-in turbine).
+    aero : {"rotor", "blade"}, optional, keyword-only
+        The deck's rotor model (default :meth:`OperatingDeck.default_aero`).
 
     Raises
     ------
@@ -269,4 +272,4 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         raise ControllerError(f"controller input file not found: tried '{source}'"
                               + ("" if discon_in is not None else f" (ServoDyn DLL_InFile of {fst})")
                               + ". Fix the path or pass --discon-input DISCON.IN.")
-    return deck.model(), SteadyControl.from_discon(source), deck.label
+    return deck.model(aero=aero), SteadyControl.from_discon(source), deck.label

@@ -24,7 +24,6 @@ import csv
 import dataclasses
 import io
 import re
-import shutil
 from contextlib import redirect_stdout
 from types import SimpleNamespace
 
@@ -32,6 +31,7 @@ import numpy as np
 import pytest
 
 import mbsym as mb
+from _op_data import edit_deck_file, runnable_rosco_deck
 from mbsym.exceptions import OpenFASTFormatError, UnphysicalRunError
 from mbsym.wind import nrel5mw
 from mbsym.wind.operation.sanity import check_physical
@@ -57,15 +57,12 @@ def test_yaw_spring_and_damper_follow_servodyns_law():
 
 
 def _copy_deck(fst, tmp_path):
-    """A copy of ROSCO's deck with the AeroDyn settings mbsym refuses switched off (tower influence and drag,
-    unsteady airfoil aerodynamics: test_stock_deck_is_refused_with_file_line_key)."""
-    target = tmp_path / "deck"
-    shutil.copytree(fst.parent, target)
-    aero = target / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat"
-    _edit(aero, r"^\s*1\s+TwrPotent", "0   TwrPotent")
-    _edit(aero, r"^True\s+TwrAero", "False   TwrAero")
-    _edit(aero, r"^3\s+UA_Mod", "0   UA_Mod")
-    return target / fst.name, target / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
+    """ROSCO's deck without the AeroDyn settings mbsym refuses (test_stock_deck_is_refused_with_file_line_key)."""
+    copy = runnable_rosco_deck(fst, tmp_path / "deck")
+    return copy, copy.parent / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
+
+
+_edit = edit_deck_file
 
 
 def test_stock_deck_is_refused_with_file_line_key(rosco_deck, rosco_lib):
@@ -138,7 +135,10 @@ def test_servodyn_settings_that_act_are_refused(rosco_deck, tmp_path, old, new, 
     with pytest.raises(OpenFASTFormatError, match=rf"ServoDyn\.dat, line \d+, key '{re.escape(key)}'"):
         deck.model(dofs=["YawDOF", "GenDOF"], aero="rotor", t_end=60.0)
     if key in ("TYawManS", "TimGenOf", "TPitManS(2)"):     # triggered after the end: does not act
-        deck.model(dofs=["YawDOF", "GenDOF"], aero="rotor", t_end=5.0)
+        from mbsym.wind.deck.servo_audit import servo_audit
+
+        drive = servo_audit(deck.servodyn, {"YawDOF": True, "GenDOF": True}, 5.0)
+        assert (drive.spring, drive.damping, drive.neutral) == (YAW_SPRING, YAW_DAMPING, 0.0)
 
 
 def test_all_problems_listed_at_once(rosco_deck, tmp_path):
