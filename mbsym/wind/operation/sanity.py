@@ -3,7 +3,7 @@
 A run that goes unphysical stops with :class:`~mbsym.exceptions.UnphysicalRunError` naming the
 first time and channel, instead of ending with numbers nobody should use:
 
-* a channel that is not finite;
+* a channel of the plant that is not finite;
 * the rotor turning backwards: ``RotSpeed`` below :data:`MIN_ROTOR_SPEED_RPM` (the surfaces and
   blade-element tables describe a rotor turning forwards; a parked rotor shakes by far less);
 * the nacelle yawed more than a full turn from where it started (``NacYaw``): no yaw drive lets
@@ -47,10 +47,12 @@ def check_physical(result, model) -> None:
     t = np.asarray(result.t, dtype=float)
     y = np.asarray(result.y, dtype=float)
     found = []                                    # (index, channel, value, why)
-    bad = ~np.isfinite(y)
+    plant = set(model.dynamics().output_names) if hasattr(model, "dynamics") else set(names)
+    cols = [j for j, n in enumerate(names) if n in plant]        # not the estimators' or controllers' columns
+    bad = ~np.isfinite(y[:, cols])
     if bad.any():
         i, j = np.argwhere(bad)[0]
-        found.append((i, names[j], y[i, j], "is not finite (the integration diverged)"))
+        found.append((i, names[cols[j]], y[i, cols[j]], "is not finite (the integration diverged)"))
     for channel, test, why in _limits(model, y, names):
         hits = np.flatnonzero(test)
         if hits.size:
