@@ -267,15 +267,19 @@ def aero_campbell(points) -> AeroCampbell:
 
 
 def _labelled_modes(lin: LinearModel, coordinates, dof_labels):
-    """(labels, freq_hz, damping) of the oscillatory structural modes of one linear model."""
+    """(labels, freq_hz, damping) of the oscillatory structural modes of one linear model (with or without the
+    free azimuth: the structural block is taken by state name)."""
+    coordinates = [c for c in coordinates if c in lin.states and f"{c}_d" in lin.states]
     n = len(coordinates)
+    block = [lin.states.index(c) for c in coordinates] + [lin.states.index(f"{c}_d") for c in coordinates]
     A = lin.A
-    lam_s, V = np.linalg.eig(A[:2 * n, :2 * n])
+    lam_s, V = np.linalg.eig(A[np.ix_(block, block)])
     wn = np.abs(lam_s)
     keep = np.flatnonzero((lam_s.imag > 1e-6 * wn) & (wn > 2 * math.pi * 1e-5))
     if keep.size == 0:
         return [], [], []
-    M = lin.M
+    rows = [list(lin.coordinates).index(c) for c in coordinates]
+    M = lin.M[np.ix_(rows, rows)]
     vecs = V[:n, keep]
     share = np.abs((vecs.conj() * (M @ vecs)).real)
     candidates = [i for i, c in enumerate(coordinates) if c != "GeAz"]

@@ -54,6 +54,21 @@ def test_azimuth_left_out_and_transfer_functions_unchanged(point, lin):
         assert np.max(np.abs(g_full - g_red)) <= 1e-9 * np.max(np.abs(g_full)), w
 
 
+def test_campbell_labels_with_or_without_the_azimuth(point, lin):
+    """The Campbell labelling (structural block by state name) gives the same modes either way (the eigenvalues
+    of the tower modes do not depend on the integrator state GeAz: 1e-9)."""
+    from mbsym.wind.analysis.campbell_diagram import DOF_LABELS
+    from mbsym.wind.analysis.trim_linear import _labelled_modes
+
+    coords = point.trimmer.model.structure.eom.coordinates
+    kept = _labelled_modes(point.linearize(keep_azimuth=True)[0], coords, DOF_LABELS)
+    reduced = _labelled_modes(lin, coords, DOF_LABELS)
+    assert sorted(kept[0]) == sorted(reduced[0]) and {"1st tower fore-aft", "1st tower side-side"} <= set(kept[0])
+    order_k, order_r = np.argsort(kept[0]), np.argsort(reduced[0])
+    np.testing.assert_allclose(np.asarray(kept[1])[order_k], np.asarray(reduced[1])[order_r], rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(kept[2])[order_k], np.asarray(reduced[2])[order_r], rtol=1e-7)
+
+
 def test_dcgain_matches_the_low_frequency_response(lin):
     ss = lin.to_statespace()
     for out, inp in (("RotSpeed", "BlPitchCom"), ("GenPwr", "GenTqCom"), ("TTDspFA", "Wind1VelX")):
