@@ -180,8 +180,8 @@ class LinearModel:
                         if mat.size and np.any(np.abs(mat[:, [j]]) > tol * scale)]
         if coupled:
             raise ModelDefinitionError(f"cannot remove {coupled}: other states or outputs depend on them (e.g. an "
-                                       "azimuth-dependent rotor); keep them (keep_azimuth=True, mbsym linearize --keep-azimuth) or average over "
-                                       "the azimuth (multi-blade coordinates) first.")
+                                       "azimuth-dependent rotor); keep them (keep_azimuth=True, mbsym linearize "
+                                       "--keep-azimuth) or average over the azimuth (multi-blade coordinates) first.")
         op = dict(self.operating_point)
         x = op.get("x")
         full = x is not None and np.size(x) == len(self.states)

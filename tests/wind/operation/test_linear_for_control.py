@@ -26,7 +26,7 @@ import pytest
 
 from mbsym.exceptions import ModelDefinitionError
 from mbsym.wind.analysis.operating_points import operating_points
-from mbsym.wind.analysis.trim_linear import linearize_point, mode_label
+from mbsym.wind.analysis.trim_linear import mode_label
 from mbsym.wind.operation import SteadyControl
 
 control = pytest.importorskip("control")
