@@ -8,9 +8,11 @@ The turbine the deck describes (ElastoDyn DOFs, AeroDyn 15 rotor as rotor-effect
 surfaces, pitch and torque actuators, dynamic inflow; no deck: the built-in NREL 5 MW) is trimmed at
 the hub-height wind U [m/s] under its controller's steady settings (:mod:`mbsym.wind.operation.trim`,
 as ``mbsym operating-points``) and linearized there
-(:func:`mbsym.wind.analysis.trim_linear.linearize_point`), open loop: the inputs are ``Wind1VelX`` [m/s], ``BlPitchCom`` [rad], ``GenTqCom`` [N m]. Everything is in SI
-units (outputs converted from their channel units: ``RotSpeed`` rad/s, ``BldPitch1`` rad,
-``GenPwr`` W …). The free generator azimuth is left out (``--keep-azimuth`` keeps it).
+(:func:`mbsym.wind.analysis.trim_linear.linearize_point`), open loop: the inputs are ``Wind1VelX``
+[m/s], ``BlPitchCom`` [rad], ``GenTqCom`` [N m]. Everything is in SI units (outputs converted from
+their channel units: ``RotSpeed`` rad/s, ``BldPitch1`` rad, ``GenPwr`` W …). The free generator
+azimuth is left out (``--keep-azimuth`` keeps it); a model that depends on it (flexible blades under
+gravity) is refused without ``--keep-azimuth``.
 
 ``--json`` prints one JSON object on the last line: ``states``, ``inputs``, ``outputs`` (names),
 ``A``, ``B``, ``C``, ``D`` (lists of rows), ``modes`` (per mode ``freq_hz``, ``damping_ratio``,
