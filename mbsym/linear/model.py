@@ -113,20 +113,16 @@ class LinearModel:
         zeta = np.where(wn > 0, -np.real(lam) / np.where(wn > 0, wn, 1.0), 1.0)
         n = len(self.coordinates)
         if not self.mechanical:
-            return Frequencies(wn / (2 * np.pi), zeta, [self._dominant_group(lam_k) for lam_k in lam])
+            from .state_modes import state_modes
+
+            modes = state_modes(self.A, self.states, rigid_tol=0.0)         # one eigen-decomposition for all
+            return Frequencies(wn / (2 * np.pi), zeta, [_nearest_group(modes, lam_k) for lam_k in lam])
         labels = []
         for k in order:
             v = V[:n, k]
             share = np.abs((v.conj() * (self.M @ v)).real) if self.M.shape == (n, n) else np.abs(v)
             labels.append(self.coordinates[int(np.argmax(share))] if n else "")
         return Frequencies(wn / (2 * np.pi), zeta, labels)
-
-    def _dominant_group(self, lam: complex) -> str:
-        """The dominant state group (:func:`~.state_modes.state_modes`) of the mode nearest ``lam``."""
-        from .state_modes import state_modes
-
-        modes = state_modes(self.A, self.states, rigid_tol=0.0)
-        return min(modes, key=lambda m: abs(m.eigenvalue - lam)).dominant_dof if modes else ""
 
     def __repr__(self) -> str:
         def named(names, units):
@@ -240,6 +236,11 @@ class LinearModel:
                         inputs=list(self.inputs), outputs=outs, name=name)
         ss.operating_point = dict(self.operating_point)
         return ss
+
+
+def _nearest_group(modes, lam: complex) -> str:
+    """The dominant state group of the mode (:func:`~.state_modes.state_modes`) whose eigenvalue is nearest ``lam``."""
+    return min(modes, key=lambda m: abs(m.eigenvalue - lam)).dominant_dof if modes else ""
 
 
 def natural_frequencies(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
