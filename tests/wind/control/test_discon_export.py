@@ -180,6 +180,8 @@ def test_bad_input_is_reported_not_crashed(collective, decimated, tmp_path):
     assert fail == -1 and "record 20 (GenSpeed) is not finite" in msg
     assert raw.call(0, 0.0, out["input"])[0] == 0                                        # a good first call
     assert raw.swap[46] > 0 and raw.swap[54] == 0 and raw.swap[64] == 0                  # torque; 55, 65
+    assert raw.swap[41] == raw.swap[42] == raw.swap[43] == raw.swap[44] > 0              # 42-45 collective
+    assert raw.swap[34] == 1 and raw.swap[35] == 0                                       # 35 on, 36 no brake
     fail, msg = raw.call(-8, 0.01, out["input"])
     assert fail == -1 and "checkpoints (-8, -9) are not" in msg
     assert raw.call(0, 0.0, out["input"])[0] == 0 and raw.call(1, 0.01, out["input"], r3=0.005)[0] == -1
