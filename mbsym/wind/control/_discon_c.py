@@ -27,7 +27,11 @@ WRAPPER = r"""/* DISCON entry point of an mbsym-exported controller ({controller
 #include <stdlib.h>
 #include <string.h>
 
+#if defined(_WIN32)
+#define EXPORT __declspec(dllexport)
+#else
 #define EXPORT __attribute__((visibility("default")))
+#endif
 #define N_X {n_x}
 #define N_Y {n_y}
 #define N_U {n_u}
