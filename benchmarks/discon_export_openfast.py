@@ -16,7 +16,9 @@ Our baseline is ROSCO's scheme computed in double with the double sample time (R
 with the documented estimator-range difference of :mod:`mbsym.wind.control.baseline`, so close agreement,
 not equality, is expected.
 
-Run: ``python benchmarks/discon_export_openfast.py [--case step_10_14] [--keep DIR]``; needs ../shared
+``--case ff14_flex``: the 660 s full-field turbulence case (14 m/s, flexible blades) of the same data set.
+
+Run: ``python benchmarks/discon_export_openfast.py [--case step_10_14|ff14_flex] [--keep DIR]``; needs ../shared
 (decks and the reference CSV), the OpenFAST binary ``../shared/tools/openfast/openfast`` and a C compiler;
 exits with a message otherwise. Wall time ≈ 30 s for the 90 s case (OpenFAST ~3.5x real time).
 """
@@ -92,10 +94,12 @@ def main() -> None:
     work = Path(args.keep) if args.keep else Path(tempfile.mkdtemp(prefix="mbsym_discon_of_"))
     work.mkdir(parents=True, exist_ok=True)
     inputs = aero / "openfast_inputs"
-    for name in ("deck", args.case):
-        if not (work / name).exists():
-            shutil.copytree(inputs / name, work / name)
-    fst = work / args.case / f"{args.case}.fst"
+    for name in ("deck", args.case):                    # the shared layout, so relative paths hold
+        if not (work / "openfast_inputs" / name).exists():
+            shutil.copytree(inputs / name, work / "openfast_inputs" / name)
+    if not (work / "wind").exists():
+        (work / "wind").symlink_to(aero / "wind")       # full-field cases read ../../wind/*.bts
+    fst = work / "openfast_inputs" / args.case / f"{args.case}.fst"
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "mbsym", "export-discon", str(fst), "--controller", "baseline",
                            "--out", str(work / "lib")], capture_output=True, text=True, cwd=HERE.parent)
@@ -103,7 +107,7 @@ def main() -> None:
         sys.exit(f"mbsym export-discon failed: {proc.stderr.strip()}")
     exported = json.loads(proc.stdout.strip().splitlines()[-1])
     export_s = time.perf_counter() - t0
-    servodyn = work / "deck" / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
+    servodyn = work / "openfast_inputs" / "deck" / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
     _set_value(servodyn, "DLL_FileName", f'"{exported["library"]}"')
     _set_value(servodyn, "DLL_InFile", f'"{exported["input"]}"')
     _set_value(fst, "OutFileFmt", "1")
