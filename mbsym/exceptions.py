@@ -16,6 +16,7 @@ __all__ = [
     "BeamDataError",
     "OpenFASTFormatError",
     "IntegrationError",
+    "UnphysicalRunError",
     "SolverError",
     "SimulationOptionError",
     "WindInputError",
@@ -68,6 +69,14 @@ class OpenFASTFormatError(MbsymError, ValueError):
 
 class IntegrationError(MbsymError, RuntimeError):
     """A time integration diverged or produced non-finite values."""
+
+
+class UnphysicalRunError(IntegrationError):
+    """A simulation left the physics its models hold for (names the time and the channel).
+
+    Attributes ``time`` [s], ``channel``, ``value`` and ``result`` (the run up to the end, for
+    inspection) are set when raised by :func:`mbsym.wind.operation.sanity.check_physical`.
+    """
 
 
 class SolverError(MbsymError, RuntimeError):

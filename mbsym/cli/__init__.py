@@ -1,5 +1,5 @@
 """Command-line interface: ``mbsym --version``, ``mbsym demo``, ``mbsym simulate``, ``mbsym linearize``, ``mbsym campbell``,
-``mbsym identify``, ``mbsym operating-points``, ``mbsym sweep``.
+``mbsym identify``, ``mbsym operating-points``, ``mbsym sweep``, ``mbsym export-discon``.
 
 Every sub-command exits with status 0 on success, and with status 2 and a
 one-line message on bad input (any :class:`~mbsym.exceptions.MbsymError`).
@@ -68,6 +68,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_operating_points(sub)
     add_sweep(sub)
+    from .export_discon import add_parser as add_export_discon
+
+    add_export_discon(sub)
     return parser
 
 
@@ -122,6 +125,8 @@ def _dispatch(args) -> int:
         from .operating_points import run
     elif args.command == "sweep":
         from .sweep import run
+    elif args.command == "export-discon":
+        from .export_discon import run
     else:
         from .campbell import run
     return run(args)

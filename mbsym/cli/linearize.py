@@ -4,6 +4,11 @@ Contract (kept for acceptance checks)::
 
     mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
                     [--structure-only]
+    mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
+
+With ``--wind`` the operating turbine (aerodynamics, actuators, inflow) is linearized about its
+trim at U m/s: see :mod:`mbsym.cli.linearize_operating` for that output. Without it, the
+structure as below.
 
 The operating point is the deck's RotSpeed (``--rpm`` replaces it), Azimuth, NacYaw and BlPitch
 with every tower, platform and blade displacement zero, as OpenFAST's linearization of its
@@ -53,12 +58,19 @@ def add_parser(sub) -> None:
                         "as OpenFAST's _lin0 decks)")
     p.add_argument("--json", action="store_true",
                    help="print states, A, modes, M, C, K, rpm, operating point and units as one JSON object")
-    p.add_argument("--method", choices=("exact", "elastodyn-fd"), default="elastodyn-fd",
+    p.add_argument("--method", choices=("exact", "elastodyn-fd"), default=None,
                    help="ElastoDyn's central differences (default, as mbsym.linearize of a turbine: reproduces "
                         "OpenFAST, including its finite-step error) or exact derivatives")
     from .simulate import add_structure_only
 
     add_structure_only(p)
+    p.add_argument("--wind", metavar="U", help="hub-height wind speed [m/s]: linearize the operating turbine "
+                                              "(aerodynamics, actuators, inflow) about its trim there, in SI units")
+    p.add_argument("--keep-azimuth", action="store_true",
+                   help="with --wind: keep the free generator azimuth GeAz as a state (default: left out, so "
+                        "dcgain works)")
+    p.add_argument("--discon-input", metavar="DISCON.IN",
+                   help="with --wind: ROSCO controller input file instead of the deck's (ServoDyn DLL_InFile)")
 
 
 def undeflected(turbine, rpm: float | None = None, *, zero_displacements: bool = True):
@@ -171,6 +183,15 @@ def state_units(model) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if getattr(args, "wind", None) is not None:
+        from .linearize_operating import run_operating
+
+        return run_operating(args)
+    if getattr(args, "keep_azimuth", False) or getattr(args, "discon_input", None) is not None:
+        from ..exceptions import OptionError
+
+        raise OptionError("--keep-azimuth and --discon-input need --wind U (the operating turbine's linear model).")
+    args.method = getattr(args, "method", None) or "elastodyn-fd"
     model, label = _model(args.deck, args.rpm, zero_displacements=not args.deflected,
                           structure_only=args.structure_only)
     report = linear_report(model, args.method, deflected=args.deflected)

@@ -118,7 +118,7 @@ def run_operation(args: argparse.Namespace) -> int:
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
-        model = _model(deck, aero)
+        model = _model(deck, aero, tmax)
         dyn = model.dynamics()
         controller = _for_plant(controller, handle, model, kind, args, deck)
         x0 = _initial_state(model, deck, wind)
@@ -220,10 +220,10 @@ def _deck(args):
     return _BUILTIN["deck"]
 
 
-def _model(deck, aero: str):
+def _model(deck, aero: str, tmax: float | None = None):
     if deck.path is None and _BUILTIN.get("deck") is deck:
         return _BUILTIN["model"]
-    return deck.model(aero=aero)
+    return deck.model(aero=aero, t_end=tmax)
 
 
 def _aero(args, deck, mpc) -> str:

@@ -326,6 +326,14 @@ class NMPC:
         return {"steps": len(self.stats), "failures": self.failures, "step_median_s": float(np.median(walls)),
                 "step_max_s": float(np.max(walls)), "solver": self.solver}
 
+    def as_controller(self, *, estimator=None, name: str = "nmpc"):
+        """This NMPC (with ``estimator``) as a :class:`mbsym.simulate.DiscreteController`
+        (:func:`~mbsym.control.in_loop.nmpc_controller`); ``mb.simulate(..., controller=mpc)`` and
+        ``controller=(estimator, mpc)`` call it."""
+        from .in_loop import nmpc_controller
+
+        return nmpc_controller(self, estimator=estimator, name=name)
+
     def reset(self, *, u_prev=None) -> None:
         """Forget the warm start, the plan and the statistics (next step initializes again)."""
         if u_prev is not None:

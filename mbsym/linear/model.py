@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -62,6 +62,8 @@ class LinearModel:
         ``"exact"``, ``"fd"`` or ``"elastodyn-fd"`` (how A and Cy were obtained).
     units : dict of str to str
         Unit of each state by name (``"m"``, ``"rad/s"`` …; empty if unknown).
+    input_units : tuple of str
+        Unit of each input (empty if unknown).
     """
 
     M: np.ndarray
@@ -80,6 +82,12 @@ class LinearModel:
     output_units: tuple[str, ...] = ()
     method: str = "exact"
     units: dict = field(default_factory=dict)
+    input_units: tuple[str, ...] = ()
+
+    @property
+    def mechanical(self) -> bool:
+        """Whether the states are exactly ``[q; q̇]`` (coordinates, then their speeds)."""
+        return tuple(self.states) == tuple(self.coordinates) + tuple(f"{c}_d" for c in self.coordinates)
 
     def __post_init__(self) -> None:
         if self.Cy is None:
@@ -104,6 +112,11 @@ class LinearModel:
         wn = np.abs(lam)
         zeta = np.where(wn > 0, -np.real(lam) / np.where(wn > 0, wn, 1.0), 1.0)
         n = len(self.coordinates)
+        if not self.mechanical:
+            from .state_modes import state_modes
+
+            modes = state_modes(self.A, self.states, rigid_tol=0.0)         # one eigen-decomposition for all
+            return Frequencies(wn / (2 * np.pi), zeta, [_nearest_group(modes, lam_k) for lam_k in lam])
         labels = []
         for k in order:
             v = V[:n, k]
@@ -112,19 +125,82 @@ class LinearModel:
         return Frequencies(wn / (2 * np.pi), zeta, labels)
 
     def __repr__(self) -> str:
-        def named(names, limit=6):
-            shown = [f"{s} [{self.units.get(s, '-')}]" for s in names[:limit]]
-            return ", ".join(shown) + (f", … ({len(names)} in all)" if len(names) > limit else "") or "none"
+        def named(names, units):
+            return ", ".join(f"{s} [{u or '-'}]" for s, u in zip(names, units)) or "none"
 
         f = self.frequencies()
-        modes = ", ".join(f"{fr:.4g} Hz ({lab})" for fr, lab in list(zip(f[0], f.labels))[:6])
-        outs = ", ".join(f"{o} [{u}]" for o, u in zip(self.outputs, self.output_units)) or "none"
-        return (f"LinearModel(method={self.method!r}; states: {named(self.coordinates)} and their speeds; "
-                f"inputs: {', '.join(self.inputs[:4]) or 'none'}{' …' if len(self.inputs) > 4 else ''}; "
-                f"outputs: {outs}; frequencies: {modes}{' …' if len(f[0]) > 6 else ''})")
+        modes = ", ".join(f"{fr:.4g} Hz ({lab})" for fr, lab in list(zip(f[0], f.labels))[:12])
+        inputs = named(self.inputs, self.input_units or [""] * len(self.inputs))
+        if self.mechanical:
+            states = named(self.coordinates, [self.units.get(s, "") for s in self.coordinates]) + " and their speeds"
+        else:
+            states = named(self.states, [self.units.get(s, "") for s in self.states])
+        return (f"LinearModel(method={self.method!r}; {len(self.states)} states: {states}; inputs: {inputs}; "
+                f"outputs: {named(self.outputs, self.output_units)}; "
+                f"frequencies: {modes}{' …' if len(f[0]) > 12 else ''})")
+
+    def without_states(self, names, *, tol: float = 1e-9) -> "LinearModel":
+        """The model without the states ``names``, on which no other state and no output depends.
+
+        Removing a state is exact for every other state and output when its columns of ``A``
+        and ``Cy`` vanish: the free rotor azimuth (``GeAz``) of an azimuth-independent model only
+        integrates the rotor speed. ``M`` and ``coordinates`` are kept (the structure's); the
+        operating point records the removed states' values under ``removed_states``.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+        tol : float, keyword-only
+            Largest allowed ``|A[i, j]|`` (other states i) and ``|Cy[i, j]|``, relative to the
+            largest entry of row i.
+
+        Raises
+        ------
+        DimensionError
+            Unknown state names.
+        ModelDefinitionError
+            Another state or an output depends on a removed state.
+        """
+        from ..exceptions import DimensionError, ModelDefinitionError
+
+        names = [names] if isinstance(names, str) else list(names)
+        unknown = [n for n in names if n not in self.states]
+        if unknown:
+            raise DimensionError(f"no states {unknown}; the states are {list(self.states)}.")
+        drop = [self.states.index(n) for n in names]
+        keep = [i for i in range(len(self.states)) if i not in drop]
+        coupled = []
+        for label, mat in (("A", self.A[keep]), ("Cy", self.Cy)):
+            scale = np.maximum(np.max(np.abs(mat), axis=1, initial=0.0), 1e-300)[:, None]
+            coupled += [f"{n} (column of {label})" for j, n in zip(drop, names)
+                        if mat.size and np.any(np.abs(mat[:, [j]]) > tol * scale)]
+        if coupled:
+            raise ModelDefinitionError(f"cannot remove {coupled}: other states or outputs depend on them (e.g. an "
+                                       "azimuth-dependent rotor); keep them (keep_azimuth=True, mbsym linearize "
+                                       "--keep-azimuth) or average over the azimuth (multi-blade coordinates) first.")
+        op = dict(self.operating_point)
+        x = op.get("x")
+        full = x is not None and np.size(x) == len(self.states)
+        op["removed_states"] = {n: float(np.asarray(x)[j]) if full else float("nan") for j, n in zip(drop, names)}
+        for key in ("x", "xd"):
+            if op.get(key) is not None and np.size(op[key]) == len(self.states):
+                op[key] = np.asarray(op[key])[keep]
+        return replace(self, A=self.A[np.ix_(keep, keep)], B=self.B.reshape(len(self.states), -1)[keep],
+                       Cy=self.Cy[:, keep], states=tuple(self.states[i] for i in keep), operating_point=op,
+                       units={s: u for s, u in self.units.items() if s not in names})
 
     def modes(self, *, rigid_tol: float = 1e-4) -> list:
-        """Modes of A (:func:`mbsym.modal.modal_analysis`): frequency, damping, shape, dominant DOF."""
+        """Modes of A, sorted by frequency.
+
+        A mechanical model (states ``[q; q̇]``): :func:`mbsym.modal.modal_analysis` (frequency,
+        damping, shape, dominant DOF). Any other (actuator, inflow or controller states, a
+        removed azimuth): :func:`mbsym.linear.state_modes.state_modes`, each mode named by the
+        state group with the largest participation factor.
+        """
+        if not self.mechanical:
+            from .state_modes import state_modes
+
+            return state_modes(self.A, self.states, rigid_tol=rigid_tol)
         from ..modal import modal_analysis
 
         return modal_analysis(self.A, self.coordinates, rigid_tol=rigid_tol)
@@ -160,6 +236,11 @@ class LinearModel:
                         inputs=list(self.inputs), outputs=outs, name=name)
         ss.operating_point = dict(self.operating_point)
         return ss
+
+
+def _nearest_group(modes, lam: complex) -> str:
+    """The dominant state group of the mode (:func:`~.state_modes.state_modes`) whose eigenvalue is nearest ``lam``."""
+    return min(modes, key=lambda m: abs(m.eigenvalue - lam)).dominant_dof if modes else ""
 
 
 def natural_frequencies(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -183,7 +183,15 @@ class BoundController:
 
 
 def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float) -> BoundController:
-    """Check ``controller`` against ``plant`` and the options; build the measurement Function."""
+    """Check ``controller`` against ``plant`` and the options; build the measurement Function.
+
+    An object with ``as_controller()`` (an :class:`mbsym.control.NMPC`), or a pair ``(estimator, nmpc)``,
+    is first turned into a DiscreteController by it.
+    """
+    if isinstance(controller, tuple) and len(controller) == 2 and hasattr(controller[1], "as_controller"):
+        controller = controller[1].as_controller(estimator=controller[0])
+    elif not isinstance(controller, DiscreteController) and hasattr(controller, "as_controller"):
+        controller = controller.as_controller()
     if not isinstance(controller, DiscreteController):
         raise TypeError(f"controller must be an mbsym.simulate.DiscreteController; got {type(controller).__name__}.")
     if method not in (None, "rk4", "rk4-held"):

@@ -78,7 +78,7 @@ class PreparedLoop:
         views = tuple(o.reshape(self.n, -1).T for o in outs)
         n_u = self.step.size1_in(1)
 
-        def run(z0: np.ndarray, Uc: np.ndarray, h: float, _keep=(buf, outs)):      # the buffer must stay alive
+        def run(z0: np.ndarray, Uc: np.ndarray, h: float, _keep=(buf, outs, P)):   # buffer and p must stay alive
             z[:] = z0
             U.reshape(-1, n_u).T[:] = Uc                       # (n_u, n_c n) column-major into the buffer
             H[0] = h

@@ -118,11 +118,13 @@ class OperatingPoints:
             lines.append("  ".join(v.rjust(w) for v, w in zip(r, widths)) if len(r) == len(head) else "  ".join(r))
         return "\n".join(lines)
 
-    def linearize(self, *, outputs: Sequence[str] | None = None) -> list:
-        """Linear models about every successful point (:func:`~.trim_linear.linearize_point`)."""
+    def linearize(self, *, outputs: Sequence[str] | None = None, keep_azimuth: bool = False) -> list:
+        """Linear models about every successful point (:func:`~.trim_linear.linearize_point`): SI units,
+        the free azimuth left out unless ``keep_azimuth``."""
         from .trim_linear import linearize_point
 
-        return [linearize_point(self.trimmer, p, outputs=outputs) for p in self.points if p.success]
+        return [linearize_point(self.trimmer, p, outputs=outputs, keep_azimuth=keep_azimuth)
+                for p in self.points if p.success]
 
     def campbell(self):
         """Frequencies and damping of the labelled modes with aerodynamics (:func:`~.trim_linear.aero_campbell`)."""
@@ -233,7 +235,8 @@ def parse_wind_speeds(text: str) -> list[float]:
     return _check_speeds(values)
 
 
-def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path | None = None):
+def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path | None = None,
+                        aero: str | None = None):
     """``(model, control, label)`` of a deck, or of the built-in NREL 5 MW without one.
 
     Parameters
@@ -243,6 +246,8 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         (``DLL_InFile``); its DOFs are the deck's.
     discon_in : str or Path, optional, keyword-only
         The controller's input file instead of the deck's (or with the built-in turbine).
+    aero : {"rotor", "blade"}, optional, keyword-only
+        The deck's rotor model (default :meth:`OperatingDeck.default_aero`).
 
     Raises
     ------
@@ -267,4 +272,4 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         raise ControllerError(f"controller input file not found: tried '{source}'"
                               + ("" if discon_in is not None else f" (ServoDyn DLL_InFile of {fst})")
                               + ". Fix the path or pass --discon-input DISCON.IN.")
-    return deck.model(), SteadyControl.from_discon(source), deck.label
+    return deck.model(aero=aero), SteadyControl.from_discon(source), deck.label

@@ -22,7 +22,6 @@ aerodynamics is :func:`mbsym.wind.analysis.campbell`).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Sequence
@@ -34,7 +33,8 @@ from scipy.optimize import linear_sum_assignment
 from ...exceptions import DimensionError, ModelDefinitionError
 from ...linear import LinearModel
 
-__all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell"]
+__all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell", "SI_UNITS", "to_si",
+           "INPUT_UNITS", "STATE_LABELS", "mode_label"]
 
 
 def linearize_dynamics(dyn, x, u, p=None, *, outputs: Sequence[str] | None = None) -> dict:
@@ -88,8 +88,14 @@ def _jacobian_function(dyn, names: tuple[str, ...]) -> ca.Function:
     return cache[names]
 
 
-def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> LinearModel:
-    """The linear model about a trimmed point (module docstring).
+def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
+                    keep_azimuth: bool = False) -> LinearModel:
+    """The linear model about a trimmed point (module docstring), in SI units.
+
+    Outputs are converted from their channel units to SI (:data:`SI_UNITS`: rpm → rad/s,
+    deg → rad, kW → W, kN-m → N m …), so a quantity has one unit on inputs, states and outputs
+    (``BlPitchCom``, ``BlPitch`` and ``BldPitch1`` in rad); ``output_units`` and
+    ``input_units`` say which, and the repr shows them.
 
     Parameters
     ----------
@@ -99,6 +105,11 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> 
     outputs : sequence of str, optional, keyword-only
         Output channels; default ``RotSpeed``, ``GenSpeed``, ``BldPitch1``, ``GenPwr``,
         ``RtAeroFxh``, ``TTDspFA``, ``TwrBsMyt``, ``YawBrTAxp`` (those the model has).
+    keep_azimuth : bool, optional, keyword-only
+        Keep the free generator azimuth ``GeAz`` as a state. By default it is left out (as
+        OpenFAST users do after MBC): it only integrates the rotor speed, and its zero
+        eigenvalue with a zero at the origin makes ``dcgain`` 0 in python-control.
+        Refused (:meth:`LinearModel.without_states`) if anything depends on it.
 
     Returns
     -------
@@ -119,10 +130,37 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None) -> 
           "y": lin["y"], "wind_speed": point.wind_speed, "regime": point.regime,
           "q": point.state[:eom.n_q].copy(), "qd": point.state[eom.n_q:2 * eom.n_q].copy()}
     empty = np.zeros((0, 0))
-    extra = {"units": units} if "units" in {f.name for f in dataclasses.fields(LinearModel)} else {}
-    return LinearModel(M, empty, empty, np.zeros((0, dyn.n_u)), lin["A"], lin["B"], eom.coordinates, dyn.states,
-                       dyn.inputs, op, outputs=names, Cy=lin["C"], Dy=lin["D"], output_units=lin["units"],
-                       method="exact", **extra)
+    factors, si_units = zip(*(to_si(u) for u in lin["units"])) if names else ((), ())
+    scale = np.asarray(factors, dtype=float).reshape(-1, 1)
+    op["y"] = op["y"] * scale.reshape(-1)
+    result = LinearModel(M, empty, empty, np.zeros((0, dyn.n_u)), lin["A"], lin["B"], eom.coordinates, dyn.states,
+                         dyn.inputs, op, outputs=names, Cy=lin["C"] * scale, Dy=lin["D"] * scale,
+                         output_units=tuple(si_units), method="exact", units=units,
+                         input_units=tuple(INPUT_UNITS.get(n, "") for n in dyn.inputs))
+    if not keep_azimuth and "GeAz" in result.states:
+        result = result.without_states(["GeAz"])
+    return result
+
+
+#: Units of the operating turbine's inputs.
+INPUT_UNITS = {"Wind1VelX": "m/s", "Wind1VelY": "m/s", "Wind1VelZ": "m/s", "BlPitchCom": "rad",
+               "BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m",
+               "YawCom": "rad"}
+#: Channel unit -> (factor to SI, SI unit) for the outputs of linear models.
+SI_UNITS = {"rpm": (math.pi / 30.0, "rad/s"), "deg": (math.pi / 180.0, "rad"), "deg/s": (math.pi / 180.0, "rad/s"),
+            "deg/s^2": (math.pi / 180.0, "rad/s^2"), "kW": (1e3, "W"), "kN": (1e3, "N"), "kN-m": (1e3, "N m"),
+            "kN m": (1e3, "N m"), "N-m": (1.0, "N m"), "%": (0.01, "-")}
+
+
+def to_si(unit: str) -> tuple[float, str]:
+    """(factor, SI unit) of a channel unit (:data:`SI_UNITS`; others are SI already: factor 1).
+
+    Examples
+    --------
+    >>> to_si("rpm")[1], to_si("m/s")
+    ('rad/s', (1.0, 'm/s'))
+    """
+    return SI_UNITS.get(unit, (1.0, unit))
 
 
 def structural_mass_matrix(trimmer, point) -> np.ndarray:
@@ -221,7 +259,7 @@ def aero_campbell(points) -> AeroCampbell:
     freq = np.full((len(labels), len(ok)), np.nan)
     zeta = np.full_like(freq, np.nan)
     for k, point in enumerate(ok):
-        lin = linearize_point(trimmer, point, outputs=())
+        lin = linearize_point(trimmer, point, outputs=(), keep_azimuth=True)
         for lab, f, z in zip(*_labelled_modes(lin, eom.coordinates, DOF_LABELS)):
             freq[labels.index(lab), k], zeta[labels.index(lab), k] = f, z
     modes = tuple(CampbellMode(lab, freq[i], zeta[i]) for i, lab in enumerate(labels))
@@ -229,15 +267,19 @@ def aero_campbell(points) -> AeroCampbell:
 
 
 def _labelled_modes(lin: LinearModel, coordinates, dof_labels):
-    """(labels, freq_hz, damping) of the oscillatory structural modes of one linear model."""
+    """(labels, freq_hz, damping) of the oscillatory structural modes of one linear model (with or without the
+    free azimuth: the structural block is taken by state name)."""
+    coordinates = [c for c in coordinates if c in lin.states and f"{c}_d" in lin.states]
     n = len(coordinates)
+    block = [lin.states.index(c) for c in coordinates] + [lin.states.index(f"{c}_d") for c in coordinates]
     A = lin.A
-    lam_s, V = np.linalg.eig(A[:2 * n, :2 * n])
+    lam_s, V = np.linalg.eig(A[np.ix_(block, block)])
     wn = np.abs(lam_s)
     keep = np.flatnonzero((lam_s.imag > 1e-6 * wn) & (wn > 2 * math.pi * 1e-5))
     if keep.size == 0:
         return [], [], []
-    M = lin.M
+    rows = [list(lin.coordinates).index(c) for c in coordinates]
+    M = lin.M[np.ix_(rows, rows)]
     vecs = V[:n, keep]
     share = np.abs((vecs.conj() * (M @ vecs)).real)
     candidates = [i for i, c in enumerate(coordinates) if c != "GeAz"]
@@ -256,3 +298,40 @@ def _labelled_modes(lin: LinearModel, coordinates, dof_labels):
         matched = targets
     names = [dof_labels.get(coordinates[candidates[c]], coordinates[candidates[c]]) for c in cols]
     return names, np.abs(matched) / (2 * math.pi), -matched.real / np.abs(matched)
+
+
+#: Words for the non-structural states of the operating turbine (state group -> mode label).
+STATE_LABELS = {"GeAz": "rotor speed", "GeAz_d": "rotor speed", "BlPitch": "pitch actuator",
+                "GenTq": "generator-torque actuator", "DBEMT_w": "dynamic inflow (DBEMT_w)",
+                "DBEMT_v": "dynamic inflow (DBEMT_v)", "RotThrustLag": "inflow lag (thrust)",
+                "RotTorqLag": "inflow lag (torque)"}
+
+
+def mode_label(mode) -> str:
+    """Words for a mode of an operating turbine's linear model (a :class:`mbsym.linear.state_modes.StateMode`).
+
+    Structural state groups by :data:`~.campbell_diagram.DOF_LABELS` ("1st tower fore-aft"),
+    blade DOFs as "blade 1 1st flap", actuators, inflow and rotor speed by :data:`STATE_LABELS`,
+    any other state (a controller's) as "controller state <name>" when its name is qualified
+    (``baseline.first``), else by its name; a rigid-body mode as "rigid body (<group>)".
+
+    Examples
+    --------
+    >>> from mbsym.linear.state_modes import StateMode
+    >>> mode_label(StateMode(7.96, 0.7, 5.7, -35 + 35.7j, "BlPitch"))
+    'pitch actuator'
+    """
+    from ..structure.dofs import blade_dof
+    from .campbell_diagram import DOF_LABELS
+
+    name = mode.dominant_dof
+    if getattr(mode, "rigid_body", False):
+        return f"rigid body ({name})"
+    blade = blade_dof(name)
+    if blade:
+        return f"blade {blade[0]} " + {"F1": "1st flap", "E1": "1st edge", "F2": "2nd flap"}.get(blade[1], blade[1])
+    if name in STATE_LABELS:
+        return STATE_LABELS[name]
+    if name in DOF_LABELS:
+        return DOF_LABELS[name]
+    return f"controller state {name}" if "." in name else name

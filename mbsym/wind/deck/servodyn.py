@@ -72,6 +72,24 @@ _KEYS = (
     _k("GenPwr_Dem", "demanded_power"),
     _k("DLL_NumTrq", "n_torque_table", "int", check=(lambda v: v >= 0, "must not be negative")),
     _k("EXavrSWAP", "extended_swap", "bool", default=False),
+    # settings that act on DOFs mbsym models (mbsym.wind.deck.servo_audit: modelled or refused);
+    # optional here so that older or trimmed files still read: the defaults are "off"/"never"
+    _k("TPitManS(*)", "pitch_maneuver_start_time", default=math.inf),
+    _k("THSSBrDp", "hss_brake_start_time", default=math.inf),
+    _k("HSSBrDT", "hss_brake_deploy_time", default=0.0, check=(lambda v: v >= 0, "must not be negative")),
+    _k("HSSBrTqF", "hss_brake_torque", default=0.0, check=(lambda v: v >= 0, "must not be negative")),
+    _k("TYCOn", "yaw_control_start_time", default=math.inf),
+    _k("YawNeut", "yaw_neutral", scale=_DEG, default=0.0,
+       check=(lambda v: -180 < v <= 180, "must be in (-180, 180] deg (ServoDyn's range)")),
+    _k("YawSpr", "yaw_spring", default=0.0, check=(lambda v: v >= 0, "must not be negative [N m/rad]")),
+    _k("YawDamp", "yaw_damping", default=0.0, check=(lambda v: v >= 0, "must not be negative [N m s/rad]")),
+    _k("TYawManS", "yaw_maneuver_start_time", default=math.inf),
+    _k("AfCmode", "airfoil_control_mode", "int", default=0),
+    _k("NumBStC", "n_blade_structural_controllers", "int", default=0),
+    _k("NumNStC", "n_nacelle_structural_controllers", "int", default=0),
+    _k("NumTStC", "n_tower_structural_controllers", "int", default=0),
+    _k("NumSStC", "n_substructure_structural_controllers", "int", default=0),
+    _k("CCmode", "cable_control_mode", "int", default=0),
 )
 _TABLE = _TableSpec("torque-speed look-up table", "DLL_NumTrq", ("genspd_tlu",), (
     ("GenSpd_TLU", "torque_table_speed", _RPM, True), ("GenTrq_TLU", "torque_table_torque", None, True)))
@@ -132,6 +150,21 @@ class ServoDynSettings:
     library: Path
     library_input: Path
     path: str
+    pitch_maneuver_start_time: list = field(default_factory=lambda: [math.inf] * 3)
+    hss_brake_start_time: float = math.inf
+    hss_brake_deploy_time: float = 0.0
+    hss_brake_torque: float = 0.0
+    yaw_control_start_time: float = math.inf
+    yaw_neutral: float = 0.0
+    yaw_spring: float = 0.0
+    yaw_damping: float = 0.0
+    yaw_maneuver_start_time: float = math.inf
+    airfoil_control_mode: int = 0
+    n_blade_structural_controllers: int = 0
+    n_nacelle_structural_controllers: int = 0
+    n_tower_structural_controllers: int = 0
+    n_substructure_structural_controllers: int = 0
+    cable_control_mode: int = 0
     extra: dict = field(default_factory=dict, compare=False)
     lines: dict = field(default_factory=dict, compare=False)
 
@@ -188,7 +221,8 @@ def read_servodyn(path) -> ServoDynSettings:
     deck.raise_problems()
     speeds = np.asarray(table.get("torque_table_speed", np.zeros(0)), dtype=float)
     torques = np.asarray(table.get("torque_table_torque", np.zeros(0)), dtype=float)
-    lines = {k.key: deck.line_of(k.key) for k in _KEYS if k.key.lower() in deck.entries}
+    names = [k.key.replace("(*)", f"({b})") for k in _KEYS for b in ((1, 2, 3) if "(*)" in k.key else (0,))]
+    lines = {n: deck.line_of(n) for n in names if n.replace("(", "").replace(")", "").lower() in deck.entries}
     return ServoDynSettings(**values, torque_table_speed=speeds, torque_table_torque=torques,
                             library=_resolve(p, values["library_name"]),
                             library_input=_resolve(p, values["library_input_name"]),

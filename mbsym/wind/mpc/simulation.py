@@ -110,10 +110,14 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     stats = dict(res.statistics)
     stats["outputs_wall_s"] = float(stats.get("outputs_wall_s", 0.0)) + time.perf_counter() - t0
     stats.update(loop.statistics())
-    return dataclasses.replace(res, y=np.hstack(blocks + [extra]), output_names=tuple(names) +
-                               tuple(res.output_names[n_meas:]), output_units=tuple(units) +
-                               tuple(res.output_units[n_meas:] if res.output_units else ("",) * extra.shape[1]),
-                               statistics=stats)
+    from ..operation.sanity import check_physical
+
+    result = dataclasses.replace(res, y=np.hstack(blocks + [extra]), output_names=tuple(names) +
+                                 tuple(res.output_names[n_meas:]), output_units=tuple(units) +
+                                 tuple(res.output_units[n_meas:] if res.output_units else ("",) * extra.shape[1]),
+                                 statistics=stats)
+    check_physical(result, model)            # stops a run gone unphysical (time, channel): UnphysicalRunError
+    return result
 
 
 def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list[str], list[str]]:

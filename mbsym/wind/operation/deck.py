@@ -67,6 +67,8 @@ class OperatingDeck:
     label : str
     path : Path or None
         The ``.fst`` (None for the built-in turbine).
+    aerodyn : AeroDynInput or None
+        The deck's AeroDyn input (None for the built-in turbine), audited by :meth:`model`.
     """
 
     turbine: TurbineParameters
@@ -83,6 +85,7 @@ class OperatingDeck:
     uses_library: bool
     label: str
     path: Path | None = None
+    aerodyn: object | None = None
 
     @property
     def rotor(self) -> RotorAero:
@@ -91,13 +94,29 @@ class OperatingDeck:
             object.__setattr__(self, "rotor_source", RotorAero.from_openfast(self.rotor_source))
         return self.rotor_source
 
-    def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, **options) -> OperatingTurbine:
+    def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, t_end: float | None = None,
+              **options) -> OperatingTurbine:
         """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's; ``aero``: ``"blade"`` or
-        ``"rotor"``, else :meth:`default_aero`)."""
+        ``"rotor"``, else :meth:`default_aero`), with ServoDyn's yaw spring and damper.
+
+        ServoDyn's settings that act on the modelled DOFs before ``t_end`` [s] (default the deck's
+        TMax) are modelled or refused (:func:`~mbsym.wind.deck.servo_audit.servo_audit`), and so are
+        AeroDyn's (:func:`~mbsym.wind.deck.aero_audit.check_aerodyn`).
+
+        Raises
+        ------
+        OpenFASTFormatError
+            A ServoDyn or AeroDyn setting that would act and is not modelled (file, line, key).
+        """
+        from ..deck.aero_audit import check_aerodyn
+
         dofs = self.dofs if dofs is None else dofs
         aero = self.default_aero(dofs) if aero is None else aero
         if aero not in AERO_MODELS:
             raise ParameterError(f"aero must be one of {list(AERO_MODELS)}; got {aero!r}.")
+        if self.aerodyn is not None:
+            check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
+        self._yaw_drive(dofs, t_end, options)
         if aero == "blade":
             return self._blade_model(dofs, **options)
         if self.inflow is not None and self.inflow.wind_type not in (1, 2):
@@ -115,6 +134,20 @@ class OperatingDeck:
         options.setdefault("dynamic_inflow", inflow)
         options.setdefault("actuators", self.actuators)
         return OperatingTurbine(self.turbine, self.rotor, dofs=dofs, **options)
+
+    def _yaw_drive(self, dofs, t_end: float | None, options: dict) -> None:
+        """Audit ServoDyn for these DOFs and put its yaw spring and damper into ``options``."""
+        from ..deck.servo_audit import servo_audit
+
+        flags = dict(self.turbine.dofs)
+        if dofs is not None:
+            flags = {f: f in set(dofs) for f in flags} | {f: True for f in dofs}
+        end = float(self.turbine.simulation.total_time if t_end is None else t_end)
+        drive = servo_audit(self.servodyn, flags, end)
+        if drive is not None:
+            options.setdefault("yaw_spring", drive.spring)
+            options.setdefault("yaw_damping", drive.damping)
+            options.setdefault("yaw_neutral", drive.neutral)
 
     def _blade_model(self, dofs, **options) -> OperatingTurbine:
         from ..aero.blade import BladeElementRotor
@@ -275,7 +308,7 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
     return OperatingDeck(turbine=turbine, rotor_source=path, dofs=None, dynamic_inflow=dbemt is not None, dbemt=dbemt,
                          actuators=actuators, controller_dt=float(dt), servodyn=servodyn, inflow=inflow,
                          discon_in=discon_in, library=library, uses_library=uses_library, label=str(path),
-                         path=path)
+                         path=path, aerodyn=aerodyn)
 
 
 def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:

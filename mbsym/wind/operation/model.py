@@ -98,6 +98,8 @@ class OperatingTurbine:
         (two states). Default False.
     yaw_spring, yaw_damping : float, optional, keyword-only
         Yaw bearing spring [N m/rad] and damper [N m s/rad] (with YawDOF).
+    yaw_neutral : float, optional, keyword-only
+        Yaw where the spring is relaxed [rad] (ServoDyn's YawNeut; default the initial NacYaw).
     saturation_width : float, optional, keyword-only
         Relative half-width of the smooth saturation corners (:func:`~.actuators.smooth_clip`).
     wind : UniformWindInputs, FieldWindInputs or FullFieldWind, optional, keyword-only
@@ -137,7 +139,8 @@ class OperatingTurbine:
     def __init__(self, turbine: TurbineParameters, rotor: "RotorAero | BladeElementRotor | None" = None, *,
                  dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
                  dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
-                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, saturation_width: float = 1e-4,
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
+                 saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
@@ -186,7 +189,8 @@ class OperatingTurbine:
         self.name = str(name)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
-                                      yaw_spring=yaw_spring, yaw_damping=yaw_damping, prescribed_azimuth=True,
+                                      yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
+                                      prescribed_azimuth=True,
                                       blade_loads=blade, blade_root_reactions=blade,
                                       blade_root_forces=blade and bool(load_channels),
                                       shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels))

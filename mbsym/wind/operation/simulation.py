@@ -29,6 +29,7 @@ from ...exceptions import SimulationOptionError
 from ...simulate.controller import DiscreteController
 from .controllers import held_commands
 from .model import OperatingTurbine
+from .sanity import check_physical
 
 __all__ = ["simulate_turbine", "wind_at_start"]
 
@@ -77,6 +78,10 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         ``model`` is not an OperatingTurbine, or ``controller`` not a DiscreteController.
     SimulationOptionError
         ``accuracy`` with a Python-callable controller.
+    UnphysicalRunError
+        The run went unphysical (:func:`~.sanity.check_physical`: the rotor turning backwards, the
+        nacelle yawed beyond a turn, Cp beyond the rotor's table, non-finite channels); names the time
+        and channel and carries the result.
     """
     from ...simulate.api import simulate
 
@@ -108,13 +113,16 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         options.update(method=method, dt=dt, accuracy=accuracy)
     options = {k: v for k, v in options.items() if v is not None}
     if controller is None:
-        return simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
-    if options.get("method") == "rk4-held":
+        res = simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
+    elif options.get("method") == "rk4-held":
         # the loop evaluates every channel at the samples from the aerodynamics it holds over the step
-        return simulate(dyn, tmax, x0=x0, inputs=inputs, controller=controller, **options)
-    # in the loop only the measurements are evaluated; the channels afterwards, from the states
-    res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
-    return _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
+        res = simulate(dyn, tmax, x0=x0, inputs=inputs, controller=controller, **options)
+    else:
+        # in the loop only the measurements are evaluated; the channels afterwards, from the states
+        res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
+        res = _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
+    check_physical(res, model)
+    return res
 
 
 def wind_at_start(model: OperatingTurbine, wind) -> "float | dict[str, float]":

@@ -220,19 +220,25 @@ class Trimmer:
         self.n_z = len(self.free) + 2 + (0 if model.spins_freely else 1) + (1 if self.estimates else 0)
         self.out = {n: dyn.output_names.index(n) for n in ("GenSpeed", "RotSpeed", "GenPwr", "RtAeroMxh", "GenTq")}
 
+    @property
+    def _sym(self):
+        """``ca.SX``, or ``ca.MX`` for a model whose rhs holds MX-only nodes (a linear solve of many DOFs)."""
+        return ca.SX if self.dyn.rhs.is_a("SXFunction") else ca.MX
+
     def _split(self, z, az, U):
         """``(x, u, p, Û)`` expressions from the unknowns ``z`` (SX), azimuth and wind."""
         dyn, n_f = self.dyn, len(self.free)
-        x = ca.SX(ca.DM(self.x_base))
+        sym = self._sym
+        x = sym(ca.DM(self.x_base))
         for k, i in enumerate(self.free):
             x[i] = z[k]
         x[self.i_az] = az
-        u = ca.SX(ca.DM(dyn.u0))
+        u = sym(ca.DM(dyn.u0))
         u[self.i_u["Wind1VelX"]] = U
         u[self.i_u["BlPitchCom"]] = z[n_f]
         u[self.i_u["GenTqCom"]] = z[n_f + 1]
         k = n_f + 2
-        p = ca.SX(ca.DM(self.p))
+        p = sym(ca.DM(self.p))
         if not self.model.spins_freely:
             p[self.dyn.parameters.index("rotor_speed")] = z[k]
             k += 1
@@ -242,9 +248,10 @@ class Trimmer:
     # ------------------------------------------------------------------ the residual Function
     def _build(self) -> None:
         dyn, c, n_f = self.dyn, self.control, len(self.free)
-        z = ca.SX.sym("z", self.n_z)
-        U, az0 = ca.SX.sym("U"), ca.SX.sym("az0")
-        sel = ca.SX.sym("sel", len(_TORQUE_KINDS) + len(_PITCH_KINDS) + 1)
+        sym = self._sym
+        z = sym.sym("z", self.n_z)
+        U, az0 = sym.sym("U"), sym.sym("az0")
+        sel = sym.sym("sel", len(_TORQUE_KINDS) + len(_PITCH_KINDS) + 1)
         x, u, p, u_est = self._split(z, az0, U)
         n_az = self.n_azimuth
         xs = ca.repmat(x, 1, n_az)
@@ -302,9 +309,9 @@ class Trimmer:
         p = dict(zip(dyn.parameters, self.p.tolist()))
         if "air_density" in p:
             p["air_density"] = 1e-12
-        x = ca.SX.sym("x", dyn.n_x)
-        acc = dyn.rhs(x, dyn.u0, dyn.parameter_vector(p))[n_q:2 * n_q]
-        K = np.abs(np.asarray(ca.Function("stiffness", [x], [ca.jacobian(acc, x[:n_q])])(x0), dtype=float))
+        q = self._sym.sym("q", n_q)
+        acc = dyn.rhs(ca.vertcat(q, x0[n_q:]), dyn.u0, dyn.parameter_vector(p))[n_q:2 * n_q]
+        K = np.abs(np.asarray(ca.Function("stiffness", [q], [ca.jacobian(acc, q)])(x0[:n_q]), dtype=float))
         small = K <= (2 * math.pi * NEUTRAL_FREQUENCY) ** 2
         rest = [j for j, c in enumerate(eom.coordinates) if c != "GeAz"]
         return [i for i in rest if small[i, rest].all() and small[rest, i].all()]

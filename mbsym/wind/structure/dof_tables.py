@@ -47,7 +47,8 @@ def blade_coordinate(blade: int, flag: str) -> str:
 def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
     """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
 
-    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs),
+    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs), yaw-bearing
+    friction (YawFrctMod != 0, with YawDOF),
     platform products of inertia (with platform DOFs), gearbox losses (GBoxEff < 100 %,
     with GenDOF: ElastoDyn's friction terms in the generator equation) and, for two-bladed
     rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
@@ -88,6 +89,10 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
     if "GenDOF" in on and turbine.gearbox_efficiency < 1.0:
         out.append(f"GBoxEff = {100 * turbine.gearbox_efficiency:.6g} % (gearbox friction in the generator-azimuth "
                    "equation): set GBoxEff = 100 or disable GenDOF")
+    friction = str(turbine.extra.get("YawFrctMod", "0")).strip()
+    if "YawDOF" in on and friction not in ("0", "0.0"):
+        out.append(f"YawFrctMod = {friction} (yaw-bearing friction on the yaw DOF): set YawFrctMod = 0 or disable "
+                   "YawDOF")
     if turbine.number_of_blades == 2:
         out += _two_blade_features(turbine, bool(platform or tower or "YawDOF" in on))
     return out

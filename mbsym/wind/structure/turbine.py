@@ -97,8 +97,11 @@ class TurbineModel:
         default: the deck's own flags. :data:`MODELLED_DOFS` lists the flags modelled
         (PitchDOF and TeetDOF are not).
     yaw_spring, yaw_damping : float, optional, keyword-only
-        Yaw-bearing spring [N m/rad] and damper [N m s/rad] about the neutral ``NacYaw``
+        Yaw-bearing spring [N m/rad] and damper [N m s/rad] about ``yaw_neutral``
         (ServoDyn's YawSpr/YawDamp; ElastoDyn alone has none).
+    yaw_neutral : float, optional, keyword-only
+        Yaw at which the spring is relaxed [rad] (ServoDyn's YawNeut); default the initial
+        ``NacYaw``.
     pitch_input : bool, optional, keyword-only
         ``False`` (default): each blade pitched at the deck's BlPitch. ``True``: collective
         pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
@@ -158,7 +161,8 @@ class TurbineModel:
     """
 
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
-                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, pitch_input: bool = False,
+                 yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
+                 pitch_input: bool = False,
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
                  blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
                  shaft_reactions: bool = False, yaw_bearing_reactions: bool = False) -> None:
@@ -172,7 +176,8 @@ class TurbineModel:
                 f"the template cannot model this turbine as it stands ({len(problems)} problem"
                 f"{'s' if len(problems) > 1 else ''}):\n" + "\n".join(f"  - {m}" for m in problems))
         self._blade_data: dict[int, ElastoDynBladeData] = {}
-        self._yaw = (float(yaw_spring), float(yaw_damping))
+        self._yaw = (float(yaw_spring), float(yaw_damping),
+                     float(turbine.initial_conditions.nacelle_yaw if yaw_neutral is None else yaw_neutral))
         if pitch_input not in (True, False, "individual"):
             raise ModelDefinitionError(f"pitch_input must be False, True (collective) or 'individual'; got "
                                        f"{pitch_input!r}.")
@@ -439,9 +444,9 @@ class TurbineModel:
             tower, top, _ = locked_chain(self, tower, YAW_BEARING_LOCKED, offset=top, rotation=None, label="yaw")
         if "Yaw" in self.coords:
             self._add(Revolute(tower, nacelle, axis=[0, 0, 1], coordinate=self.coords["Yaw"], offset=top))
-            k, c = self._yaw
+            k, c, neutral = self._yaw
             if k:
-                self.system.add_spring(self.coords["Yaw"], k, rest=t.initial_conditions.nacelle_yaw)
+                self.system.add_spring(self.coords["Yaw"], k, rest=neutral)
             if c:
                 self.system.add_damper(self.coords["Yaw"], c)
         else:

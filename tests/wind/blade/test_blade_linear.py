@@ -152,7 +152,7 @@ def test_rotor_speed_response_to_collective_pitch(case):
     ref = linearize_point(trimmer, trimmer.solve(14.0), outputs=("RotSpeed",))
     keep = [i for i, s in enumerate(ref.states) if s != "GeAz"]
     A, B = ref.A[np.ix_(keep, keep)], ref.B[keep][:, [ref.inputs.index("BlPitchCom")]]
-    C = ref.Cy[:, keep] * math.pi / 30
+    C = ref.Cy[:, keep] * (math.pi / 30 if ref.output_units[0] == "rpm" else 1.0)     # rad/s (SI since issue 22)
     g_ref = float(-(C @ np.linalg.solve(A, B))[0, 0])
     assert g_blade < 0 and g_ref < 0
     assert g_blade == pytest.approx(g_ref, rel=0.2)

@@ -66,3 +66,25 @@ def rosco_nrel5mw_discon(version: str = VERSION) -> Path | None:
     """The wheel's own NREL 5 MW ``DISCON.IN`` (after :func:`rosco_library`), or None."""
     path = cache_dir(version) / "Examples" / "Test_Cases" / "NREL-5MW" / "DISCON.IN"
     return path if path.is_file() else None
+
+
+def rosco_nrel5mw_deck(version: str = VERSION, *, fetch: bool = True) -> Path | None:
+    """The wheel's whole OpenFAST NREL 5 MW test case (``Examples/Test_Cases/NREL-5MW/NREL-5MW.fst`` with its
+    ElastoDyn, ServoDyn, AeroDyn, InflowWind and airfoil files), extracted once into the cache; None if the
+    wheel is not available (callers skip)."""
+    folder = cache_dir(version)
+    fst = folder / "deck" / "NREL-5MW" / "NREL-5MW.fst"
+    if fst.is_file():
+        return fst
+    if rosco_library(version, fetch=fetch) is None:
+        return None
+    wheels = sorted(folder.glob(f"rosco-{version}-*.whl"))
+    if not wheels:
+        return None
+    prefix = "Examples/Test_Cases/NREL-5MW/"
+    (folder / "deck").mkdir(exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=folder / "deck") as tmp, zipfile.ZipFile(wheels[-1]) as wheel:
+        wheel.extractall(tmp, members=[n for n in wheel.namelist() if n.startswith(prefix)])
+        if not fst.parent.exists():
+            shutil.move(str(Path(tmp) / prefix), str(fst.parent))
+    return fst if fst.is_file() else None

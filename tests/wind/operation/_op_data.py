@@ -48,3 +48,25 @@ def baseline_settings_data(discon_in: Path) -> dict:
                       "mbsym.wind.control.settings.DISCON_MAP (SI units)",
         "generated_by": "tests/wind/operation/test_operation_data.py"},
         "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in values.items()}}
+
+
+def edit_deck_file(path: Path, old: str, new: str) -> None:
+    """Replace the first line matching the regular expression ``old`` (multiline) with ``new``; fail if none."""
+    import re
+
+    text, n = re.subn(old, new, path.read_text(), count=1, flags=re.M)
+    assert n == 1, f"mutation {old!r} did not apply to {path.name}"
+    path.write_text(text)
+
+
+def runnable_rosco_deck(fst: Path, target: Path) -> Path:
+    """A copy of ROSCO's NREL 5 MW deck in ``target`` with the AeroDyn settings mbsym refuses switched off
+    (tower potential flow and drag, unsteady airfoil aerodynamics: mbsym.wind.deck.aero_audit)."""
+    import shutil
+
+    shutil.copytree(fst.parent, target)
+    aero = target / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat"
+    edit_deck_file(aero, r"^\s*1\s+TwrPotent", "0   TwrPotent")
+    edit_deck_file(aero, r"^True\s+TwrAero", "False   TwrAero")
+    edit_deck_file(aero, r"^3\s+UA_Mod", "0   UA_Mod")
+    return target / fst.name

@@ -50,3 +50,15 @@ def rosco_lib():
     if lib is None:
         pytest.skip("the ROSCO 2.10.6 library is not cached and could not be fetched with pip")
     return lib
+
+
+@pytest.fixture(scope="session")
+def rosco_deck():
+    """ROSCO 2.10.6's own OpenFAST NREL 5 MW deck (Examples/Test_Cases/NREL-5MW/NREL-5MW.fst), skipping without
+    the wheel and registry access."""
+    import _rosco
+
+    fst = _rosco.rosco_nrel5mw_deck()
+    if fst is None:
+        pytest.skip("the ROSCO 2.10.6 wheel is not cached and could not be fetched with pip")
+    return fst

@@ -40,7 +40,7 @@ def _scales(dyn, x, u):
 def test_linear_model_matches_finite_differences(points):
     dyn = points.trimmer.dyn
     for point in points:
-        lin = linearize_point(points.trimmer, point)
+        lin = linearize_point(points.trimmer, point, keep_azimuth=True)
         x, u, p = point.state, point.inputs, dict(point.parameters)
         xs, us = _scales(dyn, x, u)
         A_fd = np.zeros((dyn.n_x, dyn.n_x))

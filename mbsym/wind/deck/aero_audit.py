@@ -1,0 +1,103 @@
+"""AeroDyn settings that change loads on DOFs mbsym models but that its rotor models leave out: refused.
+
+mbsym's rotors load the hub (rotor-effective performance surfaces) or the blades (blade-element
+rotor) with the rotor's own aerodynamics only. AeroDyn switches that add loads on other DOFs
+or change the blade inflow are refused with the file, line and key, never ignored:
+
+==================  ==========================================================================
+Key                 Why it is refused
+==================  ==========================================================================
+TwrPotent ≠ 0       the tower's potential-flow influence on the blade inflow (3P loads)
+TwrShadow ≠ 0       the tower shadow on the blade inflow
+TwrAero = True      aerodynamic drag on the tower (loads the tower DOFs)
+NacelleDrag = True  nacelle drag (loads the tower top)
+TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
+SectAvg = True      sector-averaged inflow over each blade element
+MHK ≠ 0             marine hydrokinetic turbine (buoyancy, added mass, cavitation)
+Buoyancy = True     buoyant loads (MHK)
+UA_Mod ≠ 0          unsteady airfoil aerodynamics (rotor-effective surfaces; the blade-element
+                    rotor refuses it itself, :meth:`BladeElementRotor.from_aerodyn`)
+==================  ==========================================================================
+
+Output-only settings (``CompAA`` acoustics, ``CavitCheck``, the output lists) and the settings
+the rotors honour (BEM, skew, DBEMT, tip and hub losses, drag in the induction) are not listed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ...exceptions import OpenFASTFormatError
+
+__all__ = ["aerodyn_problems", "check_aerodyn"]
+
+_TRUE = ("true", "t", ".true.")
+#: key -> (is it on?, why it is refused)
+_SWITCHES = {
+    "TwrPotent": (lambda v: _int(v) != 0, "the tower's potential-flow influence on the blade inflow is not modelled"),
+    "TwrShadow": (lambda v: v.lower() in _TRUE or _int(v) > 0, "the tower shadow on the blade inflow is not modelled"),
+    "TwrAero": (lambda v: v.lower() in _TRUE, "aerodynamic drag on the tower (a load on the tower DOFs) is not "
+                                              "modelled"),
+    "NacelleDrag": (lambda v: v.lower() in _TRUE, "nacelle drag is not modelled"),
+    "TFinAero": (lambda v: v.lower() in _TRUE, "tail-fin aerodynamics are not modelled"),
+    "SectAvg": (lambda v: v.lower() in _TRUE, "sector-averaged blade inflow is not modelled"),
+    "MHK": (lambda v: _int(v) != 0, "marine hydrokinetic turbines are not modelled"),
+    "Buoyancy": (lambda v: v.lower() in _TRUE, "buoyancy is not modelled"),
+}
+
+
+def _int(text: str) -> int:
+    try:
+        return int(float(text))
+    except ValueError:
+        return 0
+
+
+def aerodyn_problems(aerodyn, *, rotor_effective: bool) -> list[str]:
+    """One message (file, line, key, what to set) per refused AeroDyn setting (module docstring).
+
+    Parameters
+    ----------
+    aerodyn : AeroDynInput
+        From :func:`~mbsym.wind.deck.aerodyn.read_aerodyn` (its ``extra`` keys and ``source`` file).
+    rotor_effective : bool, keyword-only
+        The rotor-effective model (performance surfaces): ``UA_Mod`` is refused here too.
+    """
+    lines = _lines(aerodyn.source)
+    found = [(key, why) for key, (on, why) in _SWITCHES.items()
+             if key in aerodyn.extra and on(str(aerodyn.extra[key]).strip().strip("\"'"))]
+    if rotor_effective:
+        key = next((k for k in ("UA_Mod", "UAMod", "AFAeroMod") if k.lower() in lines), "UA_Mod")
+        steady = 1 if key == "AFAeroMod" else 0               # AeroDyn 15 before v3: AFAeroMod 1 = steady
+        if aerodyn.unsteady_model != steady:
+            found.append((key, f"unsteady airfoil aerodynamics ({key} = {aerodyn.unsteady_model}) are not in the "
+                               "rotor's steady performance surfaces"))
+    return [f"{aerodyn.source}, line {lines.get(key.lower(), '?')}, key '{key}': {why}; set {key} = {_off(key)} "
+            "to run the deck" for key, why in found]
+
+
+def check_aerodyn(aerodyn, *, rotor_effective: bool) -> None:
+    """Raise :class:`OpenFASTFormatError` listing every refused setting (:func:`aerodyn_problems`)."""
+    problems = aerodyn_problems(aerodyn, rotor_effective=rotor_effective)
+    if len(problems) == 1:
+        raise OpenFASTFormatError(problems[0])
+    if problems:
+        raise OpenFASTFormatError(f"{len(problems)} AeroDyn settings mbsym does not model:\n  - "
+                                  + "\n  - ".join(problems))
+
+
+def _off(key: str) -> str:
+    return {"TwrPotent": "0", "TwrShadow": "0", "MHK": "0", "UA_Mod": "0", "UAMod": "0",
+            "AFAeroMod": "1"}.get(key, "False")
+
+
+def _lines(source) -> dict[str, int]:
+    """Line number of each ``value key`` line of the file (lower-case key)."""
+    out: dict[str, int] = {}
+    if source is None or not Path(source).is_file():
+        return out
+    for number, text in enumerate(Path(source).read_text(encoding="latin-1").splitlines(), 1):
+        tokens = text.split()
+        if len(tokens) >= 2:
+            out.setdefault(tokens[1].lower(), number)
+    return out

@@ -1,0 +1,143 @@
+"""What ServoDyn does to the DOFs mbsym models: modelled, or refused with the file, line and key.
+
+ServoDyn acts on the structure through the yaw bearing, the high-speed shaft, the blade pitch
+and, optionally, structural controllers. Each setting that can change the motion of a DOF mbsym
+models within the simulated time ``t_end`` is either modelled or refused here (never ignored):
+
+=====================================  =========================================================
+Setting                                What mbsym does
+=====================================  =========================================================
+YawSpr, YawDamp, YawNeut (YawDOF)      modelled: ``YawMom = -YawSpr (NacYaw - YawNeut) - YawDamp
+                                       YawRate`` (ServoDyn's ``Yaw_CalcOutput`` with ``YCMode = 0``
+                                       or before ``TYCOn``: the command is the neutral yaw at rest)
+YCMode ≠ 0 with TYCOn < t_end          refused (active yaw control is not modelled)
+TYawManS < t_end                       refused (override yaw maneuver)
+HSSBrMode 1 with THSSBrDp < t_end      refused (brake deployment); HSSBrMode 3, 4, 5 refused
+GenTiStr/TimGenOn > 0, GenTiStp with   refused (generator switched on late or off early)
+TimGenOf < t_end (GenDOF)
+TPitManS(k) < t_end                    refused (override pitch maneuver)
+TPCOn > 0 with PCMode ≠ 0              refused (pitch control starting late)
+AfCmode ≠ 0, NumBStC/NumNStC/NumTStC/  refused (airfoil control, structural controllers, cable
+NumSStC > 0, CCmode ≠ 0                control)
+PitSpr, PitDamp, PitNeut               inert: they act on ElastoDyn's PitchDOF, which mbsym refuses
+=====================================  =========================================================
+
+Facts from OpenFAST v5 ``modules/servodyn/src/ServoDyn.f90`` (``Yaw_CalcOutput``,
+``CalculateStandardYaw``: the sign convention and that without yaw control the commanded yaw
+is ``YawNeut`` at zero rate).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+from ...exceptions import OpenFASTFormatError
+
+__all__ = ["YawDrive", "servo_audit"]
+
+
+@dataclass(frozen=True)
+class YawDrive:
+    """ServoDyn's yaw spring and damper about the neutral yaw.
+
+    Attributes
+    ----------
+    spring : float
+        YawSpr [N m/rad].
+    damping : float
+        YawDamp [N m s/rad].
+    neutral : float
+        YawNeut [rad].
+    """
+
+    spring: float
+    damping: float
+    neutral: float
+
+
+def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float) -> YawDrive | None:
+    """The yaw drive ServoDyn applies, after refusing every setting mbsym does not model (module docstring).
+
+    Parameters
+    ----------
+    servodyn : ServoDynSettings or None
+        None (``CompServo = 0``): no ServoDyn loads, returns None.
+    dofs : mapping of str to bool
+        ElastoDyn DOF flags of the model (``YawDOF``, ``GenDOF`` ...).
+    t_end : float
+        The simulated end time [s] (the deck's TMax for steady analyses): settings triggered later
+        than this do not act.
+
+    Returns
+    -------
+    YawDrive or None
+        With ``YawDOF``, the spring and damper to put on the yaw DOF.
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Every setting that would act and is not modelled, each with file, line and key.
+    """
+    if servodyn is None:
+        return None
+    problems = [f"{servodyn.path}, line {servodyn.lines.get(key, '?')}, key '{key}': {text}"
+                for key, text in _problems(servodyn, dofs, float(t_end))]
+    if len(problems) == 1:
+        raise OpenFASTFormatError(problems[0])
+    if problems:
+        raise OpenFASTFormatError(f"{len(problems)} ServoDyn settings mbsym does not model:\n  - "
+                                  + "\n  - ".join(problems))
+    if not dofs.get("YawDOF"):
+        return None
+    return YawDrive(float(servodyn.yaw_spring), float(servodyn.yaw_damping), float(servodyn.yaw_neutral))
+
+
+def _when(t: float) -> str:
+    return f"at t = {t:g} s" if math.isfinite(t) else "never"
+
+
+def _problems(s, dofs: Mapping[str, bool], t_end: float) -> list[tuple[str, str]]:
+    out = []
+    later = f"set it beyond the simulated time ({t_end:g} s)"
+    if dofs.get("YawDOF"):
+        if s.yaw_control_mode != 0 and s.yaw_control_start_time < t_end:
+            out.append(("YCMode", f"active yaw control (YCMode = {s.yaw_control_mode}, TYCOn = "
+                                  f"{s.yaw_control_start_time:g} s) is not modelled; set YCMode = 0 (the yaw spring "
+                                  f"and damper hold the nacelle at YawNeut) or TYCOn: {later}"))
+        if s.yaw_maneuver_start_time < t_end:
+            out.append(("TYawManS", f"the override yaw maneuver {_when(s.yaw_maneuver_start_time)} is not "
+                                    f"modelled; {later}"))
+    if dofs.get("GenDOF"):
+        brake = s.hss_brake_mode
+        if brake in (3, 4, 5) or (brake == 1 and s.hss_brake_start_time < t_end):
+            out.append(("HSSBrMode", f"the high-speed shaft brake (HSSBrMode = {brake}, THSSBrDp = "
+                                     f"{s.hss_brake_start_time:g} s) is not modelled; set HSSBrMode = 0, or "
+                                     f"HSSBrMode = 1 with THSSBrDp beyond the simulated time ({t_end:g} s)"))
+        if s.generator_start_timed and s.generator_start_time > 0:
+            out.append(("TimGenOn", f"the generator switched on at t = {s.generator_start_time:g} s is not "
+                                    "modelled (it runs from t = 0); set TimGenOn = 0"))
+        if not s.generator_start_timed and s.generator_start_speed > 0:
+            out.append(("GenTiStr", "starting the generator at a speed (GenTiStr = False, SpdGenOn) is not "
+                                    "modelled; set GenTiStr = True and TimGenOn = 0"))
+        if s.generator_stop_timed and s.generator_stop_time < t_end:
+            out.append(("TimGenOf", f"the generator switched off at t = {s.generator_stop_time:g} s is not "
+                                    f"modelled; {later}"))
+    for k, t in enumerate(s.pitch_maneuver_start_time, 1):
+        if t < t_end:
+            out.append((f"TPitManS({k})", f"the override pitch maneuver of blade {k} {_when(t)} is not modelled; "
+                                          f"{later}"))
+    if s.pitch_control_mode != 0 and s.pitch_control_start_time > 0:
+        out.append(("TPCOn", f"pitch control starting at t = {s.pitch_control_start_time:g} s is not modelled "
+                             "(the controller pitches from t = 0); set TPCOn = 0"))
+    if s.airfoil_control_mode != 0:
+        out.append(("AfCmode", f"airfoil control (AfCmode = {s.airfoil_control_mode}) is not modelled; set 0"))
+    for key, n in (("NumBStC", s.n_blade_structural_controllers), ("NumNStC", s.n_nacelle_structural_controllers),
+                   ("NumTStC", s.n_tower_structural_controllers),
+                   ("NumSStC", s.n_substructure_structural_controllers)):
+        if n > 0:
+            out.append((key, f"{n} structural controller(s) (StC) are not modelled; set {key} = 0"))
+    if s.cable_control_mode != 0:
+        out.append(("CCmode", f"cable control (CCmode = {s.cable_control_mode}) is not modelled; set 0"))
+    return out
