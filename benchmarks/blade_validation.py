@@ -481,7 +481,7 @@ DIAGNOSIS = """\
   aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds AeroDyn's loads. Against
   `rk4` (tag "rk4": the aerodynamics in every stage) the figures agree to the third digit at a quarter of the
   CPU. Larger steps (tags "dt=…": plant and controller at that step) are cheaper: 12.5 ms keeps every DEL
-  within 3.6 %, 25 ms misses them (TwrBsMyt +5.1 %, TwrBsMxt +7.0 %). The loss comes from the controller's
+  within 3.3 %, 25 ms misses them (TwrBsMyt +5.2 %, TwrBsMxt +6.6 %). The loss comes from the controller's
   sample time: with the plant at 6.25 ms and the controller at 25 ms the DELs are +4.4 / +6.0 %. The
   reference's own DT 0.005 s rerun moves ε by ≤ 0.7 %.
 * **Spectra (ff14_flex, rk4-held at 6.25 ms, RMS per band against OpenFAST's):** within ±6 % in every band
