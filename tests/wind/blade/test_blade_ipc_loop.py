@@ -12,8 +12,6 @@ than 0.1 deg; observed 2.17 deg).
 
 from __future__ import annotations
 
-import re
-import shutil
 import sys
 from pathlib import Path
 
@@ -22,7 +20,8 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "operation"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "control"))  # _rosco
-from _op_data import DECK, INPUTS, need  # noqa: E402
+from _ctrl_data import discon_variant  # noqa: E402
+from _op_data import INPUTS, need  # noqa: E402
 
 IPC = {"IPC_ControlMode": "2", "IPC_SatMode": "0", "IPC_KP": "1e-9 5e-10", "IPC_KI": "5.2e-9 2.6e-9"}
 
@@ -37,17 +36,6 @@ def rosco_lib():
     return lib
 
 
-def _ipc_discon(tmp_path: Path) -> Path:
-    text = need(DECK / "DISCON.IN").read_text()
-    for key, value in IPC.items():
-        text, n = re.subn(rf"^[^!\n]*?(\s+! {key}\b)", rf"{value}\1", text, count=1, flags=re.MULTILINE)
-        assert n == 1, key
-    path = tmp_path / "DISCON.IN"
-    path.write_text(text)
-    shutil.copy(DECK / "Cp_Ct_Cq.NREL5MW.txt", tmp_path)
-    return path
-
-
 @pytest.mark.slow
 def test_ipc_loop_tracks_the_library(rosco_lib, tmp_path):
     import mbsym as mb
@@ -58,7 +46,7 @@ def test_ipc_loop_tracks_the_library(rosco_lib, tmp_path):
 
     fst = need(INPUTS / "ss14_shear_flex" / "ss14_shear_flex.fst")
     model = mb.wind.OperatingTurbine.from_openfast(fst, aero="blade", dofs=["GenDOF"], pitch="individual")
-    discon = _ipc_discon(tmp_path)
+    discon = discon_variant(tmp_path, IPC)
     dt = float(np.float32(0.0125))
     field = operating_deck(fst).inflow.field()
     x0 = model.initial_state(wind_at_start(model, field), pitch=np.deg2rad(8.6))

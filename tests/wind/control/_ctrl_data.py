@@ -29,3 +29,19 @@ def need(path: Path) -> Path:
     if not path.exists():
         pytest.skip(f"shared reference data not found at {path}")
     return path
+
+
+def discon_variant(folder: Path, changes: dict) -> Path:
+    """The shared NREL 5 MW DISCON.IN written into ``folder`` with the values of some keys replaced (vectors as one
+    string), next to a copy of its Cp/Ct/Cq table."""
+    import re
+    import shutil
+
+    text = need(DECK / "DISCON.IN").read_text()
+    for key, value in changes.items():
+        text, n = re.subn(rf"^[^!\n]*?(\s+! {key}\b)", rf"{value}\1", text, count=1, flags=re.MULTILINE)
+        assert n == 1, key
+    path = folder / "DISCON.IN"
+    path.write_text(text)
+    shutil.copy(DECK / "Cp_Ct_Cq.NREL5MW.txt", folder)
+    return path

@@ -23,12 +23,10 @@ resolves each convention.
 
 from __future__ import annotations
 
-import re
-import shutil
 
 import numpy as np
 import pytest
-from _ctrl_data import DECK, need
+from _ctrl_data import DECK, discon_variant, need
 from _measurements import ipc_sweep
 
 from mbsym.exceptions import ControllerError, DimensionError, OpenFASTFormatError
@@ -42,14 +40,7 @@ GAINS = {"IPC_KP": "1e-9 5e-10", "IPC_KI": "5.2e-9 2.6e-9"}
 
 def _variant(tmp_path, changes):
     """The shared NREL 5 MW DISCON.IN with the values of some keys replaced (vectors as one string)."""
-    text = need(DECK / "DISCON.IN").read_text()
-    for key, value in changes.items():
-        text, n = re.subn(rf"^[^!\n]*?(\s+! {key}\b)", rf"{value}\1", text, count=1, flags=re.MULTILINE)
-        assert n == 1, key
-    path = tmp_path / "DISCON.IN"
-    path.write_text(text)
-    shutil.copy(DECK / "Cp_Ct_Cq.NREL5MW.txt", tmp_path)
-    return path
+    return discon_variant(tmp_path, changes)
 
 
 def _rosco(lib, discon, t, y, names, commands, dt):
