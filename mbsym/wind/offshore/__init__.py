@@ -1,0 +1,17 @@
+"""Floating platforms: the water's loads and the mooring (issue 20).
+
+A wind room importing only :mod:`mbsym.wind.deck` (and the general layers): the platform's
+hydrostatics and buoyancy as HydroDyn applies them, HydroDyn's additional preload, stiffness
+and damping (:mod:`.hydrostatics`), the still-water hydrodynamics of a deck with the
+infinite-frequency added mass (:mod:`.platform`), and rigid-platform natural periods from the
+generalized eigenproblem (:mod:`.modes`). Loads are numbers or CasADi expressions of the six
+platform DOFs (surge, sway, heave, roll, pitch, yaw). Nothing here is wired into the operating
+turbine yet. See docs/offshore.md.
+"""
+
+from .hydrostatics import AdditionalLoads, PlatformHydrostatics
+from .modes import natural_periods, periods_with_frequency_dependent_added_mass
+from .platform import PlatformHydrodynamics, platform_hydrodynamics
+
+__all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
+           "natural_periods", "periods_with_frequency_dependent_added_mass"]

@@ -1,0 +1,158 @@
+"""Platform hydrostatics, buoyancy and HydroDyn's additional loads (issue 20).
+
+References
+----------
+- A wall-sided floating cylinder (closed forms, no deck): heave restoring ρ g A_wp exact for a
+  wall-sided body; the pitch moment against the wall-sided formula of naval architecture
+  (Rawson & Tupper, *Basic Ship Theory*, §4: righting arm sinθ (GM + ½ BM tan²θ)), of which
+  HydroDyn's linear restoring is the first-order part: agreement to O(θ²) (1e-3 relative at 1°).
+- The deck's WAMIT restoring against the VolturnUS-S geometry (Allen et al. 2020, NREL/TP-5000-76773,
+  Table 3: three outer columns of 12.5 m and a centre column of 10 m diameter, outer columns 51.75 m
+  from the centre, consistent with the MoorDyn fairleads at 58 m = 51.75 + 6.25): the waterplane
+  area 446.7 m² vs C33/(ρ g) = 443.05 m² (the panel mesh's polygons: 0.8 %, tolerance 1.5 %).
+- The OpenFAST v5 decay ``fl_decay_a``: HydroDyn's mean vertical force and pitch moment over the
+  last three surge periods (411 s, when the radiation and damping parts average out) against our
+  hydrostatic load at the mean position; Fz to 2e-4 (observed 3e-5), My to 1 % (observed 0.08 %;
+  0.8 % over a two-period window: what is left of the oscillation).
+- Additional loads: the frame rotation of AddBQuad checked by a 90° yaw (the deck's matrix is
+  invariant under it), dissipation −q̇ᵀF ≥ 0, CasADi derivatives against central differences (1e-6).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from mbsym.exceptions import ModelWarning, UnsupportedFeatureError
+from mbsym.wind.offshore import AdditionalLoads, PlatformHydrostatics
+
+from .conftest import FLOATING
+
+CASE = FLOATING / "cases" / "fl_decay_a"
+needs_deck = pytest.mark.skipif(not CASE.is_dir(), reason=f"shared floating deck not found at {CASE}")
+RHO, G = 1025.0, 9.81   # fl_decay_a.fst lines 33 and 31 (the run's gravity is 9.81)
+
+
+def _cylinder(radius: float, draft: float) -> tuple[PlatformHydrostatics, float, float, float]:
+    area, inertia = math.pi * radius ** 2, math.pi * radius ** 4 / 4
+    volume, z_b = area * draft, -draft / 2
+    C = np.zeros((6, 6))
+    C[2, 2] = RHO * G * area
+    C[3, 3] = C[4, 4] = RHO * G * (inertia + volume * z_b)
+    return PlatformHydrostatics(C, RHO, G, volume), area, inertia, volume
+
+
+def test_wall_sided_cylinder_heave_is_exact():
+    hs, area, _, volume = _cylinder(5.0, 20.0)
+    for heave in (-1.0, 0.3):
+        # buoyancy of the submerged volume A (T - z): exact for a wall-sided body
+        assert hs.load([0, 0, heave, 0, 0, 0])[2] == pytest.approx(RHO * G * area * (20.0 - heave), rel=1e-14)
+
+
+def test_cylinder_pitch_moment_against_the_wall_sided_formula():
+    radius, draft = 15.0, 8.0   # a wide, shallow cylinder: metacentric height > 0
+    hs, _, inertia, volume = _cylinder(radius, draft)
+    for deg in (1.0, -1.0):
+        theta = math.radians(deg)
+        exact = -RHO * G * ((inertia + volume * (-draft / 2)) * math.sin(theta)
+                            + 0.5 * inertia * math.tan(theta) ** 2 * math.sin(theta))
+        assert hs.load([0, 0, 0, 0, theta, 0])[4] == pytest.approx(exact, rel=1e-3)   # O(theta^2) = 3e-4
+
+
+def test_buoyancy_offset_and_yaw_turn():
+    C = np.zeros((6, 6))
+    hs = PlatformHydrostatics(C, RHO, G, 1000.0, buoyancy_center=(2.0, -1.0), reference=(0.5, 0.0, 0.0))
+    b = RHO * G * 1000.0
+    # HydroDyn: My = -rho g V (x_COB - x_ref), Mx = rho g V (y_COB - y_ref), turned by the yaw
+    assert hs.offset_load == pytest.approx([0, 0, b, -b, -1.5 * b, 0], rel=1e-15)
+    turned = hs.load([0, 0, 0, 0, 0, math.pi / 2])
+    assert turned[3:5] == pytest.approx([1.5 * b, -b], rel=1e-12)
+
+
+def test_symbolic_load_and_derivatives_match_numbers():
+    C = np.diag([0, 0, 4.4e6, 2.2e9, 2.1e9, 0.0])
+    C[2, 4] = C[4, 2] = -4.0e3
+    hs = PlatformHydrostatics(C, RHO, G, 2.0e4)
+    q = ca.SX.sym("q", 6)
+    f = ca.Function("f", [q], [hs.load(q), ca.jacobian(hs.load(q), q)])
+    x = np.array([0.4, -0.2, -0.35, 0.01, -0.026, 0.3])
+    value, jac = f(x)
+    assert np.array(value).ravel() == pytest.approx(hs.load(x), rel=1e-14)
+    fd = np.column_stack([(hs.load(x + e) - hs.load(x - e)) / 2e-6 for e in np.eye(6) * 1e-6])
+    assert np.array(jac) == pytest.approx(fd, rel=1e-6, abs=1e-6 * np.abs(fd).max())
+
+
+def test_additional_loads_frame_and_dissipation():
+    B = np.zeros((6, 6))
+    B[0, 0] = B[1, 1] = 9.23e5                      # the deck's AddBQuad (HydroDyn file lines 52-57)
+    B[0, 4], B[4, 0], B[1, 3], B[3, 1] = -8.92e6, -8.92e6, 8.92e6, 8.92e6
+    B[2, 2], B[3, 3], B[4, 4], B[5, 5] = 2.3e6, 1.68e10, 1.68e10, 4.8e10
+    add = AdditionalLoads(np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6)), B)
+    v = np.array([1.0, 0, 0, 0, 0, 0])
+    at0 = add.load(np.zeros(6), v)
+    assert at0 == pytest.approx([-9.23e5, 0, 0, 0, 8.92e6, 0], rel=1e-15)   # -B |v| v, by hand
+    # a 90 deg yaw turns the surge velocity into body sway; B's sway column is surge's turned by 90 deg
+    assert add.load([0, 0, 0, 0, 0, math.pi / 2], v) == pytest.approx(at0, rel=1e-12, abs=1e-6)
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        q = rng.normal(size=6) * [5, 5, 1, 0.05, 0.05, 0.5]
+        qd = rng.normal(size=6) * [1, 1, 1, 0.05, 0.05, 0.05]
+        assert -qd @ add.load(q, qd) > 0     # quadratic damping only removes energy
+
+
+def test_additional_linear_terms():
+    K = np.diag([1e5, 2e5, 3e5, 4e7, 5e7, 6e7])
+    Bl = np.diag([1e4, 1e4, 1e4, 1e6, 1e6, 1e6])
+    add = AdditionalLoads(np.arange(6.0), K, Bl, np.zeros((6, 6)))
+    q, qd = np.array([1.0, 0, 0, 0, 0.1, 0]), np.array([0, 0, 0.5, 0, 0, 0])
+    assert add.load(q, qd) == pytest.approx(np.arange(6.0) - K @ q - Bl @ qd, rel=1e-12)   # heave rate: no turn
+
+
+@needs_deck
+def test_deck_hydrostatics_redimensionalized():
+    from mbsym.wind.offshore import platform_hydrodynamics
+
+    with pytest.warns(ModelWarning, match="RdtnMod = 1"):
+        ph = platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
+                                    seastate=CASE / "fl_decay_a_SeaState.dat")
+    hs = ph.hydrostatics
+    assert hs.buoyancy == pytest.approx(RHO * G * 20206.34889, rel=1e-15)          # PtfmVol0, line 24
+    assert hs.load(np.zeros(6)) == pytest.approx([0, 0, hs.buoyancy, 0, 0, 0], rel=1e-15)
+    area = 3 * math.pi / 4 * 12.5 ** 2 + math.pi / 4 * 10.0 ** 2                   # VolturnUS-S columns
+    assert hs.restoring[2, 2] / (RHO * G) == pytest.approx(area, rel=0.015)
+    assert ph.added_mass[2, 2] == pytest.approx(2.421631e4 * RHO, rel=1e-12)        # .1 line 26
+    assert np.allclose(ph.stiffness[[0, 1, 5]], 0) and ph.stiffness[4, 4] == hs.restoring[4, 4]
+
+
+@needs_deck
+def test_deck_mean_hydrodyn_loads_of_the_decay():
+    from mbsym.wind.offshore import platform_hydrodynamics
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        ph = platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G)
+    csv = FLOATING / "fl_decay_a.csv"
+    names = csv.read_text().split("\n", 1)[0].split(",")
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    window = data[:, 0] > 600.0 - 3 * 137.0       # three surge periods
+    mean = {n: data[window, names.index(n)].mean() for n in names}
+    q = np.array([mean["PtfmSurge_[m]"], mean["PtfmSway_[m]"], mean["PtfmHeave_[m]"],
+                  *np.radians([mean["PtfmRoll_[deg]"], mean["PtfmPitch_[deg]"], mean["PtfmYaw_[deg]"]])])
+    load = ph.hydrostatics.load(q)
+    assert load[2] == pytest.approx(mean["HydroFzi_[N]"], rel=2e-4)
+    assert load[4] == pytest.approx(mean["HydroMyi_[N-m]"], rel=1e-2)
+
+
+@needs_deck
+def test_unmodelled_settings_are_refused(tmp_path):
+    from mbsym.wind.offshore import platform_hydrodynamics
+
+    sea = (CASE / "fl_decay_a_SeaState.dat").read_text().replace("           0     WaveMod", "           2     WaveMod")
+    (tmp_path / "sea.dat").write_text(sea)
+    with pytest.raises(UnsupportedFeatureError, match=r"WaveMod = 2 \(JONSWAP"):
+        platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
+                               seastate=tmp_path / "sea.dat")
