@@ -29,7 +29,6 @@ import math
 from dataclasses import dataclass
 
 import casadi as ca
-import numpy as np
 
 from ...exceptions import ParameterError, SolverError
 

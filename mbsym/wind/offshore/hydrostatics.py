@@ -79,7 +79,7 @@ class PlatformHydrostatics:
     >>> import numpy as np
     >>> C = np.zeros((6, 6)); C[2, 2] = 1025 * 9.81 * 100.0   # a 10 m x 10 m waterplane
     >>> hs = PlatformHydrostatics(C, 1025.0, 9.81, 1000.0)
-    >>> hs.load(np.array([0, 0, -0.1, 0, 0, 0]))[2] == 1025 * 9.81 * (1000.0 + 10.0)
+    >>> bool(np.isclose(hs.load(np.array([0, 0, -0.1, 0, 0, 0]))[2], 1025 * 9.81 * (1000.0 + 10.0), rtol=1e-14))
     True
     """
 

@@ -19,12 +19,13 @@ drag, seabed stiffness) are not modelled: see docs/offshore.md.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
-from ...exceptions import OptionError, UnsupportedFeatureError
+from ...exceptions import ModelWarning, OptionError, UnsupportedFeatureError
 from ._casadi import _in, _symbolic, euler_zyx
 from .catenary import CatenaryLine, wet_weight
 
@@ -116,6 +117,12 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float) -> Mooring
 
     The seabed is frictionless (MoorDyn's default). Free points, bodies, rods and lines
     between free points are refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`).
+
+    Warns
+    -----
+    ModelWarning
+        MoorDyn's line dynamics (lumped masses, drag and added mass, internal damping, the seabed's
+        stiffness ``kbot`` and damping ``cbot``) are left out: the lines are quasi-static.
     """
     if md.other_sections:
         raise UnsupportedFeatureError(f"{md.path}: sections {sorted(md.other_sections)} (rods, bodies, …) are not "
@@ -131,6 +138,9 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float) -> Mooring
                                                            gravity), kind.axial_stiffness))
         anchors.append(md.anchor(ident).position)
         fairs.append(md.fairlead(ident).position)
+    warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
+                  "stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries",
+                  ModelWarning, stacklevel=2)
     return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs))
 
 

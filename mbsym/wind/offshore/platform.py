@@ -16,7 +16,8 @@ redimensionalized with the ``.fst``'s water density and gravity:
 for beyond that is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it
 does not change still-water loads, named in a :class:`~mbsym.exceptions.ModelWarning`:
 radiation memory (``RdtnMod`` > 0: the convolution/state-space damping, not yet modelled —
-free decays would be less damped than OpenFAST's), second-order forces (zero in still water).
+free decays would be less damped than OpenFAST's), second-order forces (zero in still water),
+a current (``CurrMod`` > 0: HydroDyn applies it to Morison members only, none here).
 """
 
 from __future__ import annotations
@@ -94,8 +95,11 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     return out
 
 
-def _notes(hd: HydroDynInput) -> list[str]:
+def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     out = []
+    if sea is not None and sea.current_model != 0:
+        out.append(f"CurrMod = {sea.current_model}: the current is not modelled (in HydroDyn it loads Morison members "
+                   "only, and MoorDyn's line drag; neither is modelled here)")
     if hd.radiation_model != 0:
         out.append(f"RdtnMod = {hd.radiation_model}: the radiation memory (wave-radiation damping) is not modelled "
                    "yet; only the infinite-frequency added mass acts, so free decays are less damped than HydroDyn's")
@@ -155,7 +159,7 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
                                    (hd.buoyancy_center_x[0], hd.buoyancy_center_y[0]),
                                    (hd.reference_x[0], hd.reference_y[0], hd.reference_z[0]))
     extra = AdditionalLoads(hd.add_force, hd.add_stiffness, hd.add_damping, hd.add_quadratic_damping)
-    notes = _notes(hd)
+    notes = _notes(hd, sea)
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=2)
     return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes))

@@ -126,6 +126,9 @@ def test_deck_hydrostatics_redimensionalized():
     assert hs.restoring[2, 2] / (RHO * G) == pytest.approx(area, rel=0.015)
     assert ph.added_mass[2, 2] == pytest.approx(2.421631e4 * RHO, rel=1e-12)        # .1 line 26
     assert np.allclose(ph.stiffness[[0, 1, 5]], 0) and ph.stiffness[4, 4] == hs.restoring[4, 4]
+    q, qd = np.array([1.0, 0.5, -0.3, 0.01, -0.02, 0.1]), np.array([0.2, -0.1, 0.05, 0.001, 0.002, -0.003])
+    assert ph.load(q, qd) == pytest.approx(hs.load(q) + ph.additional.load(q, qd), rel=1e-14)
+    assert ph.added_mass_load(qd) == pytest.approx(-ph.added_mass @ qd, rel=1e-14)
 
 
 @needs_deck
@@ -156,3 +159,15 @@ def test_unmodelled_settings_are_refused(tmp_path):
     with pytest.raises(UnsupportedFeatureError, match=r"WaveMod = 2 \(JONSWAP"):
         platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
                                seastate=tmp_path / "sea.dat")
+    hd = (CASE / "fl_decay_a_HydroDyn.dat").read_text().replace("0           NMembers", "1           NMembers")
+    hd = hd.replace("(switch)   (switch)  (flag)   \n", "(switch)   (switch)  (flag)   \n1 1 2 1 1 1 0 1 1 1 TRUE\n")
+    hd = hd.replace('"../../IEA-15-240-RWT-UMaineSemi/', f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/')
+    (tmp_path / "hd.dat").write_text(hd)
+    with pytest.raises(UnsupportedFeatureError, match=r"1 Morison \(strip-theory\) members"):
+        platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G)
+    current = (CASE / "fl_decay_a_SeaState.dat").read_text().replace("           0     CurrMod", "           1     CurrMod")
+    (tmp_path / "current.dat").write_text(current)
+    with pytest.warns(ModelWarning, match="CurrMod = 1"), warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "RdtnMod", ModelWarning)
+        platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
+                               seastate=tmp_path / "current.dat")

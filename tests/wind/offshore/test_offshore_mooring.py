@@ -97,8 +97,11 @@ def moordyn_system():
     from mbsym.wind.deck.moordyn import read_moordyn
     from mbsym.wind.offshore.mooring import mooring_from_moordyn
 
+    from mbsym.exceptions import ModelWarning
+
     md = read_moordyn(SEMI / "IEA-15-240-RWT-UMaineSemi_MoorDyn.dat")
-    return mooring_from_moordyn(md, water_density=1025.0, gravity=9.81)
+    with pytest.warns(ModelWarning, match="line dynamics .* not modelled"):
+        return mooring_from_moordyn(md, water_density=1025.0, gravity=9.81)
 
 
 @needs_deck

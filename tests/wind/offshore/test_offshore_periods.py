@@ -29,6 +29,7 @@ import pytest
 
 from mbsym.exceptions import ModelWarning
 
+
 from .conftest import FLOATING
 
 CASE = FLOATING / "cases" / "fl_decay_a"
@@ -45,13 +46,13 @@ def floating():
     from mbsym.wind.structure.turbine import TurbineModel
 
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")   # the deck's HydroDyn/MoorDyn modules: not modelled by the structure
+        warnings.simplefilter("ignore", ModelWarning)   # what the deck asks beyond still-water statics
         turbine = read_openfast(CASE / "fl_decay_a.fst")
         sim = turbine.simulation
         hydro = platform_hydrodynamics(turbine.source_files["hydrodyn"], water_density=sim.water_density,
                                        gravity=sim.gravity, seastate=turbine.source_files["seastate"])
-    moor = mooring_from_moordyn(read_moordyn(turbine.source_files["mooring"]), water_density=sim.water_density,
-                                gravity=sim.gravity).function()
+        moor = mooring_from_moordyn(read_moordyn(turbine.source_files["mooring"]), water_density=sim.water_density,
+                                    gravity=sim.gravity).function()
     eom = TurbineModel(turbine).eom
     index = [eom.coordinates.index(c) for c in PLATFORM]
     u0, n = np.zeros(eom.n_u), eom.n_q
