@@ -33,7 +33,7 @@ import numpy as np
 from ...exceptions import OpenFASTFormatError
 
 __all__ = ["WamitData", "WamitHydrodynamics", "read_wamit", "read_wamit_hst", "read_wamit_1", "read_wamit_3",
-           "scale_matrix"]
+           "scale_matrix", "RadiationFit", "read_wamit_ss"]
 
 
 def scale_matrix(n: int, base: float, length: float, power: int) -> np.ndarray:
@@ -238,3 +238,67 @@ def read_wamit(root, *, excitation: bool = True) -> WamitData:
         raise OpenFASTFormatError(f"{base}: the .hst file has {hst.shape[0]} modes but the .1 file "
                                   f"{added.shape[1]}. Use files of one WAMIT run.")
     return WamitData(base, hst, periods, added, damping, *ex)
+
+
+@dataclass(frozen=True, eq=False)
+class RadiationFit:
+    """A state-space fit of the radiation memory (SS_Fitting's ``.ss``): ẋ = A x + B q̇, F = C x [SI].
+
+    ``enabled`` and ``states_per_dof`` are the file's lines 2 and 4. The matrices are
+    dimensional as written (SS_Fitting redimensionalizes with its own ρ; HydroDyn uses them as
+    they are, ``SS_Radiation.f90``).
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    enabled: tuple[int, ...]
+    states_per_dof: tuple[int, ...]
+    path: str
+
+
+def read_wamit_ss(path) -> RadiationFit:
+    """Read a radiation state-space file (``root.ss``) as HydroDyn does (``SS_Radiation.f90``):
+    a title, the enabled DOFs (6 flags), the number of states n, the states per DOF (6), then n
+    rows of A (n values), n rows of B (6), 6 rows of C (n). Text after ``%`` is a comment.
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Missing file, a short or malformed row, counts that do not add up (file and line).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise OpenFASTFormatError(f"radiation state-space file not found: tried '{p.absolute()}'. It is "
+                                  "PotFile + '.ss' (RdtnMod = 2).")
+    rows: list[tuple[int, list[float]]] = []
+    for number, text in enumerate(p.read_text(encoding="latin-1").splitlines(), start=1):
+        if number == 1:
+            continue
+        tokens = text.split("%")[0].split()
+        if not tokens:
+            continue
+        try:
+            rows.append((number, [float(t.replace("D", "E").replace("d", "e")) for t in tokens]))
+        except ValueError:
+            raise OpenFASTFormatError(f"{p}, line {number}: expected numbers, got {text.strip()[:60]!r}. "
+                                      "Regenerate the file with SS_Fitting.") from None
+    if len(rows) < 3:
+        raise OpenFASTFormatError(f"{p}: expected the enabled DOFs, the number of states and the states per DOF "
+                                  "on lines 2-4.")
+    enabled, (count_line, count), per_dof = rows[0][1], rows[1], rows[2][1]
+    n = int(count[0])
+    if len(enabled) != 6 or len(per_dof) != 6 or sum(per_dof) != n:
+        raise OpenFASTFormatError(f"{p}, line {count_line}: {n} states, but the states per DOF {per_dof} add up to "
+                                  f"{sum(per_dof):g} (6 flags and 6 counts expected).")
+    body = rows[3:]
+    widths = [n] * n + [6] * n + [n] * 6
+    if len(body) != len(widths):
+        raise OpenFASTFormatError(f"{p}: expected {len(widths)} matrix rows after line {rows[2][0]} (A: {n}, B: {n}, "
+                                  f"C: 6), got {len(body)}.")
+    for (number, row), width in zip(body, widths):
+        if len(row) != width:
+            raise OpenFASTFormatError(f"{p}, line {number}: expected {width} numbers, got {len(row)}.")
+    data = [row for _, row in body]
+    return RadiationFit(np.array(data[:n]), np.array(data[n:2 * n]), np.array(data[2 * n:]),
+                        tuple(int(e) for e in enabled), tuple(int(k) for k in per_dof), str(p))

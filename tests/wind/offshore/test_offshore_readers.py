@@ -281,3 +281,17 @@ def test_map_bad_node(tmp_path):
     _replace(path, "2   Vessel   -58.000", "2   Boat     -58.000")
     with pytest.raises(OpenFASTFormatError, match=r"line 9, column 'Type': 'Boat'"):
         read_map(path)
+
+
+def test_wamit_ss_bad_counts(tmp_path):
+    from mbsym.wind.deck.wamit import read_wamit_ss
+
+    good = (SEMI / "HydroData" / "IEA-15-240-RWT-UMaineSemi.ss").read_text()
+    (tmp_path / "x.ss").write_text(good.replace("14 14  6 10 10  6", "14 14  6 10 10  7", 1))
+    with pytest.raises(OpenFASTFormatError, match=r"x.ss, line 3: 60 states, but the states per DOF"):
+        read_wamit_ss(tmp_path / "x.ss")
+    lines = good.splitlines()
+    lines[7] = " ".join(lines[7].split()[:-1])            # a row of A one number short
+    (tmp_path / "y.ss").write_text("\n".join(lines))
+    with pytest.raises(OpenFASTFormatError, match=r"y.ss, line 8: expected 60 numbers, got 59"):
+        read_wamit_ss(tmp_path / "y.ss")
