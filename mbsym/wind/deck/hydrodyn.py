@@ -242,7 +242,7 @@ def read_hydrodyn(path) -> HydroDynInput:
     ((20206.34889,), 923000.0)
     """
     f = _Lines(Path(path), "HydroDyn input file")
-    echo = f.key("Echo", "bool")
+    f.key("Echo", "bool")
     f.rule("FLOATING PLATFORM")
     values = _platform(f)
     f.rule("2ND-ORDER FLOATING PLATFORM FORCES")
@@ -272,5 +272,4 @@ def read_hydrodyn(path) -> HydroDynInput:
     f.rule("OUTPUT CHANNELS")
     values["outputs"] = tuple(f.outlist())
     f.raise_problems()
-    del echo
     return HydroDynInput(**values, path=str(f.path), lines=dict(f.line_of))

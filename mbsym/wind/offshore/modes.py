@@ -61,7 +61,8 @@ def natural_periods(mass, stiffness, names: tuple[str, ...] = PLATFORM_DOFS) -> 
     Returns
     -------
     PlatformModes
-        One mode per DOF, ordered by dominant DOF when each DOF dominates one mode.
+        One mode per DOF, ordered by dominant DOF when each DOF dominates one mode; otherwise
+        ordered by frequency, and ``dominant`` may name a DOF twice (``period`` gives the first).
 
     Examples
     --------

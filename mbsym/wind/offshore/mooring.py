@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ...exceptions import ModelWarning, OptionError, UnsupportedFeatureError
+from ...exceptions import DimensionError, ModelWarning, OptionError, UnsupportedFeatureError
 from ._casadi import _in, _symbolic, euler_zyx
 from .catenary import CatenaryLine, wet_weight
 
@@ -59,7 +59,7 @@ class MooringSystem:
         for name in ("anchors", "fairleads"):
             arr = np.array(getattr(self, name), dtype=float).reshape(-1, 3)
             if arr.shape[0] != n:
-                raise UnsupportedFeatureError(f"MooringSystem.{name} has {arr.shape[0]} rows; expected {n} (one per line).")
+                raise DimensionError(f"MooringSystem.{name} has {arr.shape[0]} rows; expected {n} (one per line).")
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
 

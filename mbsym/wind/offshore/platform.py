@@ -30,7 +30,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from ...exceptions import ModelWarning, UnsupportedFeatureError
+from ...exceptions import ModelWarning, ParameterError, UnsupportedFeatureError
 from ..deck.hydrodyn import HydroDynInput, read_hydrodyn
 from ..deck.seastate import SeaStateInput, read_seastate
 from ..deck.wamit import WamitHydrodynamics, read_wamit
@@ -150,7 +150,7 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     if sea is not None and sea.water_density != "default":
         rho = float(sea.water_density)
     if not (math.isfinite(rho) and rho > 0 and math.isfinite(gravity) and gravity > 0):
-        raise UnsupportedFeatureError(f"water density {rho} and gravity {gravity} must be finite and > 0.")
+        raise ParameterError(f"water density {rho} kg/m^3 and gravity {gravity} m/s^2 must be finite and > 0.")
     wamit = read_wamit(hd.potential_files[0]).redimensionalize(rho, float(gravity), hd.wamit_length[0])
     if wamit.added_mass_infinite is None:
         raise UnsupportedFeatureError(f"{hd.potential_files[0]}.1 has no infinite-frequency rows (period 0); HydroDyn "
