@@ -77,8 +77,8 @@ class RadiationStateSpace:
         eye = np.eye(self.n_states)
         return np.array([self.C @ np.linalg.solve(1j * w * eye - self.A, self.B) for w in np.atleast_1d(omega)])
 
-    def accuracy(self, wamit: WamitHydrodynamics) -> dict:
-        """How well the block reproduces the ``.1`` data (see the module docstring).
+    def accuracy(self, wamit: WamitHydrodynamics, *, max_frequency: float = np.inf) -> dict:
+        """How well the block reproduces the ``.1`` data up to ``max_frequency`` [rad/s] (module docstring).
 
         Returns
         -------
@@ -88,8 +88,9 @@ class RadiationStateSpace:
             ``"passive"``: bool; ``"min_dissipation"``: the smallest eigenvalue of the Hermitian part
             of −H(iω) over the frequencies [N s/m]; ``"stable"``: all eigenvalues of A in the left half-plane.
         """
-        H = self.frequency_response(wamit.frequencies)
-        ref = radiation_reference(wamit)
+        band = wamit.frequencies <= max_frequency
+        H = self.frequency_response(wamit.frequencies[band])
+        ref = radiation_reference(wamit)[band]
         with np.errstate(invalid="ignore", divide="ignore"):
             peak = np.abs(ref).max(axis=0)
             error = np.where(peak > 0, np.abs(H - ref).max(axis=0) / peak, np.nan)
