@@ -1,14 +1,19 @@
 """Floating platforms: the water's loads and the mooring (issue 20).
 
-A wind room importing only :mod:`mbsym.wind.deck` (and the general layers): the platform's
-hydrostatics and buoyancy as HydroDyn applies them, HydroDyn's additional preload, stiffness
-and damping (:mod:`.hydrostatics`), the still-water hydrodynamics of a deck with the
-infinite-frequency added mass (:mod:`.platform`), natural periods from the generalized
-eigenproblem (:mod:`.modes`), the quasi-static catenary mooring (:mod:`.catenary`,
-:mod:`.mooring`), and the radiation memory as a state-space block (:mod:`.radiation`), read from a
-``.ss`` file or fitted to the ``.1`` data (:mod:`.radiation_fit`). Loads are numbers or CasADi expressions of the six
-platform DOFs (surge, sway, heave, roll, pitch, yaw). Nothing here is wired into the operating
-turbine yet. See docs/offshore.md.
+A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
+
+- :mod:`.hydrostatics`: hydrostatics and buoyancy as HydroDyn applies them, HydroDyn's additional
+  preload, stiffness and damping;
+- :mod:`.platform`: the still-water hydrodynamics of a deck, with the infinite-frequency added mass;
+- :mod:`.radiation`, :mod:`.radiation_fit`: the radiation memory as a state-space block, read from a
+  ``.ss`` file or fitted to the ``.1`` data;
+- :mod:`.catenary`, :mod:`.mooring`: the quasi-static elastic catenary mooring;
+- :mod:`.modes`: natural periods from the generalized eigenproblem;
+- :mod:`.floating`: a first floating structure (a structural model + water + mooring; no rotor
+  loads, no controller).
+
+Loads are numbers or CasADi expressions of the six platform DOFs (surge, sway, heave, roll, pitch,
+yaw). Nothing here is wired into the operating turbine yet. See docs/offshore.md.
 """
 
 from .catenary import CatenaryLine, wet_weight
