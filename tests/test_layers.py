@@ -19,7 +19,7 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[1] / "mbsym"
 
 #: Rooms of mbsym.wind, lowest first (a room may import the rooms before it).
-WIND_ROOMS = ("inflow", "deck", "structure", "aero", "control", "operation", "mpc", "analysis")
+WIND_ROOMS = ("inflow", "deck", "structure", "aero", "control", "offshore", "operation", "mpc", "analysis")
 #: Modules of mbsym.linear, lowest first (ARCHITECTURE.md; groups on one line may not import each other).
 LINEAR_MODULES = (("_cache", "model", "point"), ("functions", "target", "fd"), ("outputs",), ("linearize",),
                   ("batch", "sensitivity", "operating"), ("azimuth",))

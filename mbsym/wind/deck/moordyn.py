@@ -1,0 +1,217 @@
+"""Read a MoorDyn input file: line types, points, lines, solver options, outputs.
+
+MoorDyn (v2 layout, also v1's ``CONNECTION PROPERTIES``/``NODE PROPERTIES``) has sections
+opened by rule lines; each table has a header of column names and a units line.  Read here:
+``LINE TYPES`` (``Name Diam MassDen EA BA/-zeta [EI] Cd Ca CdAx CaAx``), ``POINTS``
+(``ID Type X Y Z M V CdA CA``; Type ``Fixed``/``Vessel``/``Coupled``/``Free``, ``Body#``,
+``Turbine#``), ``LINES`` (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``), the
+options (``<value> <key>`` lines) and the output channels up to ``END``.  Sections mbsym
+has no reader for (rods, bodies, failures, external loads) are kept by name in
+:attr:`MoorDynInput.other_sections` with their row count, so the user of the data can
+refuse them.  Numbers are SI as in the file (MoorDyn's own units).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ._format import _real
+from ._sections import _find, _raise, _split, _table
+
+__all__ = ["MoorDynInput", "MooringLineType", "MooringPoint", "MooringLine", "read_moordyn"]
+
+
+@dataclass(frozen=True)
+class MooringLineType:
+    """A line type: diameter [m], mass per length in air [kg/m], axial stiffness EA [N],
+    internal damping (``BA`` [N s], or −ζ when negative), bending stiffness EI [N m²],
+    transverse/axial drag and added-mass coefficients [-]."""
+
+    name: str
+    diameter: float
+    mass_per_length: float
+    axial_stiffness: float
+    axial_damping: float
+    bending_stiffness: float
+    drag_transverse: float
+    added_mass_transverse: float
+    drag_axial: float
+    added_mass_axial: float
+    line: int
+
+
+@dataclass(frozen=True)
+class MooringPoint:
+    """A point: id, attachment kind (``fixed``, ``vessel``/``coupled``, ``free``, ``body#``, ``turbine#``),
+    position [m] (relative to the platform reference point for vessel points), mass [kg],
+    volume [m³], drag area CdA [m²] and added-mass coefficient [-]."""
+
+    id: int
+    kind: str
+    position: tuple[float, float, float]
+    mass: float
+    volume: float
+    drag_area: float
+    added_mass: float
+    line: int
+
+
+@dataclass(frozen=True)
+class MooringLine:
+    """A line: id, type name, the point ids of its ends A and B, unstretched length [m],
+    number of segments, output flags."""
+
+    id: int
+    line_type: str
+    end_a: int
+    end_b: int
+    length: float
+    n_segments: int
+    outputs: str
+    line: int
+
+
+@dataclass(frozen=True)
+class MoorDynInput:
+    """A MoorDyn input file (see the module docstring)."""
+
+    line_types: dict[str, MooringLineType]
+    points: dict[int, MooringPoint]
+    lines: dict[int, MooringLine]
+    options: dict[str, float | str]
+    outputs: tuple[str, ...]
+    other_sections: dict[str, int]
+    path: str
+    option_lines: dict = field(default_factory=dict, compare=False)
+
+    def fairlead(self, line: int) -> MooringPoint:
+        """The vessel end of line ``line`` (the point attached to the platform)."""
+        entry = self.lines[line]
+        ends = [self.points[entry.end_a], self.points[entry.end_b]]
+        return next(p for p in ends if p.kind in ("vessel", "coupled"))
+
+    def anchor(self, line: int) -> MooringPoint:
+        """The fixed end of line ``line``."""
+        entry = self.lines[line]
+        ends = [self.points[entry.end_a], self.points[entry.end_b]]
+        return next(p for p in ends if p.kind in ("fixed", "anchor"))
+
+
+_TYPE_COLUMNS = {"name": "name", "diam": "diameter", "massden": "mass_per_length", "ea": "axial_stiffness",
+                 "ba/-zeta": "axial_damping", "ei": "bending_stiffness", "cd": "drag_transverse",
+                 "ca": "added_mass_transverse", "cdax": "drag_axial", "caax": "added_mass_axial"}
+_POINT_KINDS = ("fixed", "vessel", "coupled", "free", "anchor", "connect")
+
+
+def _get(row: dict, *names: str, default=None):
+    low = {k.lower(): v for k, v in row.items()}
+    return next((low[n] for n in names if n in low), default)
+
+
+def _types(p: Path, section, problems) -> dict:
+    header, rows, lines = _table(p, section, ("name",), problems)
+    need = {"name", "diam", "massden", "ea", "cd", "ca", "cdax", "caax"} - {h.lower() for h in header}
+    if need and header:
+        problems.append(f"{p}, line {section.rows[0][0]}: the LINE TYPES header lacks {sorted(need)}; expected "
+                        "'Name Diam MassDen EA BA/-zeta EI Cd Ca CdAx CaAx'.")
+        return {}
+    out = {}
+    for row, line in zip(rows, lines):
+        values = {attr: _get(row, col, default=0.0) for col, attr in _TYPE_COLUMNS.items()}
+        out[row[header[0]]] = MooringLineType(**values, line=line)
+    return out
+
+
+def _kind(p: Path, token: str, line: int, problems) -> str:
+    low = token.lower()
+    if low in _POINT_KINDS or low.startswith(("body", "turbine")):
+        return {"connect": "free", "anchor": "fixed"}.get(low, low)
+    problems.append(f"{p}, line {line}, column 'Type': unknown point type {token!r}; expected Fixed, Vessel, "
+                    "Coupled, Free, Body# or Turbine#.")
+    return low
+
+
+def _points(p: Path, section, problems) -> dict:
+    header, rows, lines = _table(p, section, ("type", "attachment"), problems)
+    out = {}
+    for row, line in zip(rows, lines):
+        ident = _get(row, "id", "node", "name")
+        kind = _kind(p, _get(row, "type", "attachment", default=""), line, problems)
+        pos = tuple(_get(row, a) for a in ("x", "y", "z"))
+        if ident is None or None in pos:
+            continue
+        out[int(ident)] = MooringPoint(int(ident), kind, pos, _get(row, "m", default=0.0) or 0.0,
+                                       _get(row, "v", default=0.0) or 0.0, _get(row, "cda", default=0.0) or 0.0,
+                                       _get(row, "ca", default=0.0) or 0.0, line)
+    return out
+
+
+def _lines(p: Path, section, problems, types: dict, points: dict) -> dict:
+    header, rows, lines = _table(p, section, ("linetype", "outputs", "flags"), problems)
+    out = {}
+    for row, line in zip(rows, lines):
+        values = [_get(row, "id", "line"), _get(row, "attacha", "nodea", "anchor"),
+                  _get(row, "attachb", "nodeb", "fairlead"), _get(row, "unstrlen"), _get(row, "numsegs")]
+        if None in values:
+            continue
+        kind = _get(row, "linetype", default="")
+        if kind not in types:
+            problems.append(f"{p}, line {line}, column 'LineType': {kind!r} is not a line type of the LINE TYPES "
+                            f"table ({sorted(types)}).")
+        for end in values[1:3]:
+            if int(end) not in points:
+                problems.append(f"{p}, line {line}: attachment point {int(end)} is not in the POINTS table "
+                                f"({sorted(points)}).")
+        out[int(values[0])] = MooringLine(int(values[0]), kind, int(values[1]), int(values[2]), values[3],
+                                          int(values[4]), _get(row, "outputs", default="-"), line)
+    return out
+
+
+def _options(section) -> tuple[dict, dict]:
+    out, lines = {}, {}
+    for number, tokens in section.rows if section else []:
+        if len(tokens) >= 2:
+            value = _real(tokens[0])
+            out[tokens[1]] = tokens[0] if value is None else value
+            lines[tokens[1]] = number
+    return out, lines
+
+
+def read_moordyn(path) -> MoorDynInput:
+    """Read a MoorDyn input file (see the module docstring).
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Missing file or section, malformed numbers, unknown point types, lines naming a
+        type or point that does not exist; names the file, line and column.
+
+    Examples
+    --------
+    >>> from mbsym.wind.deck.moordyn import read_moordyn
+    >>> md = read_moordyn("IEA-15-240-RWT-UMaineSemi_MoorDyn.dat")  # doctest: +SKIP
+    >>> md.lines[1].length, md.fairlead(1).position  # doctest: +SKIP
+    (850.0, (-58.0, 0.0, -14.0))
+    """
+    p = Path(path)
+    sections = _split(p, "MoorDyn input file", stop="END")
+    problems: list[str] = []
+    found = {key: _find(sections, *names) for key, names in (
+        ("types", ("LINE TYPES", "LINE DICTIONARY")), ("points", ("POINTS", "CONNECTION", "NODE PROPERTIES")),
+        ("lines", ("LINES", "LINE PROPERTIES")), ("options", ("OPTIONS",)), ("outputs", ("OUTPUT",)))}
+    for key in ("types", "points", "lines"):
+        if found[key] is None:
+            problems.append(f"{p}: no '{key.upper()}' section (a rule line such as '---- LINE TYPES ----' followed "
+                            "by the table). Add it.")
+    _raise(problems, p)
+    types = _types(p, found["types"], problems)
+    points = _points(p, found["points"], problems)
+    lines = _lines(p, found["lines"], problems, types, points)
+    options, option_lines = _options(found["options"])
+    outputs = tuple(t for _, tokens in (found["outputs"].rows if found["outputs"] else [])
+                    for t in tokens if t.upper() != "END")
+    known = {id(s) for s in found.values() if s is not None}
+    other = {s.name: len(s.rows) for s in sections if id(s) not in known and s.rows}
+    _raise(problems, p)
+    return MoorDynInput(types, points, lines, options, outputs, other, str(p), option_lines)

@@ -1,0 +1,30 @@
+"""Floating platforms: the water's loads and the mooring (issue 20).
+
+A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
+
+- :mod:`.hydrostatics`: hydrostatics and buoyancy as HydroDyn applies them, HydroDyn's additional
+  preload, stiffness and damping;
+- :mod:`.platform`: the still-water hydrodynamics of a deck, with the infinite-frequency added mass;
+- :mod:`.radiation`, :mod:`.radiation_fit`: the radiation memory as a state-space block, read from a
+  ``.ss`` file or fitted to the ``.1`` data;
+- :mod:`.catenary`, :mod:`.mooring`: the quasi-static elastic catenary mooring;
+- :mod:`.modes`: natural periods from the generalized eigenproblem;
+- :mod:`.floating`: a first floating structure (a structural model + water + mooring; no rotor
+  loads, no controller).
+
+Loads are numbers or CasADi expressions of the six platform DOFs (surge, sway, heave, roll, pitch,
+yaw). Nothing here is wired into the operating turbine yet. See docs/offshore.md.
+"""
+
+from .catenary import CatenaryLine, wet_weight
+from .hydrostatics import AdditionalLoads, PlatformHydrostatics
+from .modes import PlatformModes, natural_periods, periods_with_frequency_dependent_added_mass
+from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
+from .platform import PlatformHydrodynamics, platform_hydrodynamics
+from .radiation import RadiationStateSpace, radiation_reference
+from .radiation_fit import fit_radiation, vector_fit
+
+__all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
+           "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
+           "CatenaryLine", "wet_weight", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
+           "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit"]

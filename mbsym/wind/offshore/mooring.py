@@ -1,0 +1,167 @@
+"""A quasi-static catenary mooring system on the platform (MoorDyn or MAP++ decks).
+
+Each line runs from a fixed anchor to a fairlead fixed on the platform at ``p`` (platform
+axes, relative to the platform reference point). For platform DOFs
+``q = (surge, sway, heave, roll, pitch, yaw)`` the fairlead is at ``r = q[0:3] + R p`` with
+``R = Rz(yaw) Ry(pitch) Rx(roll)`` (the platform joint's rotation); the spans to the anchor
+``a`` are ``l = |(a − r)_xy|`` and ``h = r_z − a_z``; the line's
+:class:`~.catenary.CatenaryLine` gives the fairlead forces (H, V), and the line pulls the
+platform by ``H (a − r)_xy / l − V e_z`` at the fairlead. :meth:`MooringSystem.load` sums the
+forces and their moments about the reference point (inertial axes), and the fairlead
+tensions ``√(H² + V²)`` (MoorDyn's ``FAIRTEN<n>``).
+
+Two solvers of the catenary equations: ``"rootfinder"`` (CasADi's Newton ``rootfinder``,
+converged to 1e-6 m; MX graphs) and ``"newton"`` (a fixed number of smooth Newton steps
+written out in SX, usable inside any SX graph; the default 30 steps converge the deck's lines
+to machine precision from MAP++'s starting point). Line dynamics (MoorDyn's lumped masses,
+drag, seabed stiffness) are not modelled: see docs/offshore.md.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import DimensionError, ModelWarning, OptionError, UnsupportedFeatureError
+from ._casadi import _in, _symbolic, euler_zyx
+from .catenary import CatenaryLine, wet_weight
+
+__all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map"]
+
+
+def _newton(line: CatenaryLine, l, h, steps: int):
+    """(H, V) after ``steps`` Newton steps from MAP++'s initial guess (SX; smooth in l, h)."""
+    x, p = ca.SX.sym("HV", 2), ca.SX.sym("lh", 2)
+    lm, hm = line.spans(x[0], x[1])
+    r = ca.vertcat(lm - p[0], hm - p[1])
+    dx = -ca.solve(ca.jacobian(r, x), r)
+    tiny = 1e-6 * line.weight * line.length
+    step = ca.Function("catenary_step", [x, p], [ca.vertcat(ca.fmax(x[0] + dx[0], tiny), x[1] + dx[1])])
+    HV = ca.vertcat(*line.initial_guess(l, h))
+    for _ in range(steps):
+        HV = step(HV, ca.vertcat(l, h))
+    return HV[0], HV[1]
+
+
+@dataclass(frozen=True, eq=False)
+class MooringSystem:
+    """Catenary lines between anchors (inertial) and fairleads (platform axes) [m]."""
+
+    lines: tuple[CatenaryLine, ...]
+    anchors: np.ndarray
+    fairleads: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = len(self.lines)
+        for name in ("anchors", "fairleads"):
+            arr = np.array(getattr(self, name), dtype=float).reshape(-1, 3)
+            if arr.shape[0] != n:
+                raise DimensionError(f"MooringSystem.{name} has {arr.shape[0]} rows; expected {n} (one per line).")
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    def _expressions(self, x, method: str, steps: int):
+        R = euler_zyx(x[3:6])
+        force, moment, tension, fair_h = ca.DM.zeros(3), ca.DM.zeros(3), [], []
+        solvers = [ln.function() for ln in self.lines] if method == "rootfinder" else None
+        for k, line in enumerate(self.lines):
+            arm = ca.mtimes(R, ca.DM(self.fairleads[k]))
+            r = x[0:3] + arm
+            d = ca.DM(self.anchors[k][:2]) - r[0:2]
+            l, h = ca.sqrt(ca.sumsqr(d)), r[2] - self.anchors[k][2]
+            H, V = solvers[k](ca.vertcat(l, h)) if solvers else _newton(line, l, h, steps)
+            f = ca.vertcat(H * d / l, -V)
+            force += f
+            moment += ca.cross(arm, f)
+            tension.append(ca.sqrt(H ** 2 + V ** 2))
+            fair_h.append(ca.vertcat(H, V))
+        return ca.vertcat(force, moment), ca.vertcat(*tension), ca.horzcat(*fair_h)
+
+    def function(self, *, method: str = "newton", steps: int = 30) -> ca.Function:
+        """``q → (load [N, N m] (6), tensions [N] (n), HV (2 × n))`` as one CasADi Function."""
+        if method not in ("newton", "rootfinder"):
+            raise OptionError(f"method must be 'newton' or 'rootfinder'; got {method!r}.")
+        q = (ca.SX if method == "newton" else ca.MX).sym("q", 6)
+        load, tension, hv = self._expressions(q, method, steps)
+        return ca.Function("mooring", [q], [load, tension, hv], ["q"], ["load", "tension", "HV"])
+
+    def load(self, q, *, method: str = "newton", steps: int = 30):
+        """Mooring force and moment about the reference point, inertial axes [N, N m].
+
+        ``q`` as numbers (numpy back) or a CasADi SX/MX vector (an expression back; with
+        ``method="rootfinder"`` only MX).
+        """
+        x = _in(q, 6, "q")
+        if _symbolic(q) and method == "newton":
+            return self._expressions(x, "newton", steps)[0]
+        out = self.function(method=method, steps=steps)(x)[0]
+        return out if _symbolic(q) else np.array(out, dtype=float).ravel()
+
+    def tensions(self, q, *, method: str = "newton", steps: int = 30) -> np.ndarray:
+        """Fairlead tensions √(H² + V²) [N] of every line at platform position ``q`` (numbers)."""
+        return np.array(self.function(method=method, steps=steps)(_in(q, 6, "q"))[1], dtype=float).ravel()
+
+    def stiffness(self, q=np.zeros(6), *, method: str = "newton", steps: int = 30) -> np.ndarray:
+        """The 6×6 mooring stiffness −∂load/∂q about ``q`` [N/m, N/rad, N m/m, N m/rad] (exact derivatives)."""
+        f = self.function(method=method, steps=steps)
+        sym = (ca.SX if method == "newton" else ca.MX).sym("q", 6)
+        jac = ca.Function("mooring_jac", [sym], [-ca.jacobian(f(sym)[0], sym)])
+        return np.array(jac(_in(q, 6, "q")), dtype=float)
+
+
+def mooring_from_moordyn(md, *, water_density: float, gravity: float) -> MooringSystem:
+    """The quasi-static system of a MoorDyn deck (every line between a fixed and a vessel point).
+
+    The seabed is frictionless (MoorDyn's default). Free points, bodies, rods and lines
+    between free points are refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`).
+
+    Warns
+    -----
+    ModelWarning
+        MoorDyn's line dynamics (lumped masses, drag and added mass, internal damping, the seabed's
+        stiffness ``kbot`` and damping ``cbot``) are left out: the lines are quasi-static.
+    """
+    if md.other_sections:
+        raise UnsupportedFeatureError(f"{md.path}: sections {sorted(md.other_sections)} (rods, bodies, …) are not "
+                                      "modelled by the quasi-static mooring.")
+    lines, anchors, fairs = [], [], []
+    for ident, entry in sorted(md.lines.items()):
+        kinds = {md.points[entry.end_a].kind, md.points[entry.end_b].kind}
+        if not ({"fixed"} <= kinds and kinds & {"vessel", "coupled"}):
+            raise UnsupportedFeatureError(f"{md.path}, line {entry.line}: mooring line {ident} joins {sorted(kinds)} "
+                                          "points; only lines from a fixed anchor to a vessel fairlead are modelled.")
+        kind = md.line_types[entry.line_type]
+        lines.append(CatenaryLine(entry.length, wet_weight(kind.mass_per_length, kind.diameter, water_density,
+                                                           gravity), kind.axial_stiffness))
+        anchors.append(md.anchor(ident).position)
+        fairs.append(md.fairlead(ident).position)
+    warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
+                  "stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries",
+                  ModelWarning, stacklevel=2)
+    return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs))
+
+
+def mooring_from_map(mp, *, water_density: float, gravity: float, water_depth: float) -> MooringSystem:
+    """The quasi-static system of a MAP++ deck (with its ``repeat`` copies, seabed friction ``CB``).
+
+    Connect nodes (line junctions) are refused.
+    """
+    lines, anchors, fairs = [], [], []
+    angles = (0.0,) + mp.repeat_angles
+    for ident, entry in sorted(mp.lines.items()):
+        kinds = (mp.nodes[entry.anchor].kind, mp.nodes[entry.fairlead].kind)
+        if kinds != ("fix", "vessel"):
+            raise UnsupportedFeatureError(f"{mp.path}, line {entry.line}: line {ident} runs {kinds[0]} → {kinds[1]}; "
+                                          "only fix → vessel lines are modelled.")
+        kind = mp.line_types[entry.line_type]
+        line = CatenaryLine(entry.length, wet_weight(kind.mass_per_length, kind.diameter, water_density, gravity),
+                            kind.axial_stiffness, kind.seabed_friction)
+        a, f = mp.repeated_positions(entry.anchor, water_depth), mp.repeated_positions(entry.fairlead, water_depth)
+        for k in range(len(angles)):
+            lines.append(line)
+            anchors.append(a[k])
+            fairs.append(f[k])
+    return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs))

@@ -1,0 +1,134 @@
+"""A state-space fit of the radiation memory to the WAMIT ``.1`` data (vector fitting).
+
+Each significant entry K_ij(iω) = B_ij(ω) + iω (A_ij(ω) − A∞_ij) is fitted on its own by
+vector fitting (Gustavsen and Semlyen 1999, IEEE Trans. Power Delivery 14(3)): a strictly proper
+rational function Σ c_n / (s − a_n) with stable poles, relocated from complex pairs spread over
+the band by repeated linear least squares; the data at −iω (complex conjugates) keep the poles
+and residues in conjugate pairs. The number of pole pairs grows per entry until the largest
+error is below ``tolerance`` of the entry's peak (or ``max_pairs``). Entries whose peak is below
+``coupling_threshold`` of √(peak_ii peak_jj) are left out (zero).
+
+Frequencies above ``max_frequency`` are not fitted: WAMIT's irregular frequencies put spikes in
+the deck's ``.1`` data near 4.6-4.9 rad/s (even a negative heave damping), beyond any wave
+spectrum of the decks (``WvHiCOff`` 3.2 rad/s). The result is a
+:class:`~.radiation.RadiationStateSpace` (``F = C x = −K q̇``); judge it with its ``accuracy``.
+Passivity is not enforced (see docs/offshore.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...exceptions import SolverError
+from .radiation import RadiationStateSpace, radiation_reference
+
+__all__ = ["fit_radiation", "vector_fit"]
+
+
+def _paired(poles: np.ndarray) -> np.ndarray:
+    """Stable poles (real parts flipped to negative) in conjugate pairs, real poles kept real."""
+    out = []
+    for p in poles:
+        p = complex(-abs(p.real), p.imag)
+        if abs(p.imag) <= 1e-9 * max(1.0, abs(p)):
+            out.append(complex(p.real, 0.0))
+        elif p.imag > 0:
+            out += [p, p.conjugate()]
+    return np.array(out)
+
+
+def _lstsq_complex(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Complex unknowns of M x ≈ rhs by real least squares."""
+    n = M.shape[1]
+    big = np.hstack([M, 1j * M])
+    x = np.linalg.lstsq(np.vstack([big.real, big.imag]), np.concatenate([rhs.real, rhs.imag]), rcond=None)[0]
+    return x[:n] + 1j * x[n:]
+
+
+def vector_fit(omega, values, n_pairs: int, *, iterations: int = 30) -> tuple[np.ndarray, np.ndarray]:
+    """Poles and residues of ``Σ c_n / (iω − a_n)`` fitted to ``values`` at ``omega`` [rad/s].
+
+    Examples
+    --------
+    >>> w = np.linspace(0.1, 3, 60); h = 2.0 / (1j * w + 0.5)
+    >>> poles, res = vector_fit(w, h, 1)
+    >>> bool(np.abs((res[None] / (1j * w[:, None] - poles[None])).sum(1) - h).max() < 1e-8)
+    True
+    """
+    omega, values = np.asarray(omega, float), np.asarray(values, complex)
+    s = np.concatenate([1j * omega, -1j * omega])
+    f = np.concatenate([values, values.conj()])
+    scale = max(np.abs(f).max(), 1e-300)
+    beta = np.geomspace(omega[0], omega[-1], n_pairs)
+    poles = np.concatenate([-0.01 * beta + 1j * beta, -0.01 * beta - 1j * beta])
+    for _ in range(iterations):
+        basis = 1.0 / (s[:, None] - poles[None, :])
+        x = _lstsq_complex(np.hstack([basis, -(f / scale)[:, None] * basis]), f / scale)
+        sigma = x[len(poles):]
+        poles = _paired(np.linalg.eigvals(np.diag(poles) - np.outer(np.ones(len(poles)), sigma)))
+    basis = 1.0 / (s[:, None] - poles[None, :])
+    return poles, _lstsq_complex(basis, f)
+
+
+def _realize(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Real (A, b, c) with c (sI − A)⁻¹ b = Σ r/(s − p): a real pole → one state; a pair
+    α ± iβ with residues r, r̄ → A = [[α, β], [−β, α]], b = [2, 0], c = [Re r, Im r]."""
+    blocks = []
+    for p, r in zip(poles, residues):
+        if p.imag == 0:
+            blocks.append((np.array([[p.real]]), np.array([1.0]), np.array([r.real])))
+        elif p.imag > 0:
+            blocks.append((np.array([[p.real, p.imag], [-p.imag, p.real]]), np.array([2.0, 0.0]),
+                           np.array([r.real, r.imag])))
+    n = sum(b[0].shape[0] for b in blocks)
+    A, b, c, k = np.zeros((n, n)), np.zeros(n), np.zeros(n), 0
+    for Ab, bb, cb in blocks:
+        d = Ab.shape[0]
+        A[k:k + d, k:k + d], b[k:k + d], c[k:k + d] = Ab, bb, cb
+        k += d
+    return A, b, c
+
+
+def fit_radiation(wamit, *, max_frequency: float = 4.0, tolerance: float = 0.02, max_pairs: int = 12,
+                  coupling_threshold: float = 0.01) -> RadiationStateSpace:
+    """Fit the radiation memory of ``wamit`` (a :class:`~mbsym.wind.deck.wamit.WamitHydrodynamics`).
+
+    Parameters
+    ----------
+    max_frequency : float, keyword-only
+        Highest fitted frequency [rad/s] (module docstring).
+    tolerance : float, keyword-only
+        Target largest error per entry, relative to its peak over the band.
+    max_pairs : int, keyword-only
+        Most pole pairs per entry.
+    coupling_threshold : float, keyword-only
+        Entries smaller than this fraction of √(peak_ii peak_jj) are not fitted.
+
+    Raises
+    ------
+    SolverError
+        When the band holds fewer than 8 frequencies.
+    """
+    band = wamit.frequencies <= max_frequency
+    if band.sum() < 8:
+        raise SolverError(f"only {band.sum()} WAMIT frequencies up to {max_frequency} rad/s; at least 8 are needed.")
+    omega, K = wamit.frequencies[band], -radiation_reference(wamit)[band]
+    peak = np.abs(K).max(axis=0)
+    blocks = []
+    for i in range(6):
+        for j in range(6):
+            if peak[i, j] == 0 or peak[i, j] < coupling_threshold * np.sqrt(peak[i, i] * peak[j, j]):
+                continue
+            for pairs in range(2, max_pairs + 1):
+                poles, res = vector_fit(omega, K[:, i, j], pairs)
+                fit = (res[None] / (1j * omega[:, None] - poles[None])).sum(axis=1)
+                if np.abs(fit - K[:, i, j]).max() <= tolerance * peak[i, j]:
+                    break
+            blocks.append((i, j, *_realize(poles, res)))
+    n = sum(b[2].shape[0] for b in blocks)
+    A, B, C, k = np.zeros((n, n)), np.zeros((n, 6)), np.zeros((6, n)), 0
+    for i, j, Ab, bb, cb in blocks:
+        d = Ab.shape[0]
+        A[k:k + d, k:k + d], B[k:k + d, j], C[i, k:k + d] = Ab, bb, -cb   # F = −K q̇
+        k += d
+    return RadiationStateSpace(A, B, C)

@@ -1,0 +1,23 @@
+"""Fixtures of the offshore tests (issue 20).
+
+Reference data: ``shared/openfast/floating`` (the IEA 15 MW on the VolturnUS-S semi-submersible, OpenFAST
+v5 deck and results; see its README). The shared directory sits next to the repository (``../shared``);
+from a git worktree nested one level deeper it is found by walking up the ancestors, as in
+``tests/wind/aero/conftest.py``. Tests needing it skip cleanly when it is absent.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def _find_shared() -> Path:
+    here = Path(__file__).resolve()
+    for parent in here.parents[3:]:  # the repository root, then its ancestors
+        if (parent / "shared" / "openfast").is_dir():
+            return parent / "shared"
+    return here.parents[3].parent / "shared"
+
+
+FLOATING = _find_shared() / "openfast" / "floating"
+SEMI = FLOATING / "IEA-15-240-RWT-UMaineSemi"
