@@ -20,7 +20,6 @@ The projection to the 660 s case counts one output sample in 8 (6.25 ms) / 4 / 2
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from dataclasses import replace
@@ -31,7 +30,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from _report import write_section  # noqa: E402
-from blade_speed import per_call_us  # noqa: E402
+from blade_speed import flex_deck, per_call_us  # noqa: E402
 
 INPUTS = next((p / "shared" / "openfast" / "aero" / "openfast_inputs" for p in HERE.parents
                if (p / "shared" / "openfast" / "aero").is_dir()), None)
@@ -78,14 +77,7 @@ def sample_costs(model, method: str, dt: float, wind: dict) -> tuple[float, floa
 
 
 def main() -> None:
-    from mbsym.wind.operation.deck import operating_deck
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--no-write", action="store_true")
-    args = parser.parse_args()
-    if INPUTS is None:
-        raise SystemExit("shared/openfast/aero not found")
-    deck = operating_deck(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    no_write, deck = flex_deck(__doc__.splitlines()[0])
     base = replace(deck, inflow=None).model(aero="rotor", dofs=("GenDOF", "TwFADOF1", "TwSSDOF1"))
     b0, _, _ = sample_costs(base, "rk4", 0.00625, {"Wind1VelX": 14.0})
     blade = deck.model(aero="blade")
@@ -104,7 +96,7 @@ def main() -> None:
                      f"{T_CASE / cpu:.0f}× |")
     text = "\n".join(table)
     print(text)
-    if not args.no_write:
+    if not no_write:
         write_section("blade-loop-speed", text)
 
 

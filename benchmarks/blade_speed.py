@@ -59,16 +59,22 @@ def point(model, wind: dict):
     return d, x, d.input_vector({**wind, **held_commands(model, x)}), d.parameter_vector()
 
 
-def main() -> None:
-    from mbsym import codegen
+def flex_deck(description: str):
+    """``(--no-write flag, the shared ff14_flex OperatingDeck)`` from the command line of a benchmark."""
     from mbsym.wind.operation.deck import operating_deck
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--no-write", action="store_true")
     args = parser.parse_args()
     if INPUTS is None:
         raise SystemExit("shared/openfast/aero not found")
-    deck = operating_deck(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    return args.no_write, operating_deck(INPUTS / "ff14_flex" / "ff14_flex.fst")
+
+
+def main() -> None:
+    from mbsym import codegen
+
+    no_write, deck = flex_deck(__doc__.splitlines()[0])
     rows = []
     base = replace(deck, inflow=None).model(aero="rotor", dofs=DOF_SETS["rigid (GenDOF, TwFA1, TwSS1)"])
     d, x, u, p = point(base, {"Wind1VelX": 14.0})
@@ -110,7 +116,7 @@ def main() -> None:
                      f"{build:.1f} + {compile_s:.0f} |")
     text = "\n".join(table)
     print(text)
-    if not args.no_write:
+    if not no_write:
         write_section("blade-speed", text)
 
 

@@ -65,6 +65,11 @@ class PointClosure:
         return [f"{self.name}_F{a}" for a in self.directions]
 
 
+def _lambda_names(name: str, n: int) -> list[str]:
+    """Multiplier names of an ``n``-row constraint: ``<name>_lambda``, or numbered from 1."""
+    return [f"{name}_lambda"] if n == 1 else [f"{name}_lambda{i + 1}" for i in range(n)]
+
+
 @dataclass(frozen=True)
 class HolonomicConstraint:
     """A general holonomic constraint ``g(q, p) = 0`` (one or more rows)."""
@@ -74,8 +79,7 @@ class HolonomicConstraint:
 
     @property
     def row_names(self) -> list[str]:
-        n = self.expression.numel()
-        return [f"{self.name}_lambda"] if n == 1 else [f"{self.name}_lambda{i + 1}" for i in range(n)]
+        return _lambda_names(self.name, self.expression.numel())
 
 
 @dataclass(frozen=True)
@@ -87,8 +91,7 @@ class VelocityConstraint:
 
     @property
     def row_names(self) -> list[str]:
-        n = self.expression.numel()
-        return [f"{self.name}_lambda"] if n == 1 else [f"{self.name}_lambda{i + 1}" for i in range(n)]
+        return _lambda_names(self.name, self.expression.numel())
 
 
 def point_closure(name: str, body_a, point_a, body_b, point_b, directions) -> PointClosure:
