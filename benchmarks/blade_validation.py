@@ -22,7 +22,7 @@ benchmarks/figures/blade_ff14_flex.png and blade_accuracy_time.png, and the numb
 benchmarks/figures/blade_validation.json (merged per case, so single ``--case`` runs add up).
 
     python benchmarks/blade_validation.py [--quick] [--no-write] [--case NAME ...] [--rung blade|rotor ...]
-                                          [--dt DT] [--n-newton N] [--dbemt MODE] [--tag TAG]
+                                          [--dt DT] [--aero-dt DT] [--n-newton N] [--dbemt MODE] [--tag TAG]
                                           [--series DIR] [--report-only]
 """
 
@@ -103,7 +103,7 @@ def rotor_model(fst: Path):
 
 
 # ---------------------------------------------------------------------------------------------------- running
-def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4"):
+def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4", aero_dt=None):
     from mbsym.wind.control.baseline import BaselineController
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
@@ -113,12 +113,13 @@ def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk
     x0 = model.initial_state(wind0, rotor_speed=ic.rotor_speed, pitch=float(ic.blade_pitch[0]),
                              tower_fa=ic.tower_top_fa_displacement, tower_ss=ic.tower_top_ss_displacement)
     t_out = np.round(np.arange(0.0, tmax + 1e-9, 0.05), 10)
+    blade = model.aero == "blade"
     return simulate_turbine(model, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True,
-                            method=method if model.aero == "blade" else "rk4")
+                            method=method if blade else "rk4", aero_dt=aero_dt if blade else None)
 
 
 def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
-        method: str = "rk4") -> tuple[dict, object]:
+        method: str = "rk4", aero_dt=None) -> tuple[dict, object]:
     fst = INPUTS / case / f"{case}.fst"
     t0 = time.perf_counter()
     if rung == "blade":
@@ -138,7 +139,7 @@ def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
         build = time.perf_counter() - t0
         wind, wind0 = rew["signal"], float(rew["average"][0])
     t1, c1 = time.perf_counter(), time.process_time()
-    res = simulate(model, deck, wind, wind0, tmax, dt, method)
+    res = simulate(model, deck, wind, wind0, tmax, dt, method, aero_dt)
     total, cpu = time.perf_counter() - t1, time.process_time() - c1
     st = res.statistics
     timing = {"build_s": build, "compile_s": float(st.get("prepare_wall_s", 0.0)),
@@ -384,13 +385,17 @@ def main() -> None:
     ap.add_argument("--method", choices=("rk4", "rk4-held"), default="rk4-held",
                     help="integration of the blade-element rung (default rk4-held, the product's default: "
                          "aerodynamics once per step; rk4: at every stage)")
+    ap.add_argument("--aero-dt", type=float, default=None,
+                    help="blade-element rung: interval of the aerodynamics [s], a multiple of --dt (default: the "
+                         "model's default)")
     ap.add_argument("--report-only", action="store_true", help="rewrite README and chart from the JSON, no runs")
     ap.add_argument("--series", type=Path, default=None, help="save each run's channels (npz) in this folder")
     ap.add_argument("--tag", default="", help="label of a variant (stored separately in the JSON)")
     args = ap.parse_args()
     parts = ([f"dt={args.dt:g}"] * (args.dt != CONTROLLER_DT) + [args.method] * (args.method != "rk4-held")
              + [f"n_newton={args.n_newton}"] * (args.n_newton is not None)
-             + [f"DBEMT_Mod={args.dbemt}"] * (args.dbemt is not None))
+             + [f"DBEMT_Mod={args.dbemt}"] * (args.dbemt is not None)
+             + [f"aero_dt={args.aero_dt:g}"] * (args.aero_dt is not None))
     tag = args.tag or ", ".join(parts)
     if args.quick:
         tag = (tag + ", " if tag else "") + "120 s"
@@ -404,10 +409,12 @@ def main() -> None:
                 continue
             print(f"{case} / {rung} ({tmax:g} s, dt {args.dt:g} s{', ' + tag if tag else ''})", flush=True)
             timing, res = run(case, rung, tmax, args.dt,
-                              *((args.n_newton, args.dbemt) if rung == "blade" else (None, None)), method=args.method)
+                              *((args.n_newton, args.dbemt) if rung == "blade" else (None, None)), method=args.method,
+                              aero_dt=args.aero_dt)
             m = metrics(res, ref, tmax)
             key = f"{case}/{rung}" + (f"/{tag}" if tag else "")
-            stored[key] = {"case": case, "rung": rung, "tag": tag, "dt": args.dt, "metrics": m, "timing": timing,
+            stored[key] = {"case": case, "rung": rung, "tag": tag, "dt": args.dt, "aero_dt": args.aero_dt,
+                           "metrics": m, "timing": timing,
                            "method": args.method if rung == "blade" else "rk4"}
             print("    ε %: " + ", ".join(f"{c} {100 * m['eps'][c]:.2f}" for c in m["eps"]), flush=True)
             print("    R²: " + ", ".join(f"{c} {m['r2'][c]:.3f}" for c in m["r2"]), flush=True)

@@ -22,6 +22,7 @@ from .exceptions import (
 )
 from .kane import Derivation
 from .mass_properties import MassPropertyCheck, check_nonsingular, indefinite_problem  # noqa: F401 (re-exported)
+from .spd_solve import spd_solve
 from .symbols import check_finite_number
 
 __all__ = ["EquationsOfMotion", "EomFunctions"]
@@ -450,11 +451,12 @@ def _build_functions(d: Derivation, name: str) -> EomFunctions:
 
 
 def _numeric_rhs(f_M: ca.Function, f_F: ca.Function, n: int, nu: int, np_: int, name: str) -> ca.Function:
-    """MX glue: solve M qdd = F with a numeric linear solver (no symbolic inverse)."""
+    """MX glue: M qdd = F solved by an unrolled LDLᵀ of M's pattern (:mod:`mbsym.spd_solve`), not a symbolic
+    inverse of the whole right-hand side."""
     x = ca.MX.sym("x", 2 * n)
     u = ca.MX.sym("u", nu)
     p = ca.MX.sym("p", np_)
     q, qd = x[:n], x[n:]
     M = f_M(q, u, p) if f_M.n_in() == 3 else f_M(q, p)
-    qdd = ca.solve(M, f_F(q, qd, u, p), "qr")
+    qdd = spd_solve(M, f_F(q, qd, u, p))         # M is symmetric positive definite (mbsym.spd_solve)
     return ca.Function(f"{name}_rhs", [x, u, p], [ca.vertcat(qd, qdd)], ["x", "u", "p"], ["xd"])

@@ -27,7 +27,9 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller); with
   blade-element aerodynamics ``rk4-held`` by default: the aerodynamics once per step, held over its
   RK4 stages as OpenFAST's glue code holds AeroDyn's loads (``--method rk4`` evaluates them at every
-  stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md "blade-speed");
+  stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md "blade-speed"); with the
+  baseline controller the aerodynamics are evaluated every 2 deg of rotor rotation (``--aero-dt``
+  overrides; :func:`mbsym.wind.operation.simulation.default_aero_dt`);
   compiled to C from 2000 controller samples on (``--compile`` forces it).
 * ``--tmax`` defaults to the deck's TMax (built-in: the length of a tabulated wind, else 60 s);
   ``--dt`` is the output spacing (default: the deck's DT_Out; built-in 0.05 s).
@@ -62,6 +64,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="aerodynamics: blade (blade-element BEM on every blade node, in the wind over the rotor: "
                         "full field, shears) or rotor (rotor-effective Cp/Ct surfaces, hub-height wind); default: "
                         "blade when the deck's wind varies over the rotor or blade/yaw DOFs are on, else rotor")
+    p.add_argument("--aero-dt", type=float, metavar="DT",
+                   help="blade-element aerodynamics with the baseline controller: evaluate them every DT seconds, a "
+                        "multiple of the controller's sample time (default: every 2 deg of rotor rotation, NREL 5 MW "
+                        "25 ms; the controller and the structure keep the sample time)")
     p.add_argument("--controller", choices=CONTROLLERS,
                    help="baseline (ours, compiled into the loop), discon (a DISCON library), nmpc (the turbine "
                         "NMPC), none (held commands); default: the deck's DISCON library, baseline without a deck")
@@ -113,6 +119,12 @@ def run_operation(args: argparse.Namespace) -> int:
 
     mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
     aero = _aero(args, deck, mpc)
+    if "aero_dt" in options and (aero != "blade" or mpc.active):
+        from ..exceptions import SimulationOptionError
+
+        raise SimulationOptionError("--aero-dt sets the interval of the blade-element aerodynamics; this run has the "
+                                    "rotor-effective model" + (" (the NMPC's)" if mpc.active else "")
+                                    + ": drop --aero-dt, or use --aero blade without the NMPC.")
     wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
@@ -130,6 +142,7 @@ def run_operation(args: argparse.Namespace) -> int:
         raise
     prepare = time.perf_counter() - t0
     _header(deck, model, kind, controller, wind_label, tmax, options)
+    _note_outlist(deck, dyn)
     printer = ProgressPrinter(sys.stderr)
     try:
         from ..wind.operation.simulation import simulate_turbine
@@ -178,6 +191,16 @@ def _input_files(args, deck) -> list[tuple[str, str]]:
     return files
 
 
+def _note_outlist(deck, dyn) -> None:
+    """Say which channels of the deck's ElastoDyn OutList the model does not give (the CSV has the rest)."""
+    wanted = getattr(deck.turbine, "output_channels", ()) if deck.path is not None else ()
+    have = {n.lower() for n in dyn.output_names}
+    missing = [n for n in wanted if n.lower() not in have]
+    if missing:
+        print(f"note: {len(missing)} of the {len(wanted)} channels of the deck's ElastoDyn OutList are not modelled "
+              f"and not written: {', '.join(missing)}", file=sys.stderr)
+
+
 def _integration(args) -> dict:
     """Integration keywords of simulate_turbine from the flags (checked before any work)."""
     from ..exceptions import SimulationOptionError
@@ -201,6 +224,8 @@ def _integration(args) -> dict:
             out["dt"] = float(args.dt)
     if args.compile:
         out["compile"] = True
+    if getattr(args, "aero_dt", None) is not None:
+        out["aero_dt"] = float(args.aero_dt)
     return out
 
 

@@ -37,7 +37,8 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
              p: Mapping[str, float] | None = None, *, method: str | None = None, dt: float | None = None,
              rtol: float | None = None, atol: float | None = None, t_out: Sequence[float] | None = None,
              accuracy: float | None = None, compile: bool | None = None, controller: Any = None,
-             progress: Callable[[float, float], None] | None = None) -> SimulationResult:
+             progress: Callable[[float, float], None] | None = None,
+             held_dt: float | None = None) -> SimulationResult:
     """Integrate the model from t = 0 to ``tmax``.
 
     Without ``method``, ``dt``, ``rtol`` and ``atol``, mbsym chooses the method, the step and
@@ -103,6 +104,12 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         sampled every ``controller.dt`` with zero-order hold on the inputs it actuates; its
         states are appended to the outputs. Runs with RK4 sub-steps (``method`` unset or
         ``"rk4"``).
+    held_dt : float, optional
+        With ``method="rk4-held"`` and a ``controller``: the interval [s] at which the plant's held part
+        (:class:`mbsym.held.HeldPart`, e.g. blade-element aerodynamics) is evaluated again, a whole multiple
+        of the controller's sample time; between evaluations it is held while the states advance sample by
+        sample and the controller runs at its own rate (samples that return outputs evaluate it afresh).
+        Default: every sample.
     progress : callable ``(t, tmax) -> None``, optional
         Called as the integration advances (long runs are integrated in chunks of ~0.2 s of
         wall time), e.g. :class:`mbsym.simulate.monitor.ProgressPrinter`.
@@ -190,7 +197,10 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if controller is not None:
         from .controller import bind_controller
 
-        ctrl = bind_controller(controller, plant, method, dt, tmax)
+        ctrl = bind_controller(controller, plant, method, dt, tmax, held_dt=held_dt)
+    elif held_dt is not None:
+        raise SimulationOptionError("held_dt sets how often a controlled loop re-evaluates the plant's held part; it "
+                                    "needs controller= and method='rk4-held' (without a controller, choose dt).")
     h, n_steps, times = _grid(cls, tmax, dt, t_out, auto, plant, ctrl)
     monitor = RunMonitor(tmax, progress) if progress is not None else None
     try:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ..exceptions import DimensionError, IntegrationError
+from ..exceptions import DimensionError, IntegrationError, SimulationOptionError
 from .base import BufferedFunction, Problem, dense_rhs, maybe_compile, prepared
 from .checks import first_bad_column, raise_diverged
 from .controller import BoundController, DiscreteController
@@ -163,6 +163,9 @@ class _ClosedLoop:
         dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
         self.rk4 = (HeldRK4 if bc.method == "rk4-held" else RK4)(dummy)
         self._shares: bool | None = None
+        #: Whether the body returns the derivative at each sample's end (the dense output between samples needs
+        #: it; when every output time is a sample start it does not, and one right-hand side per sample is saved).
+        self.end_derivative = True
 
     # ---------------------------------------------------------------- the generated body
     def body(self, m: int) -> ca.Function:
@@ -171,22 +174,27 @@ class _ClosedLoop:
 
         def build():
             n_x, n_u, n_a, n_xc = plant.n_x, plant.n_u, bc.act.size, bc.ctrl.n_xc
-            z, U = ca.MX.sym("z", n_x + n_xc + n_a), ca.MX.sym("U", n_u, 3 * m)
-            p, hf = ca.MX.sym("p", plant.n_p), ca.MX.sym("h", 2 if self.outputs_in_loop(m) else 1)
+            carried = self.carries_held(m)
+            n_z = plant.held.n_z if carried else 0
+            z, U = ca.MX.sym("z", n_x + n_xc + n_a + n_z), ca.MX.sym("U", n_u, 3 * m)
+            p, hf = ca.MX.sym("p", plant.n_p), ca.MX.sym("h", self.n_h_rows(m))
             h = hf[0]
-            x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:]
+            x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:n_x + n_xc + n_a]
             keep, put = _masks(n_u, bc.act)
             u_meas = ca.mtimes(keep, U[:, 0]) + ca.mtimes(put, ua_prev)
             shared = self._shares_held_part()
-            if shared:                    # one evaluation of the held part serves measurement and first step
+            if carried:                   # evaluated afresh where the last row of h asks, else the one carried
+                held_z = _part_when(plant)(x, u_meas, p, z[n_x + n_xc + n_a:], hf[-1])
+            elif shared:                  # one evaluation of the held part serves measurement and first step
                 held_z = plant.held.part(x, u_meas, p)
+            if shared:
                 y = bc.measure_held(x, u_meas, p, held_z)
             else:
                 y = bc.measure(x, u_meas, p)
             xc1, ua = bc.ctrl.law(xc, y)
             Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
-            Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None)
-            z_next = ca.vertcat(Xs[:, -1], xc1, ua)
+            Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None, self.end_derivative)
+            z_next = ca.vertcat(Xs[:, -1], xc1, ua, held_z if carried else ca.MX(0, 1))
             aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
             if self.outputs_in_loop(m):   # the outputs at the sample start, from the held part already evaluated,
                 aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))   # where h[1] asks
@@ -194,7 +202,39 @@ class _ClosedLoop:
                                ["z", "U", "p", "h"], ["z_next", "aux"])
 
         return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
-                                           bc.ctrl.measurements, m, bc.method), build)[0]
+                                           bc.ctrl.measurements, m, bc.method, self.carries_held(m),
+                                           self.end_derivative), build)[0]
+
+    def carries_held(self, m: int) -> bool:
+        """Whether the held part is carried from sample to sample (``held_dt`` > the sample time)."""
+        if self.bc.held_samples <= 1:
+            return False
+        if m != 1 or not self._shares_held_part():
+            raise SimulationOptionError(
+                f"held_dt > the sample time needs one rk4-held step per controller sample and a held part that does not "
+                f"depend on the commanded inputs {list(self.bc.ctrl.actuates)} (the commands change at every sample); "
+                f"got {m} step(s) per sample" + ("" if self._shares_held_part() else " and a dependent held part") + ".")
+        return True
+
+    def n_h_rows(self, m: int) -> int:
+        """Rows of the body's ``h``: the step; whether the outputs are wanted; whether the held part is refreshed."""
+        return 1 + int(self.outputs_in_loop(m)) + int(self.carries_held(m))
+
+    def initial_carry(self, m: int) -> np.ndarray:
+        """``z`` at the first sample: plant, controller, held commands (and a placeholder for the held part)."""
+        pad = np.zeros(self.plant.held.n_z if self.carries_held(m) else 0)
+        return np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init, pad])
+
+    def h_rows(self, k0: int, start: np.ndarray, length: np.ndarray, m: int, collector) -> np.ndarray:
+        """The body's ``h`` for samples ``k0, k0 + 1, ...`` (see :meth:`n_h_rows`)."""
+        rows = [length / m]
+        wanted = collector.wanted(start) if self.outputs_in_loop(m) else np.zeros(start.size)
+        if self.outputs_in_loop(m):
+            rows.append(wanted)
+        if self.carries_held(m):             # every held_samples-th sample, and where outputs are wanted
+            due = (np.arange(k0, k0 + start.size) % self.bc.held_samples == 0).astype(float)
+            rows.append(np.maximum(due, wanted))
+        return np.vstack(rows)
 
     def outputs_in_loop(self, m: int) -> bool:
         """Whether the body returns the plant's outputs at every sample start (shared held part, m = 1)."""
@@ -209,24 +249,25 @@ class _ClosedLoop:
                 not held.depends_on_inputs(self.bc.act)
         return self._shares
 
-    def _substeps(self, x, Uh, p, h, m: int, held_z):
+    def _substeps(self, x, Uh, p, h, m: int, held_z, end: bool = True):
         """``m`` sub-steps from ``x`` with inputs ``Uh`` (n_u, 3 m): states, stage-1 derivatives and the
-        derivative at the end (for the dense output)."""
+        derivative at the end (for the dense output; zeros when ``end`` is False)."""
         plant = self.plant
         if held_z is not None and m == 1:
             x1, k1 = held_rk4_step(plant.held, x, Uh, p, h, held_z)
-            return x1, k1, plant.held.rhs(x1, Uh[:, -1], p, held_z)
+            return x1, k1, plant.held.rhs(x1, Uh[:, -1], p, held_z) if end else ca.MX.zeros(plant.n_x)
         step = self.rk4.symbolic_step()
         inner = step.mapaccum(f"{step.name()}_sub{m}", m, [0], [0])
         Xs, K1 = inner(x, Uh, ca.repmat(p, 1, m), ca.repmat(h, 1, m))
-        return Xs, K1, plant.rhs(Xs[:, -1], Uh[:, -1], p)
+        return Xs, K1, plant.rhs(Xs[:, -1], Uh[:, -1], p) if end else ca.MX.zeros(plant.n_x)
 
     def sample_seconds(self, f: ca.Function) -> float:
         """Wall time of one sample of the body ``f`` [s] (buffered calls, best of two)."""
         z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        z = np.concatenate([z, np.zeros(f.numel_in(0) - z.size)])
         U = np.repeat(self.signal.at(0.0)[:, None], f.size2_in(1), axis=1)
         args = [z, np.asfortranarray(U).reshape(-1, order="F"), np.ascontiguousarray(self.p, dtype=float),
-                np.array([self.bc.ctrl.dt, 1.0][:f.numel_in(3)])]
+                np.array([self.bc.ctrl.dt, 1.0, 1.0][:f.numel_in(3)])]
         outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
         buf, trigger = f.buffer()
         for i, a in enumerate(args):
@@ -243,12 +284,17 @@ class _ClosedLoop:
     # ---------------------------------------------------------------- running
     def run(self, times: np.ndarray, m: int, compiled: bool, monitor) -> _Run:
         t0 = time.perf_counter()
+        self.end_derivative = not _on_sample_starts(times, self.bc.ctrl.dt / m, self.tmax)
         if self.bc.ctrl.is_function:
             body, on = self.body(m), False
             body, on = maybe_compile(body, compiled)
             prep = time.perf_counter() - t0
             out = self._run_function(body, times, m, monitor)
         else:
+            if self.bc.held_samples > 1:
+                raise SimulationOptionError(f"held_dt > the sample time runs inside the generated loop; the controller "
+                                            f"{self.bc.ctrl.name!r} is a Python callable (e.g. a DISCON library): leave "
+                                            "held_dt unset.")
             step, on = self.rk4.symbolic_step(), False
             step, on = maybe_compile(step, compiled)
             loop = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
@@ -258,6 +304,8 @@ class _ClosedLoop:
             meas = BufferedFunction(self.bc.measure, self.p)
             prep = time.perf_counter() - t0
             out = self._run_callable(loop, rhs, meas, times, m, monitor)
+        if self.bc.held_samples > 1:
+            out.stats["held_dt"] = self.bc.held_samples * self.bc.ctrl.dt
         out.stats.update(prepare_wall_s=prep, compiled=on, method=self.bc.method, cache_hit=None,
                          disk_cache_hit=None,
                          success=True, n_jac=0)
@@ -278,7 +326,7 @@ class _ClosedLoop:
 
     def _run_function(self, body: ca.Function, times, m, monitor) -> _Run:
         n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_xc
-        z = np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init])
+        z = self.initial_carry(m)
         collector = _Collector(self, times, m)
         K, k0, per, wall = self.samples, 0, 0.0, 0.0
         try:
@@ -288,9 +336,7 @@ class _ClosedLoop:
                 start, length = self._sample_grid(k0, k0 + L)
                 U = self._exogenous(start, length, m)
                 t1 = time.perf_counter()
-                H = length / m
-                if self.outputs_in_loop(m):             # second row: whether an output time is the sample start
-                    H = np.vstack([H, collector.wanted(start)])
+                H = self.h_rows(k0, start, length, m, collector)
                 Zn, A = loop.run(z, U, self.p, H)
                 dt_run = time.perf_counter() - t1
                 wall += dt_run
@@ -363,6 +409,23 @@ def _outputs_when(plant) -> ca.Function:
     y = ca.vec(held.outputs(x, u, p, z))
     return ca.Function(f"{plant.name}_outputs_when", [x, u, p, z, flag],
                        [ca.if_else(flag > 0.5, y, ca.MX.zeros(y.numel()), True)])
+
+
+def _on_sample_starts(times: np.ndarray, h: float, tmax: float) -> bool:
+    """Whether every output time is the start of a sub-step (the last may be ``tmax``, a sub-step's end)."""
+    inner = times[times < tmax * (1 - 1e-12)]
+    k = inner / h
+    return bool(np.all(np.abs(k - np.round(k)) <= 1e-9 * np.maximum(k, 1.0)))
+
+
+def _part_when(plant) -> ca.Function:
+    """``(x, u, p, z_prev, flag) -> z``: the held part evaluated when flag > 0.5, else ``z_prev`` (a short-circuit
+    ``if_else`` in its own Function, as :func:`_outputs_when`)."""
+    held = plant.held
+    x, u, p = ca.MX.sym("x", plant.n_x), ca.MX.sym("u", plant.n_u), ca.MX.sym("p", plant.n_p)
+    z_prev, flag = ca.MX.sym("z_prev", held.n_z), ca.MX.sym("flag")
+    return ca.Function(f"{plant.name}_part_when", [x, u, p, z_prev, flag],
+                       [ca.if_else(flag > 0.5, held.part(x, u, p), z_prev, True)])
 
 
 def _first_chunk(loop: _ClosedLoop, body: ca.Function) -> int:

@@ -180,9 +180,11 @@ class BoundController:
     n_columns: int
     method: str = "rk4"           # "rk4", or "rk4-held" (the plant's held part once per sub-step)
     measure_held: ca.Function | None = None   # (x, u, p, z) -> y, "rk4-held" only
+    held_samples: int = 1         # "rk4-held": controller samples between evaluations of the held part
 
 
-def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float) -> BoundController:
+def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float, *,
+                    held_dt: float | None = None) -> BoundController:
     """Check ``controller`` against ``plant`` and the options; build the measurement Function.
 
     An object with ``as_controller()`` (an :class:`mbsym.control.NMPC`), or a pair ``(estimator, nmpc)``,
@@ -224,7 +226,27 @@ def bind_controller(controller: Any, plant, method: str | None, dt: float | None
     held = method == "rk4-held"
     return BoundController(c, np.array([plant.inputs.index(n) for n in c.actuates], dtype=int),
                            _measurement_function(plant, c.measurements), h, c.n_xc, method or "rk4",
-                           _held_measurement_function(plant, c.measurements) if held else None)
+                           _held_measurement_function(plant, c.measurements) if held else None,
+                           _held_samples(held_dt, c, method, h))
+
+
+def _held_samples(held_dt: float | None, c: DiscreteController, method: str | None, h: float | None) -> int:
+    """Controller samples per evaluation of the held part (``held_dt`` / sample time), checked."""
+    if held_dt is None:
+        return 1
+    if method != "rk4-held":
+        raise SimulationOptionError(f"held_dt holds the plant's held part over several controller samples; it needs "
+                                    f"method='rk4-held' (got {method!r}).")
+    if not (isinstance(held_dt, (int, float)) and math.isfinite(held_dt) and held_dt > 0):
+        raise SimulationOptionError(f"held_dt must be a positive number of seconds; got {held_dt!r}.")
+    k = held_dt / c.dt
+    if abs(k - round(k)) > 1e-9 * max(k, 1.0) or round(k) < 1:
+        raise SimulationOptionError(f"held_dt = {held_dt:g} s must be a whole multiple of the controller's sample "
+                                    f"time {c.dt:g} s (e.g. {c.dt:g}, {2 * c.dt:g}, {4 * c.dt:g} s).")
+    if round(k) > 1 and h is not None and abs(h - c.dt) > 1e-12 * c.dt:
+        raise SimulationOptionError(f"held_dt > the sample time needs one step per controller sample (dt = {c.dt:g} "
+                                    f"s, or dt unset); got dt = {h:g} s.")
+    return int(round(k))
 
 
 def _held_measurement_function(plant, names: Sequence[str]) -> ca.Function:
@@ -237,7 +259,7 @@ def _held_measurement_function(plant, names: Sequence[str]) -> ca.Function:
         if held.outputs is None:
             raise SimulationOptionError(f"the controller measures outputs of {plant.name!r}, whose held part has no "
                                         "outputs Function (HeldPart.outputs); use method 'rk4'.")
-        y_all = held.outputs(x, u, p, z)
+        y_all = _rows_of(held.outputs, [x, u, p, z])
     rows = [y_all[plant.output_names.index(n)] if n in plant.output_names else x[plant.states.index(n)]
             for n in names]
     y = ca.vertcat(*rows) if rows else ca.MX(0, 1)
@@ -248,8 +270,15 @@ def _measurement_function(plant, names: Sequence[str]) -> ca.Function:
     x, u, p = (ca.MX.sym(s, n) for s, n in (("x", plant.n_x), ("u", plant.n_u), ("p", plant.n_p)))
     y_all = None
     if any(n in plant.output_names for n in names):
-        y_all = ca.vertcat(*[ca.vec(v) for v in plant.output_function.call([x, u, p])])
+        y_all = _rows_of(plant.output_function, [x, u, p])
     rows = [y_all[plant.output_names.index(n)] if n in plant.output_names else x[plant.states.index(n)]
             for n in names]
     y = ca.vertcat(*rows) if rows else ca.MX(0, 1)
     return ca.Function(f"{plant.name}_measurements", [x, u, p], [y], ["x", "u", "p"], ["y"])
+
+
+def _rows_of(f: ca.Function, args: list) -> ca.MX:
+    """Every output of ``f`` at ``args``, stacked; an MX Function is inlined, so that a Function built from a
+    few of the rows evaluates only what those rows need (a controller measures 5 of some 200 channels)."""
+    inline = f.is_a("MXFunction")
+    return ca.vertcat(*[ca.vec(v) for v in f.call(args, inline, False)])

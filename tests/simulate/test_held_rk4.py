@@ -113,3 +113,76 @@ def test_closed_loop_outputs_from_the_held_part_equal_the_outputs():
     ref = simulate(dyn, 2.0, x0=[0.1, 0.0], controller=_p_controller(0.05), method="rk4", dt=0.0125, t_out=t_out)
     # the same loop with the force not held (4 sub-steps): rk4-held's first-order error at 50 ms steps
     assert np.max(np.abs(res.state("x") - ref.state("x"))) < 0.05 * 0.1
+
+
+# ------------------------------------------------------------------------ held over several samples (held_dt)
+def _hand_loop(dt: float, n: int, refresh: set, x0) -> np.ndarray:
+    """The closed loop of held_oscillator and _p_controller written out: at each sample the P law on the state,
+    the force -κx - γv evaluated at the samples in ``refresh`` and held otherwise, one RK4 step per sample."""
+    def f(s, u, force):
+        return np.array([s[1], (-K * s[0] - C * s[1] + force + u) / M])
+
+    s, force, out = np.array(x0, float), 0.0, []
+    for k in range(n):
+        out.append(s.copy())
+        u = -50.0 * s[0] - 5.0 * s[1]
+        if k in refresh:
+            force = -KAPPA * s[0] - GAMMA * s[1]
+        k1 = f(s, u, force)
+        k2 = f(s + dt / 2 * k1, u, force)
+        k3 = f(s + dt / 2 * k2, u, force)
+        k4 = f(s + dt * k3, u, force)
+        s = s + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    out.append(s)
+    return np.array(out)
+
+
+def test_held_over_samples_equals_the_loop_written_out():
+    dt, n = 0.01, 200
+    t_out = np.round(np.arange(0, n + 1, 4) * dt, 12)                 # every fourth sample: on the hold grid
+    res = simulate(held_oscillator(), n * dt, x0=[0.1, 0.0], controller=_p_controller(dt), method="rk4-held",
+                   dt=dt, t_out=t_out, held_dt=4 * dt)
+    ref = _hand_loop(dt, n, set(range(0, n, 4)), [0.1, 0.0])[::4]
+    # the same arithmetic in another order: rounding only
+    np.testing.assert_allclose(res.x, ref, rtol=0, atol=1e-13)
+    assert res.statistics["held_dt"] == pytest.approx(4 * dt)
+    # and it is not the every-sample loop (the hold matters at this κ, γ: ~1e-4 m apart)
+    every = _hand_loop(dt, n, set(range(n)), [0.1, 0.0])[::4]
+    assert np.max(np.abs(every - ref)) > 1e-5
+
+
+def test_held_over_samples_refreshes_where_outputs_are_wanted():
+    dt, n = 0.01, 100
+    t_out = np.round(np.array([0.0, 0.03, 0.04, 0.57, 1.0]), 12)     # samples 3 and 57 are off the hold grid
+    res = simulate(held_oscillator(), n * dt, x0=[0.1, 0.0], controller=_p_controller(dt), method="rk4-held",
+                   dt=dt, t_out=t_out, held_dt=4 * dt)
+    ref = _hand_loop(dt, n, set(range(0, n, 4)) | {3, 57}, [0.1, 0.0])[[0, 3, 4, 57, 100]]
+    np.testing.assert_allclose(res.x, ref, rtol=0, atol=1e-13)
+    dyn = held_oscillator()
+    again = np.vstack([np.asarray(dyn.outputs(x, u, [])).ravel() for x, u in zip(res.x, res.u)])
+    np.testing.assert_allclose(np.asarray(res.y)[:-1, :3], again[:-1], rtol=0, atol=1e-12)
+
+
+def test_held_dt_of_one_sample_is_the_default():
+    dt = 0.01
+    a = simulate(held_oscillator(), 1.0, x0=[0.1, 0.0], controller=_p_controller(dt), method="rk4-held", dt=dt)
+    b = simulate(held_oscillator(), 1.0, x0=[0.1, 0.0], controller=_p_controller(dt), method="rk4-held", dt=dt,
+                 held_dt=dt)
+    np.testing.assert_array_equal(a.x, b.x)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"held_dt": 0.025}, "whole multiple"),
+    ({"held_dt": -0.02}, "positive"),
+    ({"held_dt": 0.02, "method": "rk4"}, "method='rk4-held'"),
+    ({"held_dt": 0.02, "dt": 0.005}, "one step per controller sample"),
+])
+def test_held_dt_is_checked(kwargs, match):
+    options = {"method": "rk4-held", "dt": 0.01, **kwargs}
+    with pytest.raises(SimulationOptionError, match=match):
+        simulate(held_oscillator(), 0.1, x0=[0.1, 0.0], controller=_p_controller(0.01), **options)
+
+
+def test_held_dt_needs_a_controller():
+    with pytest.raises(SimulationOptionError, match="needs controller="):
+        simulate(held_oscillator(), 0.1, x0=[0.1, 0.0], method="rk4-held", dt=0.01, held_dt=0.02)

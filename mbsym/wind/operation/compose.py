@@ -27,6 +27,7 @@ from ...dynamics import Dynamics
 from ...equations import SYMBOLIC_SOLVE_MAX_DOF
 from ...exceptions import ModelDefinitionError
 from ...held import HeldPart
+from ...spd_solve import spd_solve
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
 
@@ -166,7 +167,7 @@ class Graph:
         F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
         if self.kind is ca.SX:
             return ca.solve(M, F)
-        return ca.solve(M, F, "qr")
+        return spd_solve(M, F)                 # M is symmetric positive definite (mbsym.spd_solve)
 
     def _extra_rhs(self) -> list:
         X = self.X

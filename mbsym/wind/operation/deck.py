@@ -19,6 +19,7 @@ and ROSCO 2.10.6's NREL 5 MW controller settings.
 from __future__ import annotations
 
 import dataclasses
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -33,6 +34,9 @@ __all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT", "AER
 
 #: Aerodynamic models of an operating turbine: blade-element on every blade, or rotor-effective surfaces.
 AERO_MODELS = ("blade", "rotor")
+#: ElastoDyn OutList channels that only the load cuts give (OperatingTurbine(load_channels=True)).
+_LOAD_CUT = re.compile(r"^(LSShftF[xyz][as]|YawBr[FM][xyz]p)$", re.IGNORECASE)
+_LOAD_CUT_BLADE = re.compile(r"^(LSShftF[xyz][as]|YawBr[FM][xyz]p|RootF[xyz]c[1-3]|RootF[xy]b[1-3])$", re.IGNORECASE)
 
 #: How to get ROSCO's library, for messages.
 ROSCO_HINT = ("'pip download --no-deps rosco==2.10.6' gives a wheel (a zip) holding rosco/lib/libdiscon.so and its "
@@ -117,6 +121,7 @@ class OperatingDeck:
         if self.aerodyn is not None:
             check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
         self._yaw_drive(dofs, t_end, options)
+        options.setdefault("load_channels", self.outlist_needs_load_channels(aero))
         if aero == "blade":
             return self._blade_model(dofs, **options)
         if self.inflow is not None and self.inflow.wind_type not in (1, 2):
@@ -165,6 +170,14 @@ class OperatingDeck:
         options.setdefault("output_nodes", self.output_nodes)
         options.setdefault("pitch", "individual" if self.individual_pitch_control else "collective")
         return OperatingTurbine(self.turbine, rotor, dofs=dofs, wind=wind, **options)
+
+    def outlist_needs_load_channels(self, aero: str) -> bool:
+        """Whether the deck's ElastoDyn OutList asks for a channel only the load cuts give (``LSShftF*``,
+        ``YawBrF*p``/``YawBrM*p``, with blade-element aerodynamics ``RootF*``): the deck then runs with
+        ``load_channels=True``, as written."""
+        names = getattr(self.turbine, "output_channels", ()) if self.path is not None else ()
+        pattern = _LOAD_CUT_BLADE if aero == "blade" else _LOAD_CUT
+        return any(pattern.match(n) for n in names)
 
     @property
     def individual_pitch_control(self) -> bool:

@@ -121,3 +121,24 @@ def test_held_split_is_the_same_model(steady14):
                                rtol=1e-12)
     commands = [d.inputs.index(n) for n in steady14.command_names]
     assert not h.depends_on_inputs(commands) and h.depends_on_inputs([d.inputs.index("Wind1VelX")])
+
+
+def test_default_aero_interval_is_two_degrees_of_rotation(steady14):
+    """default_aero_dt: the largest whole number of controller samples over which the rotor turns at most 2 deg
+    (closed form: floor(2° / (Ω dt))), at the faster of the state's rotor speed and 80 m/s over the tip radius."""
+    from mbsym.wind.operation.simulation import default_aero_dt
+
+    d = steady14.dynamics()
+    omega = 12.1 * np.pi / 30.0                      # 72.6 deg/s: 2 deg in 27.5 ms
+    x = np.array(steady14.initial_state({"Wind1VelX": 14.0}, rotor_speed=omega), dtype=float)
+    assert default_aero_dt(steady14, 0.00625, x) == pytest.approx(4 * 0.00625)       # 25 ms
+    assert default_aero_dt(steady14, 0.01, x) == pytest.approx(2 * 0.01)
+    assert default_aero_dt(steady14, 0.05, x) == pytest.approx(0.05)                  # never below one sample
+    x_fast = x.copy()
+    x_fast[d.states.index("GeAz_d")] = 2 * omega     # twice as fast: half the interval
+    assert default_aero_dt(steady14, 0.00625, x_fast) == pytest.approx(2 * 0.00625)
+    x_idle = x.copy()
+    x_idle[d.states.index("GeAz_d")] = 0.0           # at rest: 80 m/s tip speed, 1.27 rad/s on this 63 m rotor
+    tip = float(steady14.rotor.tip_radius)
+    expected = np.floor(np.radians(2.0) / (80.0 / tip * 0.00625)) * 0.00625
+    assert default_aero_dt(steady14, 0.00625, x_idle) == pytest.approx(expected)

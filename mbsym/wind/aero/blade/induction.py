@@ -65,14 +65,31 @@ class ElementData:
     tangential_drag: bool
 
 
+#: A loss constant ``f*`` at or above which ``(2/π) acos(exp(-f*/|sin φ|))`` is 1 in double precision for
+#: every φ (``|sin φ| <= 1``, ``exp(-40) = 4e-18`` below half an ulp of 1): that factor is left out of the graph.
+LOSS_CONST_ONE = 40.0
+
+
+def _loss_factor(const: np.ndarray, s: Any, clamp: bool) -> Any:
+    """``(2/π) acos(exp(-const / s))`` per element, exactly 1 (no instructions) where ``const >=``
+    :data:`LOSS_CONST_ONE` (hub loss beyond ~40 hub radii of span, tip loss near the root)."""
+    const = np.asarray(const, dtype=float).reshape(-1)
+    active = np.flatnonzero(const < LOSS_CONST_ONE).tolist()
+    out = ca.SX.ones(const.size, 1)
+    if active:
+        e = ca.exp(-ca.DM(const[active]) / s[active])
+        out[active] = (2.0 / math.pi) * ca.acos(ca.fmin(1.0, e) if clamp else e)
+    return out
+
+
 def prandtl(sin_phi: Any, e: ElementData) -> Any:
     """AeroDyn's tip and hub loss factor ``F`` (floored at :data:`F_MIN`)."""
     s = ca.fmax(ca.fabs(sin_phi), 1e-12)
     f = 1.0
     if e.tip_loss:
-        f = f * (2.0 / math.pi) * ca.acos(ca.fmin(1.0, ca.exp(-e.tip_const / s)))
+        f = f * _loss_factor(e.tip_const, s, True)
     if e.hub_loss:
-        f = f * (2.0 / math.pi) * ca.acos(ca.fmin(1.0, ca.exp(-e.hub_const / s)))
+        f = f * _loss_factor(e.hub_const, s, True)
     return ca.fmax(f, F_MIN)
 
 
@@ -116,9 +133,9 @@ def _momentum_residual(phi: Any, cl: Any, cd: Any, e: ElementData) -> Any:
     cx = cl * cos_phi + cd * sin_phi if e.axial_drag else cl * cos_phi
     f = 1.0
     if e.tip_loss:
-        f = f * (2.0 / math.pi) * ca.acos(ca.exp(-e.tip_const / sin_phi))
+        f = f * _loss_factor(e.tip_const, sin_phi, False)
     if e.hub_loss:
-        f = f * (2.0 / math.pi) * ca.acos(ca.exp(-e.hub_const / sin_phi))
+        f = f * _loss_factor(e.hub_const, sin_phi, False)
     f = ca.fmax(f, F_MIN)
     k = e.sigma * cx / (4.0 * f * sin_phi**2)
     two_fk = 2.0 * f * k
