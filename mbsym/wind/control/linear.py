@@ -23,15 +23,18 @@ so the filters and the estimator settle to their values at the trim. The logical
 controller gives them. If no such state exists the trim and the controller disagree (a
 :class:`~mbsym.exceptions.SolverError` says so).
 
-:func:`linearize_controller` then takes the Jacobians of the step there (every branch that is active at
-the point: a saturated PI passes nothing, a rate limiter below its limit passes everything, the gain
-schedule is evaluated at the filtered pitch, the estimator's EKF at its settled covariance). Their
-structure comes from CasADi's AD, their values from central differences with a relative step of
-:data:`DIFFERENCE_STEP`: the estimator's Cp table is piecewise bilinear and in region 2 the torque loop
-holds the estimator's tip-speed ratio at ``VS_TSRopt``, a node of the table, where the derivative jumps.
-AD returns one of the two one-sided slopes, whichever rounding selects (the NREL 5 MW's torque-loop gain
-margin at 6 m/s changed by 0.9 dB between two trims equal to 1e-14); central differences return their
-mean, the gain a small oscillation about the node sees, and elsewhere agree with AD to ~1e-8 relative:
+:func:`linearize_controller` then takes the exact Jacobians of the step there (CasADi AD through every
+branch that is active at the point: a saturated PI passes nothing, a rate limiter below its limit passes
+everything, the gain schedule is evaluated at the filtered pitch, the estimator's EKF at its settled
+covariance). One care: the estimator's Cp table is piecewise bilinear, and in region 2 the torque loop
+holds the estimator's tip-speed ratio at ``VS_TSRopt``, a node of the table, where the slope jumps. AD
+at the node returns one of the two one-sided slopes, whichever rounding selects (the NREL 5 MW's
+torque-loop gain margin at 6 m/s came out 10.1 or 11.0 dB for two trims equal to 1e-14). The Jacobians
+are therefore the mean of the AD Jacobians with the estimator's wind states (:data:`NUDGED_STATES`)
+moved by ±:data:`NUDGE` (relative), one on each side of the node: the gain a small oscillation about
+the node sees. Off a node the two agree with AD to ~1e-9. (Central differences of the whole step would
+do the same at the node but cross the controller's switches, e.g. the estimator's range check when the
+pitch rests on its minimum.) The model is
 
     δxc_{k+1} = A δxc_k + B δy_k,        δu_k = C δxc_k + D δy_k,
 
@@ -80,8 +83,10 @@ FIXED_POINT_TOLERANCE = 1e-9
 #: The search goes on to this scaled residual (or until no step lowers it): at an exact fixed point the estimator's
 #: innovation vanishes, and with it the coupling of the EKF's covariance to the estimate.
 POLISH_TOLERANCE = 1e-14
-#: Relative step of the central differences that give the linear model's values (module docstring).
-DIFFERENCE_STEP = 1e-7
+#: The estimator's wind states (EKF mean and turbulent wind, the estimate) moved by ±NUDGE (relative) for the two
+#: one-sided Jacobians at a node of the Cp table (module docstring).
+NUDGED_STATES = ("ekf_x[1]", "ekf_x[2]", "wind_estimate")
+NUDGE = 1e-9
 #: Rate limit [rad/s, N m/s] of the controller the fixed point is searched on (no limit in effect: module docstring).
 UNLIMITED_RATE = 1e12
 
@@ -338,7 +343,7 @@ def linearize_controller(controller: BaselineController, measurements, commands,
     names = controller.state_names
     keep = _connected(A, B, C, np.maximum(np.abs(x), 1.0), np.maximum(np.abs(y), 1.0),
                       np.maximum(np.abs(u), 1.0)) if reduce else np.ones(len(names), dtype=bool)
-    A, B, C, D = _central_differences(controller, x, y)
+    A, B, C, D = _two_sided_jacobians(controller, x, y)
     k = np.flatnonzero(keep)
     op = {"xc": x, "y": dict(zip(controller.measurements, y.tolist())),
           "u": dict(zip(controller.commands, u.tolist()))}
@@ -347,24 +352,17 @@ def linearize_controller(controller: BaselineController, measurements, commands,
                                 tuple(names[i] for i in np.flatnonzero(~keep)), worst)
 
 
-def _central_differences(controller: BaselineController, x: np.ndarray, y: np.ndarray):
-    """``(A, B, C, D)`` by central differences with steps :data:`DIFFERENCE_STEP` × max(|value|, 1) (module
-    docstring: at a node of a piecewise-linear table they give the mean of the two one-sided slopes)."""
-    f = controller.function
-    n, m = x.size, y.size
-    hx = DIFFERENCE_STEP * np.maximum(np.abs(x), 1.0)
-    hy = DIFFERENCE_STEP * np.maximum(np.abs(y), 1.0)
-    X = np.tile(x.reshape(-1, 1), (1, 2 * (n + m)))
-    Y = np.tile(y.reshape(-1, 1), (1, 2 * (n + m)))
-    for j in range(n):
-        X[j, 2 * j], X[j, 2 * j + 1] = x[j] + hx[j], x[j] - hx[j]
-    for j in range(m):
-        Y[j, 2 * (n + j)], Y[j, 2 * (n + j) + 1] = y[j] + hy[j], y[j] - hy[j]
-    Xn, U = (np.array(v, dtype=float) for v in f.map(2 * (n + m))(X, Y))
-    h = np.concatenate([hx, hy])
-    dX = (Xn[:, 0::2] - Xn[:, 1::2]) / (2.0 * h)
-    dU = (U[:, 0::2] - U[:, 1::2]) / (2.0 * h)
-    return dX[:, :n], dX[:, n:], dU[:, :n], dU[:, n:]
+def _two_sided_jacobians(controller: BaselineController, x: np.ndarray, y: np.ndarray):
+    """``(A, B, C, D)``: the mean of the AD Jacobians at ``x`` with the estimator's wind states (:data:`NUDGED_STATES`)
+    moved by ±:data:`NUDGE` × max(|value|, 1) (module docstring)."""
+    jac = _jacobian_function(controller)
+    idx = [controller.state_names.index(n) for n in NUDGED_STATES if n in controller.state_names]
+    if controller.settings.wind_estimator != 2 or not idx:
+        return tuple(np.array(m, dtype=float) for m in jac(x, y))
+    h = np.zeros_like(x)
+    h[idx] = NUDGE * np.maximum(np.abs(x[idx]), 1.0)
+    plus, minus = jac(x + h, y), jac(x - h, y)
+    return tuple(0.5 * (np.array(p, dtype=float) + np.array(m, dtype=float)) for p, m in zip(plus, minus))
 
 
 def _connected(A, B, C, sx, sy, su, tol: float = CONNECTION_TOLERANCE) -> np.ndarray:
