@@ -270,3 +270,23 @@ def test_bad_controllers_refused(operating):
                                                  ipc_kp=(0.0, 0.0), ipc_ki=(1e-9, 0.0), ipc_azimuth_offset=(0.0, 0.0)))
     with pytest.raises(ControllerError, match="individual pitch"):
         controller_fixed_point(ipc, np.ones(len(ipc.measurements)), np.ones(len(ipc.commands)))
+
+
+@pytest.mark.slow
+def test_cli_closed_loop_on_a_deck_and_the_sample_time(capsys):
+    """The shared steady_12 deck (its DISCON.IN, controller sample 0.00625 s instead of the built-in 0.01 s):
+    at 16 m/s the pitch loop's crossovers (0.05-0.2 Hz) lie far below both Nyquist frequencies (80 and 50 Hz),
+    so the sample time moves its margins by little: measured 9.77 vs 9.74 dB and 38.9 vs 38.9 deg; allowed
+    0.2 dB and 1 deg (the zero-order hold's phase lag at 0.1 Hz, ω dt/2, is 0.1-0.2 deg)."""
+    from _op_data import INPUTS, need
+    from mbsym.cli import main
+
+    fst = need(INPUTS / "steady_12" / "steady_12.fst")
+    assert main(["linearize", str(fst), "--wind", "16", "--closed-loop", "--json"]) == 0
+    deck = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert main(["linearize", "--wind", "16", "--closed-loop", "--json"]) == 0
+    builtin = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert deck["sample_time"] == pytest.approx(0.00625) and builtin["sample_time"] == pytest.approx(0.01)
+    assert abs(deck["pitch_gain_margin_db"][0] - builtin["pitch_gain_margin_db"][0]) <= 0.2
+    assert abs(deck["pitch_phase_margin_deg"][0] - builtin["pitch_phase_margin_deg"][0]) <= 1.0
+    assert deck["stable"] == [True]
