@@ -67,7 +67,8 @@ def add_parser(sub) -> None:
 
     add_structure_only(p)
     p.add_argument("--wind", metavar="U", help="hub-height wind speed [m/s]: linearize the operating turbine "
-                                              "(aerodynamics, actuators, inflow) about its trim there, in SI units")
+                                              "(aerodynamics, actuators, inflow) about its trim there, in SI units; "
+                                              "with --closed-loop several: START:STOP:STEP or a comma list")
     p.add_argument("--keep-azimuth", action="store_true",
                    help="with --wind: keep the free generator azimuth GeAz as a state (default: left out, so "
                         "dcgain works)")
