@@ -48,7 +48,8 @@ def measurement_names(model) -> tuple[str, ...]:
     return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ())
 
 
-def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None) -> DiscreteController:
+def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None,
+                     x0=None) -> DiscreteController:
     """Our baseline controller as a :class:`DiscreteController` of the plant's channels.
 
     Parameters
@@ -60,6 +61,10 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
         Prefix of the controller's state names in results (``baseline.first`` ...).
     model : OperatingTurbine, optional, keyword-only
         The plant, when its pitch is individual: a collective command then drives every blade.
+    x0 : array_like, optional, keyword-only
+        The controller's initial state (default ``controller.x0``: its first call initializes every block
+        from the first measurements); e.g. a fixed point from
+        :func:`~mbsym.wind.control.linear.controller_fixed_point`, to start a run at a trim.
     """
     if not isinstance(controller, BaselineController):
         raise TypeError(f"controller must be a BaselineController; got {type(controller).__name__}.")
@@ -71,7 +76,8 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
     x_next, u = f(xc, y * ca.DM([SI_FACTORS[n] for n in measured]))
     u, actuates = _plant_commands(u, commands, model)
     law = ca.Function(f"{name}_in_loop", [xc, y], [x_next, u], ["xc", "y"], ["xc_next", "u"], {"cse": True})
-    return DiscreteController(law, controller.dt, controller.x0, measurements=measured, actuates=actuates,
+    start = controller.x0 if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
+    return DiscreteController(law, controller.dt, start, measurements=measured, actuates=actuates,
                               state_names=[f"{name}.{s}" for s in controller.state_names], name=name)
 
 
