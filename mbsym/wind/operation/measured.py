@@ -138,16 +138,21 @@ class MeasuredInputTurbine:
     def inputs_from(self, record: Any) -> np.ndarray:
         """Inputs (N, n_u) in SI units from a record's channels (OpenFAST names and units).
 
-        ``record``: an object with ``names``, ``data`` (N, n_channels) and optionally ``units``
+        ``record``: an object with ``time``, ``names``, ``data`` (N, n_channels) and optionally ``units``
         (:func:`mbsym.wind.analysis.compare.read_csv`), or a dict of arrays (then OpenFAST units
-        are assumed: deg, kN-m). Raises :class:`~mbsym.exceptions.DataError` naming a missing channel
+        are assumed: deg, kN-m). The hub wind, pitch and torque come from the record; a blade-element
+        model's other uniform-wind inputs (direction, shears) from the deck's wind at the record's times. Raises :class:`~mbsym.exceptions.DataError` naming a missing channel
         or an unknown unit.
         """
         names, columns, units = _columns(record)
+        deck_wind = self.turbine.wind.signals(None) if self.turbine.wind is not None else {}
         out = []
         for name in self._dynamics.inputs:
             channels, factors = _SOURCES.get(name, ((name,), {}))
             found = next((c for c in channels if c in names), None)
+            if found is None and name in deck_wind and name not in _SOURCES:
+                out.append(_signal(deck_wind[name], _time(record)))       # the deck's wind (InflowWind columns)
+                continue
             if found is None:
                 raise DataError(f"input {name!r} needs one of the data channels {list(channels)}; the record has "
                                 f"{sorted(names)}. Record the channel, or build the model with its wind as inputs "
@@ -241,6 +246,20 @@ def _depends_on_azimuth(full: Dynamics) -> bool:
     fa, fb = full.rhs_value(a, u), full.rhs_value(b, u)
     keep = [i for i, s in enumerate(full.states) if s != "GeAz"]
     return not np.allclose(fa[keep], fb[keep], rtol=1e-9, atol=1e-9)
+
+
+def _time(record: Any) -> np.ndarray:
+    t = record.get("time") if isinstance(record, Mapping) else getattr(record, "time", None)
+    if t is None:
+        raise DataError("the record has no time; the deck's wind inputs are read at the record's times.")
+    return np.asarray(t, dtype=float).reshape(-1)
+
+
+def _signal(value: Any, t: np.ndarray) -> np.ndarray:
+    """A wind input (number or function of time) at the times ``t``."""
+    if callable(value):
+        return np.array([float(value(float(s))) for s in t])
+    return np.full(t.size, float(value))
 
 
 def _columns(record: Any) -> tuple[set, dict, dict]:
