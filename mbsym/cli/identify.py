@@ -21,7 +21,8 @@ ElastoDyn-equivalent structure alone (free decays: no aerodynamics, no controlle
 output). Default channels: the ``Q_``/``QD_`` channels of the model's DOFs found in the data
 (``Q_GeAz`` left out: it wraps). For an operating turbine, the channels of the DOFs the parameters
 act on (``TwrFADmp(1)``: ``Q_TFA1``, ``QD_TFA1``), else those of every DOF but the rotor (the rotor
-speed runs open loop on the measured torque). Progress goes to stderr (``--quiet``: none). A fit that does
+speed runs open loop on the measured torque). Progress lines go to stdout before the results (``--quiet``: none; errors
+stay one line on stderr). A fit that does
 not converge exits with status 1 and advice (the results are still printed). ``--json`` prints on the last line
 ``{"parameters": {KEY: value}, "std": {KEY: value}, "initial": {KEY: value},
 "eps_pct": {CHANNEL: value}, "iterations": n, "wall_s": t}`` with KEY exactly as passed.
@@ -59,7 +60,7 @@ def add_parser(sub) -> None:
     p.add_argument("--aero", choices=("rotor", "blade"), help="operating model's aerodynamics: rotor-effective or "
                    "blade elements (default: the deck's choice)")
     p.add_argument("--max-time", type=float, metavar="S", help="wall-time limit of the iteration [s]")
-    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object on the last line")
 
 
@@ -108,7 +109,7 @@ def default_channels(model, names, *, skip: tuple[str, ...] = ("Q_GeAz",)) -> li
 
 def _log(args, text: str) -> None:
     if not args.quiet:
-        print(f"mbsym identify: {text}", file=sys.stderr, flush=True)
+        print(f"mbsym identify: {text}", flush=True)
 
 
 def _progress(args, t0: float):
@@ -133,15 +134,9 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     model = MeasuredInputTurbine(plant) if isinstance(plant, OperatingTurbine) else None
     dyn = model.dynamics()
     U = model.inputs_from(series)
-    column = dict(zip(series.names, series.data.T))
-    guess = {}
-    for s in dyn.states:
-        ch = f"QD_{s[:-2]}" if s.endswith("_d") else f"Q_{s}"
-        if ch in column:
-            guess[s] = float(column[ch][0])
-    x0 = model.trim(U[0], guess=guess)
+    x0 = model.initial_state_from(series, U[0])
     _log(args, f"trimmed at the record's first inputs (wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s): "
-               + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0) if k in guess)
+               + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0))
                + f" ({time.perf_counter() - t0:.1f} s)")
     channels = default_channels(turbine, series.names, skip=("Q_GeAz", "QD_GeAz"))
     own = _parameter_channels(model, keys, series.names)

@@ -192,6 +192,33 @@ def _inputs(model: Any, dyn: Dynamics, value, t: np.ndarray) -> np.ndarray:
     return U
 
 
+def _record_inputs(model: Any, dyn: Dynamics, inputs, records: list[Record]) -> list[np.ndarray]:
+    """Inputs per record: given, else read off the record by the model (``inputs_from(record)``, e.g. an operating
+    turbine's measured wind, pitch and torque), else the model's defaults. A model given as an object (not a
+    Dynamics) with inputs and neither hook nor ``inputs=`` is refused: its zero default inputs would be silent
+    nonsense (an operating turbine in still air with zero pitch and torque)."""
+    hook = getattr(model, "inputs_from", None)
+    if inputs is None and callable(hook):
+        return [np.asarray(hook(r), dtype=float).reshape(r.time.size, dyn.n_u) for r in records]
+    if (inputs is None and dyn.n_u > 0 and not isinstance(model, Dynamics)
+            and not callable(getattr(model, "default_inputs", None))):
+        raise IdentificationOptionError(
+            f"the model has inputs {list(dyn.inputs)} and no default values for them: pass inputs= (an array "
+            f"(N, {dyn.n_u}) or a dict by name). For an operating turbine, identify "
+            "mbsym.wind.operation.MeasuredInputTurbine(turbine) instead: it reads the measured wind, pitch and "
+            "torque off the record.")
+    return [_inputs(model, dyn, v, r.time) for v, r in zip(_per_record(inputs, len(records), "inputs"), records)]
+
+
+def _record_states(model: Any, dyn: Dynamics, x0, records: list[Record], Us: list[np.ndarray]) -> list[np.ndarray]:
+    """Initial state per record: given, else the model's ``initial_state_from(record, u0)`` (e.g. a trim at the
+    record's first inputs), else the model's default."""
+    hook = getattr(model, "initial_state_from", None)
+    if x0 is None and callable(hook):
+        return [dyn.state_vector(hook(r, U[0])) for r, U in zip(records, Us)]
+    return [dyn.state_vector(v) for v in _per_record(x0, len(records), "x0")]
+
+
 def _free_initial(model: Any, dyn: Dynamics, estimate_x0) -> np.ndarray:
     """Indices of the estimated initial states; ``True``: all but the model's ``fixed_states`` (e.g. an azimuth)."""
     fixed = tuple(getattr(model, "fixed_states", ()) or ())
@@ -299,14 +326,18 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
         Starting value and ``(lower, upper)`` per parameter in label units; default the
         model's default value and the specification's bounds.
     x0 : array, dict, or list of them (one per record), keyword-only
-        Initial state (default: the model's). Entries not estimated stay fixed.
+        Initial state (default: the model's ``initial_state_from(record, u0)`` if it has one, e.g.
+        the trim of an operating turbine at the record's first inputs; else its default state).
+        Entries not estimated stay fixed.
     estimate_x0 : bool or sequence of state names, keyword-only
         Estimate all (True: all but the model's ``fixed_states``, e.g. a rotor azimuth) or some
         initial states. Initial states the fitted channels do not see at the start are not moved
         (an :class:`~mbsym.exceptions.IdentifiabilityWarning` names them).
     inputs : array (N, n_u), dict by name, or a list per record, keyword-only
-        Inputs at the sample times, interpolated linearly in between (default: the
-        model's default inputs, numbers or functions of time).
+        Inputs at the sample times, interpolated linearly in between (default: read off each
+        record by the model's ``inputs_from(record)`` if it has one, e.g. the measured wind, pitch
+        and torque of :class:`~mbsym.wind.operation.MeasuredInputTurbine`; else the model's default
+        inputs, numbers or functions of time; a model object with inputs but neither is refused).
     periodic : dict, keyword-only
         ``{channel: period}`` for wrapped channels (e.g. an azimuth in deg: 360).
     method : {"gauss-newton", "sqpmethod", "ipopt"}, keyword-only
@@ -395,8 +426,8 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
     theta_idx = [dyn.parameters.index(s.name) for s in specs]
     p = dyn.parameter_vector()
     free0 = _free_initial(model, dyn, estimate_x0)
-    x0s = [dyn.state_vector(v) for v in _per_record(x0, len(records), "x0")]
-    Us = [_inputs(model, dyn, v, r.time) for v, r in zip(_per_record(inputs, len(records), "inputs"), records)]
+    Us = _record_inputs(model, dyn, inputs, records)
+    x0s = _record_states(model, dyn, x0, records, Us)
     recs = [ShootingRecord(U, np.diff(r.time), Y, w, period, xs, free0) for U, r, Y, xs in zip(Us, records, Ys, x0s)]
     p0 = p.copy()
     p0[theta_idx] = theta0

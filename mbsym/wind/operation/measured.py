@@ -167,6 +167,17 @@ class MeasuredInputTurbine:
             raise DataError("the measured inputs (wind, pitch, torque) must be finite at every sample.")
         return U
 
+    def initial_state_from(self, record: Any, u0: np.ndarray) -> np.ndarray:
+        """The trim at the record's first inputs ``u0``, with the record's first ``Q_<s>``/``QD_<s>`` values as
+        the guess (and the azimuth, when kept, from ``Q_GeAz``): where :func:`mbsym.identify` starts."""
+        names, columns, _ = _columns(record)
+        guess = {}
+        for s in self._dynamics.states:
+            ch = f"QD_{s[:-2]}" if s.endswith("_d") else f"Q_{s}"
+            if ch in names:
+                guess[s] = float(columns[ch][0])
+        return self.trim(u0, guess=guess)
+
     def trim(self, u: np.ndarray, *, guess: Mapping[str, float] | None = None,
              p: Mapping[str, float] | None = None) -> np.ndarray:
         """The steady state at inputs ``u`` (SI): ``rhs(x, u) = 0`` for every state but the azimuth.
@@ -268,9 +279,10 @@ def _columns(record: Any) -> tuple[set, dict, dict]:
         cols = {str(k): np.asarray(v, dtype=float).reshape(-1) for k, v in record.items()}
         return set(cols), cols, {}
     names = tuple(getattr(record, "names", ()))
-    data = np.asarray(getattr(record, "data", np.zeros((0, 0))), dtype=float)
+    data = getattr(record, "data", None)
+    data = np.asarray(getattr(record, "values", np.zeros((0, 0))) if data is None else data, dtype=float)
     if not names or data.ndim != 2 or data.shape[1] != len(names):
         raise DataError(f"a record must be a dict of arrays or have names and data (N, n_channels); got "
                         f"{type(record).__name__}.")
-    units = dict(zip(names, getattr(record, "units", None) or [None] * len(names)))
+    units = {n: (u or None) for n, u in zip(names, getattr(record, "units", None) or [None] * len(names))}
     return set(names), {n: data[:, i] for i, n in enumerate(names)}, units
