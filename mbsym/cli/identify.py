@@ -40,14 +40,23 @@ from pathlib import Path
 __all__ = ["add_parser", "run"]
 
 
+_EPILOG = ("A deck with AeroDyn is fitted as the operating turbine: the deck's structure, aerodynamics and wind, driven "
+           "by the record's measured hub wind (Wind1VelX), collective pitch (BldPitch1) and generator torque (GenTq), "
+           "so the controller and actuators are out of the loop; it starts from the steady state at the record's "
+           "first inputs (start the record where the turbine is steady, or --estimate-x0); the rotor azimuth is not "
+           "estimated. Progress lines precede the results; a fit that does not converge exits with status 1 and "
+           "advice. See docs/identification.md.")
+
+
 def add_parser(sub) -> None:
     p = sub.add_parser("identify", help="identify named turbine parameters (ElastoDyn keys) from an OpenFAST CSV",
-                       description=__doc__.split("\n\n")[0])
+                       description=__doc__.split("\n\n")[0], epilog=_EPILOG)
     p.add_argument("deck", help="main OpenFAST input file (.fst)")
     p.add_argument("--data", required=True, metavar="OPENFAST.csv", help="measured or simulated time series (CSV)")
     p.add_argument("--params", required=True, metavar="KEY[,KEY...]",
                    help="parameters to identify: ElastoDyn keys (e.g. TwrFADmp(1),FAStTunr(1)) or names")
-    p.add_argument("--channels", metavar="CH[,CH...]", help="fitted channels (default: Q_/QD_ of the model's DOFs)")
+    p.add_argument("--channels", metavar="CH[,CH...]", help="fitted channels (default: Q_/QD_ of the model's DOFs; operating turbine: "
+                   "those of the DOFs the parameters act on, e.g. Q_TFA1,QD_TFA1 for TwrFADmp(1))")
     p.add_argument("--initial", metavar="KEY=V[,KEY=V...]", help="starting values in the deck's units "
                    "(default: the deck's values)")
     p.add_argument("--estimate-x0", action="store_true", help="also estimate the initial state")
