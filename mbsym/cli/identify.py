@@ -145,7 +145,8 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])
     _log(args, f"trimmed at the record's first inputs (wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s): "
-               + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0))
+               + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0)
+                           if f"Q_{k}" in series.names or f"QD_{k[:-2]}" in series.names)
                + f" ({time.perf_counter() - t0:.1f} s)")
     channels = default_channels(turbine, series.names, skip=("Q_GeAz", "QD_GeAz"))
     own = _parameter_channels(model, keys, series.names)

@@ -169,9 +169,10 @@ def test_estimate_x0_on_operating_data_is_bounded_and_warned(step):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="rotor-effective aero damps the tower fore-aft mode less than AeroDyn "
-                   "(linearized at 14 m/s: 5.5 % total vs 7.3 % with mbsym's blade-element rotor and 7.3-7.5 % in "
-                   "OpenFAST's frozen-wake linearization): the missing ~2 points go to TwrFADmp(1)")
+@pytest.mark.xfail(strict=True, reason="model form: 1 % TwrFADmp(1) is 0.36 points of the operating fore-aft damping "
+                   "(~7 %), so the check needs the aerodynamic damping to 0.04 points; the rotor-effective model "
+                   "(disk moment included) has 7.2 % at 14 m/s where OpenFAST's time domain implies ~6.9 %: "
+                   "identified 0.27 % (4.79 % before the disk moment); docs/identification.md")
 def test_tower_damping_from_the_step_within_10_percent(step, capsys):
     """Issue 22's check: TwrFADmp(1) from step_10_14 with the matching deck within 10 % of the deck's 1 %."""
     from mbsym.cli import main
@@ -212,3 +213,43 @@ def test_recovers_the_damping_of_a_simulated_operating_turbine(step):
                       initial={"TwrFADmp(1)": 2.0})
     assert res.success
     assert res.parameters["TwrFADmp(1)"] == pytest.approx(1.0, rel=0.02)
+
+
+def _fore_aft_damping(model, u_values: dict, tower_fa: float) -> float:
+    """Damping ratio of the eigenvalue pair dominated by TFA1 of a MeasuredInputTurbine, linearized at the deck's
+    initial conditions with the inflow at equilibrium (blade-element model: at one azimuth; a three-bladed rotor in
+    uniform wind, so nearly azimuth-independent)."""
+    import casadi as ca
+
+    dyn, full, plant = model.dynamics(), model.full, model.turbine
+    u = dyn.u0.copy()
+    for k, v in u_values.items():
+        u[dyn.inputs.index(k)] = v
+    xf = plant.initial_state(u_values["Wind1VelX"], rotor_speed=1.267, pitch=u_values["BlPitchMeas"],
+                             tower_fa=tower_fa)
+    x = np.array([xf[full.states.index(s)] for s in dyn.states])
+    X = ca.SX.sym("x", dyn.n_x) if dyn.rhs.is_a("SXFunction") else ca.MX.sym("x", dyn.n_x)
+    A = np.asarray(ca.Function("A", [X], [ca.jacobian(dyn.rhs(X, u, dyn.parameter_vector()), X)])(x), dtype=float)
+    keep = [i for i, s in enumerate(dyn.states) if s != "GeAz"]
+    A = A[np.ix_(keep, keep)]
+    w, V = np.linalg.eig(A)
+    i = [dyn.states[k] for k in keep].index("TFA1")
+    k = max((j for j in range(w.size) if w[j].imag > 0.5), key=lambda j: abs(V[i, j]) / np.linalg.norm(V[:, j]))
+    return float(-w[k].real / abs(w[k]))
+
+
+@pytest.mark.slow
+def test_rotor_effective_fore_aft_damping_matches_the_blade_element_rotor(step):
+    """The rotor disk's moment against tilt and yaw rates (compose._disk_moments): with it, the rotor-effective
+    model's tower fore-aft damping at 14 m/s (pitch 8.57 deg, 43.1 kN m: OpenFAST's steady state) is the
+    blade-element rotor's within 0.3 points of critical (issue 22 item 6 asks 0.5 points like-for-like; measured
+    7.18 % vs 7.30 %; without the moment 5.5 %)."""
+    from mbsym.wind.operation import OperatingTurbine
+    from mbsym.wind.operation.measured import MeasuredInputTurbine
+
+    fst, _ = step
+    u = {"Wind1VelX": 14.0, "BlPitchMeas": np.deg2rad(8.57), "GenTqMeas": 43093.0}
+    rotor = _fore_aft_damping(MeasuredInputTurbine(OperatingTurbine.from_openfast(fst, aero="rotor")), u, 0.239)
+    blade = _fore_aft_damping(MeasuredInputTurbine(OperatingTurbine.from_openfast(fst, aero="blade")), u, 0.239)
+    assert 0.06 < blade < 0.09
+    assert rotor == pytest.approx(blade, abs=0.003)

@@ -193,7 +193,8 @@ class OperatingTurbine:
                                       prescribed_azimuth=True,
                                       blade_loads=blade, blade_root_reactions=blade,
                                       blade_root_forces=blade and bool(load_channels),
-                                      shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels))
+                                      shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels),
+                                      hub_moments=not blade)
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
         if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
