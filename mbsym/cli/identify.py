@@ -134,13 +134,11 @@ def _progress(args, t0: float):
 
 def _operating(args, turbine, series, keys: list[str], t0: float):
     """(model, options for mb.identify, default channels) of the operating turbine driven by the measured inputs."""
-    from ..wind.operation import OperatingTurbine
-    from ..wind.operation.measured import PERIODS, MeasuredInputTurbine
     from ..wind.operation.deck import operating_deck
+    from ..wind.operation.measured import PERIODS, MeasuredInputTurbine
 
     _log(args, "building the operating turbine (structure, aerodynamics, wind; measured pitch and torque as inputs)")
-    plant = operating_deck(args.deck).model(aero=args.aero)
-    model = MeasuredInputTurbine(plant) if isinstance(plant, OperatingTurbine) else None
+    model = MeasuredInputTurbine(operating_deck(args.deck).model(aero=args.aero))
     dyn = model.dynamics()
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])

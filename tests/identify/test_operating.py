@@ -198,9 +198,9 @@ def test_recovers_the_damping_of_a_simulated_operating_turbine(step):
     m = (t >= 20.0) & (t <= 50.0)
     tt = t[m] - 20.0
     plant = OperatingTurbine.from_openfast(fst)
-    pitch = lambda s: np.interp(s, tt, np.deg2rad(c["BldPitch1"][m]))      # noqa: E731
-    torque = lambda s: np.interp(s, tt, 1e3 * c["GenTq"][m])                # noqa: E731
-    wind = lambda s: np.interp(s, tt, c["Wind1VelX"][m])                    # noqa: E731
+    pitch = lambda s: np.interp(s, tt, np.deg2rad(c["BldPitch1"][m]))
+    torque = lambda s: np.interp(s, tt, 1e3 * c["GenTq"][m])
+    wind = lambda s: np.interp(s, tt, c["Wind1VelX"][m])
     x0 = plant.initial_state(10.0, rotor_speed=c["QD_GeAz"][m][0], pitch=pitch(0.0), torque=torque(0.0),
                              tower_fa=c["Q_TFA1"][m][0])
     sim = simulate_turbine(plant, wind, tt[-1], commands={"BlPitchCom": pitch, "GenTqCom": torque}, x0=x0, t_out=tt)
