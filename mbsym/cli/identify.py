@@ -12,7 +12,8 @@ the deck's units; the starting values are the deck's unless ``--initial`` gives 
 
 The model (``--model``, default ``auto``): a deck with AeroDyn (``CompAero = 2``) is an
 **operating** turbine: its structure, its aerodynamics (``--aero``, default the deck's:
-rotor-effective unless its wind or DOFs need blade elements) and its wind, driven by the
+rotor-effective, with the disk's moment against tilt and yaw rates, unless its wind or DOFs need blade
+elements) and its wind, driven by the
 record's measured hub wind ``Wind1VelX``, collective pitch ``BldPitch1`` and generator torque
 ``GenTq`` (the controller and the actuators out of the loop: :class:`~mbsym.wind.operation.measured.
 MeasuredInputTurbine`), started from the steady state at the record's first inputs (trim); the
@@ -138,7 +139,10 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     from ..wind.operation.measured import PERIODS, MeasuredInputTurbine
 
     _log(args, "building the operating turbine (structure, aerodynamics, wind; measured pitch and torque as inputs)")
-    model = MeasuredInputTurbine(operating_deck(args.deck).model(aero=args.aero))
+    deck = operating_deck(args.deck)
+    aero = deck.default_aero() if args.aero is None else args.aero
+    options = {"disk_moments": True} if aero == "rotor" else {}         # the disk's tilt/yaw damping
+    model = MeasuredInputTurbine(deck.model(aero=aero, **options))
     dyn = model.dynamics()
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])

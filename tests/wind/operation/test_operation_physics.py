@@ -96,8 +96,12 @@ def _fore_aft_mode(model, x, u, p):
     return -w[k].real / abs(w[k]), abs(w[k])
 
 
-def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady):
-    model, dyn = quasi_steady, quasi_steady.dynamics()
+@pytest.mark.parametrize("disk_moments", [False, True])
+def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady, disk_moments):
+    from mbsym.wind.operation import OperatingTurbine
+
+    model = OperatingTurbine.nrel5mw(dynamic_inflow=False, disk_moments=True) if disk_moments else quasi_steady
+    dyn = model.dynamics()
     guess = steady_guess(model, 14.0)
     u = np.array([14.0, guess.pitch, guess.torque])
     p = dyn.parameter_vector()
@@ -125,7 +129,7 @@ def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady):
     shaft = g._kinematics("shaft", g.u_s)
     tilt = ca.vertcat(ca.dot(shaft["w"], shaft["R"][:, 1]), ca.dot(shaft["w"], shaft["R"][:, 2]))
     psi = np.asarray(ca.Function("psi", [g.x, g.u, g.p], [ca.jacobian(tilt, g.qd)[:, i]])(guess.state, u, p))
-    K = 0.5 * dT * 0.5 * (rotor.radius ** 2 + model.turbine.hub_radius ** 2)
+    K = 0.5 * dT * 0.5 * (rotor.radius ** 2 + model.turbine.hub_radius ** 2) if model.structure.hub_moments else 0.0
     predicted = (dT * phi**2 + K * float(np.sum(psi**2))) / (2 * omega_still * M)
     assert zeta_wind - zeta_still == pytest.approx(predicted, rel=0.10)
     assert omega == pytest.approx(omega_still, rel=0.02)
