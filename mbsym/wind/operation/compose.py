@@ -326,12 +326,17 @@ def actuator_states(model) -> list[str]:
 def check_structure(model) -> None:
     """The structure drives what the composition needs and its parameter names do not clash with ours."""
     eom = model.structure.eom
-    platform = getattr(model, "platform", None)
-    needed = (*model.pitch_names, "RotThrust", *(platform.inputs if platform is not None else ()))
-    needed += tuple(platform.coordinates) if platform is not None else ()
-    missing = [n for n in needed if n not in eom.inputs and n not in eom.coordinates]
+    missing = [n for n in (*model.pitch_names, "RotThrust") if n not in eom.inputs]
     if missing:
         raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
+    platform = getattr(model, "platform", None)
+    if platform is not None:
+        missing = [n for n in platform.coordinates if n not in eom.coordinates] + \
+            [n for n in platform.inputs if n not in eom.inputs]
+        if missing:
+            raise ModelDefinitionError(f"a floating platform needs all six platform DOFs and their load inputs; the "
+                                       f"structure lacks {missing}. Enable PtfmSgDOF … PtfmYDOF (dofs=…) or leave "
+                                       "platform=None.")
     clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(_AERO_NAMES)))
     if clash:
         raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "

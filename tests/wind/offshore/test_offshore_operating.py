@@ -125,6 +125,24 @@ def test_fl_steady_13_trim_matches_openfast_means(floating):
     assert all(abs(v) < 0.015 for v in off.values()), {k: round(100 * v, 2) for k, v in off.items()}
 
 
+def test_a_platform_needs_the_platform_dofs():
+    """Bad input: a platform on a structure without the six platform DOFs, or an object that is no platform."""
+    from mbsym.exceptions import ModelDefinitionError
+    from mbsym.wind.deck.openfast import read_openfast
+    from mbsym.wind.operation import OPERATING_DOFS, OperatingTurbine
+    from mbsym.wind.offshore import floating_platform
+
+    _need()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        platform = floating_platform(read_openfast(CASE), radiation="none")
+    with pytest.raises(TypeError, match="FloatingPlatform"):
+        OperatingTurbine.nrel5mw(platform=object())
+    model = OperatingTurbine.nrel5mw(dofs=OPERATING_DOFS, platform=platform)
+    with pytest.raises(ModelDefinitionError, match=r"lacks \['Sg', 'Sw', 'Hv', 'R', 'P', 'Y'.*PtfmSgDOF"):
+        model.dynamics()
+
+
 @pytest.mark.slow
 def test_fl_steady_13_closed_loop_600s():
     """600 s with the deck's controller settings in our baseline (TSR tracking, peak shaving, floating feedback
