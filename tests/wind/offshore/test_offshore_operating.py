@@ -62,10 +62,13 @@ def _model(radiation: str = "none", *, local_grid: bool = True):
 
 
 def _openfast_means() -> dict[str, float]:
-    data = np.genfromtxt(REFERENCE, delimiter=",", names=True)
-    names = {n.rsplit("_", 1)[0]: n for n in data.dtype.names}     # "PtfmSurge_m": genfromtxt drops "[]"
-    window = data[names["Time"]] >= data[names["Time"]][-1] - LAST
-    return {k: float(np.mean(data[v][window])) for k, v in names.items()}
+    """Means of OpenFAST's channels over the last :data:`LAST` seconds (headers ``<channel>_[<unit>]``)."""
+    header = REFERENCE.open().readline().strip().split(",")
+    names = {h.split("_[")[0]: k for k, h in enumerate(header)}
+    wanted = ["Time", *TOWER_SHARE]
+    data = np.loadtxt(REFERENCE, delimiter=",", skiprows=1, usecols=[names[n] for n in wanted])
+    window = data[:, 0] >= data[-1, 0] - LAST
+    return {n: float(np.mean(data[window, k])) for k, n in enumerate(wanted)}
 
 
 @pytest.fixture(scope="module")
