@@ -22,7 +22,8 @@ from typing import Mapping
 
 from ...exceptions import ModelWarning, OptionError, UnsupportedFeatureError
 
-__all__ = ["MODULE_SWITCHES", "MODULE_FILES", "MODELLED", "FLOATING_MODELLED", "unmodelled_modules", "check_modules", "deck_notes",
+__all__ = ["MODULE_SWITCHES", "MODULE_FILES", "MODELLED", "FLOATING_MODELLED", "unmodelled_modules", "check_modules",
+           "deck_notes",
            "ignored_dofs", "warn", "MAX_TIP_SPEED", "check_rotor_speed", "max_rotor_speed_rpm"]
 
 #: OpenFAST module switch -> (SimulationSettings attribute, module name by switch value).

@@ -25,7 +25,8 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "SI_FACTORS", "measurement_names",
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "SI_FACTORS",
+           "measurement_names",
            "baseline_in_loop", "discon_in_loop", "held_commands"]
 
 #: Plant channels the controllers read, in the order of their ``y``.
@@ -41,7 +42,8 @@ BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2"
 #: acceleration [deg/s^2].
 FLOATING_MEASUREMENTS = ("NcIMURAys",)
 #: Channel -> factor from its OpenFAST unit to SI.
-SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
+SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0,
+              "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 
 

@@ -68,7 +68,8 @@ def test_floating_controller_matches_rosco_library(rosco_lib):
             u = lib.step(k * DT, dict(zip(ctrl.measurements, y[k])))
             rosco[k] = u["BlPitchCom1"], u["GenTqCom"]
     dp = np.rad2deg(ours[:, 0] - rosco[:, 0])
-    print(f"max |dpitch| {np.max(np.abs(dp)):.2e} deg, max |dtorque| {np.max(np.abs(ours[:, 1] - rosco[:, 1])):.2e} N m")
+    print(f"max |dpitch| {np.max(np.abs(dp)):.2e} deg, max |dtorque| {np.max(np.abs(ours[:, 1] - rosco[:, 1])):.2e} "
+          "N m")
     assert np.max(np.abs(dp)) < PITCH_TOL_DEG, np.max(np.abs(dp))
     # the case moves the pitch through the feedback (without it the command would differ by more than this)
     no_fl = BaselineController(ctrl.settings.replace(floating_mode=0)).run(y[:, :5])[0]
@@ -80,7 +81,7 @@ def test_unsupported_floating_mode_is_refused(tmp_path):
 
     text = need(DISCON).read_text().replace("2                   ! Fl_Mode", "1                   ! Fl_Mode")
     assert text != DISCON.read_text()
-    (tmp_path / "DISCON.IN").write_text(text.replace('"../IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt"',
-                                                     f'"{DISCON.parent.parent / "IEA-15-240-RWT" / "Cp_Ct_Cq.IEA15MW.txt"}"'))
+    table = DISCON.parent.parent / "IEA-15-240-RWT" / "Cp_Ct_Cq.IEA15MW.txt"
+    (tmp_path / "DISCON.IN").write_text(text.replace('"../IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt"', f'"{table}"'))
     with pytest.raises(ControllerError, match=r"line \d+, key 'Fl_Mode': Fl_Mode = 1 is not supported"):
         BaselineController.from_discon(tmp_path / "DISCON.IN", dt=DT)
