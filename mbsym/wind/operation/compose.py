@@ -9,7 +9,11 @@ the new states and the rotor loads:
 ``RotThrust``   rotor thrust along the shaft (aero, or its lag state)
 ``RotTorq``     rotor torque about the shaft (aero, or its lag state)
 ``GeAz``        (GenDOF off) the azimuth state, turning at the parameter ``rotor_speed``
+``PtfmFx…Mz``   (with ``model.platform``) the water's and the mooring's loads on the platform
 ==============  ================================================================
+
+A floating turbine (``model.platform``, a :class:`~mbsym.wind.offshore.operating.FloatingPlatform`)
+also adds A∞ to the platform block of the mass matrix and its radiation states after the others.
 
 so the first-order right-hand side is one expression of ``(x, u, p)``. Up to
 :data:`~mbsym.equations.SYMBOLIC_SOLVE_MAX_DOF` structural DOFs everything is SX with the
@@ -22,6 +26,7 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
+import numpy as np
 
 from ...dynamics import Dynamics
 from ...equations import SYMBOLIC_SOLVE_MAX_DOF
@@ -45,9 +50,12 @@ class Graph:
         s = model.structure
         eom = s.eom
         self.model, self.eom, self.kind = model, eom, kind
+        self.platform = getattr(model, "platform", None)
         nq = eom.n_q
-        self.states = tuple(eom.states) + tuple(self.extra_states())
-        self.passthrough = tuple(n for n in eom.inputs if n not in self.wired_inputs())
+        platform_states = tuple(self.platform.state_names) if self.platform is not None else ()
+        self.states = tuple(eom.states) + tuple(self.extra_states()) + platform_states
+        wired = tuple(self.wired_inputs()) + (tuple(self.platform.inputs) if self.platform is not None else ())
+        self.passthrough = tuple(n for n in eom.inputs if n not in wired)
         self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough
         extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
@@ -90,11 +98,27 @@ class Graph:
 
     # ------------------------------------------------------------------ graph
     def _build(self) -> None:
+        self._build_platform()
         self._build_drive()
         self._build_aero()
         self.u_s = self.structural_inputs(**self.loads)
         self.qdd = self._accelerations()
         self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
+
+    def _build_platform(self) -> None:
+        """The platform's loads (floating turbine) from the platform DOFs, their rates and the radiation states."""
+        platform = self.platform
+        self.platform_loads: dict[str, Any] = {}
+        if platform is None:
+            return
+        coords = self.eom.coordinates
+        self.platform_index = [coords.index(c) for c in platform.coordinates]
+        qp = ca.vertcat(*[self.q[i] for i in self.platform_index])
+        vp = ca.vertcat(*[self.qd[i] for i in self.platform_index])
+        xr = ca.vertcat(*[self.X[n] for n in platform.state_names]) if platform.state_names else self.kind(0, 1)
+        self.platform_terms = platform.loads(qp, vp, xr)
+        load = self.platform_terms["load"]
+        self.platform_loads = {n: load[k] for k, n in enumerate(platform.inputs)}
 
     def _build_drive(self) -> None:
         """Actuators, rotor and generator speeds."""
@@ -166,7 +190,7 @@ class Graph:
         """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
         values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0, "RotMomZ": 0.0,
-                  **loads}
+                  **self.platform_loads, **loads}
         for n in self.model.pitch_names:
             values.update({n: X[n], f"{n}_d": X[f"{n}_d"], f"{n}_dd": self.beta_dd[n]})
         if not self.model.spins_freely:
@@ -188,6 +212,10 @@ class Graph:
         f = self.eom.functions
         mass = f.mass_matrix
         M = mass(self.q, self.u_s, self.p_s) if mass.n_in() == 3 else mass(self.q, self.p_s)
+        if self.platform is not None:                  # A∞ on the platform DOFs (symbolic mass matrix)
+            select = np.zeros((6, self.eom.n_q))
+            select[range(6), self.platform_index] = 1.0
+            M = M + ca.sparsify(ca.DM(select.T @ self.platform.added_mass @ select))
         F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
         if self.kind is ca.SX:
             return ca.solve(M, F)
@@ -200,6 +228,8 @@ class Graph:
             rows.append(self.P["rotor_speed"])
         if hasattr(self, "lag_rhs"):
             rows.append(self.lag_rhs)
+        if self.platform is not None and self.platform.state_names:
+            rows.append(self.platform_terms["xr_dot"])
         return rows
 
     def parts(self) -> dict[str, Any]:
@@ -324,6 +354,14 @@ def check_structure(model) -> None:
     missing = [n for n in (*model.pitch_names, "RotThrust") if n not in eom.inputs]
     if missing:
         raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
+    platform = getattr(model, "platform", None)
+    if platform is not None:
+        missing = [n for n in platform.coordinates if n not in eom.coordinates] + \
+            [n for n in platform.inputs if n not in eom.inputs]
+        if missing:
+            raise ModelDefinitionError(f"a floating platform needs all six platform DOFs and their load inputs; the "
+                                       f"structure lacks {missing}. Enable PtfmSgDOF … PtfmYDOF (dofs=…) or leave "
+                                       "platform=None.")
     clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(_AERO_NAMES)))
     if clash:
         raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "

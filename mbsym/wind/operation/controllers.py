@@ -25,7 +25,8 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "SI_FACTORS", "measurement_names",
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "SI_FACTORS",
+           "measurement_names",
            "baseline_in_loop", "discon_in_loop", "held_commands"]
 
 #: Plant channels the controllers read, in the order of their ``y``.
@@ -37,15 +38,20 @@ ACTUATED = ("BlPitchCom", "GenTqCom")
 #: Further channels a blade-element plant measures (individual pitch control reads them): the blade-root
 #: out-of-plane moments [kN-m], the azimuth [deg] and the pitch of blades 2 and 3 [deg].
 BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2", "BldPitch3")
+#: Further channels a floating plant measures (ROSCO's floating feedback reads it): the nacelle's pitching
+#: acceleration [deg/s^2].
+FLOATING_MEASUREMENTS = ("NcIMURAys",)
 #: Channel -> factor from its OpenFAST unit to SI.
-SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
+SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0,
+              "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 
 
 def measurement_names(model) -> tuple[str, ...]:
-    """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, and for a blade-element
-    plant :data:`BLADE_MEASUREMENTS`)."""
-    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ())
+    """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, for a blade-element
+    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS`)."""
+    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
+        (FLOATING_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
 
 
 def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None,
