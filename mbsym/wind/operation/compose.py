@@ -219,7 +219,17 @@ class Graph:
         F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
         if self.kind is ca.SX:
             return ca.solve(M, F)
+        if not self._symmetric_added_mass():
+            return ca.solve(M, F, "qr")        # WAMIT's A∞ as given, with its small asymmetry
         return spd_solve(M, F)                 # M is symmetric positive definite (mbsym.spd_solve)
+
+    def _symmetric_added_mass(self) -> bool:
+        """Whether the platform's A∞ (if any) is symmetric to rounding, so that M stays symmetric."""
+        a = getattr(self.platform, "added_mass", None) if self.platform is not None else None
+        if a is None:
+            return True
+        a = np.asarray(a, dtype=float)
+        return bool(np.max(np.abs(a - a.T)) <= 1e-12 * max(np.max(np.abs(a)), 1e-300))
 
     def _extra_rhs(self) -> list:
         X = self.X
