@@ -485,12 +485,14 @@ DIAGNOSIS = """\
   TTDspSS and TwrBsMxt are wrong (ε 16–18 %, R² < 0, TwrBsMxt mean −23 to −29 %). Its `Wind1VelX` is the disk
   average, so its ε against the hub point (8.5 %) only measures the 0.70 correlation of the two winds.
 * **Integration:** one step per 6.25 ms controller sample (OpenFAST's DT), by default `rk4-held`: the
-  aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds AeroDyn's loads. Against
-  `rk4` (tag "rk4": the aerodynamics in every stage) the figures agree to the third digit at a quarter of the
-  CPU. Larger steps (tags "dt=…": plant and controller at that step) are cheaper: 12.5 ms keeps every DEL
-  within 3.3 %, 25 ms misses them (TwrBsMyt +5.2 %, TwrBsMxt +6.6 %). The loss comes from the controller's
-  sample time: with the plant at 6.25 ms and the controller at 25 ms the DELs are +4.4 / +6.0 %. The
-  reference's own DT 0.005 s rerun moves ε by ≤ 0.7 %.
+  aerodynamics held over the RK4 stages as OpenFAST's glue code holds AeroDyn's loads, and evaluated every 2° of
+  rotor rotation (`aero_dt`, here every 4 samples, 25 ms) while the controller and the structure keep the
+  6.25 ms sample. Tags: "aero_dt=0.00625" (the aerodynamics every sample), "rk4" (in every stage): the figures
+  agree to within 0.1 point of ε and 1.3 points of DEL at a half and an eighth of the CPU. Larger steps (tags
+  "dt=…": plant **and controller** at that step) are cheaper still but the controller's sample time costs
+  accuracy: 12.5 ms keeps every DEL within 3.3 %, 25 ms misses them (TwrBsMyt +5.2 %, TwrBsMxt +6.6 %; with the
+  plant at 6.25 ms and the controller at 25 ms +4.4 / +6.0 %). The reference's own DT 0.005 s rerun moves ε by
+  ≤ 0.7 %.
 * **Spectra (ff14_flex, rk4-held at 6.25 ms, RMS per band against OpenFAST's):** within ±6 % in every band
   from 0 to 10 Hz for TTDspFA, RtAeroFxh, IPDefl1 and (below 1.3 Hz) RotSpeed, GenTq, RootMxc1, TwrBsMxt; the
   band 1.7–1.9 Hz (the drivetrain-torsion / collective-edge mode) is 1.4× OpenFAST's in RotSpeed, TwrBsMxt and

@@ -34,6 +34,7 @@ __all__ = [
     "DataError",
     "IdentificationOptionError",
     "IdentifiabilityWarning",
+    "ConvergenceWarning",
     "ControlDefinitionError",
     "ConstraintError",
 ]
@@ -143,6 +144,11 @@ class IdentificationOptionError(MbsymError, ValueError):
 
 class IdentifiabilityWarning(UserWarning):
     """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
+
+
+class ConvergenceWarning(MbsymWarning):
+    """An iterative fit stopped before converging (iteration or time limit, failed line search); the
+    result is returned with ``success = False`` and the message says what to try."""
 class ControlDefinitionError(MbsymError, ValueError):
     """An optimal-control or estimation problem is ill-defined (unknown signal name, bad weight, horizon or bound)."""
 class ConstraintError(ModelDefinitionError):

@@ -8,7 +8,8 @@ it becomes straight-line generated C: for the 15-DOF flexible NREL 5 MW (a dense
 instructions, several times cheaper than CasADi's general sparse ``qr`` or ``ldl`` linear solvers in
 generated code (benchmarks/README.md, "blade-loop-speed"), and differentiable like any SX expression.
 
-Positive definiteness is the caller's promise (``check_mass_matrix`` verifies it at the initial state);
+Only the lower triangle and the diagonal are read: ``M`` must be symmetric (a matrix that is not, such as
+WAMIT's slightly asymmetric A∞ added to it, needs a general solver). Positive definiteness is the caller's promise (``check_mass_matrix`` verifies it at the initial state);
 a pivot that is not positive gives non-finite or wrong numbers, not an exception, as with any solver
 without pivoting.
 """

@@ -4,13 +4,27 @@ Contract (kept for acceptance checks)::
 
     mbsym identify DECK --data OPENFAST.csv --params KEY[,KEY...] [--channels CH[,CH...]] [--json]
                    [--initial KEY=V[,KEY=V...]] [--estimate-x0] [--method M] [--no-compile]
+                   [--model auto|operating|structure] [--aero rotor|blade] [--max-time S] [--quiet]
 
 KEY: an ElastoDyn key (``TwrFADmp(1)``, ``FAStTunr(1)``, ``NacMass``, ``PtfmPIner`` ...; see
 :mod:`mbsym.wind.structure.named_parameters`) or a descriptive parameter name, values in
-the deck's units. The model is the deck's ElastoDyn-equivalent turbine (its DOFs and
-initial conditions); the starting values are the deck's unless ``--initial`` gives others.
-Default channels: the ``Q_``/``QD_`` channels of the model's DOFs found in the data
-(``Q_GeAz`` left out: it wraps). ``--json`` prints on the last line
+the deck's units; the starting values are the deck's unless ``--initial`` gives others.
+
+The model (``--model``, default ``auto``): a deck with AeroDyn (``CompAero = 2``) is an
+**operating** turbine: its structure, its aerodynamics (``--aero``, default the deck's:
+rotor-effective, with the disk's moment against tilt and yaw rates, unless its wind or DOFs need blade
+elements) and its wind, driven by the
+record's measured hub wind ``Wind1VelX``, collective pitch ``BldPitch1`` and generator torque
+``GenTq`` (the controller and the actuators out of the loop: :class:`~mbsym.wind.operation.measured.
+MeasuredInputTurbine`), started from the steady state at the record's first inputs (trim); the
+rotor azimuth is not estimated. A deck without AeroDyn, or ``--model structure``, is the
+ElastoDyn-equivalent structure alone (free decays: no aerodynamics, no controller; said on the
+output). Default channels: the ``Q_``/``QD_`` channels of the model's DOFs found in the data
+(``Q_GeAz`` left out: it wraps). For an operating turbine, the channels of the DOFs the parameters
+act on (``TwrFADmp(1)``: ``Q_TFA1``, ``QD_TFA1``), else those of every DOF but the rotor (the rotor
+speed runs open loop on the measured torque). Progress lines go to stdout before the results (``--quiet``: none; errors
+stay one line on stderr). A fit that does
+not converge exits with status 1 and advice (the results are still printed). ``--json`` prints on the last line
 ``{"parameters": {KEY: value}, "std": {KEY: value}, "initial": {KEY: value},
 "eps_pct": {CHANNEL: value}, "iterations": n, "wall_s": t}`` with KEY exactly as passed.
 """
@@ -19,25 +33,44 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
+import warnings
 from pathlib import Path
 
 __all__ = ["add_parser", "run"]
 
 
+_EPILOG = ("A deck with AeroDyn is fitted as the operating turbine: the deck's structure, aerodynamics and wind, driven "
+           "by the record's measured hub wind (Wind1VelX), collective pitch (BldPitch1) and generator torque (GenTq), "
+           "so the controller and actuators are out of the loop; it starts from the steady state at the record's "
+           "first inputs (start the record where the turbine is steady, or --estimate-x0); the rotor azimuth is not "
+           "estimated. Progress lines precede the results; a fit that does not converge exits with status 1 and "
+           "advice. See docs/identification.md.")
+
+
 def add_parser(sub) -> None:
     p = sub.add_parser("identify", help="identify named turbine parameters (ElastoDyn keys) from an OpenFAST CSV",
-                       description=__doc__.split("\n\n")[0])
+                       description=__doc__.split("\n\n")[0], epilog=_EPILOG)
     p.add_argument("deck", help="main OpenFAST input file (.fst)")
     p.add_argument("--data", required=True, metavar="OPENFAST.csv", help="measured or simulated time series (CSV)")
     p.add_argument("--params", required=True, metavar="KEY[,KEY...]",
                    help="parameters to identify: ElastoDyn keys (e.g. TwrFADmp(1),FAStTunr(1)) or names")
-    p.add_argument("--channels", metavar="CH[,CH...]", help="fitted channels (default: Q_/QD_ of the model's DOFs)")
+    p.add_argument("--channels", metavar="CH[,CH...]", help="fitted channels (default: Q_/QD_ of the model's DOFs; operating turbine: "
+                   "those of the DOFs the parameters act on, e.g. Q_TFA1,QD_TFA1 for TwrFADmp(1))")
     p.add_argument("--initial", metavar="KEY=V[,KEY=V...]", help="starting values in the deck's units "
                    "(default: the deck's values)")
     p.add_argument("--estimate-x0", action="store_true", help="also estimate the initial state")
     p.add_argument("--method", default="gauss-newton", help="gauss-newton (default), sqpmethod or ipopt")
     p.add_argument("--no-compile", action="store_true", help="CasADi's virtual machine instead of compiled C")
+    p.add_argument("--model", choices=("auto", "operating", "structure"), default="auto",
+                   help="operating: structure + the deck's aerodynamics and wind, driven by the measured pitch "
+                        "(BldPitch1), generator torque (GenTq) and hub wind (Wind1VelX); structure: the structure "
+                        "alone (free decays); auto (default): operating when the deck has AeroDyn")
+    p.add_argument("--aero", choices=("rotor", "blade"), help="operating model's aerodynamics: rotor-effective or "
+                   "blade elements (default: the deck's choice)")
+    p.add_argument("--max-time", type=float, metavar="S", help="wall-time limit of the iteration [s]")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object on the last line")
 
 
@@ -73,21 +106,74 @@ def _initial(text: str | None) -> dict[str, float]:
     return out
 
 
-def default_channels(model, names) -> list[str]:
-    """``Q_<dof>`` and ``QD_<dof>`` of the model's coordinates present in ``names`` (not ``Q_GeAz``: it wraps)."""
+def default_channels(model, names, *, skip: tuple[str, ...] = ("Q_GeAz",)) -> list[str]:
+    """``Q_<dof>`` and ``QD_<dof>`` of the model's coordinates present in ``names`` (not those in ``skip``)."""
     out = []
     for c in model.eom.coordinates:
         for prefix in ("Q", "QD"):
             ch = f"{prefix}_{c}"
-            if ch in names and ch != "Q_GeAz":
+            if ch in names and ch not in skip:
                 out.append(ch)
     return out
+
+
+def _log(args, text: str) -> None:
+    if not args.quiet:
+        print(f"mbsym identify: {text}", flush=True)
+
+
+def _progress(args, t0: float):
+    def report(event: dict) -> None:
+        if event["stage"] == "built":
+            _log(args, f"shooting functions ready ({event['substeps']} RK4 sub-step(s), "
+                       f"{'compiled' if event['compiled'] else 'virtual machine'}; {time.perf_counter() - t0:.1f} s)")
+        else:
+            _log(args, f"iteration {event['iteration']}: cost {event['cost']:.4e}, gaps {event['gap']:.1e}, "
+                       f"step {event['step']:.1e} ({time.perf_counter() - t0:.1f} s)")
+    return report
+
+
+def _operating(args, turbine, series, keys: list[str], t0: float):
+    """(model, options for mb.identify, default channels) of the operating turbine driven by the measured inputs."""
+    from ..wind.operation.deck import operating_deck
+    from ..wind.operation.measured import PERIODS, MeasuredInputTurbine
+
+    _log(args, "building the operating turbine (structure, aerodynamics, wind; measured pitch and torque as inputs)")
+    deck = operating_deck(args.deck)
+    aero = deck.default_aero() if args.aero is None else args.aero
+    options = {"disk_moments": True} if aero == "rotor" else {}         # the disk's tilt/yaw damping
+    model = MeasuredInputTurbine(deck.model(aero=aero, **options))
+    dyn = model.dynamics()
+    U = model.inputs_from(series)
+    x0 = model.initial_state_from(series, U[0])
+    _log(args, f"trimmed at the record's first inputs (wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s): "
+               + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0)
+                           if f"Q_{k}" in series.names or f"QD_{k[:-2]}" in series.names)
+               + f" ({time.perf_counter() - t0:.1f} s)")
+    channels = default_channels(turbine, series.names, skip=("Q_GeAz", "QD_GeAz"))
+    own = _parameter_channels(model, keys, series.names)
+    return model, {"inputs": U, "x0": x0}, own or channels, PERIODS
+
+
+def _parameter_channels(model, keys: list[str], names) -> list[str]:
+    """``Q_``/``QD_`` channels of the DOFs the parameters act on (e.g. ``TwrFADmp(1)``: TFA1), when every
+    parameter names its DOFs; else []. The other DOFs' misfit (model-form differences, such as the missing
+    rotor side force on the side-side mode) then does not bias the estimate."""
+    from ..wind.structure.dof_tables import STATE_ORDER
+
+    coords = []
+    for key in keys:
+        requires = getattr(model.resolve_parameter(key), "requires", ())
+        if not requires:
+            return []
+        coords += [STATE_ORDER[f] for f in requires if f in STATE_ORDER]
+    return [f"{pre}_{c}" for c in dict.fromkeys(coords) for pre in ("Q", "QD") if f"{pre}_{c}" in names]
 
 
 def run(args: argparse.Namespace) -> int:
     import mbsym as mb
 
-    from ..exceptions import DataError
+    from ..exceptions import ConvergenceWarning, DataError, OptionError
     from ..wind import read_openfast
     from ..wind.analysis.compare import WRAPPED, read_csv
     from ..wind.structure.turbine import TurbineModel
@@ -98,22 +184,47 @@ def run(args: argparse.Namespace) -> int:
     if not Path(args.deck).is_file():
         raise FileNotFoundError(f"deck not found: {args.deck}")
     series = read_csv(args.data)
-    model = TurbineModel(read_openfast(args.deck))
+    turbine = read_openfast(args.deck)
+    structure = TurbineModel(turbine)
     for key in keys:
-        model.resolve_parameter(key)            # unknown or absent keys fail before any heavy work
-    channels = _split(args.channels, "--channels") if args.channels else default_channels(model, series.names)
+        structure.resolve_parameter(key)            # unknown or absent keys fail before any heavy work
+    has_aero = turbine.source_files.get("aerodyn") is not None
+    kind = ("operating" if has_aero else "structure") if args.model == "auto" else args.model
+    if kind == "operating" and not has_aero:
+        raise OptionError(f"--model operating: {args.deck} has no AeroDyn input (CompAero = 2 and AeroFile); an "
+                          "operating turbine needs its aerodynamics. Use --model structure for a free decay.")
+    if args.aero is not None and kind != "operating":
+        raise OptionError("--aero describes the operating turbine's aerodynamics; it needs --model operating.")
+    if kind == "operating":
+        model, options, default, periods = _operating(args, structure, series, keys, t0)
+    else:
+        if has_aero:
+            _log(args, "--model structure: the deck's aerodynamics, controller and wind are NOT modelled (a free "
+                       "decay of the structure alone)")
+        model, options, periods = structure, {}, WRAPPED
+        default = default_channels(structure, series.names)
+    channels = _split(args.channels, "--channels") if args.channels else default
     if not channels:
-        raise DataError(f"{args.data}: no Q_/QD_ channel of the model's DOFs {list(model.eom.coordinates)}; "
+        raise DataError(f"{args.data}: no Q_/QD_ channel of the model's DOFs {list(structure.eom.coordinates)}; "
                         "choose channels with --channels")
-    periodic = {c: WRAPPED[c] for c in channels if c in WRAPPED}
-    res = mb.identify(model, series, keys, channels=channels, initial=initial, periodic=periodic,
-                      estimate_x0=bool(args.estimate_x0), method=args.method, compile=not args.no_compile)
+    periodic = {c: periods[c] for c in channels if c in periods}
+    _log(args, f"fitting {', '.join(keys)} to {', '.join(channels)} ({len(series.time)} samples)")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)      # said below, with the exit status
+        res = mb.identify(model, series, keys, channels=channels, initial=initial, periodic=periodic,
+                          estimate_x0=bool(args.estimate_x0), method=args.method, compile=not args.no_compile,
+                          progress=None if args.quiet else _progress(args, t0), max_time=args.max_time,
+                          **options)
     out = res.to_json()
     out["wall_s"] = time.perf_counter() - t0           # the whole command: reading, building, identifying
-    print(f"{Path(args.deck).name}: {len(series.time)} samples of {', '.join(channels)}")
+    what = "operating turbine, measured pitch/torque/wind as inputs" if kind == "operating" else "structure alone"
+    print(f"{Path(args.deck).name} ({what}): {len(series.time)} samples of {', '.join(channels)}")
     print(res.summary())
-    if not res.success:
-        print(f"warning: {res.message}")
     if args.json:
         print(json.dumps(out))
+    if not res.success:
+        print(f"mbsym identify: error: not converged ({res.message}); the estimates above are where the iteration "
+              "stopped. Try starting values nearer the expected ones (--initial), fewer parameters or channels, "
+              "or a larger --max-time; check that the model describes the data.", file=sys.stderr)
+        return 1
     return 0

@@ -5,10 +5,12 @@ Contract (kept for acceptance checks)::
     mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
                     [--structure-only]
     mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
+    mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--discon-input DISCON.IN]
 
 With ``--wind`` the operating turbine (aerodynamics, actuators, inflow) is linearized about its
-trim at U m/s: see :mod:`mbsym.cli.linearize_operating` for that output. Without it, the
-structure as below.
+trim at U m/s: see :mod:`mbsym.cli.linearize_operating` for that output; with ``--closed-loop``
+also our baseline controller about each trim, connected (margins, closed-loop poles):
+:mod:`mbsym.cli.linearize_closed_loop`. Without ``--wind``, the structure as below.
 
 The operating point is the deck's RotSpeed (``--rpm`` replaces it), Azimuth, NacYaw and BlPitch
 with every tower, platform and blade displacement zero, as OpenFAST's linearization of its
@@ -65,12 +67,18 @@ def add_parser(sub) -> None:
 
     add_structure_only(p)
     p.add_argument("--wind", metavar="U", help="hub-height wind speed [m/s]: linearize the operating turbine "
-                                              "(aerodynamics, actuators, inflow) about its trim there, in SI units")
+                                              "(aerodynamics, actuators, inflow) about its trim there, in SI units; "
+                                              "with --closed-loop several: START:STOP:STEP or a comma list")
     p.add_argument("--keep-azimuth", action="store_true",
                    help="with --wind: keep the free generator azimuth GeAz as a state (default: left out, so "
                         "dcgain works)")
     p.add_argument("--discon-input", metavar="DISCON.IN",
                    help="with --wind: ROSCO controller input file instead of the deck's (ServoDyn DLL_InFile)")
+    p.add_argument("--closed-loop", action="store_true",
+                   help="with --wind SPEEDS (e.g. 4:25:1): connect our baseline controller, linearized about each "
+                        "trim; print pitch and torque loop margins, closed-loop poles and damping")
+    p.add_argument("--plot", metavar="FILE.png", help="with --closed-loop: write margins and closed-loop poles over "
+                                                      "wind speed")
 
 
 def undeflected(turbine, rpm: float | None = None, *, zero_displacements: bool = True):
@@ -183,6 +191,15 @@ def state_units(model) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if getattr(args, "closed_loop", False) or getattr(args, "plot", None) is not None:
+        from ..exceptions import OptionError
+
+        if getattr(args, "wind", None) is None or not getattr(args, "closed_loop", False):
+            raise OptionError("--closed-loop needs --wind SPEEDS (e.g. --wind 4:25:1), and --plot needs "
+                              "--closed-loop: mbsym linearize [DECK] --wind 4:25:1 --closed-loop [--plot F.png].")
+        from .linearize_closed_loop import run_closed_loop
+
+        return run_closed_loop(args)
     if getattr(args, "wind", None) is not None:
         from .linearize_operating import run_operating
 

@@ -339,11 +339,12 @@ def _controller(kind, args, deck):
 
 
 def _for_plant(controller, handle, model, kind, args, deck):
-    """The controller wired to a blade-element plant (root moments, azimuth, per-blade pitch), else as built."""
+    """The controller wired to a blade-element plant (root moments, azimuth, per-blade pitch) or a floating one
+    (the nacelle's pitching acceleration for the floating feedback), else as built."""
     from ..wind.control import BaselineController
     from ..wind.operation.controllers import baseline_in_loop, discon_in_loop
 
-    if controller is None or model.aero != "blade":
+    if controller is None or (model.aero != "blade" and getattr(model, "platform", None) is None):
         return controller
     if kind == "baseline":
         settings = deck.baseline_settings(discon_in=args.discon_input)

@@ -19,9 +19,10 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from ..dynamics import Dynamics, as_dynamics
-from ..exceptions import DataError, DimensionError, IdentifiabilityWarning, IdentificationOptionError, ParameterError
+from ..exceptions import (ConvergenceWarning, DataError, DimensionError, IdentifiabilityWarning,
+                          IdentificationOptionError, ParameterError)
 from .data import Record, as_records, check_channels
-from .gauss_newton import ShootingRecord, gauss_newton
+from .gauss_newton import ADVICE, ShootingRecord, check_finite, gauss_newton
 from .result import IdentificationResult, correlation_of, covariance, fit_error, warn_identifiability
 from .shooting import ShootingFunctions, choose_substeps, shooting_functions
 
@@ -191,15 +192,48 @@ def _inputs(model: Any, dyn: Dynamics, value, t: np.ndarray) -> np.ndarray:
     return U
 
 
-def _free_initial(dyn: Dynamics, estimate_x0) -> np.ndarray:
+def _record_inputs(model: Any, dyn: Dynamics, inputs, records: list[Record]) -> list[np.ndarray]:
+    """Inputs per record: given, else read off the record by the model (``inputs_from(record)``, e.g. an operating
+    turbine's measured wind, pitch and torque), else the model's defaults. A model given as an object (not a
+    Dynamics) with inputs and neither hook nor ``inputs=`` is refused: its zero default inputs would be silent
+    nonsense (an operating turbine in still air with zero pitch and torque)."""
+    hook = getattr(model, "inputs_from", None)
+    if inputs is None and callable(hook):
+        return [np.asarray(hook(r), dtype=float).reshape(r.time.size, dyn.n_u) for r in records]
+    if (inputs is None and dyn.n_u > 0 and not isinstance(model, Dynamics)
+            and not callable(getattr(model, "default_inputs", None))):
+        raise IdentificationOptionError(
+            f"the model has inputs {list(dyn.inputs)} and no default values for them: pass inputs= (an array "
+            f"(N, {dyn.n_u}) or a dict by name). For an operating turbine, identify "
+            "mbsym.wind.operation.MeasuredInputTurbine(turbine) instead: it reads the measured wind, pitch and "
+            "torque off the record.")
+    return [_inputs(model, dyn, v, r.time) for v, r in zip(_per_record(inputs, len(records), "inputs"), records)]
+
+
+def _record_states(model: Any, dyn: Dynamics, x0, records: list[Record], Us: list[np.ndarray]) -> list[np.ndarray]:
+    """Initial state per record: given, else the model's ``initial_state_from(record, u0)`` (e.g. a trim at the
+    record's first inputs), else the model's default."""
+    hook = getattr(model, "initial_state_from", None)
+    if x0 is None and callable(hook):
+        return [dyn.state_vector(hook(r, U[0])) for r, U in zip(records, Us)]
+    return [dyn.state_vector(v) for v in _per_record(x0, len(records), "x0")]
+
+
+def _free_initial(model: Any, dyn: Dynamics, estimate_x0) -> np.ndarray:
+    """Indices of the estimated initial states; ``True``: all but the model's ``fixed_states`` (e.g. an azimuth)."""
+    fixed = tuple(getattr(model, "fixed_states", ()) or ())
     if estimate_x0 is True:
-        return np.arange(dyn.n_x)
+        return np.array([i for i, s in enumerate(dyn.states) if s not in fixed], dtype=int)
     if estimate_x0 is False or estimate_x0 is None:
         return np.zeros(0, dtype=int)
     names = [estimate_x0] if isinstance(estimate_x0, str) else list(estimate_x0)
     unknown = [n for n in names if n not in dyn.states]
     if unknown:
         raise IdentificationOptionError(f"estimate_x0 names unknown states {unknown}; states are {list(dyn.states)}.")
+    refused = [n for n in names if n in fixed]
+    if refused:
+        raise IdentificationOptionError(f"estimate_x0: {refused} cannot be estimated (the model keeps them from the "
+                                        "data: an angle no channel determines); leave them out.")
     return np.array(sorted(dyn.states.index(n) for n in names), dtype=int)
 
 
@@ -243,6 +277,8 @@ def _initial_nodes(fun: ShootingFunctions, rec: ShootingRecord, theta: np.ndarra
     if init == "simulation":
         return S
     y, C, _ = fun.outputs(S, rec.U, theta, p, jac=True)
+    check_finite("channels of the model along its first simulation", y)
+    check_finite("channel Jacobians along the first simulation", C.reshape(C.shape[0], -1))
     e = rec.Y - y
     if np.any(rec.period):
         P = np.where(rec.period > 0, rec.period, 1.0)
@@ -263,7 +299,8 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
              periodic: Mapping[str, float] | None = None, reader: Callable | None = None,
              method: str = "gauss-newton", substeps: int | None = None, init: str = "data",
              compile: bool = True, threads: int = 1, tol: float = 1e-8, max_iter: int = 50,
-             correlation_threshold: float = 0.95, verbose: bool = False) -> IdentificationResult:
+             correlation_threshold: float = 0.95, verbose: bool = False,
+             progress: Callable[[dict], None] | None = None, max_time: float | None = None) -> IdentificationResult:
     """Estimate parameters (and optionally initial states) of a model from measured time series.
 
     Parameters
@@ -289,12 +326,18 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
         Starting value and ``(lower, upper)`` per parameter in label units; default the
         model's default value and the specification's bounds.
     x0 : array, dict, or list of them (one per record), keyword-only
-        Initial state (default: the model's). Entries not estimated stay fixed.
+        Initial state (default: the model's ``initial_state_from(record, u0)`` if it has one, e.g.
+        the trim of an operating turbine at the record's first inputs; else its default state).
+        Entries not estimated stay fixed.
     estimate_x0 : bool or sequence of state names, keyword-only
-        Estimate all (True) or some initial states.
+        Estimate all (True: all but the model's ``fixed_states``, e.g. a rotor azimuth) or some
+        initial states. Initial states the fitted channels do not see at the start are not moved
+        (an :class:`~mbsym.exceptions.IdentifiabilityWarning` names them).
     inputs : array (N, n_u), dict by name, or a list per record, keyword-only
-        Inputs at the sample times, interpolated linearly in between (default: the
-        model's default inputs, numbers or functions of time).
+        Inputs at the sample times, interpolated linearly in between (default: read off each
+        record by the model's ``inputs_from(record)`` if it has one, e.g. the measured wind, pitch
+        and torque of :class:`~mbsym.wind.operation.MeasuredInputTurbine`; else the model's default
+        inputs, numbers or functions of time; a model object with inputs but neither is refused).
     periodic : dict, keyword-only
         ``{channel: period}`` for wrapped channels (e.g. an azimuth in deg: 360).
     method : {"gauss-newton", "sqpmethod", "ipopt"}, keyword-only
@@ -316,6 +359,12 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
         Warn about parameter pairs more correlated than this (default 0.95).
     verbose : bool, keyword-only
         Print the iterations.
+    progress : callable, keyword-only
+        Called with a dict per event: ``{"stage": "built", "elapsed_s", "substeps", "compiled"}`` once
+        the Functions exist, then ``{"stage": "iteration", "iteration", "cost", "gap", "step", "alpha",
+        "elapsed_s"}`` after every Gauss–Newton iteration.
+    max_time : float, keyword-only
+        Wall-time limit [s] of the iteration (default none): the fit stops unconverged when exceeded.
 
     Returns
     -------
@@ -329,13 +378,18 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
         Missing or non-finite data channels, bad time grids, channels not in the model.
     IdentificationOptionError
         Invalid options.
+    SolverError
+        The model's trajectory or Jacobians became non-finite (a model that does not describe the
+        data, an unphysical start); the message says what to check.
     TypeError
         Unsupported model or data kinds.
 
     Warns
     -----
     IdentifiabilityWarning
-        Nearly collinear or undetermined parameters.
+        Nearly collinear or undetermined parameters; initial states the channels do not see.
+    ConvergenceWarning
+        The iteration stopped unconverged (``result.success`` is False); the message gives advice.
 
     Examples
     --------
@@ -371,9 +425,9 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
     theta0, lb, ub = _start_values(specs, dyn, initial, bounds)
     theta_idx = [dyn.parameters.index(s.name) for s in specs]
     p = dyn.parameter_vector()
-    free0 = _free_initial(dyn, estimate_x0)
-    x0s = [dyn.state_vector(v) for v in _per_record(x0, len(records), "x0")]
-    Us = [_inputs(model, dyn, v, r.time) for v, r in zip(_per_record(inputs, len(records), "inputs"), records)]
+    free0 = _free_initial(model, dyn, estimate_x0)
+    Us = _record_inputs(model, dyn, inputs, records)
+    x0s = _record_states(model, dyn, x0, records, Us)
     recs = [ShootingRecord(U, np.diff(r.time), Y, w, period, xs, free0) for U, r, Y, xs in zip(Us, records, Ys, x0s)]
     p0 = p.copy()
     p0[theta_idx] = theta0
@@ -382,19 +436,33 @@ def identify(model: Any, data: Any, parameters: Sequence[str | Parameter] | str,
         substeps, lam = choose_substeps(dyn, x0s[0], Us[0][0], p0, float(max(np.max(r.H) for r in recs)))
     if not (isinstance(threads, int) and threads >= 1):
         raise IdentificationOptionError(f"threads must be an int >= 1; got {threads!r}.")
+    if max_time is not None and not (isinstance(max_time, (int, float)) and max_time > 0):
+        raise IdentificationOptionError(f"max_time must be a number of seconds > 0; got {max_time!r}.")
+    if progress is not None and not callable(progress):
+        raise IdentificationOptionError(f"progress must be a callable taking a dict; got {type(progress).__name__}.")
     fun, cached = shooting_functions(dyn, rows, theta_idx, free0.size, substeps, compile=compile, threads=threads)
     t_built = time.perf_counter()
+    if progress is not None:
+        progress({"stage": "built", "elapsed_s": t_built - t_start, "substeps": fun.substeps,
+                  "compiled": fun.compiled})
     S0 = [_initial_nodes(fun, rec, theta0, p, init) for rec in recs]
+    columns = [f"initial {dyn.states[i]} (record {k + 1})" for k, r in enumerate(recs) for i in r.free0]
+    columns += [s.key for s in specs]
     theta_scale = np.where(np.abs(theta0) > 0, np.abs(theta0), np.maximum(np.abs(p[theta_idx]), 1.0))
     if method == "gauss-newton":
+        report = None if progress is None else (lambda h: progress({"stage": "iteration", **h}))
         out = gauss_newton(fun, recs, p, theta0, S0, lb, ub, theta_scale, tol=tol, max_iter=max_iter,
-                           verbose=verbose)
+                           verbose=verbose, progress=report, max_time=max_time, columns=columns)
     else:
         from .nlp import solve_nlp
 
         out = solve_nlp(fun, recs, p, theta0, S0, lb, ub, solver=method, tol=tol, max_iter=max_iter,
                         verbose=verbose)
     t_solved = time.perf_counter()
+    if not out.success:
+        warnings.warn(f"identification did not converge: {out.message}. The estimates are where the iteration "
+                      f"stopped; do not use them as they are. {ADVICE} Raise max_iter or max_time if the cost "
+                      "was still falling.", ConvergenceWarning, stacklevel=2)
     return _result(dyn, specs, fun, recs, records, chans, p, theta0, out, method, lam, correlation_threshold,
                    t_start, {"build_s": t_built - t_start - (0.0 if cached else fun.compile_s),
                              "compile_s": 0.0 if cached else fun.compile_s, "solve_s": t_solved - t_built})

@@ -41,8 +41,11 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
+
+from ..exceptions import SolverError
 
 __all__ = ["ShootingRecord", "GaussNewtonResult", "gauss_newton", "linearize", "condensed", "stack"]
 
@@ -95,6 +98,7 @@ class GaussNewtonResult:
     history: list = field(default_factory=list)
     wall_s: float = 0.0
     jacobians: int = 0
+    unobserved: tuple = ()
 
 
 def wrap(e: np.ndarray, period: np.ndarray) -> np.ndarray:
@@ -150,6 +154,33 @@ def stack(blocks: list[tuple[np.ndarray, np.ndarray]], recs: list[ShootingRecord
     return np.vstack(out), np.concatenate(res)
 
 
+#: Advice appended to the errors of a failed iteration.
+ADVICE = ("Check that the model describes the data (an operating turbine needs its aerodynamics and measured pitch and "
+          "torque as inputs), that the data start where the initial state is (or estimate it), and that the starting "
+          "values are physical; fit fewer channels or parameters, or give bounds.")
+
+
+def check_finite(what: str, values: np.ndarray, columns: list[str] | None = None) -> None:
+    """Raise :class:`SolverError` (with advice) if ``values`` has NaN or infinite entries (before LAPACK sees them)."""
+    bad = ~np.isfinite(values)
+    if not bad.any():
+        return
+    where = ""
+    if columns is not None and values.ndim == 2 and values.shape[1] == len(columns):
+        names = [c for c, b in zip(columns, bad.any(axis=0)) if b]
+        where = f" (in the columns of {names})"
+    raise SolverError(f"the {what} are not finite{where}: the model's trajectory left the range where it is "
+                      f"defined. {ADVICE}")
+
+
+def unobserved_columns(J: np.ndarray, scale: np.ndarray, n_cols: int, tol: float = 1e-7) -> np.ndarray:
+    """Indices among the first ``n_cols`` columns (free initial states) that the residuals hardly see:
+    scaled column norm below ``tol`` times the largest. They are left out of every step."""
+    norms = np.linalg.norm(J, axis=0) * scale
+    top = float(np.max(norms)) if norms.size else 0.0
+    return np.flatnonzero(norms[:n_cols] <= tol * top) if top > 0 else np.arange(n_cols)
+
+
 def _solve_ls(J: np.ndarray, rl: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> np.ndarray:
     """``min ‖rl + J Δ‖`` with ``lo ≤ Δ ≤ hi``.
 
@@ -159,7 +190,10 @@ def _solve_ls(J: np.ndarray, rl: np.ndarray, lo: np.ndarray, hi: np.ndarray, sca
     not observe stays where it is.
     """
     Js = J * scale
-    d = np.linalg.lstsq(Js, -rl, rcond=1e-10)[0] * scale
+    try:
+        d = np.linalg.lstsq(Js, -rl, rcond=1e-10)[0] * scale
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"the Gauss-Newton step could not be computed ({exc}). {ADVICE}") from None
     if np.all(d >= lo) and np.all(d <= hi):
         return d
     from scipy.optimize import lsq_linear
@@ -175,8 +209,16 @@ def _acceptable(f: float, h: float, filt: list[tuple[float, float]]) -> bool:
 
 def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndarray, S0: list,
                  lb: np.ndarray, ub: np.ndarray, theta_scale: np.ndarray, *, tol: float = 1e-8,
-                 max_iter: int = 50, refresh: float = 1e-3, verbose: bool = False) -> GaussNewtonResult:
-    """Solve the shooting least-squares problem (module docstring) from nodes ``S0`` and ``theta0``."""
+                 max_iter: int = 50, refresh: float = 1e-3, verbose: bool = False,
+                 progress: Callable[[dict], None] | None = None, max_time: float | None = None,
+                 columns: list[str] | None = None) -> GaussNewtonResult:
+    """Solve the shooting least-squares problem (module docstring) from nodes ``S0`` and ``theta0``.
+
+    ``progress`` is called after every iteration with its history entry (plus ``elapsed_s``);
+    ``max_time`` [s] stops the iteration (unconverged) once exceeded; ``columns`` names the
+    unknowns for error messages. Free initial states the residuals do not see (scaled column norm
+    below 1e-7 of the largest at the start) are not moved (:attr:`GaussNewtonResult.unobserved`).
+    Raises :class:`SolverError` when residuals, gaps or Jacobians become non-finite."""
     t0 = time.perf_counter()
     n_th = theta0.size
     n_free = [r.free0.size for r in recs]
@@ -196,19 +238,28 @@ def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndar
     cost, h = measures(rs, gs)
     filt = [(max(1e4, 1e4 * h), -np.inf)]
     history, success, message, it = [], False, f"no convergence in {max_iter} iterations", 0
+    scale = np.concatenate([*(x_scale[r.free0] for r in recs), theta_scale])
+    dead = None
     while True:
         cond = [condensed(fun, rec, ln, r, g) for rec, ln, r, g in zip(recs, lins, rs, gs)]
         J, rl = stack([(c[1], c[2]) for c in cond], recs, n_th)
+        check_finite("residuals after closing the gaps", rl)
+        check_finite("Jacobians of the residuals", J, columns)
+        if dead is None:
+            dead = unobserved_columns(J, scale, sum(n_free))
+        J[:, dead] = 0.0
         gap = max(float(np.max(np.abs(g) / x_scale)) if g.size else 0.0 for g in gs)
         if history and history[-1]["step"] <= tol and gap <= tol:
             success, message = True, f"converged: scaled step {history[-1]['step']:.2e}, gaps {gap:.2e}"
             break
         if it >= max_iter:
             break
+        if max_time is not None and time.perf_counter() - t0 > max_time:
+            message = f"stopped at the time limit of {max_time:g} s after {it} iterations (not converged)"
+            break
         it += 1
         lo = np.concatenate([np.full(sum(n_free), -np.inf), lb - theta])
         hi = np.concatenate([np.full(sum(n_free), np.inf), ub - theta])
-        scale = np.concatenate([*(x_scale[r.free0] for r in recs), theta_scale])
         delta = _solve_ls(J, rl, lo, hi, scale)
         dth = delta[sum(n_free):]
         dS, off = [], 0
@@ -237,6 +288,8 @@ def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndar
                    max(float(np.max(np.abs(alpha * d) / x_scale)) for d in dS))
         history.append({"iteration": it, "cost": cost, "gap": gap, "alpha": alpha, "step": step, "type": kind,
                         "jacobians": n_jac})
+        if progress is not None:
+            progress({**history[-1], "elapsed_s": time.perf_counter() - t0})
         if verbose:
             print(f"  GN {it:3d}  cost {cost:.6e}  gap {gap:.2e}  step {step:.2e}  alpha {alpha:g} {kind} "
                   f"(Jacobians evaluated: {n_jac})")
@@ -259,5 +312,6 @@ def gauss_newton(fun, recs: list[ShootingRecord], p: np.ndarray, theta0: np.ndar
         cost, h = measures(rs, gs)
     r = np.concatenate([r.reshape(-1) for r in rs])
     gap = max(float(np.max(np.abs(g) / x_scale)) if g.size else 0.0 for g in gs)
+    check_finite("residuals at the end", r)
     return GaussNewtonResult(theta, S, J, r, it, success, message, 0.5 * float(r @ r), gap, history,
-                             time.perf_counter() - t0, n_jac)
+                             time.perf_counter() - t0, n_jac, tuple(int(i) for i in (dead if dead is not None else ())))

@@ -6,7 +6,9 @@ controller outputs its initial value, a rate limiter passes its reset value).
 The filters are ROSCO's Tustin (bilinear) discretizations of
 
 - first order ``H(s) = ω / (s + ω)``;
-- second order ``H(s) = ω² / (s² + 2ζω s + ω²)``.
+- second order ``H(s) = ω² / (s² + 2ζω s + ω²)``;
+- first-order high-pass ``H(s) = s / (s + ω)``;
+- notch ``H(s) = (s² + 2β_num ω s + ω²) / (s² + 2β_den ω s + ω²)``.
 """
 
 from __future__ import annotations
@@ -97,4 +99,30 @@ def bandpass(u, states, corner, damping: float, dt: float, reset):
     c = damping * dt**2 * w**2
     a2, a1, a0 = c + 2.0 * dt * w + 4.0 * damping, 2.0 * c - 8.0 * damping, c - 2.0 * dt * w + 4.0 * damping
     y = 1.0 / a2 * (b2 * u - b2 * in1 - a1 * out1 - a0 * out2)
+    return y, (u, in1, y, out1)
+
+
+def hpf1(u, last_in, last_out, corner: float, dt: float, reset):
+    """First-order high-pass filter step (ROSCO's ``HPFilter``) → (y, next last_in, next last_out).
+
+    On reset both memories take the input, so the output starts at 0 for a constant input.
+    """
+    last_in = ca.if_else(reset, u, last_in)
+    last_out = ca.if_else(reset, u, last_out)
+    k = 2.0 / dt
+    y = k / (corner + k) * u - k / (corner + k) * last_in - (corner - k) / (corner + k) * last_out
+    return y, u, y
+
+
+def notch(u, states, freq: float, beta_num: float, beta_den: float, dt: float, reset):
+    """Notch filter step (ROSCO's ``NotchFilter``, Tustin); ``states = (in1, in2, out1, out2)`` → (y, next states)."""
+    in1, in2, out1, out2 = (ca.if_else(reset, u, s) for s in states)
+    k, w = 2.0 / dt, freq
+    den = k**2 + 2.0 * w * beta_den * k + w**2
+    b2 = (k**2 + 2.0 * w * beta_num * k + w**2) / den
+    b1 = (2.0 * w**2 - 2.0 * k**2) / den
+    b0 = (k**2 - 2.0 * w * beta_num * k + w**2) / den
+    a1 = (2.0 * w**2 - 2.0 * k**2) / den
+    a0 = (k**2 - 2.0 * w * beta_den * k + w**2) / den
+    y = b2 * u + b1 * in1 + b0 * in2 - a1 * out1 - a0 * out2
     return y, (u, in1, y, out1)

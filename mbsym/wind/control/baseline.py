@@ -78,11 +78,12 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import DimensionError, ParameterError
-from ._blocks import D2R, EPS, R2D, interp1, interp2, lpf1, lpf2, pi, rate_limit, sat
+from ._blocks import D2R, EPS, R2D, hpf1, interp1, interp2, lpf1, lpf2, notch, pi, rate_limit, sat
 from .ipc import IPC_DIAGNOSTICS, ipc_states, ipc_step
 from .settings import BaselineSettings
 
-__all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS", "IPC_MEASUREMENTS", "IPC_COMMANDS"]
+__all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS", "IPC_MEASUREMENTS", "IPC_COMMANDS",
+           "FLOATING_MEASUREMENTS"]
 
 #: Measurement names and units, in the order of ``y``.
 MEASUREMENTS = {"GenSpeed": "rad/s", "RotSpeed": "rad/s", "BldPitch1": "rad", "GenPwr": "W", "Wind1VelX": "m/s"}
@@ -92,6 +93,11 @@ COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
 IPC_MEASUREMENTS = {**MEASUREMENTS, "RootMyc1": "N m", "RootMyc2": "N m", "RootMyc3": "N m", "Azimuth": "rad"}
 #: Commands with individual pitch control, in the order of ``u``.
 IPC_COMMANDS = {"BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m"}
+#: Measurements the floating feedback adds after the others (``floating_mode > 0``): the nacelle's pitching
+#: acceleration about the shaft's lateral axis (OpenFAST's ``NcIMURAys``, ServoDyn's record 83).
+FLOATING_MEASUREMENTS = {"NcIMURAys": "rad/s^2"}
+#: Internal signals of the floating feedback, after :data:`DIAGNOSTICS` (``floating_mode > 0``).
+FLOATING_DIAGNOSTICS = ("NacIMU_FA_AccF", "NacIMU_FA_vel", "Fl_PitCom")
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
@@ -167,9 +173,13 @@ class BaselineController:
         self.settings = settings
         self.dt = settings.dt
         self.ipc = settings.ipc_mode > 0
-        self.measurements = self.measurement_names = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
+        self.floating = settings.floating_mode > 0
+        measured = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
+        self.measurements = self.measurement_names = measured + (tuple(FLOATING_MEASUREMENTS) if self.floating
+                                                                 else ())
         self.commands = self.command_names = tuple(IPC_COMMANDS if self.ipc else COMMANDS)
-        self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ())
+        self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ()) + \
+            (FLOATING_DIAGNOSTICS if self.floating else ())
         states = self._layout()
         x = ca.SX.sym("xc", len(states.names))
         y = ca.SX.sym("y", len(self.measurements))
@@ -219,6 +229,14 @@ class BaselineController:
         st.add("pitch_command_last", blades)
         if self.ipc:
             ipc_states(st, s)
+        if self.floating:
+            st.add("floating_lowpass", 4)
+            st.add("floating_highpass", 2)
+            for k in range(len(s.tower_notch_freqs)):
+                st.add(f"floating_notch{k + 1}", 4)
+            st.add("floating_integral")
+        if s.actuator_mode:
+            st.add("actuator_filter", (2 if s.actuator_mode == 1 else 4) * blades)
         return st
 
     # ------------------------------------------------------------------ one step
@@ -252,6 +270,8 @@ class BaselineController:
         nxt["torque_filter"] = ca.vertcat(*t_states)
         pitch_f, p_states = lpf2(pitch, _split4(x["pitch_filter"]), 0.25 * s.speed_filter_corner, 0.7, dt, r)
         nxt["pitch_filter"] = ca.vertcat(*p_states)
+        if self.floating:
+            acc_f = self._floating_filter(x, nxt, r, y[len(self.measurements) - 1])
 
         # --- 2. wind-speed estimate
         estimate, op, cp_op = self._estimator(x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
@@ -300,6 +320,11 @@ class BaselineController:
         else:
             min_pitch = ca.SX(s.fine_pitch)
         nxt["min_pitch"] = min_pitch
+        if self.floating:       # ROSCO's FloatingFeedback: −Kp × the integrated, filtered pitching acceleration
+            velocity, nxt["floating_integral"] = pi(acc_f, 0.0, 1.0, -100.0, 100.0, dt, x["floating_integral"],
+                                                    0.0, r)
+            fl_pitch = -velocity * interp1(s.floating_wind_speeds, s.floating_kp, "fl_kp")(est_f)
+            total = total + fl_pitch
         total = sat(total, min_pitch, s.pitch_max)
         total, nxt["pitch_total_last"] = rate_limit(total, x["pitch_total_last"], s.pitch_rate_min,
                                                     s.pitch_rate_max, dt, r, pitch)
@@ -310,7 +335,8 @@ class BaselineController:
             commands = self._blade_commands(x, nxt, r, demand, min_pitch, pitch)
 
         diag = [gen_f, rot_f, estimate, est_f, op, min_pitch, ref_pitch_speed, pitch_error, kp, ki, total, ref,
-                torque_error, shift_f, state_code, cp_op] + (ipc_diag if self.ipc else [])
+                torque_error, shift_f, state_code, cp_op] + (ipc_diag if self.ipc else []) + \
+            ([acc_f, velocity, fl_pitch] if self.floating else [])
         return nxt, commands + [ca.fmax(torque, 0.0)], diag
 
     def _blade_commands(self, x, nxt, r, demand, min_pitch, reset_pitch):
@@ -320,10 +346,41 @@ class BaselineController:
             demand = sat(demand, min_pitch, s.pitch_max)
         demand, nxt["pitch_last"] = rate_limit(demand, x["pitch_last"], s.pitch_rate_min, s.pitch_rate_max,
                                                dt, r, reset_pitch)
+        demand = self._actuator_model(x, nxt, r, demand)
         command = sat(demand, s.pitch_min, s.pitch_max)
         command, nxt["pitch_command_last"] = rate_limit(command, x["pitch_command_last"], s.pitch_rate_min,
                                                         s.pitch_rate_max, dt, r, reset_pitch)
         return [command[k] for k in range(command.shape[0])]
+
+    def _actuator_model(self, x, nxt, r, demand):
+        """ROSCO's pitch actuator model (``PA_Mode`` 1, 2): a low-pass filter on every blade's command."""
+        s, dt = self.settings, self.dt
+        if s.actuator_mode == 0:
+            return demand
+        n = demand.shape[0]
+        states = x["actuator_filter"]
+        if s.actuator_mode == 1:
+            out, a, b = lpf1(demand, states[0:n], states[n:2 * n], s.actuator_corner, dt, r)
+            nxt["actuator_filter"] = ca.vertcat(a, b)
+            return out
+        out, st = lpf2(demand, tuple(states[k * n:(k + 1) * n] for k in range(4)), s.actuator_corner,
+                       s.actuator_damping, dt, r)
+        nxt["actuator_filter"] = ca.vertcat(*st)
+        return out
+
+    def _floating_filter(self, x, nxt, r, acceleration):
+        """ROSCO's filtering of the nacelle pitching acceleration (``Fl_Mode 2``): zero at the first call, then
+        second-order low-pass, first-order high-pass and the tower-top notch filters."""
+        s, dt = self.settings, self.dt
+        u = ca.if_else(r, 0.0, acceleration)
+        u, st = lpf2(u, _split4(x["floating_lowpass"]), s.floating_filter_corner, s.floating_filter_damping, dt, r)
+        nxt["floating_lowpass"] = ca.vertcat(*st)
+        u, a, b = hpf1(u, *_split2(x["floating_highpass"]), s.floating_highpass_corner, dt, r)
+        nxt["floating_highpass"] = ca.vertcat(a, b)
+        for k, (w, bn, bd) in enumerate(zip(s.tower_notch_freqs, s.tower_notch_beta_num, s.tower_notch_beta_den)):
+            u, st = notch(u, _split4(x[f"floating_notch{k + 1}"]), w, bn, bd, dt, r)
+            nxt[f"floating_notch{k + 1}"] = ca.vertcat(*st)
+        return u
 
     def _speed_filter(self, signal, states, r):
         s = self.settings

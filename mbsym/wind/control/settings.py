@@ -6,9 +6,12 @@ uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
 :meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
 table it names, for the wind-speed estimator) and refuses, naming file and line,
 the ROSCO features the baseline does not implement (yaw control, power
-reference, start-up/shut-down, floating feedback, tower damper, notch filters,
-fixed-pitch torque control, the I&I estimator, pitch actuator model, ...); use
-:class:`~mbsym.wind.control.discon.DisconController` with the library for those.
+reference, start-up/shut-down, translational floating feedback ``Fl_Mode 1``,
+tower damper, generator-speed notch filters, fixed-pitch torque control, the I&I
+estimator, ...); use :class:`~mbsym.wind.control.discon.DisconController` with the
+library for those. Modelled besides the land scheme: the rotational floating
+feedback ``Fl_Mode 2`` with its filters (:data:`FLOATING_MAP`) and the pitch actuator
+model ``PA_Mode`` 1 and 2 (:data:`ACTUATOR_MAP`).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ import numpy as np
 
 from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
 
-__all__ = ["BaselineSettings", "DISCON_MAP", "IPC_MAP", "UNSUPPORTED_MODES"]
+__all__ = ["BaselineSettings", "DISCON_MAP", "IPC_MAP", "FLOATING_MAP", "ACTUATOR_MAP", "UNSUPPORTED_MODES"]
 
 #: DISCON.IN key → BaselineSettings attribute.
 DISCON_MAP = {
@@ -48,10 +51,18 @@ IPC_MAP = {
     "IPC_IntSat": "ipc_integrator_limit", "IPC_KP": "ipc_kp", "IPC_KI": "ipc_ki",
     "IPC_aziOffset": "ipc_azimuth_offset", "IPC_CornerFreqAct": "ipc_actuator_corner",
 }
+#: DISCON.IN keys of the floating feedback → BaselineSettings attribute (read when Fl_Mode > 0); the
+#: tower-top notch filters (F_TwrTopNotch_Ind into F_NotchFreqs/BetaNum/BetaDen) are read with them.
+FLOATING_MAP = {
+    "Fl_Mode": "floating_mode", "Fl_Kp": "floating_kp", "Fl_U": "floating_wind_speeds",
+    "F_FlHighPassFreq": "floating_highpass_corner",
+}
+#: DISCON.IN keys of the pitch actuator model → BaselineSettings attribute (read when PA_Mode > 0).
+ACTUATOR_MAP = {"PA_Mode": "actuator_mode", "PA_CornerFreq": "actuator_corner", "PA_Damping": "actuator_damping"}
 #: Modes the baseline does not implement: key → the values it accepts.
 UNSUPPORTED_MODES = {
     "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
-    "Fl_Mode": (0,), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0,),
+    "Fl_Mode": (0, 2), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
     "VS_FBP": (0,), "VS_ControlMode": (1, 2), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
     "F_GenSpdNotch_N": (0,),
@@ -139,6 +150,18 @@ class BaselineSettings:
     ipc_ki: tuple[float, ...] = ()
     ipc_azimuth_offset: tuple[float, ...] = ()
     ipc_actuator_corner: float = 0.0
+    floating_mode: int = 0
+    floating_kp: tuple[float, ...] = ()
+    floating_wind_speeds: tuple[float, ...] = ()
+    floating_filter_corner: float = 0.0
+    floating_filter_damping: float = 0.0
+    floating_highpass_corner: float = 0.0
+    tower_notch_freqs: tuple[float, ...] = ()
+    tower_notch_beta_num: tuple[float, ...] = ()
+    tower_notch_beta_den: tuple[float, ...] = ()
+    actuator_mode: int = 0
+    actuator_corner: float = 0.0
+    actuator_damping: float = 0.0
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -195,6 +218,7 @@ class BaselineSettings:
             if not getattr(self, name) > 0:
                 p.append(f"{name} must be > 0; got {getattr(self, name)}")
         p += self._ipc_problems()
+        p += self._floating_problems()
         if p:
             raise ParameterError("BaselineSettings: " + "; ".join(p) + ".")
 
@@ -218,6 +242,29 @@ class BaselineSettings:
             p.append(f"ipc_integrator_limit must be >= 0 [rad]; got {self.ipc_integrator_limit}")
         if not self.ipc_actuator_corner >= 0:
             p.append(f"ipc_actuator_corner must be >= 0 [rad/s] (0: no filter); got {self.ipc_actuator_corner}")
+        return p
+
+    def _floating_problems(self) -> list[str]:
+        p = []
+        if self.floating_mode not in (0, 2):
+            p.append(f"floating_mode must be 0 (off) or 2 (rotational feedback, ROSCO's Fl_Mode 2); got "
+                     f"{self.floating_mode}")
+        if self.floating_mode:
+            n = len(self.floating_kp)
+            if n < 1 or len(self.floating_wind_speeds) != n:
+                p.append("floating_kp and floating_wind_speeds must have the same length >= 1")
+            if not (self.floating_filter_corner > 0 and self.floating_filter_damping > 0
+                    and self.floating_highpass_corner > 0):
+                p.append("the floating feedback needs floating_filter_corner, floating_filter_damping and "
+                         "floating_highpass_corner > 0")
+            if not len(self.tower_notch_freqs) == len(self.tower_notch_beta_num) == len(self.tower_notch_beta_den):
+                p.append("tower_notch_freqs, tower_notch_beta_num and tower_notch_beta_den must have the same length")
+        if self.actuator_mode not in (0, 1, 2):
+            p.append(f"actuator_mode must be 0 (none), 1 or 2 (first- or second-order filter, ROSCO's PA_Mode); "
+                     f"got {self.actuator_mode}")
+        elif self.actuator_mode and not (self.actuator_corner > 0 and (self.actuator_mode == 1 or
+                                                                       self.actuator_damping > 0)):
+            p.append("the pitch actuator model needs actuator_corner > 0 (and actuator_damping > 0 with mode 2)")
         return p
 
     def replace(self, **changes) -> BaselineSettings:
@@ -262,6 +309,10 @@ class BaselineSettings:
         if d["IPC_ControlMode"] > 0:
             _check_ipc(d)
             values.update({attr: d[key] for key, attr in IPC_MAP.items()})
+        if d["Fl_Mode"] > 0:
+            values.update(_floating(d))
+        if d["PA_Mode"] > 0:
+            values.update({attr: d[key] for key, attr in ACTUATOR_MAP.items()})
         if d["WE_Mode"] == 2:
             table = performance if isinstance(performance, PerformanceTable) else \
                 read_performance_table(performance if performance is not None else _performance_path(d))
@@ -270,6 +321,31 @@ class BaselineSettings:
             return cls(dt=dt, **values, source=str(d.path))
         except ParameterError as exc:
             raise ControllerError(f"{d.path}: {exc}") from None
+
+
+def _floating(d) -> dict:
+    """The floating-feedback settings of a DISCON.IN (Fl_Mode > 0), with the tower-top notch filters."""
+    out = {attr: d[key] for key, attr in FLOATING_MAP.items()}
+    n = int(d["Fl_n"]) if "Fl_n" in d.values else 1
+    out["floating_kp"] = tuple(np.atleast_1d(d["Fl_Kp"]).astype(float))[:n]
+    out["floating_wind_speeds"] = tuple(np.atleast_1d(d["Fl_U"]).astype(float))[:n]
+    corner = np.atleast_1d(d["F_FlCornerFreq"]).astype(float)
+    if corner.size != 2:
+        raise ControllerError(f"{d.where('F_FlCornerFreq')}: expected two values (natural frequency [rad/s] and "
+                              f"damping [-]); got {corner.tolist()}.")
+    out["floating_filter_corner"], out["floating_filter_damping"] = float(corner[0]), float(corner[1])
+    count = int(d["F_TwrTopNotch_N"]) if "F_TwrTopNotch_N" in d.values else 0
+    index = [int(i) for i in np.atleast_1d(d["F_TwrTopNotch_Ind"])[:count]] if count else []
+    freqs, num, den = (np.atleast_1d(d[k]).astype(float) for k in ("F_NotchFreqs", "F_NotchBetaNum",
+                                                                    "F_NotchBetaDen"))
+    bad = [i for i in index if not 1 <= i <= min(freqs.size, num.size, den.size)]
+    if bad:
+        raise ControllerError(f"{d.where('F_TwrTopNotch_Ind')}: notch indices {bad} outside 1..{freqs.size} "
+                              "(F_NotchFreqs). Fix the indices or F_NumNotchFilts.")
+    out["tower_notch_freqs"] = tuple(freqs[i - 1] for i in index)
+    out["tower_notch_beta_num"] = tuple(num[i - 1] for i in index)
+    out["tower_notch_beta_den"] = tuple(den[i - 1] for i in index)
+    return out
 
 
 def _check_ipc(d) -> None:

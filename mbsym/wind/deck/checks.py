@@ -22,7 +22,8 @@ from typing import Mapping
 
 from ...exceptions import ModelWarning, OptionError, UnsupportedFeatureError
 
-__all__ = ["MODULE_SWITCHES", "MODULE_FILES", "MODELLED", "unmodelled_modules", "check_modules", "deck_notes",
+__all__ = ["MODULE_SWITCHES", "MODULE_FILES", "MODELLED", "FLOATING_MODELLED", "unmodelled_modules", "check_modules",
+           "deck_notes",
            "ignored_dofs", "warn", "MAX_TIP_SPEED", "check_rotor_speed", "max_rotor_speed_rpm"]
 
 #: OpenFAST module switch -> (SimulationSettings attribute, module name by switch value).
@@ -50,6 +51,11 @@ MODULE_FILES: dict[str, tuple[str, str, str]] = {
 #: Switch values mbsym models; 0 (module off) always. Aerodynamics, inflow and control add
 #: their values here once they honour the deck's files (e.g. ``MODELLED["CompAero"] = {0, 2}``).
 MODELLED: dict[str, set[int]] = {key: {0} for key in MODULE_SWITCHES}
+
+#: Switch values the *operating* turbine models as its floating platform (mbsym.wind.offshore: HydroDyn's
+#: potential flow, MAP++ or MoorDyn lines as quasi-static catenaries); the structure-only commands still
+#: refuse them (:data:`MODELLED`), since the structure alone has no water.
+FLOATING_MODELLED: dict[str, set[int]] = {"CompHydro": {1}, "CompMooring": {1, 3}}
 
 #: Largest blade-tip speed accepted [m/s]: the speed of sound in air at 15 °C (ISA sea level,
 #: 340.3 m/s) rounded up. Real rotors stay below about 100 m/s; beyond Mach 1 no model of
@@ -131,7 +137,8 @@ def deck_notes(turbine) -> list[str]:
     if not platform:
         return notes
     restoring = [k for k in ("CompHydro", "CompMooring", "CompSub")
-                 if (getattr(turbine.simulation, MODULE_SWITCHES[k][0], 0) or 0) in MODELLED[k] - {0}]
+                 if (getattr(turbine.simulation, MODULE_SWITCHES[k][0], 0) or 0) in
+                 (MODELLED[k] | FLOATING_MODELLED.get(k, set())) - {0}]
     if "PtfmHvDOF" in platform and not restoring:
         notes.append("PtfmHvDOF = True with no hydrostatics or mooring modelled: nothing carries the turbine's weight, "
                      "so it falls freely (heave accelerates at g); disable PtfmHvDOF or add a heave spring")

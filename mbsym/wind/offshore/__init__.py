@@ -10,16 +10,20 @@ A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
 - :mod:`.catenary`, :mod:`.mooring`: the quasi-static elastic catenary mooring;
 - :mod:`.modes`: natural periods from the generalized eigenproblem;
 - :mod:`.floating`: a first floating structure (a structural model + water + mooring; no rotor
-  loads, no controller).
+  loads, no controller);
+- :mod:`.operating`: :class:`FloatingPlatform`, the platform loads the operating turbine composes
+  (``OperatingTurbine(..., platform=floating_platform(turbine))``; ``operating_deck`` does it for a
+  deck with HydroDyn and a mooring).
 
 Loads are numbers or CasADi expressions of the six platform DOFs (surge, sway, heave, roll, pitch,
-yaw). Nothing here is wired into the operating turbine yet. See docs/offshore.md.
+yaw). See docs/offshore.md.
 """
 
 from .catenary import CatenaryLine, wet_weight
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .modes import PlatformModes, natural_periods, periods_with_frequency_dependent_added_mass
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
+from .operating import FloatingPlatform, floating_platform
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace, radiation_reference
 from .radiation_fit import fit_radiation, vector_fit
@@ -27,4 +31,5 @@ from .radiation_fit import fit_radiation, vector_fit
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
            "CatenaryLine", "wet_weight", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
-           "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit"]
+           "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit", "FloatingPlatform",
+           "floating_platform"]

@@ -43,6 +43,11 @@ YawBrMxp …     kN-m    their moment about the tower-top point (roll, pitch, ya
 YawBrMzp
 =============  ======  ==================================================================
 
+A floating turbine (``model.platform``) adds its platform's channels (``HydroFxi … HydroMzi`` [N, N-m],
+``FAIRTEN1..n`` [N], ``Wave1Elev`` [m]: :meth:`~mbsym.wind.offshore.operating.FloatingPlatform.channel_rows`)
+and ``NcIMURAys`` [deg/s^2], the nacelle's angular acceleration about the tower-top (shaft) lateral axis
+(ElastoDyn's nacelle IMU channel; ServoDyn passes it to ROSCO's floating feedback as record 83).
+
 Signs follow OpenFAST: a downwind thrust gives positive ``TwrBsMyt``; the rotor's reaction
 torque on the nacelle gives positive ``TwrBsMxt``.
 """
@@ -81,6 +86,17 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
 
         rows += blade_channel_rows(g)
     rows += [r for r in reaction_rows(g.eom.locked, reactions(g)) if r[0].startswith(("LSShft", "YawBr"))]
+    if g.platform is not None:
+        rows += _floating_rows(g)
+    return rows
+
+
+def _floating_rows(g) -> list[tuple[str, str, Any]]:
+    """The platform's channels and the nacelle's pitching acceleration ``NcIMURAys`` [deg/s^2]."""
+    ap = ca.vertcat(*[g.qdd[i] for i in g.platform_index])
+    rows = list(g.platform.channel_rows(g.platform_terms, ap))
+    yb = g.kinematics_with_accelerations("yaw_bearing")
+    rows.append(("NcIMURAys", "deg/s^2", 180.0 / math.pi * ca.dot(yb["wd"], yb["R"][:, 1])))
     return rows
 
 

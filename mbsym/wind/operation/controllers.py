@@ -25,7 +25,8 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "SI_FACTORS", "measurement_names",
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "SI_FACTORS",
+           "measurement_names",
            "baseline_in_loop", "discon_in_loop", "held_commands"]
 
 #: Plant channels the controllers read, in the order of their ``y``.
@@ -37,18 +38,24 @@ ACTUATED = ("BlPitchCom", "GenTqCom")
 #: Further channels a blade-element plant measures (individual pitch control reads them): the blade-root
 #: out-of-plane moments [kN-m], the azimuth [deg] and the pitch of blades 2 and 3 [deg].
 BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2", "BldPitch3")
+#: Further channels a floating plant measures (ROSCO's floating feedback reads it): the nacelle's pitching
+#: acceleration [deg/s^2].
+FLOATING_MEASUREMENTS = ("NcIMURAys",)
 #: Channel -> factor from its OpenFAST unit to SI.
-SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
+SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0,
+              "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 
 
 def measurement_names(model) -> tuple[str, ...]:
-    """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, and for a blade-element
-    plant :data:`BLADE_MEASUREMENTS`)."""
-    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ())
+    """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, for a blade-element
+    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS`)."""
+    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
+        (FLOATING_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
 
 
-def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None) -> DiscreteController:
+def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None,
+                     x0=None) -> DiscreteController:
     """Our baseline controller as a :class:`DiscreteController` of the plant's channels.
 
     Parameters
@@ -60,6 +67,10 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
         Prefix of the controller's state names in results (``baseline.first`` ...).
     model : OperatingTurbine, optional, keyword-only
         The plant, when its pitch is individual: a collective command then drives every blade.
+    x0 : array_like, optional, keyword-only
+        The controller's initial state (default ``controller.x0``: its first call initializes every block
+        from the first measurements); e.g. a fixed point from
+        :func:`~mbsym.wind.control.linear.controller_fixed_point`, to start a run at a trim.
     """
     if not isinstance(controller, BaselineController):
         raise TypeError(f"controller must be a BaselineController; got {type(controller).__name__}.")
@@ -71,7 +82,8 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
     x_next, u = f(xc, y * ca.DM([SI_FACTORS[n] for n in measured]))
     u, actuates = _plant_commands(u, commands, model)
     law = ca.Function(f"{name}_in_loop", [xc, y], [x_next, u], ["xc", "y"], ["xc_next", "u"], {"cse": True})
-    return DiscreteController(law, controller.dt, controller.x0, measurements=measured, actuates=actuates,
+    start = controller.x0 if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
+    return DiscreteController(law, controller.dt, start, measurements=measured, actuates=actuates,
                               state_names=[f"{name}.{s}" for s in controller.state_names], name=name)
 
 

@@ -8,6 +8,10 @@
   (:func:`~.dynamic_inflow.dbemt_settings`); without AeroDyn, the built-in NREL 5 MW rotor
   is *not* substituted: the deck is refused for operation;
 * InflowWind (``CompInflow = 1``): the hub-height wind (steady or uniform wind file);
+* HydroDyn (``CompHydro = 1``) with SeaState and a mooring (``CompMooring`` 1, MAP++, or 3, MoorDyn):
+  the floating platform (:func:`mbsym.wind.offshore.floating_platform`: hydrostatics, radiation
+  memory (mbsym's fit of the ``.1`` data, a few seconds, on first use), A∞, quasi-static catenaries);
+  SubDyn, ice and soil modules are refused;
 * ServoDyn (``CompServo = 1``): generator efficiency, the DISCON library and its input file,
   the controller time step (``DLL_DT``/``DT``/the glue ``DT``); ROSCO's ``DISCON.IN`` gives the
   actuator limits and the baseline controller's settings.
@@ -73,6 +77,8 @@ class OperatingDeck:
         The ``.fst`` (None for the built-in turbine).
     aerodyn : AeroDynInput or None
         The deck's AeroDyn input (None for the built-in turbine), audited by :meth:`model`.
+    radiation : {"fit", "ss", "none"}
+        The radiation memory of a floating deck (:func:`mbsym.wind.offshore.floating_platform`).
     """
 
     turbine: TurbineParameters
@@ -90,6 +96,25 @@ class OperatingDeck:
     label: str
     path: Path | None = None
     aerodyn: object | None = None
+    radiation: str = "fit"
+
+    @property
+    def floating(self) -> bool:
+        """Whether the deck has HydroDyn or a mooring (a floating platform)."""
+        sim = self.turbine.simulation
+        return bool(getattr(sim, "hydrodynamics_model", 0) or getattr(sim, "mooring_model", 0))
+
+    @property
+    def platform(self):
+        """The floating platform (:class:`~mbsym.wind.offshore.FloatingPlatform`, built once), or None."""
+        if "_platform" not in self.__dict__:
+            platform = None
+            if self.floating:
+                from ..offshore.operating import floating_platform
+
+                platform = floating_platform(self.turbine, radiation=self.radiation)
+            object.__setattr__(self, "_platform", platform)
+        return self.__dict__["_platform"]
 
     @property
     def rotor(self) -> RotorAero:
@@ -122,6 +147,7 @@ class OperatingDeck:
             check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
         self._yaw_drive(dofs, t_end, options)
         options.setdefault("load_channels", self.outlist_needs_load_channels(aero))
+        options.setdefault("platform", self.platform)
         if aero == "blade":
             return self._blade_model(dofs, **options)
         if self.inflow is not None and self.inflow.wind_type not in (1, 2):
@@ -295,6 +321,7 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
 
     path = Path(fst)
     turbine = read_openfast(path)
+    _refuse_modules(turbine, path)
     aerodyn_file = turbine.source_files.get("aerodyn")
     if aerodyn_file is None:
         raise OpenFASTFormatError(f"{path}: the deck has no AeroDyn 15 (CompAero must be 2 with an existing "
@@ -322,6 +349,19 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
                          actuators=actuators, controller_dt=float(dt), servodyn=servodyn, inflow=inflow,
                          discon_in=discon_in, library=library, uses_library=uses_library, label=str(path),
                          path=path, aerodyn=aerodyn)
+
+
+def _refuse_modules(turbine, path: Path) -> None:
+    """Refuse modules an operating turbine does not model (substructure, ice, soil); HydroDyn and the mooring
+    are the floating platform's (:func:`mbsym.wind.offshore.floating_platform` checks them)."""
+    from ..deck.checks import unmodelled_modules
+
+    found = [m for m in unmodelled_modules(turbine.simulation) if m.startswith(("CompSub", "CompIce", "CompSoil"))]
+    if found:
+        from ...exceptions import UnsupportedFeatureError
+
+        raise UnsupportedFeatureError(f"{path}: the deck switches on modules an operating turbine does not model: "
+                                      f"{', '.join(found)}; set them to 0 in the .fst.")
 
 
 def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:

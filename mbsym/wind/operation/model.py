@@ -33,6 +33,13 @@ actuator parameters of :data:`~mbsym.wind.operation.actuators.ACTUATOR_PARAMETER
 
 Outputs: OpenFAST channels with OpenFAST's names and units (:mod:`.channels`).
 
+**Floating** (``platform`` a :class:`~mbsym.wind.offshore.operating.FloatingPlatform`, or
+``OperatingTurbine.from_openfast(fst)`` on a deck with HydroDyn and a mooring): the water's and the
+mooring's loads drive the structure's platform inputs ``PtfmFx … PtfmMz`` (no longer inputs of the
+model), A∞ joins the platform block of the mass matrix, the radiation states ``Rdtn1 …`` follow the
+other states, and the channels grow by ``HydroFxi … HydroMzi``, ``FAIRTEN1..n``, ``Wave1Elev`` and the
+nacelle's pitching acceleration ``NcIMURAys`` (ROSCO's floating feedback measures it).
+
 **The blade-element rung** (``rotor`` a :class:`~mbsym.wind.aero.blade.BladeElementRotor`, or
 ``OperatingTurbine.from_openfast(fst, aero="blade")``): instead of thrust and torque on the hub, BEM with
 dynamic wake on every AeroDyn node of every blade, in the wind at the node's current position
@@ -115,6 +122,15 @@ class OperatingTurbine:
         ``LSShftFxa``, ``LSShftFys``, ``LSShftFzs``, ``YawBrFxp`` … ``YawBrMzp`` and, with the blade-element
         rotor, ``RootFxc<k>`` … ``RootFzc<k>``, ``RootFxb<k>``, ``RootFyb<k>``. The right-hand side is unchanged;
         the output Function grows (benchmarks/README.md, "Load channels"). Default False.
+    disk_moments : bool, optional, keyword-only
+        Rotor-effective model only: the aerodynamic moment of the rotor disk against its tilt and yaw
+        rates (``RotMomY``, ``RotMomZ`` on the hub; :meth:`.compose.Graph._disk_moments`), which the
+        blade-element rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 %
+        to 7.2 % (blade-element rotor: 7.3 %). Default False for now (docs/identification.md);
+        ``mbsym identify`` switches it on.
+    platform : FloatingPlatform, optional, keyword-only
+        The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
+        structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
     name : str, optional, keyword-only
 
     Raises
@@ -142,7 +158,8 @@ class OperatingTurbine:
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
-                 load_channels: bool = False, name: str = "operating_turbine") -> None:
+                 load_channels: bool = False, disk_moments: bool = False, platform=None,
+                 name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -186,14 +203,21 @@ class OperatingTurbine:
         self.saturation_width = saturation_width
         if not isinstance(load_channels, bool):
             raise TypeError(f"load_channels must be True or False; got {load_channels!r}.")
+        if not isinstance(disk_moments, bool):
+            raise TypeError(f"disk_moments must be True or False; got {disk_moments!r}.")
+        if disk_moments and blade:
+            raise ParameterError("disk_moments belongs to the rotor-effective model: a blade-element rotor's loads "
+                                 "already give the disk's moments (leave disk_moments False).")
         self.name = str(name)
+        self.platform = _platform(platform)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
                                       prescribed_azimuth=True,
                                       blade_loads=blade, blade_root_reactions=blade,
                                       blade_root_forces=blade and bool(load_channels),
-                                      shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels))
+                                      shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels),
+                                      hub_moments=bool(disk_moments))
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
         if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
@@ -351,7 +375,8 @@ class OperatingTurbine:
         if self.aero == "blade":
             return f"OperatingTurbine(dofs={on}, rotor={self.rotor!r}, wind={self.wind!r})"
         inflow = "dynamic" if self.dynamic_inflow is not None else ("lag" if self.inflow_lag else "quasi-steady")
-        return f"OperatingTurbine(dofs={on}, rotor={self.rotor.source!r}, inflow={inflow!r})"
+        floating = "" if self.platform is None else f", platform={self.platform!r}"
+        return f"OperatingTurbine(dofs={on}, rotor={self.rotor.source!r}, inflow={inflow!r}{floating})"
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -384,6 +409,21 @@ class OperatingTurbine:
         from ..deck.nrel5mw import nrel5mw
 
         return cls(nrel5mw(), dofs=dofs, **options)
+
+
+#: What the operation layer uses of a platform-loads object (:class:`mbsym.wind.offshore.FloatingPlatform`).
+_PLATFORM_PROTOCOL = ("coordinates", "inputs", "state_names", "added_mass", "loads", "channel_rows")
+
+
+def _platform(platform):
+    """``platform`` if it offers what the composition uses (:data:`_PLATFORM_PROTOCOL`), or None."""
+    if platform is None:
+        return None
+    missing = [a for a in _PLATFORM_PROTOCOL if not hasattr(platform, a)]
+    if missing:
+        raise TypeError(f"platform must be a FloatingPlatform (mbsym.wind.offshore.floating_platform); "
+                        f"{type(platform).__name__} lacks {missing}.")
+    return platform
 
 
 def _output_nodes(nodes: Sequence[int], rotor) -> tuple[int, ...]:

@@ -135,6 +135,10 @@ class TurbineModel:
         ``pitch_input``), along the shaft axes between the shaft and the rotor (minus ``LSShftFxa``,
         ``LSShftFys``, ``LSShftFzs``), and along and about the tower-top axes between the tower and
         the nacelle (minus ``YawBrFxp..YawBrFzp`` [N], ``YawBrMxp..YawBrMzp`` [N m]). Default False.
+    hub_moments : bool, optional, keyword-only
+        Inputs ``RotMomY``, ``RotMomZ`` [N m]: a moment on the rotor about the shaft frame's second
+        and third axes (across the shaft), e.g. the aerodynamic moment of a rotor-effective model.
+        Default False.
 
     Raises
     ------
@@ -165,10 +169,12 @@ class TurbineModel:
                  pitch_input: bool = False,
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
                  blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
-                 shaft_reactions: bool = False, yaw_bearing_reactions: bool = False) -> None:
+                 shaft_reactions: bool = False, yaw_bearing_reactions: bool = False,
+                 hub_moments: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
+        self.hub_moments = bool(hub_moments)
         self.dofs, problems = _resolve_dofs(turbine, dofs)
         problems += unsupported_features(turbine, self.dofs)
         if problems:
@@ -583,6 +589,9 @@ class TurbineModel:
             sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
         thrust = sys.inputs("RotThrust")
         sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
+        if self.hub_moments:                                            # rotor moments across the shaft
+            my, mz = sys.inputs("RotMomY RotMomZ")
+            sys.add_torque(hub, [0.0, my, mz], frame=shaft)
         if self.blade_loads:
             self._blade_load_inputs()
         if any(self.dofs.get(f) for f in _PLATFORM):

@@ -38,9 +38,13 @@ def baseline_settings_data(discon_in: Path) -> dict:
     from mbsym.wind.control import BaselineSettings
 
     s = BaselineSettings.from_discon(discon_in, dt=0.01)
-    # IPC off (the NREL 5 MW file): the ipc_* settings keep their defaults and are not stored
+    # IPC, floating feedback and pitch actuator model off (the NREL 5 MW file): their settings keep their
+    # defaults and are not stored
+    groups = ((s.ipc_mode, ("ipc_",)), (s.floating_mode, ("floating_", "tower_notch_")),
+              (s.actuator_mode, ("actuator_",)))
+    off = tuple(prefix for on, prefixes in groups if not on for prefix in prefixes)
     values = {k: v for k, v in dataclasses.asdict(s).items()
-              if k not in ("dt", "source") and not (k.startswith("ipc_") and s.ipc_mode == 0)}
+              if k not in ("dt", "source") and not k.startswith(off)}
     values["cp"] = [list(row) for row in values["cp"]]
     return {"_source": {
         "controller": "ROSCO 2.10.6 (rosco wheel on PyPI), Examples/Test_Cases/NREL-5MW/DISCON.IN and its "

@@ -44,6 +44,9 @@ def test_power_balance_along_a_simulated_trajectory(operating):
     de_dt = ca.jtimes(energy, g.x, g.xd)            # inputs constant at the sampled states
     hub = g.kinematics_with_accelerations("hub")
     p_aero = g.thrust * ca.dot(hub["v"], g.shaft_axis) + g.torque * ca.dot(hub["w"], g.shaft_axis)
+    shaft = g.kinematics_with_accelerations("shaft")          # + the disk's moment across the shaft (RotMomY/Z)
+    p_aero += sum(g.loads.get(n, 0.0) * ca.dot(shaft["w"], shaft["R"][:, i]) for i, n in ((1, "RotMomY"),
+                                                                                         (2, "RotMomZ")))
     p_gen = g.X["GenTq"] * model.gearbox_ratio * g.qd[eom.coordinates.index("GeAz")]
     loads_off = ca.substitute(g.structural_inputs(thrust=0.0, torque=0.0), g.X["GenTq"], 0.0)
     p_damp = f.power(g.q, g.qd, loads_off, g.p_s)
@@ -93,8 +96,12 @@ def _fore_aft_mode(model, x, u, p):
     return -w[k].real / abs(w[k]), abs(w[k])
 
 
-def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady):
-    model, dyn = quasi_steady, quasi_steady.dynamics()
+@pytest.mark.parametrize("disk_moments", [False, True])
+def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady, disk_moments):
+    from mbsym.wind.operation import OperatingTurbine
+
+    model = OperatingTurbine.nrel5mw(dynamic_inflow=False, disk_moments=True) if disk_moments else quasi_steady
+    dyn = model.dynamics()
     guess = steady_guess(model, 14.0)
     u = np.array([14.0, guess.pitch, guess.torque])
     p = dyn.parameter_vector()
@@ -117,7 +124,13 @@ def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady):
           - float(rotor.steady(y["RtVAvgxh"] - h, omega_r, guess.pitch)["thrust"])) / (2 * h)
     M = eom.mass_matrix(guess.state[:eom.n_q], u=np.asarray(ca.Function("us", [g.x, g.u, g.p], [g.u_s])(
         guess.state, u, p)).reshape(-1))[i, i]
-    predicted = dT * phi**2 / (2 * omega_still * M)
+    # + the disk's moment against the shaft's tilt rate psi per unit TFA1 velocity: K = 1/2 dT/dU <r^2>,
+    # <r^2> = (R^2 + r_hub^2)/2 (compose._disk_moments; the blade-element rotor checks it in test_operating)
+    shaft = g._kinematics("shaft", g.u_s)
+    tilt = ca.vertcat(ca.dot(shaft["w"], shaft["R"][:, 1]), ca.dot(shaft["w"], shaft["R"][:, 2]))
+    psi = np.asarray(ca.Function("psi", [g.x, g.u, g.p], [ca.jacobian(tilt, g.qd)[:, i]])(guess.state, u, p))
+    K = 0.5 * dT * 0.5 * (rotor.radius ** 2 + model.turbine.hub_radius ** 2) if model.structure.hub_moments else 0.0
+    predicted = (dT * phi**2 + K * float(np.sum(psi**2))) / (2 * omega_still * M)
     assert zeta_wind - zeta_still == pytest.approx(predicted, rel=0.10)
     assert omega == pytest.approx(omega_still, rel=0.02)
 

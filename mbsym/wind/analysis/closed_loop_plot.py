@@ -1,0 +1,60 @@
+"""The closed-loop figure: loop margins and closed-loop poles over wind speed (a ``ClosedLoopSweep``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .closed_loop import LOOPS
+
+__all__ = ["plot_closed_loop", "POLE_PLOT_MAX_HZ"]
+
+#: Closed-loop poles above this frequency [Hz] (actuators, controller memories) are left out of the pole panels.
+POLE_PLOT_MAX_HZ = 2.0
+
+
+def plot_closed_loop(sweep, path, *, title: str | None = None) -> None:
+    """Write gain and phase margins of both loops and the closed-loop poles below :data:`POLE_PLOT_MAX_HZ`
+    (frequency and damping ratio, coloured by their label) over wind speed to ``path`` (format from its suffix).
+
+    Inactive loops and infinite margins are not drawn (the legend says which loops were inactive where).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    data = sweep.to_dict()
+    u = np.asarray(data["wind_speed"], dtype=float)
+    fig, axes = plt.subplots(4, 1, figsize=(7, 11), sharex=True)
+    for color, loop in (("C0", "pitch"), ("C3", "torque")):
+        for ax, key, unit in ((axes[0], "gain_margin_db", "dB"), (axes[1], "phase_margin_deg", "deg")):
+            v = np.array([np.nan if x is None else x for x in data[f"{loop}_{key}"]], dtype=float)
+            ax.plot(u, v, "o-", ms=3, color=color, label=f"{loop} loop (at {LOOPS[loop]})")
+    axes[0].set_ylabel("gain margin [dB]")
+    axes[1].set_ylabel("phase margin [deg]")
+    labels: dict[str, int] = {}
+    for k, poles in enumerate(data["closed_loop_poles"]):
+        for p in poles:
+            if p["freq_hz"] > POLE_PLOT_MAX_HZ:
+                continue
+            new = p["label"] not in labels
+            i = labels.setdefault(p["label"], len(labels))
+            kw = {"color": f"C{i % 10}", "marker": "os^vD"[(i // 10) % 5], "ms": 4, "ls": "none"}
+            axes[2].plot(u[k], p["freq_hz"], **kw)
+            axes[3].plot(u[k], 100 * p["damping_ratio"], **kw, label=p["label"] if new else None)
+    axes[2].set_ylabel("closed-loop pole [Hz]")
+    axes[3].set_ylabel("damping ratio [%]")
+    axes[3].set_yscale("symlog", linthresh=1.0)
+    axes[3].set_xlabel("hub-height wind speed [m/s]")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[3].legend(fontsize=6, ncol=2, loc="lower right")
+    unstable = [f"{v:g}" for v, s in zip(u, data["stable"]) if s is False]
+    note = f"; UNSTABLE at {', '.join(unstable)} m/s" if unstable else ""
+    axes[0].set_title((title or f"Closed loop with the baseline controller (dt = {data['sample_time']:g} s)") + note,
+                      fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+

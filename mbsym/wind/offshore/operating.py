@@ -1,0 +1,215 @@
+"""The water and the mooring of a floating *operating* turbine: a platform-loads object for the operation layer.
+
+:class:`FloatingPlatform` gathers what acts on the platform of an operating turbine besides its
+structure and the rotor:
+
+* hydrostatics, buoyancy and HydroDyn's additional loads (:class:`~.platform.PlatformHydrodynamics`);
+* the radiation memory as linear states (:class:`~.radiation.RadiationStateSpace`, states
+  ``Rdtn1 … RdtnN``), driven by the platform velocities;
+* the quasi-static catenary mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX);
+* the infinite-frequency added mass A∞, which the operating turbine adds to the platform block of
+  its symbolic mass matrix (so trims and linear models see it).
+
+The operation layer (:mod:`mbsym.wind.operation.compose`) takes such an object as
+``OperatingTurbine(..., platform=...)``: the loads go on the structure's platform inputs
+``PtfmFx … PtfmMz`` (at the platform reference point, inertial axes), the radiation states join the
+state vector and the channels of :meth:`FloatingPlatform.channel_rows` (``HydroFxi … HydroMzi``,
+``FAIRTEN1..n``, ``Wave1Elev``) join the outputs. This module imports only :mod:`mbsym.wind.deck`
+and the offshore room; :func:`floating_platform` builds the object from a deck's HydroDyn, SeaState
+and MoorDyn/MAP++ files.
+
+Approximations (stated in docs/offshore.md): the platform's velocity and acceleration are the DOF
+rates ``q̇``, ``q̈`` of surge … yaw (exact in translation; the angular ones are first order in the
+angles, as in :class:`~.floating.FloatingStructure`); the lines are quasi-static (no line inertia or
+drag); still water (``Wave1Elev`` = 0, no excitation).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ModelWarning, UnsupportedFeatureError
+from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
+from .platform import PlatformHydrodynamics, platform_hydrodynamics
+from .radiation import RadiationStateSpace
+
+__all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
+           "HYDRO_CHANNELS", "RADIATION_MODELS"]
+
+#: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
+PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
+#: The structure's platform load inputs the platform drives [N, N m] (reference point, inertial axes).
+PLATFORM_INPUTS = ("PtfmFx", "PtfmFy", "PtfmFz", "PtfmMx", "PtfmMy", "PtfmMz")
+#: HydroDyn's total-load channels (with their OpenFAST units).
+HYDRO_CHANNELS = {"HydroFxi": "N", "HydroFyi": "N", "HydroFzi": "N", "HydroMxi": "N-m", "HydroMyi": "N-m",
+                  "HydroMzi": "N-m"}
+#: How :func:`floating_platform` models the radiation memory.
+RADIATION_MODELS = ("fit", "ss", "none")
+
+
+@dataclass(frozen=True, eq=False)
+class FloatingPlatform:
+    """The water's and the mooring's loads on the platform of an operating turbine (module docstring).
+
+    Parameters
+    ----------
+    hydro : PlatformHydrodynamics
+    mooring : MooringSystem or None
+    radiation : RadiationStateSpace or None
+        None: no radiation memory (only A∞ acts; decays are less damped than HydroDyn's).
+    mooring_steps : int
+        Newton steps of the catenary solution in SX (30 converge to 1e-8 relative, docs/offshore.md §3).
+
+    Examples
+    --------
+    >>> platform = floating_platform(read_openfast("fl_steady_13.fst"))  # doctest: +SKIP
+    >>> model = OperatingTurbine(turbine, rotor, platform=platform)      # doctest: +SKIP
+    """
+
+    hydro: PlatformHydrodynamics
+    mooring: MooringSystem | None = None
+    radiation: RadiationStateSpace | None = None
+    mooring_steps: int = 30
+
+    coordinates = PLATFORM_COORDINATES
+    inputs = PLATFORM_INPUTS
+
+    @property
+    def n_radiation(self) -> int:
+        return 0 if self.radiation is None else self.radiation.n_states
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The radiation states ``Rdtn1 … RdtnN`` [N s, N m s: the fit's internal units]."""
+        return tuple(f"Rdtn{k + 1}" for k in range(self.n_radiation))
+
+    @property
+    def added_mass(self) -> np.ndarray:
+        """A∞ (6 × 6) [kg, kg m, kg m²] about the platform reference point."""
+        return np.asarray(self.hydro.added_mass, dtype=float)
+
+    @property
+    def n_lines(self) -> int:
+        return 0 if self.mooring is None else len(self.mooring.lines)
+
+    @cached_property
+    def function(self) -> ca.Function:
+        """``(qp, vp, xr) → (load, hydro, xr_dot, tension)`` (SX, built once).
+
+        ``qp``, ``vp``: the platform DOFs [m, rad] and their rates; ``xr``: the radiation states.
+        ``load`` [N, N m]: everything but the added mass (hydrostatics, buoyancy, additional loads,
+        radiation, mooring); ``hydro``: HydroDyn's part of it (no mooring, no added mass);
+        ``tension``: the fairlead tensions [N].
+        """
+        qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
+        xr = ca.SX.sym("xr", self.n_radiation)
+        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp)
+        xr_dot = ca.SX(0, 1)
+        if self.radiation is not None:
+            hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
+            xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr)
+                      + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), vp))
+        load, tension = hydro, ca.SX(0, 1)
+        if self.mooring is not None:
+            mooring, tension, _ = self.mooring.function(steps=self.mooring_steps)(qp)
+            load = load + mooring
+        return ca.Function("platform_loads", [qp, vp, xr], [load, hydro, xr_dot, tension],
+                           ["qp", "vp", "xr"], ["load", "hydro", "xr_dot", "tension"], {"cse": True})
+
+    def loads(self, qp: Any, vp: Any, xr: Any) -> dict[str, Any]:
+        """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments."""
+        out = self.function(qp, vp, xr if self.n_radiation else ca.DM(0, 1))
+        return dict(zip(self.function.name_out(), out))
+
+    def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:
+        """``(name, unit, expression)`` of the platform channels.
+
+        ``HydroFxi … HydroMzi``: HydroDyn's total load at the reference point (with ``−A∞ a``, ``ap`` the
+        platform DOF accelerations); ``FAIRTEN<k>`` [N]; ``Wave1Elev`` [m] (0: still water).
+        """
+        hydro = loads["hydro"] - ca.mtimes(ca.DM(self.added_mass), ap)
+        rows = [(n, u, hydro[k]) for k, (n, u) in enumerate(HYDRO_CHANNELS.items())]
+        rows += [(f"FAIRTEN{k + 1}", "N", loads["tension"][k]) for k in range(self.n_lines)]
+        rows.append(("Wave1Elev", "m", ca.DM(0.0)))
+        return rows
+
+    def __repr__(self) -> str:
+        return (f"FloatingPlatform(radiation states={self.n_radiation}, mooring lines={self.n_lines}, "
+                f"buoyancy={self.hydro.hydrostatics.buoyancy / 1e6:.2f} MN)")
+
+
+def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | None:
+    """The :class:`FloatingPlatform` of a deck's HydroDyn, SeaState and mooring files, or None without them.
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        A deck read by :func:`mbsym.wind.read_openfast` (``CompHydro``, ``CompMooring``, the files in
+        ``source_files``, ``WtrDens``, ``WtrDpth``, ``Gravity``).
+    radiation : {"fit", "ss", "none"}, keyword-only
+        The radiation memory: mbsym's own fit of the ``.1`` data (:func:`~.radiation_fit.fit_radiation`,
+        2 % per entry up to 4 rad/s, a few seconds), the deck's ``.ss`` file (9–24 % off, not passive:
+        docs/offshore.md §4), or none (a :class:`~mbsym.exceptions.ModelWarning` says so when the deck
+        asks for radiation).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        ``CompMooring`` 2 or 4 (FEAMooring, OrcaFlex), mooring without HydroDyn, and what
+        :func:`~.platform.platform_hydrodynamics` refuses (waves, Morison members, …).
+    """
+    from ...exceptions import ParameterError
+    from ..deck.mapplusplus import read_map
+    from ..deck.moordyn import read_moordyn
+
+    if radiation not in RADIATION_MODELS:
+        raise ParameterError(f"radiation must be one of {list(RADIATION_MODELS)}; got {radiation!r}.")
+    sim, files = turbine.simulation, turbine.source_files
+    hydro_on, mooring_model = int(sim.hydrodynamics_model or 0), int(sim.mooring_model or 0)
+    if not hydro_on and not mooring_model:
+        return None
+    where = files.get("fst", "the deck")
+    if not hydro_on:
+        raise UnsupportedFeatureError(f"{where}: CompMooring = {mooring_model} without HydroDyn (CompHydro = 0): a "
+                                      "floating platform needs the water's buoyancy; set CompHydro = 1.")
+    if mooring_model not in (0, 1, 3):
+        raise UnsupportedFeatureError(f"{where}: CompMooring = {mooring_model} is not modelled (only 1, MAP++, and 3, "
+                                      "MoorDyn, as quasi-static catenaries). Use one of those or 0.")
+    rho, g = float(sim.water_density), float(sim.gravity)
+    with warnings.catch_warnings():
+        if radiation != "none":          # the radiation memory is modelled here: no "left out" warning
+            warnings.filterwarnings("ignore", message=r"RdtnMod", category=ModelWarning)
+        hydro = platform_hydrodynamics(Path(files["hydrodyn"]), water_density=rho, gravity=g,
+                                       seastate=files.get("seastate"))
+    mooring = None
+    if mooring_model == 3:
+        mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=rho, gravity=g)
+    elif mooring_model == 1:
+        mooring = mooring_from_map(read_map(Path(files["mooring"])), water_density=rho, gravity=g,
+                                   water_depth=float(sim.water_depth))
+    return FloatingPlatform(hydro, mooring, _radiation(hydro, radiation, files["hydrodyn"]))
+
+
+def _radiation(hydro: PlatformHydrodynamics, model: str, hydrodyn_file) -> RadiationStateSpace | None:
+    if model == "none":
+        return None
+    if model == "fit":
+        from .radiation_fit import fit_radiation
+
+        return fit_radiation(hydro.wamit)
+    from ..deck.hydrodyn import read_hydrodyn
+    from ..deck.wamit import read_wamit_ss
+
+    root = read_hydrodyn(Path(hydrodyn_file)).potential_files[0]
+    path = Path(f"{root}.ss")
+    if not path.is_file():
+        raise UnsupportedFeatureError(f"{hydrodyn_file}: radiation='ss' needs the state-space fit '{path}'; it does "
+                                      "not exist. Use radiation='fit' (mbsym's own fit of the .1 data).")
+    return RadiationStateSpace.from_fit(read_wamit_ss(path))
