@@ -8,8 +8,11 @@ cores are shared, wall time measures the neighbours), median of 7 batches. Metho
 
 * ``rk4``: the blade-element aerodynamics evaluated in every RK4 stage, in the measurement and afterwards for
   the channels;
-* ``rk4-held`` (the default): the aerodynamics once per sample, held over the stages (OpenFAST's coupling);
-  the same evaluation gives the measurements and, at the output times, every channel.
+* ``rk4-held`` (the default): the aerodynamics held over the stages (OpenFAST's coupling), evaluated every
+  sample or, with ``held_dt`` ("aerodynamics every"), every few samples while the controller and the structure
+  keep the sample time (the default for this deck: every 4 samples, 25 ms: 2 deg of rotor rotation); the same
+  evaluation gives the measurements and, at the output times, every channel. The cost per sample of a held
+  cycle is the mean over it (one sample evaluating the aerodynamics, the others holding them).
 
 Baseline in the same run: the rotor-effective model of the same deck (rigid-blade DOFs) at 6.25 ms.
 The projection to the 660 s case counts one output sample in 8 (6.25 ms) / 4 / 2 (0.05 s output spacing);

@@ -395,7 +395,7 @@ def main() -> None:
     parts = ([f"dt={args.dt:g}"] * (args.dt != CONTROLLER_DT) + [args.method] * (args.method != "rk4-held")
              + [f"n_newton={args.n_newton}"] * (args.n_newton is not None)
              + [f"DBEMT_Mod={args.dbemt}"] * (args.dbemt is not None)
-             + [f"aero_dt={args.aero_dt:g}"] * (args.aero_dt is not None))
+             + ([f"aero_dt={args.aero_dt:g}"] if args.aero_dt is not None else []))
     tag = args.tag or ", ".join(parts)
     if args.quick:
         tag = (tag + ", " if tag else "") + "120 s"

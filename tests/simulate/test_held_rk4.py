@@ -186,3 +186,21 @@ def test_held_dt_is_checked(kwargs, match):
 def test_held_dt_needs_a_controller():
     with pytest.raises(SimulationOptionError, match="needs controller="):
         simulate(held_oscillator(), 0.1, x0=[0.1, 0.0], method="rk4-held", dt=0.01, held_dt=0.02)
+
+
+def test_sample_by_sample_loop_equals_the_mapaccum(monkeypatch):
+    """An expensive body runs one buffered call per sample instead of a mapaccum (closed_loop._StepLoop): the
+    same arithmetic, so the same result to the last bit (forced here on the cheap oscillator)."""
+    import importlib
+
+    cl = importlib.import_module("mbsym.simulate.closed_loop")
+
+    dt, n = 0.01, 300                              # > 64 samples: the loop is chunked and timed
+    kwargs = dict(x0=[0.1, 0.0], controller=_p_controller(dt), method="rk4-held", dt=dt, held_dt=2 * dt,
+                  t_out=np.round(np.arange(0, n + 1, 2) * dt, 12), compile=False)
+    monkeypatch.setattr(cl, "STEPWISE_FROM_S", float("inf"))
+    a = simulate(held_oscillator(), n * dt, **kwargs)
+    monkeypatch.setattr(cl, "STEPWISE_FROM_S", 0.0)
+    b = simulate(held_oscillator(), n * dt, **kwargs)
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(np.asarray(a.y), np.asarray(b.y))

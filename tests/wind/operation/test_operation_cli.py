@@ -119,6 +119,7 @@ def test_deck_with_the_rosco_library(rosco_lib, capsys):
     (["--wind", "steady:12", "--method", "cvodes"], ["--method cvodes", "rk4"]),
     (["--wind", "steady:12", "--rtol", "1e-6"], ["--rtol"]),
     (["--controller", "discon", "--wind", "steady:12"], ["--discon", "no DISCON library"]),
+    (["--wind", "steady:12", "--aero-dt", "0.025"], ["--aero-dt", "rotor-effective"]),
 ])
 def test_bad_flags_are_one_line_errors(args, words, capsys):
     assert main(["simulate", "--tmax", "1", *args]) == 2
