@@ -183,3 +183,12 @@ def test_gravity_missing_everywhere(deck, edit):
     with pytest.raises(OpenFASTFormatError, match=rf"{re.escape(FST)}, line \d+, key 'Gravity': missing "
                        r"from both"):
         read_openfast(deck.fst)
+
+
+@pytest.mark.parametrize("key, line", [("TwrNodes", 131), ("BldNodes", 98)])
+def test_absurd_node_counts_are_refused_before_any_allocation(deck, edit, key, line):
+    """A mistyped node count (issue: TwrNodes = 100000000 grew to 23.7 GB) is refused by the reader, before
+    anything is built, with file, line and key (limit: MAX_ANALYSIS_NODES)."""
+    edit(deck.ed, rf"^\d+( +{key})", r"100000000\1")
+    with pytest.raises(OpenFASTFormatError, match=rf"line {line}, key '{key}': must be at least 1 and at most 100000"):
+        read_openfast(deck.fst)
