@@ -103,7 +103,7 @@ def rotor_model(fst: Path):
 
 
 # ---------------------------------------------------------------------------------------------------- running
-def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4", aero_dt=None):
+def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4", aero_dt=None, aero_order=None):
     from mbsym.wind.control.baseline import BaselineController
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
@@ -115,11 +115,12 @@ def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk
     t_out = np.round(np.arange(0.0, tmax + 1e-9, 0.05), 10)
     blade = model.aero == "blade"
     return simulate_turbine(model, wind, tmax, controller=ctrl, x0=x0, t_out=t_out, compile=True,
-                            method=method if blade else "rk4", aero_dt=aero_dt if blade else None)
+                            method=method if blade else "rk4", aero_dt=aero_dt if blade else None,
+                            aero_order=aero_order if blade else None)
 
 
 def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
-        method: str = "rk4", aero_dt=None) -> tuple[dict, object]:
+        method: str = "rk4", aero_dt=None, aero_order=None) -> tuple[dict, object]:
     fst = INPUTS / case / f"{case}.fst"
     t0 = time.perf_counter()
     if rung == "blade":
@@ -139,7 +140,7 @@ def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
         build = time.perf_counter() - t0
         wind, wind0 = rew["signal"], float(rew["average"][0])
     t1, c1 = time.perf_counter(), time.process_time()
-    res = simulate(model, deck, wind, wind0, tmax, dt, method, aero_dt)
+    res = simulate(model, deck, wind, wind0, tmax, dt, method, aero_dt, aero_order)
     total, cpu = time.perf_counter() - t1, time.process_time() - c1
     st = res.statistics
     timing = {"build_s": build, "compile_s": float(st.get("prepare_wall_s", 0.0)),
@@ -388,6 +389,9 @@ def main() -> None:
     ap.add_argument("--aero-dt", type=float, default=None,
                     help="blade-element rung: interval of the aerodynamics [s], a multiple of --dt (default: the "
                          "model's default)")
+    ap.add_argument("--aero-order", type=int, default=None, choices=(0, 1, 2),
+                    help="blade-element rung: extrapolation of the aerodynamics between evaluations (default: the "
+                         "model's default)")
     ap.add_argument("--report-only", action="store_true", help="rewrite README and chart from the JSON, no runs")
     ap.add_argument("--series", type=Path, default=None, help="save each run's channels (npz) in this folder")
     ap.add_argument("--tag", default="", help="label of a variant (stored separately in the JSON)")
@@ -395,7 +399,8 @@ def main() -> None:
     parts = ([f"dt={args.dt:g}"] * (args.dt != CONTROLLER_DT) + [args.method] * (args.method != "rk4-held")
              + [f"n_newton={args.n_newton}"] * (args.n_newton is not None)
              + [f"DBEMT_Mod={args.dbemt}"] * (args.dbemt is not None)
-             + ([f"aero_dt={args.aero_dt:g}"] if args.aero_dt is not None else []))
+             + ([f"aero_dt={args.aero_dt:g}"] if args.aero_dt is not None else [])
+             + ([f"aero_order={args.aero_order}"] if args.aero_order is not None else []))
     tag = args.tag or ", ".join(parts)
     if args.quick:
         tag = (tag + ", " if tag else "") + "120 s"
@@ -410,10 +415,11 @@ def main() -> None:
             print(f"{case} / {rung} ({tmax:g} s, dt {args.dt:g} s{', ' + tag if tag else ''})", flush=True)
             timing, res = run(case, rung, tmax, args.dt,
                               *((args.n_newton, args.dbemt) if rung == "blade" else (None, None)), method=args.method,
-                              aero_dt=args.aero_dt)
+                              aero_dt=args.aero_dt, aero_order=args.aero_order)
             m = metrics(res, ref, tmax)
             key = f"{case}/{rung}" + (f"/{tag}" if tag else "")
             stored[key] = {"case": case, "rung": rung, "tag": tag, "dt": args.dt, "aero_dt": args.aero_dt,
+                           "aero_order": args.aero_order,
                            "metrics": m, "timing": timing,
                            "method": args.method if rung == "blade" else "rk4"}
             print("    ε %: " + ", ".join(f"{c} {100 * m['eps'][c]:.2f}" for c in m["eps"]), flush=True)

@@ -66,8 +66,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "blade when the deck's wind varies over the rotor or blade/yaw DOFs are on, else rotor")
     p.add_argument("--aero-dt", type=float, metavar="DT",
                    help="blade-element aerodynamics with the baseline controller: evaluate them every DT seconds, a "
-                        "multiple of the controller's sample time (default: every 2 deg of rotor rotation, NREL 5 MW "
-                        "25 ms; the controller and the structure keep the sample time)")
+                        "multiple of the controller's sample time (default: every 2 deg of rotor rotation, 4 deg with "
+                        "quadratic extrapolation; NREL 5 MW 25 / 50 ms; the controller and the structure keep the "
+                        "sample time)")
+    p.add_argument("--aero-order", type=int, choices=(0, 1, 2), metavar="{0,1,2}",
+                   help="blade-element aerodynamics with the baseline controller: between evaluations hold them (0) "
+                        "or extrapolate them linearly (1) or quadratically (2) (default: the deck's InterpOrder)")
     p.add_argument("--controller", choices=CONTROLLERS,
                    help="baseline (ours, compiled into the loop), discon (a DISCON library), nmpc (the turbine "
                         "NMPC), none (held commands); default: the deck's DISCON library, baseline without a deck")
@@ -119,12 +123,13 @@ def run_operation(args: argparse.Namespace) -> int:
 
     mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
     aero = _aero(args, deck, mpc)
-    if "aero_dt" in options and (aero != "blade" or mpc.active):
-        from ..exceptions import SimulationOptionError
+    for key, flag in (("aero_dt", "--aero-dt"), ("aero_order", "--aero-order")):
+        if key in options and (aero != "blade" or mpc.active):
+            from ..exceptions import SimulationOptionError
 
-        raise SimulationOptionError("--aero-dt sets the interval of the blade-element aerodynamics; this run has the "
-                                    "rotor-effective model" + (" (the NMPC's)" if mpc.active else "")
-                                    + ": drop --aero-dt, or use --aero blade without the NMPC.")
+            raise SimulationOptionError(f"{flag} sets how the blade-element aerodynamics are evaluated; this run has "
+                                        "the rotor-effective model" + (" (the NMPC's)" if mpc.active else "")
+                                        + f": drop {flag}, or use --aero blade without the NMPC.")
     wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
@@ -226,6 +231,8 @@ def _integration(args) -> dict:
         out["compile"] = True
     if getattr(args, "aero_dt", None) is not None:
         out["aero_dt"] = float(args.aero_dt)
+    if getattr(args, "aero_order", None) is not None:
+        out["aero_order"] = int(args.aero_order)
     return out
 
 
@@ -376,6 +383,18 @@ def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
     print(f"mbsym simulate: {deck.label} operating in {wind_label}")
     print(f"DOFs: {dofs}; rotor {rotor}, {inflow}; controller {ctrl}")
     print(f"{tmax:g} s, {how}", flush=True)
+    if model.aero == "blade" and controller is not None and not controller.is_function:
+        print(f"note: the DISCON library is called from Python at every sample, so the blade-element aerodynamics "
+              f"are evaluated every sample and held over it (the deck's InterpOrder "
+              f"{model.turbine.simulation.interp_order} extrapolates them with compiled controllers)", flush=True)
+
+
+def _held_text(stats) -> str:
+    """How the blade-element aerodynamics were evaluated (empty when every step)."""
+    if "held_dt" not in stats:
+        return ""
+    how = ("held", "extrapolated linearly", "extrapolated quadratically")[int(stats.get("held_order", 0))]
+    return f"; aerodynamics every {1e3 * float(stats['held_dt']):.4g} ms, {how} in between"
 
 
 def _summary(series, stats) -> None:
@@ -383,7 +402,8 @@ def _summary(series, stats) -> None:
     step = f" of {stats['dt']:.4g} s" if stats.get("dt") else ""
     print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
           f"{1e3 * float(stats.get('integration_wall_s', 0)):.1f} ms ({stats['real_time_factor']:.0f}x real time), "
-          f"preparation {1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms, {series.time[-1]:.2f} s simulated\n")
+          f"preparation {1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms, {series.time[-1]:.2f} s simulated"
+          + _held_text(stats) + "\n")
     print(f"{'channel':<12} {'unit':<6} {'initial':>12} {'min':>12} {'max':>12} {'mean':>12} {'final':>12}")
     for n in SUMMARY_CHANNELS:
         y = series.channel(n)

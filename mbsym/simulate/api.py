@@ -38,7 +38,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
              rtol: float | None = None, atol: float | None = None, t_out: Sequence[float] | None = None,
              accuracy: float | None = None, compile: bool | None = None, controller: Any = None,
              progress: Callable[[float, float], None] | None = None,
-             held_dt: float | None = None) -> SimulationResult:
+             held_dt: float | None = None, held_order: int = 0) -> SimulationResult:
     """Integrate the model from t = 0 to ``tmax``.
 
     Without ``method``, ``dt``, ``rtol`` and ``atol``, mbsym chooses the method, the step and
@@ -110,6 +110,11 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         of the controller's sample time; between evaluations it is held while the states advance sample by
         sample and the controller runs at its own rate (samples that return outputs evaluate it afresh).
         Default: every sample.
+    held_order : {0, 1, 2}, optional
+        With ``method="rk4-held"`` and a ``controller``: between its evaluations the held part is held (0,
+        the default) or extrapolated in time through the last 2 (1, linear) or 3 (2, quadratic) evaluations
+        at every RK4 stage, as OpenFAST's glue code extrapolates module outputs (``InterpOrder``)
+        (:mod:`mbsym.simulate.held_carry`).
     progress : callable ``(t, tmax) -> None``, optional
         Called as the integration advances (long runs are integrated in chunks of ~0.2 s of
         wall time), e.g. :class:`mbsym.simulate.monitor.ProgressPrinter`.
@@ -197,10 +202,11 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
     if controller is not None:
         from .controller import bind_controller
 
-        ctrl = bind_controller(controller, plant, method, dt, tmax, held_dt=held_dt)
-    elif held_dt is not None:
-        raise SimulationOptionError("held_dt sets how often a controlled loop re-evaluates the plant's held part; it "
-                                    "needs controller= and method='rk4-held' (without a controller, choose dt).")
+        ctrl = bind_controller(controller, plant, method, dt, tmax, held_dt=held_dt, held_order=held_order)
+    elif held_dt is not None or held_order != 0:
+        raise SimulationOptionError("held_dt and held_order set how a controlled loop re-evaluates the plant's held "
+                                    "part: each needs controller= and method='rk4-held' (without a controller, "
+                                    "choose dt).")
     h, n_steps, times = _grid(cls, tmax, dt, t_out, auto, plant, ctrl)
     monitor = RunMonitor(tmax, progress) if progress is not None else None
     try:

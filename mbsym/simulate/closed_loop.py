@@ -21,6 +21,7 @@ from .base import BufferedFunction, Problem, dense_rhs, maybe_compile, prepared
 from .checks import first_bad_column, raise_diverged
 from .controller import BoundController, DiscreteController
 from .fixed import RK4, PreparedLoop
+from .held_carry import HeldCarry
 from .held_rk4 import HeldRK4, held_rk4_step
 from .monitor import CHUNK_WALL_S, SimulationInterrupted
 
@@ -178,45 +179,65 @@ class _ClosedLoop:
         def build():
             n_x, n_u, n_a, n_xc = plant.n_x, plant.n_u, bc.act.size, bc.ctrl.n_xc
             carried = self.carries_held(m)
-            n_z = plant.held.n_z if carried else 0
-            z, U = ca.MX.sym("z", n_x + n_xc + n_a + n_z), ca.MX.sym("U", n_u, 3 * m)
+            hc = self.held_carry() if carried else None
+            n_c = hc.n_carry if carried else 0
+            z, U = ca.MX.sym("z", n_x + n_xc + n_a + n_c), ca.MX.sym("U", n_u, 3 * m)
             p, hf = ca.MX.sym("p", plant.n_p), ca.MX.sym("h", self.n_h_rows(m))
             h = hf[0]
             x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:n_x + n_xc + n_a]
             keep, put = _masks(n_u, bc.act)
             u_meas = ca.mtimes(keep, U[:, 0]) + ca.mtimes(put, ua_prev)
             shared = self._shares_held_part()
-            if carried:                   # evaluated afresh where the last row of h asks, else the one carried
-                held_z = _part_when(plant)(x, u_meas, p, z[n_x + n_xc + n_a:], hf[-1])
+            outputs = self.outputs_in_loop(m)
+            if carried:                   # refreshed where the last row of h asks, else carried; extrapolated
+                case = hf[-1] + hf[1] if outputs else hf[-1]
+                carry, held_z = hc.refresh(case, x, u_meas, p, z[n_x + n_xc + n_a:])
+                stages = tuple(hc.stage_values(carry, [0.0, h / 2, h]))
+                y = bc.measure_held(x, u_meas, p, hc.scatter(stages[0]))
             elif shared:                  # one evaluation of the held part serves measurement and first step
                 held_z = plant.held.part(x, u_meas, p)
-            if shared:
                 y = bc.measure_held(x, u_meas, p, held_z)
             else:
                 y = bc.measure(x, u_meas, p)
             xc1, ua = bc.ctrl.law(xc, y)
             Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
-            Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None, self.end_derivative)
-            z_next = ca.vertcat(Xs[:, -1], xc1, ua, held_z if carried else ca.MX(0, 1))
+            if carried:
+                x1, K1 = held_rk4_step(hc.held_rhs, x, Uh, p, h, stages)
+                Xs = x1
+                k_end = hc.held_rhs.rhs(x1, Uh[:, -1], p, stages[2]) if self.end_derivative else ca.MX.zeros(n_x)
+                z_next = ca.vertcat(x1, xc1, ua, hc.advanced(carry, h))
+            else:
+                Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None, self.end_derivative)
+                z_next = ca.vertcat(Xs[:, -1], xc1, ua)
             aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
-            if self.outputs_in_loop(m):   # the outputs at the sample start, from the held part already evaluated,
-                aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))   # where h[1] asks
+            if outputs:   # the outputs at the sample start, from the held part already evaluated, where h[1] asks
+                aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))
             return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, hf], [z_next, aux],
                                ["z", "U", "p", "h"], ["z_next", "aux"])
 
         return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
                                            bc.ctrl.measurements, m, bc.method, self.carries_held(m),
-                                           self.end_derivative), build)[0]
+                                           bc.held_order, self.end_derivative), build)[0]
+
+    def held_carry(self) -> HeldCarry:
+        """The carried held part (:mod:`.held_carry`) of this loop's plant, measurements and order."""
+        bc = self.bc
+        return prepared(self.plant.owner, ("held carry", bc.ctrl.measurements, bc.held_order,
+                                           bc.held_samples * bc.ctrl.dt),
+                        lambda: HeldCarry(self.plant, bc.measure_held, bc.held_order,
+                                          bc.held_samples * bc.ctrl.dt))[0]
 
     def carries_held(self, m: int) -> bool:
-        """Whether the held part is carried from sample to sample (``held_dt`` > the sample time)."""
-        if self.bc.held_samples <= 1:
+        """Whether the held part is carried from sample to sample (``held_dt`` > the sample time, or extrapolated
+        with ``held_order`` > 0)."""
+        if self.bc.held_samples <= 1 and self.bc.held_order == 0:
             return False
         if m != 1 or not self._shares_held_part():
             raise SimulationOptionError(
-                f"held_dt > the sample time needs one rk4-held step per controller sample and a held part that does not "
-                f"depend on the commanded inputs {list(self.bc.ctrl.actuates)} (the commands change at every sample); "
-                f"got {m} step(s) per sample" + ("" if self._shares_held_part() else " and a dependent held part") + ".")
+                f"held_dt > the sample time or held_order > 0 needs one rk4-held step per controller sample and a held "
+                f"part that does not depend on the commanded inputs {list(self.bc.ctrl.actuates)} (the commands change "
+                f"at every sample); got {m} step(s) per sample"
+                + ("" if self._shares_held_part() else " and a dependent held part") + ".")
         return True
 
     def n_h_rows(self, m: int) -> int:
@@ -225,7 +246,7 @@ class _ClosedLoop:
 
     def initial_carry(self, m: int) -> np.ndarray:
         """``z`` at the first sample: plant, controller, held commands (and a placeholder for the held part)."""
-        pad = np.zeros(self.plant.held.n_z if self.carries_held(m) else 0)
+        pad = self.held_carry().initial() if self.carries_held(m) else np.zeros(0)
         return np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init, pad])
 
     def h_rows(self, k0: int, start: np.ndarray, length: np.ndarray, m: int, collector) -> np.ndarray:
@@ -294,10 +315,10 @@ class _ClosedLoop:
             prep = time.perf_counter() - t0
             out = self._run_function(body, times, m, monitor)
         else:
-            if self.bc.held_samples > 1:
-                raise SimulationOptionError(f"held_dt > the sample time runs inside the generated loop; the controller "
-                                            f"{self.bc.ctrl.name!r} is a Python callable (e.g. a DISCON library): leave "
-                                            "held_dt unset.")
+            if self.bc.held_samples > 1 or self.bc.held_order > 0:
+                raise SimulationOptionError(f"held_dt > the sample time and held_order > 0 run inside the generated "
+                                            f"loop; the controller {self.bc.ctrl.name!r} is a Python callable (e.g. a "
+                                            "DISCON library): leave held_dt and held_order unset.")
             step, on = self.rk4.symbolic_step(), False
             step, on = maybe_compile(step, compiled)
             loop = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
@@ -307,8 +328,8 @@ class _ClosedLoop:
             meas = BufferedFunction(self.bc.measure, self.p)
             prep = time.perf_counter() - t0
             out = self._run_callable(loop, rhs, meas, times, m, monitor)
-        if self.bc.held_samples > 1:
-            out.stats["held_dt"] = self.bc.held_samples * self.bc.ctrl.dt
+        if self.bc.held_samples > 1 or self.bc.held_order > 0:
+            out.stats.update(held_dt=self.bc.held_samples * self.bc.ctrl.dt, held_order=self.bc.held_order)
         out.stats.update(prepare_wall_s=prep, compiled=on, method=self.bc.method, cache_hit=None,
                          disk_cache_hit=None,
                          success=True, n_jac=0)
@@ -421,16 +442,6 @@ def _on_sample_starts(times: np.ndarray, h: float, tmax: float) -> bool:
     inner = times[times < tmax * (1 - 1e-12)]
     k = inner / h
     return bool(np.all(np.abs(k - np.round(k)) <= 1e-9 * np.maximum(k, 1.0)))
-
-
-def _part_when(plant) -> ca.Function:
-    """``(x, u, p, z_prev, flag) -> z``: the held part evaluated when flag > 0.5, else ``z_prev`` (a short-circuit
-    ``if_else`` in its own Function, as :func:`_outputs_when`)."""
-    held = plant.held
-    x, u, p = ca.MX.sym("x", plant.n_x), ca.MX.sym("u", plant.n_u), ca.MX.sym("p", plant.n_p)
-    z_prev, flag = ca.MX.sym("z_prev", held.n_z), ca.MX.sym("flag")
-    return ca.Function(f"{plant.name}_part_when", [x, u, p, z_prev, flag],
-                       [ca.if_else(flag > 0.5, held.part(x, u, p), z_prev, True)])
 
 
 def _chunk(remaining: int, per_sample: float) -> int:

@@ -181,10 +181,11 @@ class BoundController:
     method: str = "rk4"           # "rk4", or "rk4-held" (the plant's held part once per sub-step)
     measure_held: ca.Function | None = None   # (x, u, p, z) -> y, "rk4-held" only
     held_samples: int = 1         # "rk4-held": controller samples between evaluations of the held part
+    held_order: int = 0           # "rk4-held": extrapolation of the held part between evaluations (held_carry)
 
 
 def bind_controller(controller: Any, plant, method: str | None, dt: float | None, tmax: float, *,
-                    held_dt: float | None = None) -> BoundController:
+                    held_dt: float | None = None, held_order: int = 0) -> BoundController:
     """Check ``controller`` against ``plant`` and the options; build the measurement Function.
 
     An object with ``as_controller()`` (an :class:`mbsym.control.NMPC`), or a pair ``(estimator, nmpc)``,
@@ -227,7 +228,18 @@ def bind_controller(controller: Any, plant, method: str | None, dt: float | None
     return BoundController(c, np.array([plant.inputs.index(n) for n in c.actuates], dtype=int),
                            _measurement_function(plant, c.measurements), h, c.n_xc, method or "rk4",
                            _held_measurement_function(plant, c.measurements) if held else None,
-                           _held_samples(held_dt, c, method, h))
+                           _held_samples(held_dt, c, method, h), _held_order(held_order, method))
+
+
+def _held_order(order, method: str | None) -> int:
+    """The checked extrapolation order of the held part (0 unless method "rk4-held")."""
+    from .held_carry import check_held_order
+
+    order = check_held_order(order)
+    if order and method != "rk4-held":
+        raise SimulationOptionError(f"held_order extrapolates the plant's held part between its evaluations; it needs "
+                                    f"method='rk4-held' (got {method!r}).")
+    return order
 
 
 def _held_samples(held_dt: float | None, c: DiscreteController, method: str | None, h: float | None) -> int:

@@ -24,15 +24,18 @@ __all__ = ["HeldRK4", "held_rk4_step"]
 
 
 def held_rk4_step(held, x, U, p, h, z):
-    """One RK4 step of ``ẋ = held.rhs(x, u, p, z)`` with ``z`` fixed; returns ``(x_next, k1)``.
+    """One RK4 step of ``ẋ = held.rhs(x, u, p, z)``; returns ``(x_next, k1)``.
 
-    ``U`` holds the inputs at the stage times ``t``, ``t + h/2``, ``t + h`` (columns).
+    ``U`` holds the inputs at the stage times ``t``, ``t + h/2``, ``t + h`` (columns); ``z`` is the held
+    value, or a tuple of its values at those three times (an extrapolated held part,
+    :mod:`mbsym.simulate.held_carry`).
     """
     f = held.rhs
-    k1 = f(x, U[:, 0], p, z)
-    k2 = f(x + (h / 2) * k1, U[:, 1], p, z)
-    k3 = f(x + (h / 2) * k2, U[:, 1], p, z)
-    k4 = f(x + h * k3, U[:, 2], p, z)
+    z0, zm, z1 = z if isinstance(z, tuple) else (z, z, z)
+    k1 = f(x, U[:, 0], p, z0)
+    k2 = f(x + (h / 2) * k1, U[:, 1], p, zm)
+    k3 = f(x + (h / 2) * k2, U[:, 1], p, zm)
+    k4 = f(x + h * k3, U[:, 2], p, z1)
     return x + (h / 6) * (k1 + 2 * k2 + 2 * k3 + k4), k1
 
 

@@ -82,6 +82,8 @@ _FST_KEYS = (
     _k("TStart", "output_start_time", default=0.0, check=_NONNEG),
     _k("Linearize", "linearize", "bool", default=False),
     _k("LinTimes", "linearization_times", "floats", default=()),
+    _k("InterpOrder", "interp_order", "int", default=1,
+       check=(lambda v: v in (1, 2), "must be 1 (linear) or 2 (quadratic)")),
 )
 _IC = "initial_conditions."
 _ED_KEYS = (

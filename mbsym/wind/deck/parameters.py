@@ -78,6 +78,10 @@ class SimulationSettings(_Record):
         LinTimes [s] (first NLinTimes entries).
     elastodyn_file : str
         EDFile as written in the ``.fst`` (relative to its directory).
+    interp_order : int
+        InterpOrder (1 linear, 2 quadratic): how the glue code extrapolates module outputs between module
+        evaluations; mbsym extrapolates the blade-element aerodynamics between theirs with it
+        (:func:`mbsym.wind.operation.simulate_turbine`'s ``aero_order``).
     extra : dict of str to str
         Every other ``.fst`` key with its raw value text (nothing is dropped).
     """
@@ -104,6 +108,7 @@ class SimulationSettings(_Record):
     linearize: bool
     linearization_times: tuple[float, ...]
     elastodyn_file: str
+    interp_order: int = 1
     extra: dict[str, str] = field(default_factory=dict)
 
 

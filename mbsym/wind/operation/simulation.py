@@ -17,11 +17,14 @@
   over an ElastoDyn step; one evaluation serves the controller's measurements, the step and every
   channel at the samples. Against OpenFAST on ``ff14_flex`` it gives the figures of ``"rk4"`` (which
   evaluates the aerodynamics at every stage) to the third digit at 3-4x less cost.
-* the blade-element aerodynamics are evaluated every :func:`default_aero_dt` (``aero_dt``): as often as
-  the rotor turns :data:`AERO_ROTATION_DEG` degrees, a whole number of controller samples; the
-  controller and the structure keep the controller's rate. Measured on ``ff14_flex`` (NREL 5 MW, 6.25 ms
-  samples, aerodynamics every 25 ms): the accuracy against OpenFAST of the every-sample run (ε within
-  0.1 point, DELs within 1.3 points) at about half its cost (benchmarks/README.md, "blade-validation").
+* the blade-element aerodynamics are evaluated every :func:`default_aero_dt` (``aero_dt``), a whole number
+  of controller samples, and between evaluations **extrapolated** in time through the last ones with the
+  deck's ``InterpOrder`` (``aero_order``; OpenFAST's glue code extrapolates module outputs the same way),
+  or held (order 0); the controller and the structure keep the controller's rate. The interval is as long
+  as the rotor turns :data:`AERO_ROTATION_DEG` degrees for the order. Measured on ``ff14_flex`` (NREL 5 MW,
+  6.25 ms samples, InterpOrder 2: aerodynamics every 50 ms, quadratic): the accuracy against OpenFAST of
+  the every-sample run with the loads held (ε within 0.05 point, DELs within 1.7 points) at a fraction of
+  its cost (benchmarks/README.md, "blade-validation").
 """
 
 from __future__ import annotations
@@ -38,10 +41,13 @@ from .sanity import check_physical
 
 __all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "AERO_ROTATION_DEG", "TIP_SPEED_REF"]
 
-#: Rotor rotation [deg] over which the default holds the blade-element aerodynamics: at 2 deg the loads' 1P and
-#: 3P variation is sampled 180 times per turn, and the zero-order hold's delay (half an interval) is under 1.5 %
-#: of the shortest blade-mode period it couples to (NREL 5 MW, flap 2 at 2 Hz: 12.5 ms of 500 ms).
-AERO_ROTATION_DEG = 2.0
+#: Rotor rotation [deg] between evaluations of the blade-element aerodynamics by default, per extrapolation order
+#: (0 hold, 1 linear, 2 quadratic). Held, at 2 deg the loads' 1P and 3P variation is sampled 180 times per turn
+#: and the hold's delay (half an interval) is under 1.5 % of the shortest blade-mode period it couples to (NREL
+#: 5 MW, flap 2 at 2 Hz: 12.5 ms of 500 ms). Measured on ff14_flex against OpenFAST (benchmarks/README.md,
+#: "blade-validation"): linear extrapolation at 4 deg raised the DEL errors of TwrBsMxt and RootMyc1 by 2.3 and
+#: 0.8 points over 2 deg; quadratic at 4 deg stays within 1.7 points of the every-sample run with held loads.
+AERO_ROTATION_DEG = {0: 2.0, 1: 2.0, 2: 4.0}
 #: Tip speed [m/s] assumed when the rotor starts slower (start-up, idling): the utility-scale design value
 #: (NREL 5 MW 80 m/s at rated; IEA 15 MW 95 m/s), so the hold stays short once the rotor is up to speed.
 TIP_SPEED_REF = 80.0
@@ -51,7 +57,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
                      controller: DiscreteController | None = None, x0=None,
                      commands: Mapping[str, float] | None = None, t_out=None, p: Mapping[str, float] | None = None,
                      method: str | None = None, dt: float | None = None, accuracy: float | None = None,
-                     compile: bool | None = None, progress=None, aero_dt: float | None = None):
+                     compile: bool | None = None, progress=None, aero_dt: float | None = None,
+                     aero_order: int | None = None):
     """Simulate ``model`` in ``wind`` for ``tmax`` seconds (see the module docstring).
 
     Parameters
@@ -76,9 +83,14 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         Parameter values by name.
     aero_dt : float, optional, keyword-only
         Blade-element aerodynamics with a controller and ``"rk4-held"``: their interval [s], a whole multiple of
-        the controller's sample time (:func:`mbsym.simulate`'s ``held_dt``). Default :func:`default_aero_dt`
-        when the step is the controller's sample time and the controller a CasADi Function (a DISCON
-        library, called from Python, gets the aerodynamics every sample), else every step.
+        the controller's sample time (:func:`mbsym.simulate`'s ``held_dt``). Default :func:`default_aero_dt` for
+        ``aero_order`` when the step is the controller's sample time and the controller a CasADi Function (a
+        DISCON library, called from Python, gets the aerodynamics every sample), else every step.
+    aero_order : {0, 1, 2}, optional, keyword-only
+        Blade-element aerodynamics with a CasADi controller and ``"rk4-held"``: between their evaluations they are
+        held (0) or extrapolated through the last 2 (1) or 3 (2) evaluations (:func:`mbsym.simulate`'s
+        ``held_order``). Default: the deck's ``InterpOrder`` (``model.turbine.simulation.interp_order``); 0 with
+        a DISCON library (called from Python, it gets the aerodynamics every sample, held over the step).
     method, dt, accuracy, compile, progress
         As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"``
         (``"rk4-held"`` with blade-element aerodynamics) with ``dt = controller.dt``; ``accuracy``
@@ -129,11 +141,16 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
             options["compile"] = _compile_pays_off(tmax / controller.dt)
     else:
         options.update(method=method, dt=dt, accuracy=accuracy)
-    if aero_dt is None and controller is not None and controller.is_function and options.get("method") == "rk4-held" \
-            and options.get("dt") == controller.dt:          # a Python law (DISCON library) samples every step
-        aero_dt = default_aero_dt(model, controller.dt, x0)
+    in_loop = controller is not None and controller.is_function and options.get("method") == "rk4-held" \
+        and options.get("dt") == controller.dt               # a Python law (DISCON library) samples every step
+    if aero_order is None and in_loop:
+        aero_order = int(model.turbine.simulation.interp_order)
+    if aero_dt is None and in_loop:
+        aero_dt = default_aero_dt(model, controller.dt, x0, order=aero_order)
     if aero_dt is not None:
         options["held_dt"] = aero_dt
+    if aero_order:
+        options["held_order"] = aero_order
     options = {k: v for k, v in options.items() if v is not None}
     if controller is None:
         res = simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
@@ -148,15 +165,19 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     return res
 
 
-def default_aero_dt(model: OperatingTurbine, sample_dt: float, x0: np.ndarray) -> float:
+def default_aero_dt(model: OperatingTurbine, sample_dt: float, x0: np.ndarray, *, order: int = 0) -> float:
     """Interval [s] of the blade-element aerodynamics in a controlled run: the largest whole number of
-    controller samples ``sample_dt`` [s] over which the rotor turns at most :data:`AERO_ROTATION_DEG`, at the
-    faster of its speed in ``x0`` (state vector) and :data:`TIP_SPEED_REF` over the tip radius (at least one
-    sample). ``ff14_flex`` (12.1 rpm, 6.25 ms): 4 samples, 25 ms."""
+    controller samples ``sample_dt`` [s] over which the rotor turns at most :data:`AERO_ROTATION_DEG` of the
+    extrapolation ``order`` (0, 1, 2), at the faster of its speed in ``x0`` (state vector) and
+    :data:`TIP_SPEED_REF` over the tip radius (at least one sample). ``ff14_flex`` (12.1 rpm, 6.25 ms): held
+    or linear 4 samples (25 ms), quadratic 8 samples (50 ms)."""
+    if order not in AERO_ROTATION_DEG:
+        raise SimulationOptionError(f"the aerodynamics' extrapolation order must be one of {sorted(AERO_ROTATION_DEG)}; "
+                                    f"got {order!r}.")
     states = model.dynamics().states
     speed = abs(sum(float(x0[states.index(n)]) for n in ("GeAz_d", "DrTr_d") if n in states))
     speed = max(speed, TIP_SPEED_REF / float(model.rotor.tip_radius))                  # rad/s
-    k = int(np.floor(np.radians(AERO_ROTATION_DEG) / (speed * sample_dt) + 1e-9))
+    k = int(np.floor(np.radians(AERO_ROTATION_DEG[order]) / (speed * sample_dt) + 1e-9))
     return max(k, 1) * sample_dt
 
 

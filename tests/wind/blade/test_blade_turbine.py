@@ -142,3 +142,45 @@ def test_default_aero_interval_is_two_degrees_of_rotation(steady14):
     tip = float(steady14.rotor.tip_radius)
     expected = np.floor(np.radians(2.0) / (80.0 / tip * 0.00625)) * 0.00625
     assert default_aero_dt(steady14, 0.00625, x_idle) == pytest.approx(expected)
+    # extrapolated quadratically (InterpOrder 2): 4 deg, 55 ms at 12.1 rpm -> 8 samples
+    assert default_aero_dt(steady14, 0.00625, x, order=2) == pytest.approx(8 * 0.00625)
+    assert default_aero_dt(steady14, 0.00625, x, order=1) == pytest.approx(4 * 0.00625)
+
+
+def test_deck_interp_order_is_read_and_checked(tmp_path):
+    """InterpOrder of the .fst (the shared full-field decks: 2) reaches SimulationSettings; other values than 1 and
+    2 are refused with the file, line and key (OpenFAST accepts only those two)."""
+    from mbsym.exceptions import OpenFASTFormatError
+    from mbsym.wind.deck.openfast import read_openfast
+
+    fst = need(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    assert read_openfast(fst).simulation.interp_order == 2
+    case = tmp_path / "case"
+    case.mkdir()
+    (tmp_path / "deck").symlink_to(INPUTS / "deck")            # the deck's relative paths: ../deck/...
+    for f in fst.parent.iterdir():
+        (case / f.name).write_bytes(f.read_bytes())
+    lines = fst.read_text().splitlines(keepends=True)
+    lines = [ln.replace("2", "3", 1) if "InterpOrder" in ln else ln for ln in lines]
+    (case / fst.name).write_text("".join(lines))
+    with pytest.raises(OpenFASTFormatError, match="InterpOrder"):
+        read_openfast(case / fst.name)
+
+
+def test_a_run_extrapolates_the_aerodynamics_with_the_decks_interp_order(steady14):
+    """simulate_turbine with the compiled-loop baseline controller: the aerodynamics every default interval,
+    extrapolated with the deck's InterpOrder (the statistics say so); an explicit aero_order wins."""
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import default_aero_dt, simulate_turbine
+
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    order = steady14.turbine.simulation.interp_order
+    x0 = steady14.initial_state({"Wind1VelX": 14.0})
+    res = simulate_turbine(steady14, 14.0, 0.1, controller=ctrl, x0=x0, compile=False)
+    st = res.statistics
+    assert st["held_order"] == order
+    assert st["held_dt"] == pytest.approx(default_aero_dt(steady14, 0.00625, steady14.dynamics().state_vector(x0),
+                                                          order=order))
+    res0 = simulate_turbine(steady14, 14.0, 0.1, controller=ctrl, x0=x0, compile=False, aero_order=0, aero_dt=0.0125)
+    assert res0.statistics["held_order"] == 0 and res0.statistics["held_dt"] == pytest.approx(0.0125)
