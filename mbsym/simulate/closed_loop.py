@@ -488,36 +488,36 @@ class _StepLoop:
 
     For an expensive body (a blade-element turbine: ~30-200 µs per sample) the Python call, ~2 µs, is cheaper
     than what a ``mapaccum`` of many samples costs to build (~2 ms per sample in CasADi 3.6, rebuilt for every
-    chunk length) and to run (its virtual machine's copies of the carried state and outputs).
+    chunk length) and to run (its virtual machine's copies of the carried state and outputs). The body writes
+    each sample's ``aux`` straight into a column of an array kept for the next chunk of the same length (no new
+    pages to fault in per chunk); of ``z`` only the last is returned (the loop carries nothing else).
     """
 
     def __init__(self, body: ca.Function, n: int) -> None:
         self.n, self.body = n, body
         self.args = [np.zeros(body.numel_in(i)) for i in range(4)]
-        self.outs = [np.zeros(body.numel_out(i)) for i in range(2)]
+        self.z_next = np.zeros(body.numel_out(0))
+        self.A = np.zeros((n, body.numel_out(1)))              # row k: the aux of sample k (contiguous)
         self.buf, self.trigger = body.buffer()
         for i, a in enumerate(self.args):
             self.buf.set_arg(i, memoryview(a))
-        for i, o in enumerate(self.outs):
-            self.buf.set_res(i, memoryview(o))
+        self.buf.set_res(0, memoryview(self.z_next))
 
     def run(self, z0, U, p, H):
         z, u, pa, h = self.args
-        z_next, aux = self.outs
         n_u3 = u.size
         U = np.asfortranarray(U, dtype=float).reshape(-1, order="F")
         H = np.asarray(H, dtype=float).reshape(h.size, self.n)
-        Z, A = np.empty((z.size, self.n), order="F"), np.empty((aux.size, self.n), order="F")
         z[:] = z0
         pa[:] = p
+        set_res, trigger, A, z_next = self.buf.set_res, self.trigger, self.A, self.z_next
         for k in range(self.n):
             u[:] = U[k * n_u3:(k + 1) * n_u3]
             h[:] = H[:, k]
-            self.trigger()
-            Z[:, k] = z_next
-            A[:, k] = aux
+            set_res(1, memoryview(A[k]))
+            trigger()
             z[:] = z_next
-        return Z, A
+        return z_next.copy()[:, None], A.T
 
 
 def _masks(n_u: int, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

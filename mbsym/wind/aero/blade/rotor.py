@@ -34,8 +34,10 @@ __all__ = ["BladeElementRotor", "QS_GUESS_INDUCTION", "DEFAULT_NEWTON"]
 
 #: Axial induction of the quasi-steady Newton start ``φ₀ = atan2(Vx (1 - a₀), Vy)``.
 QS_GUESS_INDUCTION = 0.25
-#: Default Newton steps: from ``a₀`` (quasi-steady) and from the DBEMT states' inflow angle.
-DEFAULT_NEWTON = {"quasi-steady": 4, "dbemt": 3}
+#: Default Newton steps: from ``a₀`` (quasi-steady) and from the DBEMT states' inflow angle. From the states two
+#: steps leave 6e-4 of a (states off by 10-30 %) and zero at equilibrium; on ff14_flex against OpenFAST every
+#: reported figure (ε, R², DELs, means) equals the 3-step run's, at ~13 % fewer instructions (benchmarks/README.md).
+DEFAULT_NEWTON = {"quasi-steady": 4, "dbemt": 2}
 _VX_EPS2 = 1e-6  # [m²/s²]: a = -v_x Vx / (Vx² + eps) instead of -v_x / Vx (relative error eps/Vx²)
 
 
