@@ -24,11 +24,12 @@ from .fixed import RK4, PreparedLoop
 from .held_carry import HeldCarry
 from .held_rk4 import HeldRK4, held_rk4_step
 from .monitor import CHUNK_WALL_S, SimulationInterrupted
+from .sample_loops import chunk_length, sample_loop
 
 __all__ = ["run_closed_loop", "CALLABLE_BATCH"]
 
 #: Per-sample cost [s] of the generated body from which samples are run one call each rather than in a
-#: ``mapaccum`` (:class:`_StepLoop`): the blade-element turbine's ~30-200 µs, not the rotor-effective one's ~6 µs.
+#: ``mapaccum`` (:class:`.sample_loops.StepLoop`): the blade-element turbine's ~30-200 µs, not the rotor-effective one's ~6 µs.
 STEPWISE_FROM_S = 20e-6
 #: Samples per batch of a Python law: inputs sampled and outputs interpolated per batch (Ctrl-C and progress
 #: are handled between batches; a Ctrl-C inside the law ends the run at once).
@@ -357,8 +358,8 @@ class _ClosedLoop:
         stepwise = first is not None and first >= STEPWISE_FROM_S
         try:
             while k0 < K:
-                L = (K if first is None else _chunk(K, first)) if k0 == 0 else _chunk(K - k0, per)
-                loop = _sample_loop(self.plant.owner, body, L, stepwise)
+                L = (K if first is None else chunk_length(K, first)) if k0 == 0 else chunk_length(K - k0, per)
+                loop = sample_loop(self.plant.owner, body, L, stepwise)
                 start, length = self._sample_grid(k0, k0 + L)
                 U = self._exogenous(start, length, m)
                 t1 = time.perf_counter()
@@ -442,82 +443,6 @@ def _on_sample_starts(times: np.ndarray, h: float, tmax: float) -> bool:
     inner = times[times < tmax * (1 - 1e-12)]
     k = inner / h
     return bool(np.all(np.abs(k - np.round(k)) <= 1e-9 * np.maximum(k, 1.0)))
-
-
-def _chunk(remaining: int, per_sample: float) -> int:
-    """All remaining samples if they take about a chunk's time, else a power of two (16..4096) of them."""
-    fit = CHUNK_WALL_S / max(per_sample, 1e-9)
-    if remaining <= 1.5 * fit:
-        return remaining
-    return int(min(max(16, 2 ** int(math.log2(max(fit, 1.0)))), 4096, remaining))
-
-
-def _sample_loop(owner, body: ca.Function, n: int, stepwise: bool = False):
-    """The loop over ``n`` samples: one ``mapaccum`` (cheap bodies), or the body called sample by sample."""
-    if stepwise:
-        return prepared(owner, ("closed-loop steps", id(body), n), lambda: _StepLoop(body, n))[0]
-    return prepared(owner, ("closed-loop samples", id(body), n), lambda: _SampleLoop(body, n))[0]
-
-
-class _SampleLoop:
-    """``mapaccum`` of the closed-loop body over n samples, each with its own sub-step length h."""
-
-    def __init__(self, body: ca.Function, n: int) -> None:
-        self.n = n
-        self.body = body
-        loop = body.mapaccum(f"{body.name()}_loop{n}", n, [0], [0])
-        z, U = ca.MX.sym("z", body.size1_in(0)), ca.MX.sym("U", body.size1_in(1), body.size2_in(1) * n)
-        p, H = ca.MX.sym("p", body.size1_in(2)), ca.MX.sym("H", body.size1_in(3), n)
-        self.loop = ca.Function(f"{body.name()}_loop{n}", [z, U, p, H], loop(z, U, ca.repmat(p, 1, n), H))
-
-    def run(self, z0, U, p, H):
-        args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
-                np.ascontiguousarray(p, dtype=float), np.asfortranarray(H, dtype=float).reshape(-1, order="F")]
-        outs = [np.empty(self.n * self.body.numel_out(i)) for i in range(2)]
-        buf, trigger = self.loop.buffer()
-        for i, a in enumerate(args):
-            buf.set_arg(i, memoryview(a))
-        for i, o in enumerate(outs):
-            buf.set_res(i, memoryview(o))
-        trigger()
-        return tuple(o.reshape(self.n, -1).T for o in outs)
-
-
-class _StepLoop:
-    """The body called once per sample through one reused buffer (same arithmetic as :class:`_SampleLoop`).
-
-    For an expensive body (a blade-element turbine: ~30-200 µs per sample) the Python call, ~2 µs, is cheaper
-    than what a ``mapaccum`` of many samples costs to build (~2 ms per sample in CasADi 3.6, rebuilt for every
-    chunk length) and to run (its virtual machine's copies of the carried state and outputs). The body writes
-    each sample's ``aux`` straight into a column of an array kept for the next chunk of the same length (no new
-    pages to fault in per chunk); of ``z`` only the last is returned (the loop carries nothing else).
-    """
-
-    def __init__(self, body: ca.Function, n: int) -> None:
-        self.n, self.body = n, body
-        self.args = [np.zeros(body.numel_in(i)) for i in range(4)]
-        self.z_next = np.zeros(body.numel_out(0))
-        self.A = np.zeros((n, body.numel_out(1)))              # row k: the aux of sample k (contiguous)
-        self.buf, self.trigger = body.buffer()
-        for i, a in enumerate(self.args):
-            self.buf.set_arg(i, memoryview(a))
-        self.buf.set_res(0, memoryview(self.z_next))
-
-    def run(self, z0, U, p, H):
-        z, u, pa, h = self.args
-        n_u3 = u.size
-        U = np.asfortranarray(U, dtype=float).reshape(-1, order="F")
-        H = np.asarray(H, dtype=float).reshape(h.size, self.n)
-        z[:] = z0
-        pa[:] = p
-        set_res, trigger, A, z_next = self.buf.set_res, self.trigger, self.A, self.z_next
-        for k in range(self.n):
-            u[:] = U[k * n_u3:(k + 1) * n_u3]
-            h[:] = H[:, k]
-            set_res(1, memoryview(A[k]))
-            trigger()
-            z[:] = z_next
-        return z_next.copy()[:, None], A.T
 
 
 def _masks(n_u: int, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -189,7 +189,7 @@ def test_held_dt_needs_a_controller():
 
 
 def test_sample_by_sample_loop_equals_the_mapaccum(monkeypatch):
-    """An expensive body runs one buffered call per sample instead of a mapaccum (closed_loop._StepLoop): the
+    """An expensive body runs one buffered call per sample instead of a mapaccum (sample_loops.StepLoop): the
     same arithmetic, so the same result to the last bit (forced here on the cheap oscillator)."""
     import importlib
 
