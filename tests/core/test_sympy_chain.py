@@ -93,7 +93,7 @@ def sympy_chain(N: int, data: dict):
     return M, F, np.array(values, dtype=float)
 
 
-@pytest.mark.parametrize("N", [3, 5])
+@pytest.mark.parametrize("N", [3, pytest.param(5, marks=pytest.mark.slow)])    # 5 links: 20 s of SymPy
 def test_chain_matches_sympy_kane(N):
     """M(q) and F(q, qd) at 4 random states equal SymPy's to 1e-10 (relative to max entry)."""
     data = chain_data(N)
