@@ -8,7 +8,17 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable"]
+__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable", "number"]
+
+
+def number(value: float, spec: str) -> str:
+    """``format(value, spec)`` without a minus sign on a zero: ``-0.0`` (or ``-1e-9`` at ``.4f``) reads as ``0``."""
+    text = format(value, spec)
+    try:
+        zero = float(text) == 0.0
+    except ValueError:              # nan, inf
+        return text
+    return format(abs(value), spec) if zero else text
 
 
 def time_grid(args, sim) -> tuple[float, np.ndarray, float]:
@@ -95,8 +105,8 @@ def _print_comparison(rows) -> None:
     print(f"\n{'channel':<14} {'ε [%]':>9} {'R²':>10} {'max |Δ|':>12}")
     for r in rows:
         eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.4f}"
-        r2 = "-" if np.isnan(r["r2"]) else f"{r['r2']:.6f}"
-        print(f"{r['channel']:<14} {eps:>9} {r2:>10} {r['max_abs_diff']:12.4g}")
+        r2 = "-" if np.isnan(r["r2"]) else number(r["r2"], ".6f")
+        print(f"{r['channel']:<14} {eps:>9} {r2:>10} {number(r['max_abs_diff'], '12.4g')}")
 
 
 def jsonable(v):

@@ -379,6 +379,8 @@ def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
 
 
 def _summary(series, stats) -> None:
+    from ._run import number
+
     compiled = ", compiled" if stats.get("compiled") else ""
     step = f" of {stats['dt']:.4g} s" if stats.get("dt") else ""
     print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
@@ -388,4 +390,4 @@ def _summary(series, stats) -> None:
     for n in SUMMARY_CHANNELS:
         y = series.channel(n)
         unit = series.units[series.names.index(n)]
-        print(f"{n:<12} {unit:<6} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y.mean():12.5g} {y[-1]:12.5g}")
+        print(f"{n:<12} {unit:<6} " + " ".join(number(v, "12.5g") for v in (y[0], y.min(), y.max(), y.mean(), y[-1])))

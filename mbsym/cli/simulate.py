@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from . import plain as _plain
-from ._run import check_files, jsonable, report_comparison, time_grid, write_outputs
+from ._run import check_files, jsonable, number, report_comparison, time_grid, write_outputs
 
 __all__ = ["add_parser", "run"]
 
@@ -219,6 +219,6 @@ def _summary(series, stats) -> None:
     for n in shown:
         y = series.channel(n)
         unit = series.units[series.names.index(n)]
-        print(f"{n:<14} {unit:<8} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y[-1]:12.5g}")
+        print(f"{n:<14} {unit:<8} " + " ".join(number(v, "12.5g") for v in (y[0], y.min(), y.max(), y[-1])))
 
 
