@@ -67,13 +67,133 @@ def test_closed_loop_reports_cache_hit(compiled):
 # ------------------------------------------------------------------------------------- BeamModes repr
 def test_beam_modes_repr_is_a_short_summary():
     # the dataclass repr printed every node's displacement and slope of every mode (~100 lines)
-    from mbsym.beam.fem import cantilever_modes
+    from mbsym.beam.fem import BeamModes
 
-    modes = cantilever_modes([0.0, 10.0], 1.0, 1.0, n_modes=8, n_elements=50)
+    # the uniform cantilever's frequencies (βL)² / (2π L²) √(EI/m), L = 10 m, EI = m = 1, for 8 modes
+    beta_l = np.array([1.875104, 4.694091, 7.854757] + [(k - 0.5) * np.pi for k in range(4, 9)])
+    f = beta_l**2 / (2 * np.pi * 100.0)
+    nodes = np.linspace(0.0, 10.0, 51)
+    modes = BeamModes(f, nodes, np.ones((8, 51)), np.zeros((8, 51)), "x")
     text = repr(modes)
     assert len(text.splitlines()) <= 10 and len(text) < 300, text
     assert text.startswith("BeamModes(8 modes:") and "51 nodes over [0, 10] m" in text and "..." in text
-    # the first frequency shown is the uniform cantilever's closed form (βL)² / (2π L²) √(EI/m), βL = 1.875104,
-    # to the 4 digits printed (the FEM error with 50 elements is ~1e-8 relative)
-    shown = float(re.search(r"modes: ([\d.e+-]+),", text).group(1))
-    assert shown == pytest.approx(1.875104**2 / (2 * np.pi * 100.0), rel=5e-4)
+    shown = [float(v) for v in re.search(r"modes: (.*), \.\.\. Hz", text).group(1).split(", ")]
+    np.testing.assert_allclose(shown, f[:6], rtol=5e-4)     # the first six, to the 4 digits printed
+
+
+# ------------------------------------------------------------------------------------- plots: labels, styles
+def _series(names, columns, t):
+    from mbsym.wind.analysis.compare import TimeSeries
+
+    return TimeSeries(np.asarray(t, float), tuple(names), tuple("m" for _ in names), np.column_stack(columns))
+
+
+def _lines(fig):
+    """(label, linestyle) of every line of the first panel, and the figure's title."""
+    ax = fig.axes[0]
+    return [(line.get_label(), line.get_linestyle()) for line in ax.get_lines()], ax.get_title()
+
+
+def test_single_run_is_solid_and_labelled_as_given():
+    # a run without a reference was drawn dashed ("--") and called only "mbsym"
+    import matplotlib.pyplot as plt
+
+    from mbsym.wind.analysis.compare import overlay_figure
+
+    t = np.linspace(0.0, 1.0, 11)
+    ours = _series(["Q_TFA1"], [np.cos(t)], t)
+    fig = overlay_figure(ours, title="deck.fst in steady 14 m/s, baseline controller",
+                         label="mbsym (rotor-effective, baseline controller)")
+    lines, title = _lines(fig)
+    plt.close(fig)
+    assert lines == [("mbsym (rotor-effective, baseline controller)", "-")]
+    assert title == "deck.fst in steady 14 m/s, baseline controller"
+
+
+def test_reference_is_labelled_by_its_file():
+    # --compare labelled any CSV "OpenFAST"; the CLI now passes the file's stem
+    import matplotlib.pyplot as plt
+
+    from mbsym.cli._run import compare_label
+    from mbsym.wind.analysis.compare import overlay_figure
+
+    t = np.linspace(0.0, 1.0, 11)
+    ours, ref = _series(["Q_TFA1"], [np.cos(t)], t), _series(["Q_TFA1"], [np.cos(t) + 0.01], t)
+    fig = overlay_figure(ours, ref, label="mbsym", ref_label=compare_label("/data/runs/ff14_flex.csv"))
+    lines, _ = _lines(fig)
+    plt.close(fig)
+    assert lines == [("ff14_flex", "-"), ("mbsym", "--")]        # reference solid, ours dashed over it
+
+
+@pytest.mark.parametrize("spec, words", [
+    ("steady:14", "steady 14 m/s"),
+    ("step:10:14:30", "step 10 to 14 m/s at 30 s"),
+    ("ramp:8:12:10:20", "ramp 8 to 12 m/s over 10-20 s"),
+    ("kaimal:14:16%:3", "Kaimal 14 m/s TI 16 % seed 3"),
+    ("eog:14:10:5", "EOG at 14 m/s, gust 5 m/s from 10 s"),
+])
+def test_plot_title_names_the_wind(spec, words):
+    from types import SimpleNamespace
+
+    from mbsym.cli.operate import _wind_words
+    from mbsym.wind.inflow import parse_wind_spec
+
+    # the numbers in the expected words are those of the spec, typed by hand
+    assert _wind_words(SimpleNamespace(wind=spec), None, parse_wind_spec(spec, duration=20.0)) == words
+
+
+def test_plot_title_names_a_deck_wind_file_and_the_controller():
+    from pathlib import Path
+    from types import SimpleNamespace
+
+    from mbsym.cli.operate import _controller_words
+    from mbsym.cli.operate_mpc import MpcOptions
+
+    from mbsym.cli.operate import _wind_words
+
+    ff = SimpleNamespace(wind_type=3, full_field_file_name="Wind/ff14.bts", uniform_file_name="")
+    assert _wind_words(SimpleNamespace(wind=None), SimpleNamespace(inflow=ff), None) == "ff14.bts (InflowWind)"
+    steady = SimpleNamespace(wind_type=1, steady_speed=11.4)
+    assert _wind_words(SimpleNamespace(wind=None), SimpleNamespace(inflow=steady), None) == \
+        "steady 11.4 m/s (InflowWind)"
+    args, deck = SimpleNamespace(discon=None), SimpleNamespace(library=Path("/x/libdiscon.so"))
+    assert _controller_words("discon", args, deck, MpcOptions("discon", None, None)) == "DISCON libdiscon.so"
+    assert _controller_words("baseline", args, deck, MpcOptions("baseline", None, None)) == "baseline controller"
+    assert _controller_words("nmpc", args, deck, MpcOptions("nmpc", None, "ekf")) == "NMPC, ekf estimator"
+    assert _controller_words("none", args, deck, MpcOptions("none", None, None)).startswith("no controller")
+
+
+# ------------------------------------------------------------------------------------- comparison table
+def test_comparison_table_summarizes_channels_constant_in_both(capsys):
+    # 40 channels that are zero in both series printed 40 "const" rows; one line now says so
+    from mbsym.cli._run import report_comparison
+
+    t = np.linspace(0.0, 2.0, 21)
+    zeros = [f"Load{i}" for i in range(40)]
+    names = ["Q_TFA1", "TTDspSS", "Offset"] + zeros
+    ours = _series(names, [np.cos(t), 1e-3 * np.sin(t), np.full_like(t, 1.0)] + [0 * t] * 40, t)
+    ref = _series(names, [np.cos(t), 0 * t, np.full_like(t, 2.0)] + [0 * t] * 40, t)
+    report_comparison(ours, ref)
+    out = capsys.readouterr().out
+    rows = [line.split()[0] for line in out.splitlines()[2:] if line and not line.startswith("40 ")]
+    assert rows == ["Q_TFA1", "TTDspSS", "Offset"]      # moving in one, or constant but different: kept
+    assert "40 channels constant and equal in both (not in the table): Load0, Load1," in out
+    assert out.count("\n") == 6, out                    # blank, header, 3 rows, the summary line
+
+
+def test_cli_plot_and_table_of_a_compared_csv(tmp_path, monkeypatch, capsys):
+    # the free decay against a CSV named by the test: legend, title and the table's summary line
+    import mbsym.wind.analysis.compare as compare
+
+    seen = {}
+    monkeypatch.setattr(compare, "overlay_plot", lambda path, *a, **k: seen.update(k) or open(path, "wb").close())
+    csv = tmp_path / "ff14_flex.csv"
+    t = np.arange(0.0, 0.21, 0.05)
+    np.savetxt(csv, np.column_stack([t, 0.5 * np.cos(t), 0 * t]), delimiter=",", comments="",
+               header="Time_[s],Q_TFA1_[m],PtfmPitch_[deg]")
+    png = tmp_path / "p.png"
+    assert main(["simulate", "--tmax", "0.2", "--method", "rk4", "--compare", str(csv), "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert seen["ref_label"] == "ff14_flex" and seen["label"].startswith("mbsym (rk4")
+    assert "1 channel constant and equal in both (not in the table): PtfmPitch" in out
+    assert not re.search(r"^PtfmPitch\s+const", out, re.M)

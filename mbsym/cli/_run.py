@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable", "number"]
+__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable", "number",
+           "compare_label"]
 
 
 def number(value: float, spec: str) -> str:
@@ -69,15 +70,21 @@ def check_files(args):
     return ref, outputs
 
 
-def write_outputs(outputs, series, ref, label: str, channels=None) -> None:
-    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
+def write_outputs(outputs, series, ref, label: str, channels=None, *, series_label: str = "mbsym",
+                  ref_label: str | None = None) -> None:
+    """Write --out and --plot to temporaries, then move both into place (all or nothing).
+
+    ``label`` is the plot's title, ``series_label`` names our run in its legend, ``ref_label`` the
+    --compare series (default: "reference").
+    """
     from ..wind.analysis.compare import overlay_plot, write_csv
 
     with outputs:
         if "--out" in outputs._final:
             write_csv(outputs.temporary("--out"), series)
         if "--plot" in outputs._final:
-            overlay_plot(outputs.temporary("--plot"), series, ref, title=label,
+            overlay_plot(outputs.temporary("--plot"), series, ref, title=label, label=series_label,
+                         ref_label=ref_label or "reference",
                          **({} if channels is None else {"channels": list(channels)}))
         written = outputs.commit()
     for path in written:
@@ -85,12 +92,24 @@ def write_outputs(outputs, series, ref, label: str, channels=None) -> None:
         print(f"wrote {path}{extra}")
 
 
+def compare_label(path) -> str:
+    """The --compare series' name in plots: its file name without the suffix (``ff14_flex.csv`` -> ``ff14_flex``);
+    a CSV need not be OpenFAST's."""
+    from pathlib import Path
+
+    return Path(path).stem
+
+
 def report_comparison(series, ref) -> None:
     """The ε/R² table, then what was not compared: channels, time ranges, non-finite samples."""
-    from ..wind.analysis.compare import compare, coverage_notes, not_compared
+    from ..wind.analysis.compare import compare, constant_in_both, coverage_notes, not_compared
 
     rows = compare(series, ref)
-    _print_comparison(rows)
+    same = [r["channel"] for r in rows if constant_in_both(series, ref, r["channel"])]
+    _print_comparison([r for r in rows if r["channel"] not in same])
+    if same:
+        print(f"{len(same)} channel{'s' if len(same) != 1 else ''} constant and equal in both (not in the table): "
+              f"{', '.join(same)}")
     missing = not_compared(series, ref)
     if missing:
         print(f"not compared (not produced by this model): {', '.join(missing)}")
