@@ -197,3 +197,18 @@ def test_cli_plot_and_table_of_a_compared_csv(tmp_path, monkeypatch, capsys):
     assert seen["ref_label"] == "ff14_flex" and seen["label"].startswith("mbsym (rk4")
     assert "1 channel constant and equal in both (not in the table): PtfmPitch" in out
     assert not re.search(r"^PtfmPitch\s+const", out, re.M)
+
+
+# ------------------------------------------------------------------------------------- loop failures
+def test_estimator_failures_are_a_warning_not_only_a_stats_key():
+    # "estimator_failures": 7 appeared only in --stats; simulate_with_loop now warns with every run
+    from mbsym.exceptions import ConvergenceWarning
+    from mbsym.wind.mpc.loop import warn_failures
+
+    with pytest.warns(ConvergenceWarning, match="the mhe estimator failed 7 times; it fell back to the EKF"):
+        warn_failures({"estimator": "mhe", "estimator_failures": 7, "controller_failures": 0})
+    with pytest.warns(ConvergenceWarning, match="the NMPC failed 2 of 300 steps"):
+        warn_failures({"controller_failures": 2, "controller_steps": 300})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                      # no failure: no warning at all
+        assert warn_failures({"estimator": "ekf", "estimator_failures": 0, "controller_failures": 0}) == []
