@@ -212,3 +212,56 @@ def test_estimator_failures_are_a_warning_not_only_a_stats_key():
     with warnings.catch_warnings():
         warnings.simplefilter("error")                      # no failure: no warning at all
         assert warn_failures({"estimator": "ekf", "estimator_failures": 0, "controller_failures": 0}) == []
+
+
+# ------------------------------------------------------------------------------------- cut-out
+@pytest.mark.parametrize("spec, words", [
+    ("steady:30", "the wind is 30 m/s"),
+    ("step:20:30:50", "the wind is 30 m/s from t = 50 s"),
+    ("ramp:20:30:10:20", "the wind is 30 m/s from t = 20 s"),
+    ("eog:26:10:5", "the wind is 26 m/s before the gust"),
+    ("steady:25", None),                                    # at cut-out: still operating
+    ("step:10:24:5", None),
+    ("eog:20:10:8", None),                                  # a gust above 25 m/s is a transient, not a mean
+])
+def test_wind_above_cut_out_is_named(spec, words):
+    from mbsym.wind.inflow import parse_wind_spec
+    from mbsym.wind.operation.cut_out import above_cut_out
+
+    assert above_cut_out(parse_wind_spec(spec, duration=60.0), 60.0, 25.0) == words
+
+
+def test_turbulent_wind_is_judged_by_its_mean():
+    # a table whose samples swing 20..30 m/s around a mean of 25 m/s +- 2: the 10-min means decide (IEC 61400-1)
+    from mbsym.wind.inflow import TabulatedWind
+    from mbsym.wind.operation.cut_out import above_cut_out
+
+    t = np.arange(0.0, 60.05, 0.05)
+    swing = 5.0 * np.sin(2 * np.pi * t)                     # zero mean over whole periods
+    assert above_cut_out(TabulatedWind(t, 24.0 + swing), 60.0, 25.0) is None       # peaks 29 m/s, mean 24
+    assert above_cut_out(TabulatedWind(t, 26.0 + swing), 60.0, 25.0) == "the mean wind over the run is 26 m/s"
+
+
+def test_cut_out_warning_says_value_and_source_and_none_when_unknown():
+    from mbsym.exceptions import ModelWarning
+    from mbsym.wind.inflow import SteadyWind
+    from mbsym.wind.operation.cut_out import NREL5MW_CUT_OUT, warn_above_cut_out
+
+    assert NREL5MW_CUT_OUT[0] == 25.0                       # Jonkman et al. 2009, Table 1-1
+    with pytest.warns(ModelWarning, match=r"30 m/s, above the NREL 5 MW's cut-out wind speed \(Jonkman .*\), "
+                                          r"25 m/s: a real turbine would be shut down"):
+        warn_above_cut_out(SteadyWind(30.0), 60.0, *NREL5MW_CUT_OUT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert warn_above_cut_out(SteadyWind(30.0), 60.0, None, "") is None   # a deck states no cut-out
+
+
+@pytest.mark.slow
+def test_cli_steady_30_on_the_builtin_turbine_warns(capsys):
+    # `mbsym simulate --wind steady:30` ran above the NREL 5 MW's 25 m/s cut-out without a word (builds the
+    # built-in operating model: ~10 s)
+    assert main(["simulate", "--wind", "steady:30", "--tmax", "1"]) == 0
+    err = capsys.readouterr().err
+    warning = [line for line in err.splitlines() if "cut-out" in line]
+    assert len(warning) == 1 and warning[0].startswith("mbsym simulate: warning: the wind is 30 m/s, above the "
+                                                       "NREL 5 MW's cut-out wind speed"), err

@@ -127,6 +127,9 @@ def run_operation(args: argparse.Namespace) -> int:
                                     + ": drop --aero-dt, or use --aero blade without the NMPC.")
     wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
+    from ..wind.operation.cut_out import warn_above_cut_out
+
+    warn_above_cut_out(wind, tmax, deck.cut_out_wind_speed, deck.cut_out_source)    # unknown for a deck: none
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
