@@ -265,3 +265,105 @@ def test_cli_steady_30_on_the_builtin_turbine_warns(capsys):
     warning = [line for line in err.splitlines() if "cut-out" in line]
     assert len(warning) == 1 and warning[0].startswith("mbsym simulate: warning: the wind is 30 m/s, above the "
                                                        "NREL 5 MW's cut-out wind speed"), err
+
+
+# ------------------------------------------------------------------------------------- Bode phase
+def test_bode_phase_of_an_integrator_with_two_lags_by_hand():
+    # L(s) = 1 / (s (1 + s/ω1)²), ω1 = 2π rad/s: phase −90° − 2 atan(ω/ω1), from −90° towards −270°
+    from mbsym.linear import frequency_response
+
+    w1 = 2 * np.pi
+    f = np.logspace(-3, 3, 61)
+    r = frequency_response(lambda f: 1 / (2j * np.pi * f * (1 + 2j * np.pi * f / w1) ** 2), f)
+    np.testing.assert_allclose(r.phase_deg, -90 - 2 * np.degrees(np.arctan(2 * np.pi * r.freq_hz / w1)),
+                               atol=1e-9)               # exact but for rounding
+    assert -90 > r.phase_deg[0] > -90.2 and -270 < r.phase_deg[-1] < -269.8
+
+
+def test_bode_phase_of_a_sampled_integrator_by_hand():
+    # ZOH integrator dt / (z − 1) at z = exp(jθ), θ = 2π f dt: phase −90° − θ/2 [deg], −180° at the Nyquist frequency
+    from mbsym.linear import frequency_response
+
+    dt = 0.01
+    f = np.linspace(0.01, 50.0 * (1 - 1e-9), 40)
+    r = frequency_response(lambda f: dt / (np.exp(2j * np.pi * f * dt) - 1), f)
+    np.testing.assert_allclose(r.phase_deg, -90 - 180 * r.freq_hz * dt, atol=1e-9)
+
+
+def test_bode_phase_through_lightly_damped_modes_is_resolved():
+    # two coincident modes 1/(s² + 2ζ s + 1)², ζ = 1e-3: the phase falls by 360° within a relative band of
+    # ~0.2 %; unwrapping a grid of 10 points per decade sees no change at all (it loses 360°), the refined
+    # response follows −2 atan2(2ζω, 1 − ω²) (by hand) to the end
+    from mbsym.linear import frequency_response
+
+    zeta = 1e-3
+
+    def h(f):
+        s = 2j * np.pi * f
+        return 1 / (s**2 + 2 * zeta * s + 1) ** 2
+
+    f = np.logspace(-2, 1, 31)
+    naive = np.degrees(np.unwrap(np.angle(h(f))))
+    assert abs(naive[-1]) < 1.0                             # the coarse-grid artifact this fixes
+    r = frequency_response(h, f)
+    w = 2 * np.pi * r.freq_hz
+    np.testing.assert_allclose(r.phase_deg, -2 * np.degrees(np.arctan2(2 * zeta * w, 1 - w**2)), atol=1e-6)
+    assert r.phase_deg[-1] == pytest.approx(-360.0, abs=0.1)
+    assert np.all(np.abs(np.diff(r.phase_deg)) <= 10.0 + 1e-9)   # every step resolved (max_phase_step_deg)
+
+
+def test_wrapped_phase_band_and_the_start_band():
+    from mbsym.linear import FrequencyResponse, anchored_phase_deg
+
+    r = FrequencyResponse(np.arange(5.0), np.ones(5), np.zeros(5), np.array([0.0, -90.0, -180.0, -360.0, -810.0]))
+    np.testing.assert_allclose(r.wrapped_phase_deg(), [0.0, -90.0, -180.0, 0.0, -90.0])
+    np.testing.assert_allclose(r.wrapped_phase_deg(low=-180.0), [0.0, -90.0, 180.0, 0.0, -90.0])
+    # −1/s is +90° (j/ω), not −270°: the first sample is anchored in (−180°, 180°]
+    assert anchored_phase_deg(np.array([1j, 1j]))[0] == pytest.approx(90.0)
+    assert anchored_phase_deg(np.array([-1.0 + 0j]))[0] == pytest.approx(180.0)
+
+
+@pytest.mark.slow
+def test_nrel5mw_pitch_loop_phase_is_true_and_plotted_wrapped(tmp_path):
+    # the −810° at the Nyquist frequency is the loop's real continuous phase: the sum of the angles of its
+    # poles and zeros (generalized eigenvalues of the system pencil) along the unit circle gives the same
+    import scipy.linalg
+
+    from mbsym.wind.analysis.closed_loop import closed_loop_linear
+    from mbsym.wind.operation import OperatingTurbine
+
+    cl = closed_loop_linear(OperatingTurbine.nrel5mw(), 16.0)
+    r = cl.frequency_response("pitch")
+    L = cl.pitch_loop
+    n = L.A.shape[0]
+    N = np.zeros((n + 1, n + 1))
+    N[:n, :n] = np.eye(n)
+    zeros = scipy.linalg.eigvals(np.block([[L.A, L.B], [L.C, L.D]]), N)
+    zeros, poles = zeros[np.isfinite(zeros)], np.linalg.eigvals(L.A)
+    z = np.exp(2j * np.pi * r.freq_hz * cl.dt)
+    angle = sum(np.unwrap(np.angle(z - q)) for q in zeros) - sum(np.unwrap(np.angle(z - p)) for p in poles)
+    angle = np.degrees(angle - angle[0]) + r.phase_deg[0]
+    np.testing.assert_allclose(r.phase_deg, angle, atol=1e-3)          # eigenvalue round-off only
+    wrapped = r.wrapped_phase_deg()
+    assert np.all((wrapped > -360.0) & (wrapped <= 0.0))
+    # at python-control's phase crossover (the gain margin) the wrapped phase is −180°
+    f180 = cl.margins["pitch"].phase_crossover_hz
+    assert np.interp(f180, r.freq_hz, wrapped) == pytest.approx(-180.0, abs=0.5)
+    cl.bode_plot(tmp_path / "bode.png")
+    assert (tmp_path / "bode.png").stat().st_size > 10_000
+
+
+def test_cli_bode_needs_the_closed_loop_and_one_wind_speed(tmp_path, capsys):
+    png = str(tmp_path / "b.png")
+    assert main(["linearize", "--wind", "16", "--bode", png]) == 2
+    assert "--bode need" in capsys.readouterr().err
+    assert main(["linearize", "--wind", "8:16:8", "--closed-loop", "--bode", png]) == 2
+    assert "gives 2 wind speeds. Give one" in capsys.readouterr().err
+    assert not (tmp_path / "b.png").exists()
+
+
+@pytest.mark.slow
+def test_cli_bode_of_the_builtin_loops(tmp_path, capsys):
+    png = tmp_path / "b.png"
+    assert main(["linearize", "--wind", "16", "--closed-loop", "--bode", str(png)]) == 0
+    assert f"wrote {png}" in capsys.readouterr().out and png.stat().st_size > 10_000
