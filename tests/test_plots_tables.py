@@ -257,14 +257,20 @@ def test_cut_out_warning_says_value_and_source_and_none_when_unknown():
 
 
 @pytest.mark.slow
-def test_cli_steady_30_on_the_builtin_turbine_warns(capsys):
-    # `mbsym simulate --wind steady:30` ran above the NREL 5 MW's 25 m/s cut-out without a word (builds the
-    # built-in operating model: ~10 s)
-    assert main(["simulate", "--wind", "steady:30", "--tmax", "1"]) == 0
+def test_cli_steady_30_on_the_builtin_turbine_warns_and_titles_its_plot(tmp_path, monkeypatch, capsys):
+    # `mbsym simulate --wind steady:30` ran above the NREL 5 MW's 25 m/s cut-out without a word, and its plot was
+    # titled with the turbine alone (builds the built-in operating model: ~10 s)
+    import mbsym.wind.analysis.compare as compare
+
+    seen = {}
+    monkeypatch.setattr(compare, "overlay_plot", lambda path, *a, **k: seen.update(k) or open(path, "wb").close())
+    assert main(["simulate", "--wind", "steady:30", "--tmax", "1", "--plot", str(tmp_path / "p.png")]) == 0
     err = capsys.readouterr().err
     warning = [line for line in err.splitlines() if "cut-out" in line]
     assert len(warning) == 1 and warning[0].startswith("mbsym simulate: warning: the wind is 30 m/s, above the "
                                                        "NREL 5 MW's cut-out wind speed"), err
+    assert seen["title"] == "NREL 5 MW onshore (built-in) in steady 30 m/s, baseline controller"
+    assert seen["label"] == "mbsym (rotor-effective, baseline controller)"
 
 
 # ------------------------------------------------------------------------------------- Bode phase

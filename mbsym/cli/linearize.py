@@ -224,8 +224,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"DOFs: {', '.join(model.eom.coordinates)}; rotor speed {report['rpm']:.4g} rpm; method {args.method}; "
           f"operating point: the deck's initial state{'' if args.deflected else ' without displacements'}")
     print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant DOF':<13} label")
+    from ._run import number
+
     for i, m in enumerate(report["modes"], 1):
-        print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']:<13} {m['label']}")
+        print(f"{i:>4} {m['freq_hz']:10.5f} {number(m['damping_ratio'], '10.5f')}  {m['dominant_dof']:<13} {m['label']}")
     states = [f"{s} [{u}]" for s, u in zip(report["states"], report["units"]["states"])]
     print(f"\nstates: {', '.join(states)}")
     with np.printoptions(precision=5, linewidth=120):
