@@ -22,6 +22,8 @@ __all__ = ["BeamModes", "cantilever_modes", "fit_elastodyn_polynomial"]
 
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(4)
 _GAUSS_X, _GAUSS_W = (_GAUSS_X + 1) / 2, _GAUSS_W / 2  # on [0, 1]
+#: Frequencies shown by ``repr(BeamModes)``.
+_REPR_MODES = 6
 
 
 @dataclass(frozen=True)
@@ -61,6 +63,16 @@ class BeamModes:
     def shapes(self) -> list[HermiteShape]:
         """All modes as shape functions."""
         return [self.shape(k) for k in range(self.n_modes)]
+
+    def __repr__(self) -> str:
+        """One line: modes and their frequencies (the first :data:`_REPR_MODES`), nodes, direction; the arrays
+        are attributes (their repr ran to a hundred lines)."""
+        f = self.frequencies_hz
+        shown = ", ".join(f"{v:.4g}" for v in f[:_REPR_MODES]) + (", ..." if f.size > _REPR_MODES else "")
+        direction = repr(self.direction) if isinstance(self.direction, str) else \
+            "[" + ", ".join(f"{v:.3g}" for v in np.ravel(self.direction)) + "]"
+        return (f"BeamModes({self.n_modes} mode{'s' if self.n_modes != 1 else ''}: {shown} Hz; "
+                f"{self.nodes.size} nodes over [{self.nodes[0]:g}, {self.nodes[-1]:g}] m; direction {direction})")
 
 
 def _element_matrices(nodes, zs, m, ei, axial):

@@ -8,7 +8,18 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable"]
+__all__ = ["time_grid", "check_files", "write_outputs", "report_comparison", "jsonable", "number",
+           "compare_label"]
+
+
+def number(value: float, spec: str) -> str:
+    """``format(value, spec)`` without a minus sign on a zero: ``-0.0`` (or ``-1e-9`` at ``.4f``) reads as ``0``."""
+    text = format(value, spec)
+    try:
+        zero = float(text) == 0.0
+    except ValueError:              # nan, inf
+        return text
+    return format(abs(value), spec) if zero else text
 
 
 def time_grid(args, sim) -> tuple[float, np.ndarray, float]:
@@ -59,15 +70,21 @@ def check_files(args):
     return ref, outputs
 
 
-def write_outputs(outputs, series, ref, label: str, channels=None) -> None:
-    """Write --out and --plot to temporaries, then move both into place (all or nothing)."""
+def write_outputs(outputs, series, ref, label: str, channels=None, *, series_label: str = "mbsym",
+                  ref_label: str | None = None) -> None:
+    """Write --out and --plot to temporaries, then move both into place (all or nothing).
+
+    ``label`` is the plot's title, ``series_label`` names our run in its legend, ``ref_label`` the
+    --compare series (default: "reference").
+    """
     from ..wind.analysis.compare import overlay_plot, write_csv
 
     with outputs:
         if "--out" in outputs._final:
             write_csv(outputs.temporary("--out"), series)
         if "--plot" in outputs._final:
-            overlay_plot(outputs.temporary("--plot"), series, ref, title=label,
+            overlay_plot(outputs.temporary("--plot"), series, ref, title=label, label=series_label,
+                         ref_label=ref_label or "reference",
                          **({} if channels is None else {"channels": list(channels)}))
         written = outputs.commit()
     for path in written:
@@ -75,12 +92,24 @@ def write_outputs(outputs, series, ref, label: str, channels=None) -> None:
         print(f"wrote {path}{extra}")
 
 
+def compare_label(path) -> str:
+    """The --compare series' name in plots: its file name without the suffix (``ff14_flex.csv`` -> ``ff14_flex``);
+    a CSV need not be OpenFAST's."""
+    from pathlib import Path
+
+    return Path(path).stem
+
+
 def report_comparison(series, ref) -> None:
     """The ε/R² table, then what was not compared: channels, time ranges, non-finite samples."""
-    from ..wind.analysis.compare import compare, coverage_notes, not_compared
+    from ..wind.analysis.compare import compare, constant_in_both, coverage_notes, not_compared
 
     rows = compare(series, ref)
-    _print_comparison(rows)
+    same = [r["channel"] for r in rows if constant_in_both(series, ref, r["channel"])]
+    _print_comparison([r for r in rows if r["channel"] not in same])
+    if same:
+        print(f"{len(same)} channel{'s' if len(same) != 1 else ''} constant and equal in both (not in the table): "
+              f"{', '.join(same)}")
     missing = not_compared(series, ref)
     if missing:
         print(f"not compared (not produced by this model): {', '.join(missing)}")
@@ -95,8 +124,8 @@ def _print_comparison(rows) -> None:
     print(f"\n{'channel':<14} {'ε [%]':>9} {'R²':>10} {'max |Δ|':>12}")
     for r in rows:
         eps = "const" if np.isnan(r["epsilon"]) else f"{100 * r['epsilon']:.4f}"
-        r2 = "-" if np.isnan(r["r2"]) else f"{r['r2']:.6f}"
-        print(f"{r['channel']:<14} {eps:>9} {r2:>10} {r['max_abs_diff']:12.4g}")
+        r2 = "-" if np.isnan(r["r2"]) else number(r["r2"], ".6f")
+        print(f"{r['channel']:<14} {eps:>9} {r2:>10} {number(r['max_abs_diff'], '12.4g')}")
 
 
 def jsonable(v):

@@ -125,11 +125,13 @@ def _table(deck, model, diagram, wall: float, method: str) -> None:
     print(f"DOFs: {dofs} ({model.eom.n_q} coordinates); fixed-frame modes (multi-blade coordinates), "
           f"method {method}, {wall:.2f} s\n")
     head = "".join(f"{r:>9.2f}" for r in diagram.rpm)
-    for title, attr, fmt in (("frequency [Hz] at rotor speed [rpm]", "freq_hz", "{:9.4f}"),
-                             ("damping ratio [-] at rotor speed [rpm]", "damping_ratio", "{:9.5f}")):
+    from ._run import number
+
+    for title, attr, fmt in (("frequency [Hz] at rotor speed [rpm]", "freq_hz", "9.4f"),
+                             ("damping ratio [-] at rotor speed [rpm]", "damping_ratio", "9.5f")):
         print(title)
         print(f"{'mode':<28}{head}")
         for m in diagram.modes:
             vals = getattr(m, attr)
-            print(f"{m.label:<28}" + "".join(fmt.format(v) if np.isfinite(v) else f"{'-':>9}" for v in vals))
+            print(f"{m.label:<28}" + "".join(number(v, fmt) if np.isfinite(v) else f"{'-':>9}" for v in vals))
         print()

@@ -5,7 +5,8 @@ Contract (kept for acceptance checks)::
     mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
                     [--structure-only]
     mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
-    mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--discon-input DISCON.IN]
+    mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--bode FILE.png]
+                    [--discon-input DISCON.IN]
 
 With ``--wind`` the operating turbine (aerodynamics, actuators, inflow) is linearized about its
 trim at U m/s: see :mod:`mbsym.cli.linearize_operating` for that output; with ``--closed-loop``
@@ -79,6 +80,8 @@ def add_parser(sub) -> None:
                         "trim; print pitch and torque loop margins, closed-loop poles and damping")
     p.add_argument("--plot", metavar="FILE.png", help="with --closed-loop: write margins and closed-loop poles over "
                                                       "wind speed")
+    p.add_argument("--bode", metavar="FILE.png", help="with --closed-loop at one wind speed: write the Bode plot of "
+                                                      "the pitch and torque loops (phase wrapped to (-360, 0] deg)")
 
 
 def undeflected(turbine, rpm: float | None = None, *, zero_displacements: bool = True):
@@ -191,12 +194,14 @@ def state_units(model) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    if getattr(args, "closed_loop", False) or getattr(args, "plot", None) is not None:
+    if getattr(args, "closed_loop", False) or getattr(args, "plot", None) is not None or \
+            getattr(args, "bode", None) is not None:
         from ..exceptions import OptionError
 
         if getattr(args, "wind", None) is None or not getattr(args, "closed_loop", False):
-            raise OptionError("--closed-loop needs --wind SPEEDS (e.g. --wind 4:25:1), and --plot needs "
-                              "--closed-loop: mbsym linearize [DECK] --wind 4:25:1 --closed-loop [--plot F.png].")
+            raise OptionError("--closed-loop needs --wind SPEEDS (e.g. --wind 4:25:1), and --plot and --bode need "
+                              "--closed-loop: mbsym linearize [DECK] --wind 4:25:1 --closed-loop [--plot F.png] "
+                              "(--bode F.png at one wind speed).")
         from .linearize_closed_loop import run_closed_loop
 
         return run_closed_loop(args)
@@ -219,8 +224,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"DOFs: {', '.join(model.eom.coordinates)}; rotor speed {report['rpm']:.4g} rpm; method {args.method}; "
           f"operating point: the deck's initial state{'' if args.deflected else ' without displacements'}")
     print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant DOF':<13} label")
+    from ._run import number
+
     for i, m in enumerate(report["modes"], 1):
-        print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']:<13} {m['label']}")
+        print(f"{i:>4} {m['freq_hz']:10.5f} {number(m['damping_ratio'], '10.5f')}  {m['dominant_dof']:<13} {m['label']}")
     states = [f"{s} [{u}]" for s, u in zip(report["states"], report["units"]["states"])]
     print(f"\nstates: {', '.join(states)}")
     with np.printoptions(precision=5, linewidth=120):

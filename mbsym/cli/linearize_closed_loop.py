@@ -2,7 +2,8 @@
 
 Contract (kept for acceptance checks)::
 
-    mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--discon-input DISCON.IN]
+    mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--bode FILE.png]
+                    [--discon-input DISCON.IN]
 
 At each wind speed (``START:STOP:STEP``, STOP included when on the grid, a comma list or one number) the
 turbine the deck describes (rotor-effective aerodynamics; no deck: the built-in NREL 5 MW) is trimmed under
@@ -27,7 +28,9 @@ least-damped closed-loop pole.
   eigenvalues are at z = 0 (not listed);
 * ``units``.
 
-``--plot FILE.png`` writes margins and closed-loop poles over wind speed. A speed without a trim or
+``--plot FILE.png`` writes margins and closed-loop poles over wind speed; ``--bode FILE.png`` (one wind speed)
+the Bode plot of both loops, the phase wrapped into (−360°, 0°] (:mod:`mbsym.linear.frequency`: the continuous
+phase of the sampled loops falls to −810° at the Nyquist frequency). A speed without a trim or
 without a controller fixed point is reported (``success`` false, ``message``) and the others go on;
 the exit status is then 1.
 """
@@ -59,7 +62,6 @@ def _turbine_and_controller(deck_path, discon_in):
 def run_closed_loop(args) -> int:
     """Run ``mbsym linearize --wind SPEEDS --closed-loop`` (module docstring); returns the exit status."""
     from ..exceptions import OptionError
-    from ..wind.analysis.closed_loop import closed_loop_sweep
     from ..wind.analysis.operating_points import parse_wind_speeds
     from ._files import Outputs
 
@@ -73,6 +75,14 @@ def run_closed_loop(args) -> int:
     outputs = Outputs([("deck", args.deck)] if args.deck else [])
     if args.plot is not None:
         outputs.add("--plot", args.plot, image=True)
+    bode = getattr(args, "bode", None)
+    if bode is not None:
+        if len(speeds) != 1:
+            raise OptionError(f"--bode plots the loops at one operating point; --wind {args.wind} gives {len(speeds)} "
+                              "wind speeds. Give one (e.g. --wind 16).")
+        outputs.add("--bode", bode, image=True)
+    from ..wind.analysis.closed_loop import closed_loop_sweep          # after the checks: scipy takes seconds
+
     model, controller, label = _turbine_and_controller(args.deck, args.discon_input)
     sweep = closed_loop_sweep(model, speeds, controller)
     log = sys.stderr if args.json else sys.stdout
@@ -80,6 +90,10 @@ def run_closed_loop(args) -> int:
         if args.plot is not None:
             sweep.plot(outputs.temporary("--plot"), title=f"Closed loop with the baseline controller: {label} "
                                                            f"(dt = {controller.dt:g} s)")
+        if bode is not None and sweep.models[0] is not None:
+            sweep.models[0].bode_plot(outputs.temporary("--bode"),
+                                      title=f"Loops of {label} at {speeds[0]:g} m/s (region {sweep.models[0].region}), "
+                                            f"baseline controller, dt = {controller.dt:g} s")
         written = outputs.commit()
     if args.json:
         for path in written:

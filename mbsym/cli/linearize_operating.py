@@ -77,7 +77,9 @@ def run_operating(args) -> int:
         return 0
     print(f"mbsym linearize: {label} at {point.wind_speed:g} m/s (region {point.region}), controller {control!r}")
     print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant':<13} label")
+    from ._run import number
+
     for i, m in enumerate(report["modes"], 1):
-        print(f"{i:>4} {m['freq_hz']:10.5f} {m['damping_ratio']:10.5f}  {m['dominant_dof']:<13} {m['label']}")
+        print(f"{i:>4} {m['freq_hz']:10.5f} {number(m['damping_ratio'], '10.5f')}  {m['dominant_dof']:<13} {m['label']}")
     print(f"\n{lin!r}")
     return 0

@@ -132,6 +132,9 @@ def run_operation(args: argparse.Namespace) -> int:
                                         + f": drop {flag}, or use --aero blade without the NMPC.")
     wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
+    from ..wind.operation.cut_out import warn_above_cut_out
+
+    warn_above_cut_out(wind, tmax, deck.cut_out_wind_speed, deck.cut_out_source)    # unknown for a deck: none
     outputs.add_inputs(_input_files(args, deck))             # never overwritten by --out/--plot
     controller, handle = (None, None) if mpc.active else _controller(kind, args, deck)   # files checked first
     try:
@@ -176,7 +179,12 @@ def run_operation(args: argparse.Namespace) -> int:
     _summary(series, stats)
     if ref is not None:
         report_comparison(series, ref)
-    write_outputs(outputs, series, ref, deck.label, SUMMARY_CHANNELS)
+    from ._run import compare_label
+
+    words = _controller_words(kind, args, deck, mpc)
+    title = f"{_deck_name(deck)} in {_wind_words(args, deck, wind)}, {words}"
+    write_outputs(outputs, series, ref, title, SUMMARY_CHANNELS, series_label=f"mbsym ({_rung(model)}, {words})",
+                  ref_label=compare_label(args.compare) if args.compare else None)
     if args.stats:
         from ._run import jsonable
 
@@ -371,6 +379,55 @@ def _series(result, dyn):
     return TimeSeries(np.asarray(result.t), names, units, np.asarray(result.y)[:, cols])
 
 
+def _deck_name(deck) -> str:
+    return deck.label if deck.path is None else Path(deck.path).name
+
+
+def _rung(model) -> str:
+    return "blade-element" if model.aero == "blade" else "rotor-effective"
+
+
+def _controller_words(kind: str, args, deck, mpc) -> str:
+    """The controller as a plot says it: ``baseline controller``, ``DISCON libdiscon.so``, ``NMPC, ekf estimator``,
+    ``NMPC, 5 s preview``."""
+    if kind == "none":
+        return "no controller (held pitch and torque)"
+    if kind == "discon":
+        library = args.discon or deck.library
+        return f"DISCON {Path(library).name}" if library is not None else "DISCON"
+    words = "NMPC" if kind == "nmpc" else "baseline controller"
+    if mpc.preview is not None:
+        words += f", {mpc.preview:g} s preview"
+    if mpc.estimator is not None:
+        words += f", {mpc.estimator} estimator"
+    return words
+
+
+def _wind_words(args, deck, wind) -> str:
+    """The wind as a title says it: ``steady 14 m/s``, ``Kaimal 14 m/s TI 16 % seed 3``, or the wind file's name."""
+    from ..wind.inflow import RampWind, SteadyWind, StepWind
+    from ..wind.inflow.kaimal import KaimalWind
+    from ..wind.inflow.signals import ExtremeOperatingGust
+
+    if isinstance(wind, SteadyWind):
+        return f"steady {wind.speed:g} m/s"
+    if isinstance(wind, StepWind):
+        return f"step {wind.before:g} to {wind.after:g} m/s at {wind.time:g} s"
+    if isinstance(wind, RampWind):
+        return f"ramp {wind.start_speed:g} to {wind.end_speed:g} m/s over {wind.start:g}-{wind.end:g} s"
+    if isinstance(wind, KaimalWind):
+        return (f"Kaimal {wind.mean_speed:g} m/s TI {100 * wind.turbulence_intensity:.3g} % seed {wind.seed}")
+    if isinstance(wind, ExtremeOperatingGust):
+        return f"EOG at {wind.hub_speed:g} m/s, gust {wind.gust_speed:g} m/s from {wind.start:g} s"
+    if args.wind is not None:
+        return Path(args.wind).name
+    inflow = deck.inflow
+    if inflow.wind_type == 1:
+        return f"steady {inflow.steady_speed:g} m/s (InflowWind)"
+    name = inflow.full_field_file_name if inflow.wind_type == 3 else inflow.uniform_file_name
+    return f"{Path(name).name} (InflowWind)"
+
+
 def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
     dofs = ", ".join(f for f, on in model.dofs.items() if on)
     inflow = "dynamic inflow (DBEMT)" if model.dynamic_inflow is not None else "quasi-steady inflow"
@@ -398,6 +455,8 @@ def _held_text(stats) -> str:
 
 
 def _summary(series, stats) -> None:
+    from ._run import number
+
     compiled = ", compiled" if stats.get("compiled") else ""
     step = f" of {stats['dt']:.4g} s" if stats.get("dt") else ""
     print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
@@ -408,4 +467,4 @@ def _summary(series, stats) -> None:
     for n in SUMMARY_CHANNELS:
         y = series.channel(n)
         unit = series.units[series.names.index(n)]
-        print(f"{n:<12} {unit:<6} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y.mean():12.5g} {y[-1]:12.5g}")
+        print(f"{n:<12} {unit:<6} " + " ".join(number(v, "12.5g") for v in (y[0], y.min(), y.max(), y.mean(), y[-1])))

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from . import plain as _plain
-from ._run import check_files, jsonable, report_comparison, time_grid, write_outputs
+from ._run import check_files, compare_label, jsonable, number, report_comparison, time_grid, write_outputs
 
 __all__ = ["add_parser", "run"]
 
@@ -121,7 +121,8 @@ def run(args: argparse.Namespace) -> int:
     _summary(series, stats)
     if ref is not None:
         report_comparison(series, ref)
-    write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name)
+    write_outputs(outputs, series, ref, label if args.deck is None else Path(args.deck).name, series_label=f"mbsym ({_method_label(stats)})",
+                  ref_label=compare_label(args.compare) if args.compare else None)
     if args.stats:
         print(json.dumps({k: jsonable(v) for k, v in stats.items()}))
     return 0
@@ -197,6 +198,12 @@ def _series(result, channels):
     return TimeSeries(np.asarray(result.t), names, tuple(units[n] for n in names), np.asarray(result.y))
 
 
+def _method_label(stats) -> str:
+    """The integration as the plot's legend says it: ``rk4, dt 0.01724 s`` or ``cvodes``."""
+    dt = stats.get("dt")
+    return f"{stats.get('method')}, dt {dt:.4g} s" if dt else str(stats.get("method"))
+
+
 def _header(label, model, tmax, options) -> None:
     """What is about to run, printed before integrating."""
     how = (f"accuracy {options['accuracy']:g} (method, step and compilation chosen automatically)"
@@ -219,6 +226,6 @@ def _summary(series, stats) -> None:
     for n in shown:
         y = series.channel(n)
         unit = series.units[series.names.index(n)]
-        print(f"{n:<14} {unit:<8} {y[0]:12.5g} {y.min():12.5g} {y.max():12.5g} {y[-1]:12.5g}")
+        print(f"{n:<14} {unit:<8} " + " ".join(number(v, "12.5g") for v in (y[0], y.min(), y.max(), y[-1])))
 
 

@@ -175,6 +175,10 @@ class _ClosedLoop:
     # ---------------------------------------------------------------- the generated body
     def body(self, m: int) -> ca.Function:
         """``(z = [x; xc; u_held], Uexo (n_u, 3m), p, h) -> (z_next, aux)``: law, then m RK4 sub-steps."""
+        return self.body_with_hit(m)[0]
+
+    def body_with_hit(self, m: int) -> tuple[ca.Function, bool]:
+        """:meth:`body` and whether it came from the in-process cache (:func:`~.base.prepared`)."""
         plant, bc = self.plant, self.bc
 
         def build():
@@ -218,7 +222,7 @@ class _ClosedLoop:
 
         return prepared(self.plant.owner, ("closed-loop body", id(bc.ctrl.law), bc.act.tobytes(),
                                            bc.ctrl.measurements, m, bc.method, self.carries_held(m),
-                                           bc.held_order, self.end_derivative), build)[0]
+                                           bc.held_order, self.end_derivative), build)
 
     def held_carry(self) -> HeldCarry:
         """The carried held part (:mod:`.held_carry`) of this loop's plant, measurements and order."""
@@ -311,8 +315,8 @@ class _ClosedLoop:
         t0 = time.perf_counter()
         self.end_derivative = not _on_sample_starts(times, self.bc.ctrl.dt / m, self.tmax)
         if self.bc.ctrl.is_function:
-            body, on = self.body(m), False
-            body, on = maybe_compile(body, compiled)
+            body, hit = self.body_with_hit(m)
+            body, on, disk_hit = maybe_compile(body, compiled, with_hit=True)
             prep = time.perf_counter() - t0
             out = self._run_function(body, times, m, monitor)
         else:
@@ -320,19 +324,19 @@ class _ClosedLoop:
                 raise SimulationOptionError(f"held_dt > the sample time and held_order > 0 run inside the generated "
                                             f"loop; the controller {self.bc.ctrl.name!r} is a Python callable (e.g. a "
                                             "DISCON library): leave held_dt and held_order unset.")
-            step, on = self.rk4.symbolic_step(), False
-            step, on = maybe_compile(step, compiled)
-            loop = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
-                            lambda: PreparedLoop(step, m, on))[0]
-            rhs = BufferedFunction(maybe_compile(dense_rhs(self.plant), compiled)[0] if compiled
-                                   else dense_rhs(self.plant), self.p)
+            step, on, disk_hit = maybe_compile(self.rk4.symbolic_step(), compiled, with_hit=True)
+            loop, hit = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
+                                 lambda: PreparedLoop(step, m, on))
+            rhs_f, _, rhs_hit = maybe_compile(dense_rhs(self.plant), compiled, with_hit=True)
+            disk_hit = disk_hit and rhs_hit
+            rhs = BufferedFunction(rhs_f, self.p)
             meas = BufferedFunction(self.bc.measure, self.p)
             prep = time.perf_counter() - t0
             out = self._run_callable(loop, rhs, meas, times, m, monitor)
         if self.bc.held_samples > 1 or self.bc.held_order > 0:
             out.stats.update(held_dt=self.bc.held_samples * self.bc.ctrl.dt, held_order=self.bc.held_order)
-        out.stats.update(prepare_wall_s=prep, compiled=on, method=self.bc.method, cache_hit=None,
-                         disk_cache_hit=None,
+        out.stats.update(prepare_wall_s=prep, compiled=on, method=self.bc.method, cache_hit=bool(hit),
+                         disk_cache_hit=bool(disk_hit) if on else None,   # as Method.solve: None when nothing loaded
                          success=True, n_jac=0)
         return out
 

@@ -207,6 +207,23 @@ class ClosedLoopLinear:
             x = A @ x + b
         return {"time": np.arange(n) * self.dt, **{name: Y[:, i] for i, name in enumerate(cl.output_labels)}}
 
+    def frequency_response(self, loop: str = "pitch"):
+        """``L(e^{jω dt})`` of ``loop`` ("pitch" or "torque") on the margins' grid up to just below the Nyquist
+        frequency, refined where the phase moves fast (:func:`mbsym.linear.frequency_response`: continuous phase
+        from (−180°, 180°], and :meth:`~mbsym.linear.FrequencyResponse.wrapped_phase_deg` for a plot)."""
+        from ...linear.frequency import frequency_response
+
+        if loop not in self.loops:
+            raise DimensionError(f"unknown loop {loop!r}; the loops are {list(self.loops)}.")
+        L = self.loops[loop]
+        return frequency_response(lambda f: _response(L, 2.0 * math.pi * np.asarray(f), self.dt), _grid_hz(self.dt))
+
+    def bode_plot(self, path, *, title: str | None = None) -> None:
+        """Bode plot of both loops, phase in (−360°, 0°] (:func:`.closed_loop_plot.plot_loop_bode`)."""
+        from .closed_loop_plot import plot_loop_bode
+
+        plot_loop_bode(self, path, title=title)
+
     def __repr__(self) -> str:
         m = ", ".join(f"{k}: GM {v.gain_margin_db:.3g} dB, PM {v.phase_margin_deg:.3g} deg" if v.active
                       else f"{k}: inactive" for k, v in self.margins.items())
@@ -420,11 +437,7 @@ def _margins(L, dt: float) -> LoopMargins:
 
     import control
 
-    f_low, per_decade = MARGIN_GRID_HZ
-    f_nyq = 0.5 / dt
-    f = np.logspace(math.log10(f_low), math.log10(f_nyq * (1.0 - 1e-6)),
-                    int(per_decade * math.log10(f_nyq / f_low)) + 1)
-    w = 2.0 * math.pi * f
+    w = 2.0 * math.pi * _grid_hz(dt)
     resp = _response(L, w, dt)
     nan = float("nan")
     if not np.any(np.abs(resp) > 1e-12 * max(1.0, float(np.max(np.abs(L.D), initial=0.0)))):
@@ -436,6 +449,13 @@ def _margins(L, dt: float) -> LoopMargins:
     return LoopMargins(True, gm_db, float(pm) if np.isfinite(pm) else math.inf,
                        float(wpc) / (2 * math.pi) if np.isfinite(wpc) else nan,
                        float(wgc) / (2 * math.pi) if np.isfinite(wgc) else nan)
+
+
+def _grid_hz(dt: float) -> np.ndarray:
+    """The margins' frequency grid [Hz] (:data:`MARGIN_GRID_HZ`), ending just below the Nyquist frequency."""
+    f_low, per_decade = MARGIN_GRID_HZ
+    f_nyq = 0.5 / dt
+    return np.logspace(math.log10(f_low), math.log10(f_nyq * (1.0 - 1e-6)), int(per_decade * math.log10(f_nyq / f_low)) + 1)
 
 
 def _response(L, w: np.ndarray, dt: float) -> np.ndarray:

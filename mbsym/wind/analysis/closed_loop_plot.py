@@ -6,7 +6,7 @@ import numpy as np
 
 from .closed_loop import LOOPS
 
-__all__ = ["plot_closed_loop", "POLE_PLOT_MAX_HZ"]
+__all__ = ["plot_closed_loop", "plot_loop_bode", "POLE_PLOT_MAX_HZ"]
 
 #: Closed-loop poles above this frequency [Hz] (actuators, controller memories) are left out of the pole panels.
 POLE_PLOT_MAX_HZ = 2.0
@@ -58,3 +58,49 @@ def plot_closed_loop(sweep, path, *, title: str | None = None) -> None:
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
+
+
+def plot_loop_bode(cl, path, *, title: str | None = None) -> None:
+    """Write the Bode plot of the pitch and torque loops of ``cl`` (a ``ClosedLoopLinear``) to ``path``.
+
+    The phase is wrapped into (−360°, 0°] (:meth:`mbsym.linear.FrequencyResponse.wrapped_phase_deg`: every
+    crossing of the negative real axis is a crossing of the −180° line; the continuous phase of a sampled
+    loop reaches −810° at the Nyquist frequency), with a break where it wraps; 0 dB and −180° are drawn, the
+    crossovers of the margins marked. An inactive loop (zero) is not drawn.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (mag, ph) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    for color, loop in (("C0", "pitch"), ("C3", "torque")):
+        m = cl.margins[loop]
+        if not m.active:
+            continue
+        r = cl.frequency_response(loop)
+        phase = r.wrapped_phase_deg()
+        wraps = np.flatnonzero(np.abs(np.diff(phase)) > 180.0)
+        f, phase = np.insert(r.freq_hz, wraps + 1, np.nan), np.insert(phase, wraps + 1, np.nan)
+        db = np.insert(r.magnitude_db, wraps + 1, np.nan)
+        label = (f"{loop} loop (at {LOOPS[loop]}): GM {m.gain_margin_db:.3g} dB, PM {m.phase_margin_deg:.3g} deg")
+        mag.semilogx(f, db, color=color, label=label)
+        ph.semilogx(f, phase, color=color)
+        for ax, crossover in ((mag, m.gain_crossover_hz), (ph, m.phase_crossover_hz)):
+            if np.isfinite(crossover):
+                ax.axvline(crossover, color=color, ls=":", lw=0.8)
+    mag.axhline(0.0, color="k", lw=0.6)
+    ph.axhline(-180.0, color="k", lw=0.6)
+    ph.set_ylim(-360.0, 0.0)
+    ph.set_yticks(np.arange(-360.0, 1.0, 90.0))
+    mag.set_ylabel("|L| [dB]")
+    ph.set_ylabel("phase of L [deg], wrapped to (-360, 0]")
+    ph.set_xlabel("frequency [Hz]")
+    for ax in (mag, ph):
+        ax.grid(True, which="both", alpha=0.3)
+    mag.legend(fontsize=8)
+    mag.set_title(title or f"Loop transfer functions at {cl.wind_speed:g} m/s (region {cl.region}), baseline "
+                           f"controller, dt = {cl.dt:g} s", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -28,7 +28,7 @@ import numpy as np
 from ...exceptions import DimensionError, OpenFASTFormatError
 
 __all__ = ["TimeSeries", "read_csv", "write_csv", "error_metrics", "compare", "not_compared", "coverage_notes",
-           "overlay_plot", "WRAPPED", "time_decimals"]
+           "overlay_plot", "overlay_figure", "WRAPPED", "time_decimals", "constant_in_both"]
 
 #: Channels OpenFAST wraps, with their period in their own unit.
 WRAPPED = {"Azimuth": 360.0, "Q_GeAz": 2 * np.pi}
@@ -217,6 +217,19 @@ def not_compared(ours: TimeSeries, ref: TimeSeries) -> list[str]:
     return [n for n in ref.names if n not in ours.names]
 
 
+def constant_in_both(ours: TimeSeries, ref: TimeSeries, name: str) -> bool:
+    """Whether channel ``name`` holds one and the same value in both series (finite samples; equal to 1e-12
+    relative, the tolerance of a "constant" reference in :func:`compare`), e.g. a load of a DOF neither model
+    has. Such channels say nothing about the agreement: tables summarize them in one line."""
+    if name not in ours.names or name not in ref.names:
+        return False
+    a, b = ours.channel(name), ref.channel(name)
+    values = np.concatenate([a[np.isfinite(a)], b[np.isfinite(b)]])
+    if values.size == 0 or not np.isfinite(a).any() or not np.isfinite(b).any():
+        return False
+    return bool(np.ptp(values) <= 1e-12 * max(1.0, float(np.max(np.abs(values)))))
+
+
 def _constant(ours: TimeSeries, ref: TimeSeries | None, name: str) -> bool:
     """Whether a channel stays constant in both series (a flat, empty-looking panel)."""
     series = [ours.channel(name)] + ([ref.channel(name)] if ref is not None and name in ref.names else [])
@@ -228,12 +241,25 @@ def _constant(ours: TimeSeries, ref: TimeSeries | None, name: str) -> bool:
 
 
 def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = None, *,
-                 channels: list[str] | None = None, title: str = "") -> None:
-    """PNG of the chosen channels, ours vs OpenFAST.
+                 channels: list[str] | None = None, title: str = "", label: str = "mbsym",
+                 ref_label: str = "OpenFAST") -> None:
+    """PNG of the chosen channels, ours alone or against a reference (:func:`overlay_figure`)."""
+    import matplotlib.pyplot as plt
+
+    fig = overlay_figure(ours, ref, channels=channels, title=title, label=label, ref_label=ref_label)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def overlay_figure(ours: TimeSeries, ref: TimeSeries | None = None, *, channels: list[str] | None = None,
+                   title: str = "", label: str = "mbsym", ref_label: str = "OpenFAST"):
+    """The matplotlib Figure of :func:`overlay_plot` (the caller closes it).
 
     Default channels: the DOF channels ``Q_*``, RotSpeed and PtfmPitch that move (constant
-    ones, e.g. a held DOF, are left out). ``title`` is printed as given (the CLI passes the
-    deck's file name, not its absolute path).
+    ones, e.g. a held DOF, are left out). ``title`` is printed as given (the CLI names the deck's
+    file, the wind and the controller). ``label`` names our series in the legend, ``ref_label`` the
+    reference (the CLI passes the compared file's name: a CSV need not be OpenFAST's). Alone, our
+    series is a solid line; over a reference (solid black) it is dashed, so both stay visible.
     """
     import matplotlib
 
@@ -246,10 +272,11 @@ def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = No
         moving = [c for c in channels if not _constant(ours, ref, c)]
         channels = moving or channels[:1]       # constant channels make empty panels: leave them out
     fig, axes = plt.subplots(len(channels), 1, figsize=(8, 1.9 * len(channels) + 0.6), sharex=True, squeeze=False)
+    style = "C1--" if ref is not None else "C0-"
     for ax, name in zip(axes[:, 0], channels):
         if ref is not None and name in ref.names:
-            ax.plot(ref.time, ref.channel(name), "k-", lw=1.6, label="OpenFAST")
-        ax.plot(ours.time, ours.channel(name), "C1--", lw=1.2, label="mbsym")
+            ax.plot(ref.time, ref.channel(name), "k-", lw=1.6, label=ref_label)
+        ax.plot(ours.time, ours.channel(name), style, lw=1.2, label=label)
         ax.set_ylabel(f"{name}\n[{ours.units[ours.names.index(name)]}]", fontsize=8)
         ax.grid(alpha=0.3)
     axes[0, 0].legend(loc="upper right", fontsize=8)
@@ -257,5 +284,4 @@ def overlay_plot(path: str | Path, ours: TimeSeries, ref: TimeSeries | None = No
     if title:
         axes[0, 0].set_title(title, fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

@@ -33,7 +33,7 @@ import numpy as np
 
 from ...exceptions import SimulationOptionError
 
-__all__ = ["TurbineLoop", "SensorNoise", "LOOP_CHANNELS"]
+__all__ = ["TurbineLoop", "SensorNoise", "LOOP_CHANNELS", "warn_failures"]
 
 #: Plant channels the loop reads (OpenFAST units): the baseline controller's five, then torque and
 #: tower-top acceleration for the estimator.
@@ -263,3 +263,37 @@ class TurbineLoop:
                        estimator_step_max_s=e["step_max_s"], estimator_failures=e["failures"],
                        estimator_dt=self.estimator.dt)
         return out
+
+
+def warn_failures(stats: dict[str, Any]) -> list[str]:
+    """Warn (:class:`~mbsym.exceptions.ConvergenceWarning`) about the loop's failed solves in ``stats``
+    (:meth:`TurbineLoop.statistics`): the run went on with a fallback there, which a user must know without
+    asking for ``--stats``. Returns the messages (empty: no failure).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True):
+    ...     warn_failures({"estimator": "mhe", "estimator_failures": 7})
+    ['the mhe estimator failed 7 times; it fell back to the EKF estimate there (see estimator_failures in --stats)']
+    """
+    import warnings
+
+    from ...exceptions import ConvergenceWarning
+
+    messages = []
+    n = int(stats.get("estimator_failures") or 0)
+    if n:
+        kind = stats.get("estimator", "state")
+        fallback = "it fell back to the EKF estimate there" if kind == "mhe" else "its estimate was held there"
+        messages.append(f"the {kind} estimator failed {n} time{'s' if n != 1 else ''}; {fallback} "
+                        "(see estimator_failures in --stats)")
+    n = int(stats.get("controller_failures") or 0)
+    if n:
+        steps = stats.get("controller_steps")
+        of = f" of {steps} steps" if steps else ""
+        messages.append(f"the NMPC failed {n}{of}; it applied its previous plan there, or held the last commands "
+                        "after repeated failures (see controller_failures in --stats)")
+    for message in messages:
+        warnings.warn(message, ConvergenceWarning, stacklevel=3)
+    return messages

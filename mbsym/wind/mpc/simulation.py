@@ -110,6 +110,9 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     stats = dict(res.statistics)
     stats["outputs_wall_s"] = float(stats.get("outputs_wall_s", 0.0)) + time.perf_counter() - t0
     stats.update(loop.statistics())
+    from .loop import warn_failures
+
+    warn_failures(stats)                     # a fallback is a warning in every run, not a --stats key only
     from ..operation.sanity import check_physical
 
     result = dataclasses.replace(res, y=np.hstack(blocks + [extra]), output_names=tuple(names) +

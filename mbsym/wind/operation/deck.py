@@ -79,6 +79,10 @@ class OperatingDeck:
         The deck's AeroDyn input (None for the built-in turbine), audited by :meth:`model`.
     radiation : {"fit", "ss", "none"}
         The radiation memory of a floating deck (:func:`mbsym.wind.offshore.floating_platform`).
+    cut_out_wind_speed : float or None
+        The turbine's cut-out wind speed [m/s] (:mod:`.cut_out`); None when unknown (an OpenFAST deck states none).
+    cut_out_source : str
+        Where :attr:`cut_out_wind_speed` comes from, for messages.
     """
 
     turbine: TurbineParameters
@@ -97,6 +101,8 @@ class OperatingDeck:
     path: Path | None = None
     aerodyn: object | None = None
     radiation: str = "fit"
+    cut_out_wind_speed: float | None = None
+    cut_out_source: str = ""
 
     @property
     def floating(self) -> bool:
@@ -371,6 +377,7 @@ def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:
     from ..aero.nrel5mw import nrel5mw_rotor
     from ..deck.nrel5mw import nrel5mw
     from ..deck.nrel5mw_aero import nrel5mw_aerodyn
+    from .cut_out import NREL5MW_CUT_OUT
     from .dynamic_inflow import dbemt_settings
     from .nrel5mw import NREL5MW_CONTROLLER_DT
 
@@ -378,7 +385,8 @@ def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:
     return OperatingDeck(turbine=nrel5mw(), rotor_source=nrel5mw_rotor(), dofs=tuple(dofs), dynamic_inflow=dbemt is not None,
                          dbemt=dbemt, actuators=ActuatorSettings.nrel5mw(), controller_dt=NREL5MW_CONTROLLER_DT,
                          servodyn=None, inflow=None, discon_in=None, library=None, uses_library=False,
-                         label="NREL 5 MW onshore (built-in)")
+                         label="NREL 5 MW onshore (built-in)", cut_out_wind_speed=NREL5MW_CUT_OUT[0],
+                         cut_out_source=NREL5MW_CUT_OUT[1])
 
 
 def replace(deck: OperatingDeck, **changes) -> OperatingDeck:
