@@ -29,6 +29,7 @@ import numpy as np
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError, ParameterError
 from .held import HeldPart
+from .protocol import input_units as hook_input_units
 from .protocol import read_hooks
 
 __all__ = ["Dynamics", "as_dynamics"]
@@ -329,4 +330,4 @@ def _from_simulation_model(model: Any) -> Dynamics:
     units = tuple(units) if units is not None and len(tuple(units)) == len(names) else None
     return Dynamics(eom.functions.rhs, states=eom.states, inputs=eom.inputs, parameters=eom.parameters,
                     defaults=defaults, outputs=outputs, output_names=names, output_units=units, x0=r.default_x,
-                    u0=u0, name=eom.name, eom=eom)
+                    u0=u0, name=eom.name, eom=eom, input_units=hook_input_units(model, eom.inputs))

@@ -25,6 +25,7 @@ from ..equations import EquationsOfMotion
 from ..exceptions import ParameterError
 from .base import compile_key, maybe_compile, prepared
 from ..protocol import ModelHooks, initial_state, read_hooks  # noqa: F401  (initial_state re-exported)
+from ..protocol import input_units as hook_input_units
 
 __all__ = ["SimulationModel", "ResolvedModel", "resolve_model", "Plant", "plant_of"]
 
@@ -230,7 +231,7 @@ def plant_of(model: Any) -> Plant:
     return Plant(eom.functions.rhs, eom.states, eom.inputs, eom.parameters, eom.name, eom, r.default_x,
                  dict(r.default_p), dict(r.default_u), r.output_function, r.output_names, units,
                  eom.parameter_vector, eom.n_q, state_units=tuple(eom.units.get(s, "") for s in eom.states),
-                 input_units=("",) * eom.n_u)
+                 input_units=hook_input_units(model, eom.inputs))
 
 
 def _from_dynamics(dyn: Dynamics, model: Any) -> Plant:

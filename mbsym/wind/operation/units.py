@@ -12,24 +12,22 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
+from ..structure.units import structural_input_unit
+
 __all__ = ["STATE_UNITS", "INPUT_UNITS", "state_units", "input_units", "RADIATION_UNIT"]
 
 #: States the composition adds, by name -> unit.
 STATE_UNITS = {"GenTq": "N m", "GeAz": "rad", "DBEMT_w": "m/s", "DBEMT_v": "m/s", "RotThrustLag": "N",
                "RotTorqLag": "N m"}
-#: Inputs by name -> unit: commands, the hub wind, structural loads and prescribed motions.
+#: Inputs by name -> unit: commands, the hub wind (structural inputs: :mod:`mbsym.wind.structure.units`).
 INPUT_UNITS = {"Wind1VelX": "m/s", "Wind1VelY": "m/s", "Wind1VelZ": "m/s", "BlPitchCom": "rad",
                "BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m",
-               "YawCom": "rad", "GenTq": "N m", "RotTorq": "N m", "RotThrust": "N", "RotMomY": "N m",
-               "RotMomZ": "N m", "PtfmFx": "N", "PtfmFy": "N", "PtfmFz": "N", "PtfmMx": "N m", "PtfmMy": "N m",
-               "PtfmMz": "N m"}
+               "YawCom": "rad"}
 #: Unit of the radiation states of a floating platform: those of the fitted state-space realization
 #: (HydroDyn's ``.ss`` file), which the fit chooses (its ``C`` maps them to N and N m).
 RADIATION_UNIT = "fit"
 
 _ANGLE = re.compile(r"^(BlPitch\d?|GeAz)(_d|_dd)?$")
-_BLADE_LOAD = re.compile(r"^B\d+Aero([FM])[xyz]$")
-_MODE_LOAD = re.compile(r"^.+AeroQ$")
 _WAKE = re.compile(r"^B\d+N\d+_vind1?_[xy]$")
 _RADIATION = re.compile(r"^Rdtn\d+$")
 _RATE_SUFFIX = {None: "", "_d": "/s", "_dd": "/s^2"}
@@ -88,12 +86,4 @@ def input_units(inputs: Sequence[str], wind_units: Mapping[str, str] | None = No
 def _input_unit(name: str, wind: Mapping[str, str]) -> str:
     if name in wind:
         return wind[name]
-    if name in INPUT_UNITS:
-        return INPUT_UNITS[name]
-    angle = _ANGLE.match(name)
-    if angle:
-        return "rad" + _RATE_SUFFIX[angle.group(2)]
-    load = _BLADE_LOAD.match(name)
-    if load:
-        return "N" if load.group(1) == "F" else "N m"
-    return "N" if _MODE_LOAD.match(name) else ""        # generalized force of a mode scaled by its tip displacement
+    return INPUT_UNITS.get(name) or structural_input_unit(name)
