@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..exceptions import OptionError
+
 __all__ = ["SimulationResult"]
 
 
@@ -152,10 +154,15 @@ class SimulationResult:
         different units: an operating turbine's generator-torque state ``GenTq`` is in N m (SI, as
         every state) and its OpenFAST channel ``GenTq`` in kN-m. Without ``kind``: outputs, then
         states, then inputs.
+
+        Raises
+        ------
+        OptionError
+            An unknown ``kind``.
         """
         tables = {"output": self.units, "state": self.state_units, "input": self.input_units}
         if kind is not None and kind not in tables:
-            raise ValueError(f"kind must be one of {list(tables)} or None; got {kind!r}.")
+            raise OptionError(f"kind must be one of {list(tables)} or None; got {kind!r}.")
         for k in ((kind,) if kind is not None else tuple(tables)):
             if tables[k].get(name):
                 return tables[k][name]

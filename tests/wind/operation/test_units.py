@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from _op_data import AERO, need
-from mbsym.exceptions import DimensionError
+from mbsym.exceptions import DimensionError, OptionError
 
 #: Factor from the first unit to the second (the conversion a correct pair of labels implies).
 FACTORS = {("rad", "deg"): 180.0 / math.pi, ("rad/s", "rpm"): 30.0 / math.pi, ("N m", "kN-m"): 1e-3,
@@ -67,7 +67,7 @@ def test_the_same_quantity_in_si_and_in_openfast_units_differs_by_its_unit_facto
         np.testing.assert_allclose(result.output(channel), si * FACTORS[key], rtol=1e-12, atol=1e-12,
                                    err_msg=f"{si_name} vs {channel}")
     assert result.unit("GenTq") == "kN-m" and result.unit("GenTq", "state") == "N m"       # outputs first
-    with pytest.raises(ValueError, match="kind must be one of"):
+    with pytest.raises(OptionError, match="kind must be one of"):
         result.unit("GenTq", "channel")
 
 
