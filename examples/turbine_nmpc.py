@@ -4,10 +4,11 @@ ROSCO-scheme baseline, in the same turbulent wind (docs/turbine_nmpc.md).
 Plant: the operating turbine (generator, first fore-aft and side-side tower modes, rotor
 aerodynamics with dynamic inflow, pitch and torque actuators). NMPC: RTI, 0.1 s, 40 stages, on the
 7-state prediction model (generator, first fore-aft tower mode, dynamic inflow, actuators as rates),
-no preview. MHE: 20 Hz from generator speed, tower-top acceleration, pitch and torque with sensor
+no preview. MHE: 20 Hz from generator speed (GenSpeed), tower-top acceleration, pitch and torque with sensor
 noise. Wind: Kaimal, 14 m/s mean, IEC class B turbulence, 180 s (statistics after 30 s).
 
-Run: ``python examples/turbine_nmpc.py`` (about a minute). The last line is JSON.
+Run: ``python examples/turbine_nmpc.py`` (about a minute). The last line is JSON; its keys are
+``<channel>_<statistic>_<unit>`` with OpenFAST's channel names and units (docs/units.md).
 """
 
 from __future__ import annotations
@@ -52,26 +53,28 @@ base = simulate_turbine(plant, wind, TMAX, controller=baseline_in_loop(BaselineC
 
 def summary(r) -> dict:
     keep = np.asarray(r.t) >= SPIN_UP
-    speed = r.output("GenSpeed")[keep]
-    return {"speed_rms_err_rpm": float(np.sqrt(np.mean((speed - setpoints.rated_generator_speed * 30 / np.pi) ** 2))),
-            "power_mean_kw": float(r.output("GenPwr")[keep].mean()),
-            "pitch_rate_rms_degs": float(np.sqrt(np.mean(np.gradient(r.output("BldPitch1")[keep], 0.05) ** 2))),
-            "twrbsmyt_del_mnm": damage_equivalent_load(r.output("TwrBsMyt")[keep], TMAX - SPIN_UP, 4.0) / 1e3}
+    gen_speed = r.output("GenSpeed")[keep]                                     # [rpm]
+    rated_rpm = setpoints.rated_generator_speed * 30 / np.pi                   # [rad/s] -> [rpm]
+    return {"GenSpeed_rms_err_rpm": float(np.sqrt(np.mean((gen_speed - rated_rpm) ** 2))),
+            "GenPwr_mean_kW": float(r.output("GenPwr")[keep].mean()),
+            "BldPitch1_rate_rms_deg/s": float(np.sqrt(np.mean(np.gradient(r.output("BldPitch1")[keep], 0.05) ** 2))),
+            "TwrBsMyt_DEL_MN-m": damage_equivalent_load(r.output("TwrBsMyt")[keep], TMAX - SPIN_UP, 4.0) / 1e3}
 
 
 keep = np.asarray(res.t) >= SPIN_UP
-wind_err = res.output("Wind1VelX_est")[keep] - res.output("Wind1VelX")[keep]
+wind_err = res.output("Wind1VelX_est")[keep] - res.output("Wind1VelX")[keep]          # [m/s]
 out = {"nmpc_mhe": summary(res), "baseline": summary(base),
-       "wind_estimate_rms_err_ms": float(np.sqrt(np.mean(wind_err ** 2))),
+       "Wind1VelX_est_rms_err_m/s": float(np.sqrt(np.mean(wind_err ** 2))),
        "controller_step_median_s": res.statistics["controller_step_median_s"],
        "controller_step_max_s": res.statistics["controller_step_max_s"],
        "controller_failures": res.statistics["controller_failures"],
        "estimator_step_median_s": res.statistics["estimator_step_median_s"], "build_s": build_s}
 for name in ("nmpc_mhe", "baseline"):
     s = out[name]
-    print(f"{name:9s} speed RMS err {s['speed_rms_err_rpm']:6.1f} rpm, power {s['power_mean_kw']:6.0f} kW, "
-          f"pitch-rate RMS {s['pitch_rate_rms_degs']:.2f} deg/s, tower-base DEL {s['twrbsmyt_del_mnm']:.1f} MN m")
-print(f"wind estimate RMS error {out['wind_estimate_rms_err_ms']:.3f} m/s; NMPC step median "
+    print(f"{name:9s} GenSpeed RMS err {s['GenSpeed_rms_err_rpm']:6.1f} rpm, GenPwr {s['GenPwr_mean_kW']:6.0f} kW, "
+          f"BldPitch1 rate RMS {s['BldPitch1_rate_rms_deg/s']:.2f} deg/s, TwrBsMyt DEL {s['TwrBsMyt_DEL_MN-m']:.1f} "
+          "MN-m")
+print(f"Wind1VelX_est RMS error {out['Wind1VelX_est_rms_err_m/s']:.3f} m/s; NMPC step median "
       f"{1e3 * out['controller_step_median_s']:.2f} ms, max {1e3 * out['controller_step_max_s']:.1f} ms; "
       f"MHE step median {1e3 * out['estimator_step_median_s']:.2f} ms")
 print(json.dumps(out))

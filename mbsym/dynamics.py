@@ -29,6 +29,7 @@ import numpy as np
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError, ParameterError
 from .held import HeldPart
+from .protocol import input_units as hook_input_units
 from .protocol import read_hooks
 
 __all__ = ["Dynamics", "as_dynamics"]
@@ -58,6 +59,9 @@ class Dynamics:
         ``(x, u, p) -> y (n_y)``.
     output_names, output_units : sequence of str, optional
         One per entry of y (units default to "").
+    state_units, input_units : sequence of str, optional, keyword-only
+        One per entry of x and of u (default: the units of the structural coordinates and their speeds
+        from ``eom``, "" for the others). docs/units.md states the convention: states and inputs SI.
     x0 : array (n_x), optional
         Default initial state (zeros).
     u0 : array (n_u), optional
@@ -90,7 +94,8 @@ class Dynamics:
                  parameters: Sequence[str] = (), defaults: Mapping[str, float] | None = None,
                  outputs: ca.Function | None = None, output_names: Sequence[str] = (),
                  output_units: Sequence[str] | None = None, x0=None, u0=None, name: str | None = None,
-                 eom: EquationsOfMotion | None = None, held: HeldPart | None = None) -> None:
+                 eom: EquationsOfMotion | None = None, held: HeldPart | None = None,
+                 state_units: Sequence[str] | None = None, input_units: Sequence[str] | None = None) -> None:
         self._states = _names(states, "state")
         self._inputs = _names(inputs, "input")
         self._parameters = _names(parameters, "parameter")
@@ -110,6 +115,9 @@ class Dynamics:
         if len(units) != len(self._output_names):
             raise DimensionError(f"output_units has {len(units)} entries; expected {len(self._output_names)}.")
         self._output_units = tuple(str(v) for v in units)
+        self._state_units = _units(state_units, self._states, "state_units") if state_units is not None else \
+            _eom_state_units(self._states, eom)
+        self._input_units = _units(input_units, self._inputs, "input_units")
         self._x0 = self._fixed(x0, self.n_x, "x0", self._states)
         self._u0 = self._fixed(u0, self.n_u, "u0", self._inputs)
         self._name = name or rhs.name()
@@ -140,6 +148,8 @@ class Dynamics:
     parameters = property(lambda self: self._parameters, doc="Names of p.")
     output_names = property(lambda self: self._output_names, doc="Names of y.")
     output_units = property(lambda self: self._output_units, doc="Units of y.")
+    state_units = property(lambda self: self._state_units, doc="Units of x (\"\" where unknown).")
+    input_units = property(lambda self: self._input_units, doc="Units of u (\"\" where unknown).")
     defaults = property(lambda self: self._defaults, doc="Default parameter values (read-only).")
     eom = property(lambda self: self._eom, doc="The structural equations, or None.")
     held = property(lambda self: self._held, doc="The held-part split of the right-hand side (HeldPart), or None.")
@@ -234,6 +244,19 @@ class Dynamics:
         return arr.copy()
 
 
+def _units(value: Sequence[str] | None, names: tuple[str, ...], what: str) -> tuple[str, ...]:
+    units = tuple(str(v) for v in value) if value is not None else ("",) * len(names)
+    if len(units) != len(names):
+        raise DimensionError(f"{what} has {len(units)} entries; expected {len(names)} (one per name: {list(names)}).")
+    return units
+
+
+def _eom_state_units(states: tuple[str, ...], eom: EquationsOfMotion | None) -> tuple[str, ...]:
+    """Units of the structural coordinates and speeds (:attr:`EquationsOfMotion.units`), "" for other states."""
+    known = eom.units if eom is not None else {}
+    return tuple(known.get(s, "") for s in states)
+
+
 def _finite(value, name: str) -> float:
     try:
         v = float(value)
@@ -307,4 +330,4 @@ def _from_simulation_model(model: Any) -> Dynamics:
     units = tuple(units) if units is not None and len(tuple(units)) == len(names) else None
     return Dynamics(eom.functions.rhs, states=eom.states, inputs=eom.inputs, parameters=eom.parameters,
                     defaults=defaults, outputs=outputs, output_names=names, output_units=units, x0=r.default_x,
-                    u0=u0, name=eom.name, eom=eom)
+                    u0=u0, name=eom.name, eom=eom, input_units=hook_input_units(model, eom.inputs))

@@ -24,6 +24,9 @@ Every use of mbsym (simulation, linearization, control, identification, sweeps) 
     ``names`` (the channel names). Build it once and return the same object on
     every call.
 
+``input_units() -> dict by input name``
+    Units of the inputs (docs/units.md: SI), shown with simulation results and linear models.
+
 Uses read further hooks of their own (``dynamics()``, ``linearization_state()``,
 ``linearization_method()``, ``linearization_steps()``, ``rotating_frame()``,
 ``resolve_parameter(key)``: see ARCHITECTURE.md). :func:`read_hooks` reads the four above once;
@@ -42,7 +45,7 @@ import numpy as np
 from .equations import EquationsOfMotion
 from .exceptions import DimensionError
 
-__all__ = ["ModelHooks", "read_hooks", "initial_state"]
+__all__ = ["ModelHooks", "read_hooks", "initial_state", "input_units"]
 
 
 @dataclass(frozen=True)
@@ -162,3 +165,22 @@ def _finite_scalar(value, what: str) -> float:
     if not np.isfinite(v):
         raise DimensionError(f"{what} must be finite; got {v}.")
     return v
+
+
+def input_units(model: Any, inputs: Sequence[str]) -> tuple[str, ...]:
+    """The units of ``inputs`` from the model's hook ``input_units()`` ("" each without it or for names it
+    leaves out).
+
+    Raises
+    ------
+    TypeError
+        If the hook does not return a dict by input name.
+    """
+    hook = getattr(model, "input_units", None)
+    if not callable(hook):
+        return ("",) * len(inputs)
+    units = hook()
+    if not isinstance(units, Mapping):
+        raise TypeError(f"{type(model).__name__}.input_units() must return a dict by input name; got "
+                        f"{type(units).__name__}.")
+    return tuple(str(units.get(n, "") or "") for n in inputs)

@@ -348,9 +348,20 @@ def _controller(kind, args, deck):
     if kind == "baseline":
         settings = deck.baseline_settings(discon_in=args.discon_input)
         return baseline_in_loop(BaselineController(settings)), None
-    library, infile = deck.discon_paths(args.discon, args.discon_input)
+    library, infile = deck.discon_paths(args.discon, args.discon_input, folder=output_folder(args))
+    if deck.path is None and args.discon_input is None:
+        print(f"wrote the built-in NREL 5 MW controller input (ROSCO 2.10.6 settings) to {infile} and "
+              f"{infile.parent / 'Cp_Ct_Cq.txt'}; the library reads them", flush=True)
     handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades)
     return discon_in_loop(handle), handle
+
+
+def output_folder(args) -> Path:
+    """The run's output folder: that of --out, else of --plot, else the working directory."""
+    for target in (getattr(args, "out", None), getattr(args, "plot", None)):
+        if target is not None:
+            return Path(target).absolute().parent
+    return Path.cwd()
 
 
 def _for_plant(controller, handle, model, kind, args, deck):

@@ -81,7 +81,8 @@ class AzimuthSweep:
         op = dict(lins[0].operating_point)
         op["azimuths"] = self.azimuths.copy()
         return LinearModel(mean["M"], mean["C"], mean["K"], mean["Q"], mean["A"], mean["B"], b.coordinates, b.states,
-                           b.inputs, op, b.outputs, mean["Cy"], mean["Dy"], b.output_units, b.method)
+                           b.inputs, op, b.outputs, mean["Cy"], mean["Dy"], b.output_units, b.method,
+                           units=dict(lins[0].units), input_units=lins[0].input_units)
 
     def modes(self) -> list:
         """Modes of the averaged model (:meth:`average`)."""

@@ -7,13 +7,14 @@ over N operating points (optionally in parallel or as compiled C) and returns a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
 
 from ..exceptions import DimensionError, ParameterError, SolverError
+from ..protocol import input_units as hook_input_units
 from .fd import fd_rhs
 from .functions import jacobian_function, linear_function
 from .linearize import resolve_qdd, resolve_steps, rows
@@ -66,6 +67,8 @@ class LinearBatch:
     outputs: tuple[str, ...] = ()
     output_units: tuple[str, ...] = ()
     method: str = "exact"
+    units: Mapping[str, str] = field(default_factory=dict)
+    input_units: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return self.A.shape[0]
@@ -77,7 +80,7 @@ class LinearBatch:
               "y": self.y[i], "p": dict(zip(self.parameters, self.p[i].tolist()))}
         return LinearModel(self.M[i], self.C[i], self.K[i], self.Q[i], self.A[i], self.B[i], self.coordinates,
                            self.states, self.inputs, op, self.outputs, self.Cy[i], self.Dy[i], self.output_units,
-                           self.method)
+                           self.method, units=dict(self.units), input_units=tuple(self.input_units))
 
     def frequencies(self) -> np.ndarray:
         """|λ|/2π [Hz] of the eigenvalues of every A, sorted, shape (N, n_max).
@@ -190,7 +193,8 @@ def linearize_batch(model, x0, u0=None, p: Mapping[str, Any] | None = None, *, q
                           "is the mass matrix singular there? Check those states, inputs and parameters.")
     Y, Cy, Dy = _batch_outputs(target, sel, X, U, P, h, parallel)
     return LinearBatch(M, C, K, Q, A, B, Cy, Dy, X, U, P, Y, qdd, xd[:, :, 0], eom.coordinates, eom.states,
-                       eom.inputs, eom.parameters, sel[0], sel[1], method)
+                       eom.inputs, eom.parameters, sel[0], sel[1], method, dict(eom.units),
+                       hook_input_units(target.owner, eom.inputs))
 
 
 #: Points per CasADi map in a batch: building a map costs ~N² for large N (0.8 s at N = 10 000

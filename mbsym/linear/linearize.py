@@ -41,6 +41,7 @@ from .functions import jacobian_function, linear_function
 from .model import LinearModel
 from .outputs import output_matrices, resolve_outputs
 from .point import OperatingPoint
+from ..protocol import input_units as hook_input_units
 from .target import Target
 
 __all__ = ["linearize", "METHODS", "resolve_steps", "resolve_qdd", "rows"]
@@ -213,7 +214,8 @@ def linearize(model, q0=None, qd0=None, u0=None, p: Mapping[str, float] | None =
     op = {"q": q, "qd": qd, "qdd": qdd, "u": uu, "x": x, "xd": xd, "y": y0,
           "p": dict(zip(eom.parameters, pp.tolist()))}
     return LinearModel(M, C, K, Q.reshape(n, eom.n_u), A, B.reshape(2 * n, eom.n_u), eom.coordinates,
-                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method, units=dict(eom.units))
+                       eom.states, eom.inputs, op, sel[0], Cy, Dy, sel[1], method, units=dict(eom.units),
+                       input_units=hook_input_units(target.owner, eom.inputs))
 
 
 def _from_operating_point(q0, qd0, u0, p):

@@ -243,7 +243,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         Y = np.hstack([Y, extra.y])
         names, units = names + extra.names, units + extra.units
     return SimulationResult(times, X, plant.states, U, plant.inputs, Y, names, stats, units, plant.n_q,
-                            _state_units(model))
+                            _state_units(model, plant), _known(plant.inputs, plant.input_units))
 
 
 def _outputs(plant: Plant, X: np.ndarray, U: np.ndarray, p: np.ndarray, compile, extra) -> np.ndarray:
@@ -262,10 +262,17 @@ def _outputs(plant: Plant, X: np.ndarray, U: np.ndarray, p: np.ndarray, compile,
     return Y
 
 
-def _state_units(model) -> dict[str, str]:
-    """Units of the structural states (``EquationsOfMotion.units``) of a model, if it has equations."""
+def _state_units(model, plant) -> dict[str, str]:
+    """Units of the states: the plant's (:attr:`mbsym.Dynamics.state_units`), else the structural ones
+    (``EquationsOfMotion.units``) of a model with equations."""
     eom = model if isinstance(model, EquationsOfMotion) else getattr(model, "eom", None)
-    return dict(eom.units) if isinstance(eom, EquationsOfMotion) else {}
+    units = dict(eom.units) if isinstance(eom, EquationsOfMotion) else {}
+    units.update(_known(plant.states, plant.state_units))
+    return units
+
+
+def _known(names, units) -> dict[str, str]:
+    return {n: u for n, u in zip(names, units) if u}
 
 
 def _grid(cls, tmax: float, dt, t_out, auto: bool, plant: Plant, ctrl) -> tuple:
@@ -306,7 +313,8 @@ def _partial(partial, plant: Plant, signal, p_vec):
     except Exception:  # noqa: BLE001 - a partial result must not hide the interruption
         Y = np.zeros((len(t), len(plant.output_names)))
     return SimulationResult(t, X, plant.states, U, plant.inputs, Y, plant.output_names,
-                            {"success": False, "message": "interrupted"}, plant.output_units, plant.n_q)
+                            {"success": False, "message": "interrupted"}, plant.output_units, plant.n_q,
+                            _known(plant.states, plant.state_units), _known(plant.inputs, plant.input_units))
 
 
 def _warn_ignored(cls, dt, rtol, atol, t_out) -> None:

@@ -111,7 +111,7 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
                  controller_samples=res.samples, substeps=m, dt=res.h)
     stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
-    return res.x, stats, Extra(res.u, res.xc, c.state_names, ("",) * c.n_xc, res.y)
+    return res.x, stats, Extra(res.u, res.xc, c.state_names, tuple(getattr(c, "state_units", ("",) * c.n_xc)), res.y)
 
 
 def _reset(c) -> None:

@@ -66,6 +66,8 @@ class DiscreteController:
         Names of the model inputs set by ``u``, in order.
     state_names : sequence of str, optional, keyword-only
         Names of the controller states in the result (default ``<name>.x0``, ``<name>.x1``, ...).
+    state_units : sequence of str, optional, keyword-only
+        Their units in the result (default "" each, shown as "-").
     name : str, optional, keyword-only
         Default ``"controller"``.
 
@@ -95,7 +97,7 @@ class DiscreteController:
 
     def __init__(self, law: ca.Function | Callable, dt: float, x0: Sequence[float] | None = None, *,
                  measurements: Sequence[str], actuates: Sequence[str], state_names: Sequence[str] | None = None,
-                 name: str = "controller") -> None:
+                 state_units: Sequence[str] | None = None, name: str = "controller") -> None:
         if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
                 or not math.isfinite(float(dt)) or float(dt) <= 0:
             raise SimulationOptionError(f"controller sample time dt must be a positive finite number [s]; got {dt!r}.")
@@ -120,6 +122,9 @@ class DiscreteController:
         self.state_names = _unique(names, "state_names")
         if len(self.state_names) != n_xc:
             raise DimensionError(f"state_names has {len(self.state_names)} names for {n_xc} controller states.")
+        self.state_units = tuple(str(u) for u in state_units) if state_units is not None else ("",) * n_xc
+        if len(self.state_units) != n_xc:
+            raise DimensionError(f"state_units has {len(self.state_units)} units for {n_xc} controller states.")
 
     @property
     def n_xc(self) -> int:

@@ -25,6 +25,7 @@ from ..equations import EquationsOfMotion
 from ..exceptions import ParameterError
 from .base import compile_key, maybe_compile, prepared
 from ..protocol import ModelHooks, initial_state, read_hooks  # noqa: F401  (initial_state re-exported)
+from ..protocol import input_units as hook_input_units
 
 __all__ = ["SimulationModel", "ResolvedModel", "resolve_model", "Plant", "plant_of"]
 
@@ -156,6 +157,8 @@ class Plant:
     output_names, output_units : tuple of str
     held : HeldPart or None
         The held-part split of the dynamics (:mod:`mbsym.held`), for the method ``"rk4-held"``.
+    state_units, input_units : tuple of str
+        Units of x and u ("" where unknown; :attr:`mbsym.Dynamics.state_units`).
     """
 
     rhs: ca.Function
@@ -173,6 +176,8 @@ class Plant:
     _parameter_vector: Any = None
     n_q: int | None = None
     held: Any = None
+    state_units: tuple[str, ...] = ()
+    input_units: tuple[str, ...] = ()
 
     n_x = property(lambda self: len(self.states))
     n_u = property(lambda self: len(self.inputs))
@@ -225,7 +230,8 @@ def plant_of(model: Any) -> Plant:
         else ("",) * len(r.output_names)
     return Plant(eom.functions.rhs, eom.states, eom.inputs, eom.parameters, eom.name, eom, r.default_x,
                  dict(r.default_p), dict(r.default_u), r.output_function, r.output_names, units,
-                 eom.parameter_vector, eom.n_q)
+                 eom.parameter_vector, eom.n_q, state_units=tuple(eom.units.get(s, "") for s in eom.states),
+                 input_units=hook_input_units(model, eom.inputs))
 
 
 def _from_dynamics(dyn: Dynamics, model: Any) -> Plant:
@@ -251,7 +257,7 @@ def _from_dynamics(dyn: Dynamics, model: Any) -> Plant:
             default_p = dict(model.default_parameters())
     return Plant(dyn.rhs, tuple(dyn.states), tuple(dyn.inputs), tuple(dyn.parameters), dyn.name, eom, default_x,
                  default_p, default_u, dyn.outputs, tuple(dyn.output_names), tuple(dyn.output_units),
-                 dyn.parameter_vector, _coordinates(dyn), dyn.held)
+                 dyn.parameter_vector, _coordinates(dyn), dyn.held, tuple(dyn.state_units), tuple(dyn.input_units))
 
 
 def _coordinates(dyn: Dynamics) -> int | None:

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..exceptions import OptionError
+
 __all__ = ["SimulationResult"]
 
 
@@ -51,8 +53,13 @@ class SimulationResult:
         motion, or dynamics composed around them); None for other first-order dynamics,
         where :attr:`q` and :attr:`qd` are not defined.
     state_units : dict of str to str
-        Units of the states the model knows (from the joints:
+        Units of the states the model knows (:attr:`mbsym.Dynamics.state_units`; the joints'
         :attr:`EquationsOfMotion.units`); see :meth:`unit`.
+    input_units : dict of str to str
+        Units of the inputs the model knows (:attr:`mbsym.Dynamics.input_units`).
+
+    Units follow docs/units.md: states and inputs in SI, outputs in the model's units (an operating
+    turbine's OpenFAST channels in OpenFAST's units).
     """
 
     t: np.ndarray
@@ -66,6 +73,7 @@ class SimulationResult:
     output_units: tuple[str, ...] = ()
     structural: int | None = -1
     state_units: dict = field(default_factory=dict)
+    input_units: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "u", "y"):
@@ -139,20 +147,37 @@ class SimulationResult:
                 cols[name] = arr[:, j]
         return cols
 
-    def unit(self, name: str) -> str:
-        """Unit of an output or a state (``"-"`` if the model does not say)."""
-        return self.units.get(name) or self.state_units.get(name) or "-"
+    def unit(self, name: str, kind: str | None = None) -> str:
+        """Unit of an output, a state or an input (``"-"`` if the model does not say).
+
+        ``kind`` (``"output"``, ``"state"`` or ``"input"``) picks among names used twice with
+        different units: an operating turbine's generator-torque state ``GenTq`` is in N m (SI, as
+        every state) and its OpenFAST channel ``GenTq`` in kN-m. Without ``kind``: outputs, then
+        states, then inputs.
+
+        Raises
+        ------
+        OptionError
+            An unknown ``kind``.
+        """
+        tables = {"output": self.units, "state": self.state_units, "input": self.input_units}
+        if kind is not None and kind not in tables:
+            raise OptionError(f"kind must be one of {list(tables)} or None; got {kind!r}.")
+        for k in ((kind,) if kind is not None else tuple(tables)):
+            if tables[k].get(name):
+                return tables[k][name]
+        return "-"
 
     def __repr__(self) -> str:
         s = self.statistics
 
-        def named(names, limit=8):
-            shown = [f"{n} [{self.unit(n)}]" for n in names[:limit]]
+        def named(names, kind, limit=8):
+            shown = [f"{n} [{self.unit(n, kind)}]" for n in names[:limit]]
             return ", ".join(shown) + (f", … ({len(names)} in all)" if len(names) > limit else "") or "none"
 
         return (f"SimulationResult(method={s.get('method')!r}, t = {self.t[0]:g} .. {self.t[-1]:g} s "
-                f"({self.t.size} points, {s.get('steps')} steps); states: {named(self.states)}; "
-                f"inputs: {named(self.inputs, 4)}; outputs: {named(self.output_names, 4)})")
+                f"({self.t.size} points, {s.get('steps')} steps); states: {named(self.states, 'state')}; "
+                f"inputs: {named(self.inputs, 'input', 4)}; outputs: {named(self.output_names, 'output', 4)})")
 
 
 def _index(names: tuple[str, ...], name: str, what: str) -> int:

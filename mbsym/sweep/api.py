@@ -278,7 +278,10 @@ class _SimulationBuilder(_ModelBuilder):
         stats = {"method": "rk4", "steps": n, "dt": h, "success": True, "message": "sweep case",
                  "integration_wall_s": outcome.wall_s}
         d = self.dyn
-        return SimulationResult(t, X.T, d.states, Ug.T, d.inputs, Y.T, d.output_names, stats)
+        known = lambda names, units: {n: u for n, u in zip(names, units) if u}  # noqa: E731
+        return SimulationResult(t, X.T, d.states, Ug.T, d.inputs, Y.T, d.output_names, stats,
+                                output_units=d.output_units, state_units=known(d.states, d.state_units),
+                                input_units=known(d.inputs, d.input_units))
 
 
 class _LinearizationBuilder(_ModelBuilder):

@@ -38,6 +38,7 @@ from ...linear import LinearModel
 from ..structure.mbc import (blade_indices, coleman_matrices, derivative_pairs, mbc_names, mbc_state_matrices,
                              mbc_system, rotating_triplets)
 from .blade_periodic import PeriodicPoint, azimuth_jacobians, periodic_point
+from .trim_linear import to_si
 
 __all__ = ["blade_linear_model", "blade_statespace", "mbc_average", "blade_aero_campbell", "DEFAULT_OUTPUTS",
            "default_inputs", "SI_FACTORS"]
@@ -47,8 +48,6 @@ DEFAULT_OUTPUTS = ("RootMyc1", "RootMyc2", "RootMyc3", "RotSpeed", "GenSpeed", "
 #: OpenFAST unit -> factor to SI.
 SI_FACTORS = {"rpm": math.pi / 30.0, "deg": math.pi / 180.0, "deg/s": math.pi / 180.0, "kN": 1e3, "kN-m": 1e3,
               "kW": 1e3, "deg/s^2": math.pi / 180.0}
-_SI_UNITS = {"rpm": "rad/s", "deg": "rad", "deg/s": "rad/s", "kN": "N", "kN-m": "N-m", "kW": "W",
-             "deg/s^2": "rad/s^2"}
 
 
 def default_inputs(model) -> tuple[str, ...]:
@@ -161,12 +160,13 @@ def blade_linear_model(model, point: PeriodicPoint, *, inputs: Sequence[str] | N
           "wind": dict(point.wind), "commands": dict(point.commands), "rotor_speed": point.rotor_speed,
           "residual_norm": point.residual_norm, "blade_azimuths": np.asarray(point.blade_azimuths).copy(),
           "p": dict(point.parameters)}
-    state_units = _state_units(dyn.states, model)
+    state_units = dyn.state_units
     units_x = {avg["states"][j]: state_units[i] for j, i in enumerate(avg["keep"])}
     empty = np.zeros((0, 0))
     return LinearModel(M, empty, empty, np.zeros((0, len(ins))), avg["A"], avg["B"], coords, avg["states"],
                        avg["inputs"], op, outputs=avg["outputs"], Cy=avg["C"], Dy=avg["D"],
-                       output_units=tuple(_SI_UNITS.get(u, u) for u in units), method="exact", units=units_x)
+                       output_units=tuple(to_si(u)[1] for u in units), method="exact", units=units_x,
+                       input_units=tuple(dyn.input_units[dyn.inputs.index(n)] for n in ins))   # MBC renames in place
 
 
 def blade_statespace(model, point: PeriodicPoint, *, inputs: Sequence[str] | None = None,
@@ -177,19 +177,6 @@ def blade_statespace(model, point: PeriodicPoint, *, inputs: Sequence[str] | Non
     """
     lin = blade_linear_model(model, point, inputs=inputs, outputs=outputs, keep_azimuth=keep_azimuth)
     return lin.to_statespace(name=name)
-
-
-def _state_units(states, model) -> list[str]:
-    from .trim_linear import _state_units as units
-
-    out = units(states, model.structure.eom)
-    for i, s in enumerate(states):
-        if not out[i]:
-            if s.startswith("BlPitch"):
-                out[i] = "rad/s" if s.endswith("_d") else "rad"
-            elif "_vind" in s:
-                out[i] = "m/s"
-    return out
 
 
 def _mass_in_mbc(model, point: PeriodicPoint, keep_azimuth: bool) -> tuple[np.ndarray, tuple[str, ...]]:

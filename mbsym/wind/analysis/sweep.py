@@ -345,6 +345,7 @@ def _runner(model, ctrl: dict, tmax: float, dt_out: float, compile: bool) -> Clo
     names = {"states": tuple(dyn.states), "inputs": tuple(dyn.inputs), "parameters": tuple(dyn.parameters),
              "measurements": tuple(MEASUREMENTS), "measurement_units": tuple(meas.output_units),
              "channels": tuple(dyn.output_names), "channel_units": tuple(dyn.output_units),
+             "state_units": tuple(dyn.state_units), "input_units": tuple(dyn.input_units),
              "actuates": tuple(ACTUATED), "controller_states": tuple(ctrl.get("states", ()))}
     if "law" in ctrl:
         functions["law"] = ctrl["law"]

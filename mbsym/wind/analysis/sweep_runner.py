@@ -109,7 +109,8 @@ class ClosedLoopRunner:
 
         f = {k: ca.Function.deserialize(v) for k, v in self.functions.items()}
         n = self.names
-        common = dict(states=n["states"], inputs=n["inputs"], parameters=n["parameters"], name="sweep_turbine")
+        common = dict(states=n["states"], inputs=n["inputs"], parameters=n["parameters"], name="sweep_turbine",
+                      state_units=n.get("state_units"), input_units=n.get("input_units"))
         meas = Dynamics(f["rhs"], outputs=f["measurements"], output_names=n["measurements"],
                         output_units=n["measurement_units"], **common)
         full = Dynamics(f["rhs"], outputs=f["channels"], output_names=n["channels"], output_units=n["channel_units"],

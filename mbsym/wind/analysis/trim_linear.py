@@ -32,6 +32,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ...exceptions import DimensionError, ModelDefinitionError
 from ...linear import LinearModel
+from ..operation.units import INPUT_UNITS as OPERATION_INPUT_UNITS
 
 __all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell", "SI_UNITS", "to_si",
            "INPUT_UNITS", "STATE_LABELS", "mode_label"]
@@ -125,7 +126,7 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     lin = linearize_dynamics(dyn, point.state, point.inputs, dict(point.parameters), outputs=names)
     eom = model.structure.eom
     M = structural_mass_matrix(trimmer, point)
-    units = dict(zip(dyn.states, _state_units(dyn.states, eom)))
+    units = dict(zip(dyn.states, dyn.state_units))
     op = {"x": point.state.copy(), "u": point.inputs.copy(), "p": dict(point.parameters), "xd": lin["xd"],
           "y": lin["y"], "wind_speed": point.wind_speed, "regime": point.regime,
           "q": point.state[:eom.n_q].copy(), "qd": point.state[eom.n_q:2 * eom.n_q].copy()}
@@ -136,16 +137,14 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     result = LinearModel(M, empty, empty, np.zeros((0, dyn.n_u)), lin["A"], lin["B"], eom.coordinates, dyn.states,
                          dyn.inputs, op, outputs=names, Cy=lin["C"] * scale, Dy=lin["D"] * scale,
                          output_units=tuple(si_units), method="exact", units=units,
-                         input_units=tuple(INPUT_UNITS.get(n, "") for n in dyn.inputs))
+                         input_units=tuple(dyn.input_units))
     if not keep_azimuth and "GeAz" in result.states:
         result = result.without_states(["GeAz"])
     return result
 
 
-#: Units of the operating turbine's inputs.
-INPUT_UNITS = {"Wind1VelX": "m/s", "Wind1VelY": "m/s", "Wind1VelZ": "m/s", "BlPitchCom": "rad",
-               "BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m",
-               "YawCom": "rad"}
+#: Units of the operating turbine's inputs (:mod:`mbsym.wind.operation.units`).
+INPUT_UNITS = OPERATION_INPUT_UNITS
 #: Channel unit -> (factor to SI, SI unit) for the outputs of linear models.
 SI_UNITS = {"rpm": (math.pi / 30.0, "rad/s"), "deg": (math.pi / 180.0, "rad"), "deg/s": (math.pi / 180.0, "rad/s"),
             "deg/s^2": (math.pi / 180.0, "rad/s^2"), "kW": (1e3, "W"), "kN": (1e3, "N"), "kN-m": (1e3, "N m"),
@@ -176,23 +175,6 @@ def structural_mass_matrix(trimmer, point) -> np.ndarray:
     q = point.state[:eom.n_q]
     M = mass(q, u_struct, p_struct) if mass.n_in() == 3 else mass(q, p_struct)
     return np.asarray(M, dtype=float)
-
-
-def _state_units(states, eom) -> list[str]:
-    out = []
-    for s in states:
-        base = s[:-2] if s.endswith("_d") else s
-        if base in eom.coordinates:
-            unit = "rad" if base in _ROTATIONS else "m"
-            out.append(unit + ("/s" if s.endswith("_d") else ""))
-        else:
-            out.append({"BlPitch": "rad", "BlPitch_d": "rad/s", "GenTq": "N m", "GeAz": "rad", "DBEMT_w": "m/s",
-                        "DBEMT_v": "m/s", "RotThrustLag": "N", "RotTorqLag": "N m"}.get(s, ""))
-    return out
-
-
-#: ElastoDyn coordinates that are angles (the others are displacements, blade modes by tip displacement).
-_ROTATIONS = ("R", "P", "Y", "Yaw", "GeAz", "DrTr")
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,9 @@ import numpy as np
 
 __all__ = ["plot_operating_points", "plot_aero_campbell", "PLOT_CHANNELS"]
 
-#: Panels: channel, axis label (OpenFAST units; RtAeroFxh shown in kN).
+#: Panels: channel, axis label, factor: every channel in its OpenFAST unit, as in the table (docs/units.md).
 PLOT_CHANNELS = (("RotSpeed", "RotSpeed [rpm]", 1.0), ("BldPitch1", "BldPitch1 [deg]", 1.0),
-                 ("GenPwr", "GenPwr [kW]", 1.0), ("RtAeroFxh", "RtAeroFxh [kN]", 1e-3),
+                 ("GenPwr", "GenPwr [kW]", 1.0), ("RtAeroFxh", "RtAeroFxh [N]", 1.0),
                  ("TTDspFA", "TTDspFA [m]", 1.0))
 
 
@@ -23,7 +23,7 @@ def plot_operating_points(points, path, *, reference: Mapping[str, Sequence[floa
     points : OperatingPoints
     path : str or Path
     reference : mapping, optional, keyword-only
-        ``{"wind_speed": [...], <channel>: [...]}`` in the same units (RtAeroFxh in N),
+        ``{"wind_speed": [...], <channel>: [...]}`` in the channels' OpenFAST units (RtAeroFxh in N),
         drawn as markers.
     reference_label : str, optional, keyword-only
     title : str, optional, keyword-only

@@ -107,6 +107,33 @@ RANGE_TOLERANCE = 1e-12
 _EKF_TI, _EKF_LENGTH, _EKF_R = 0.18, 6.0, 0.02
 
 
+#: Units of the controller's states by name (SI; filter states hold last inputs and outputs of the signal
+#: filtered; the EKF's state is [rotor speed, turbulent wind, mean wind], its covariance and gain follow;
+#: "-": the first-call and estimator-on flags).
+_EKF_X = ("rad/s", "m/s", "m/s")
+STATE_UNITS = {
+    "first": "-", "estimator_on": "-", "gen_speed_filter": "rad/s", "rot_speed_filter": "rad/s",
+    "estimate_filter": "m/s", "torque_filter": "N m", "pitch_filter": "rad", "hub_wind_filter": "m/s",
+    "wind_estimate": "m/s", "reference_filter": "rad/s", "smoother_filter": "rad/s", "last_power": "W",
+    "min_pitch": "rad", "pitch_integral": "rad", "torque_integral": "N m", "torque_last": "N m",
+    "pitch_total_last": "rad", "pitch_last": "rad", "pitch_command_last": "rad", "root_filter": "N m",
+    "ipc_integral": "rad", "ipc_filter": "rad", "floating_lowpass": "rad/s^2", "floating_highpass": "rad/s^2",
+    "floating_integral": "rad/s", "actuator_filter": "rad",
+    "ekf_x": _EKF_X,
+    "ekf_P": ("rad^2/s^2", "rad m/s^2", "rad m/s^2", "rad m/s^2", "m^2/s^2", "m^2/s^2", "rad m/s^2", "m^2/s^2",
+              "m^2/s^2"),                                                # (x_i)(x_j)
+    "ekf_K": ("-", "m/rad", "m/rad"),                                    # x_i per measured rotor speed [rad/s]
+}
+
+
+def state_unit(name: str) -> str:
+    """Unit of a controller state ``name`` (``"ekf_x[1]"``, ``"floating_notch1[0]"`` ...), "" if unknown."""
+    base, _, index = name.partition("[")
+    base = "floating_highpass" if base.startswith("floating_notch") else base
+    unit = STATE_UNITS.get(base, "")
+    return unit[int(index.rstrip("]"))] if isinstance(unit, tuple) else unit
+
+
 class _States:
     """Named slots of the state vector."""
 
@@ -187,6 +214,7 @@ class BaselineController:
         order = [x_next[name] for name in dict.fromkeys(nm.split("[")[0] for nm in states.names)]
         xn = ca.vertcat(*[ca.vec(v) for v in order])
         self.state_names = tuple(states.names)
+        self.state_units = tuple(state_unit(n) for n in self.state_names)
         self.x0 = np.array(states.x0)
         self.x0.setflags(write=False)
         self.function = ca.Function("baseline_controller", [x, y], [xn, ca.vertcat(*u)], ["xc", "y"],

@@ -147,12 +147,14 @@ class TurbineLoop:
         self._law_time: list[float] = []
         self._base_fn = None
         self._xb0 = np.zeros(0)
+        self._base_units: tuple[str, ...] = ()
         if baseline is not None:
             from ..operation.controllers import baseline_in_loop
 
             dc = baseline_in_loop(baseline)
             self._base_fn, self._xb0 = dc.law, dc.x0
             self._base_names = dc.state_names
+            self._base_units = dc.state_units
         self._n_b = self._xb0.size
         self._n_e = len(estimator.names) if estimator is not None else 0
         self.controller_times: list[float] = []
@@ -172,6 +174,16 @@ class TurbineLoop:
             names += tuple(f"est.{n}" for n in self.estimator.names)
         return names
 
+    @property
+    def state_units(self) -> tuple[str, ...]:
+        """Units of :attr:`state_names` (SI: the baseline's states, the estimated states and wind)."""
+        units = tuple(self._base_units) if self.baseline is not None else ()
+        if self.estimator is not None:
+            dyn = self.estimator.prediction.estimation
+            known = {**dict(zip(dyn.inputs, dyn.input_units)), **dict(zip(dyn.states, dyn.state_units))}
+            units += tuple(known.get(n, "") for n in self.estimator.names)
+        return units
+
     def controller(self):
         """The :class:`mbsym.simulate.DiscreteController` running this loop."""
         from ...simulate.controller import DiscreteController
@@ -179,6 +191,7 @@ class TurbineLoop:
         x0 = np.concatenate([self._xb0, self.estimator.x if self.estimator is not None else np.zeros(0)])
         return DiscreteController(self.law, self.dt, x0, measurements=self.measurements,
                                   actuates=("BlPitchCom", "GenTqCom"), state_names=self.state_names,
+                                  state_units=self.state_units,
                                   name="nmpc" if self.nmpc is not None else "baseline")
 
     def law(self, t: float, xc: np.ndarray, y: np.ndarray):

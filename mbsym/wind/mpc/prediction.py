@@ -44,6 +44,9 @@ PREDICTION_DOFS = ("GenDOF", "TwFADOF1")
 CONTROL_INPUTS = ("Wind1VelX", "BlPitchRate", "GenTqRate")
 #: Inputs of :attr:`PredictionModel.estimation`.
 ESTIMATION_INPUTS = ("Wind1VelX", "BlPitchMeas", "GenTqMeas")
+#: Units of the inputs of the two forms (SI, docs/units.md).
+INPUT_UNITS = {"Wind1VelX": "m/s", "BlPitchRate": "rad/s", "GenTqRate": "N m/s", "BlPitchMeas": "rad",
+               "GenTqMeas": "N m"}
 _DROPPED = ("GeAz", "BlPitch_d")
 
 
@@ -149,8 +152,10 @@ class PredictionModel:
         h = ca.Function(f"{name}_outputs", [z, u, p], [y], ["x", "u", "p"], ["y"], opts)
         defaults = {**dict(full.defaults), **self._p}
         x0 = [full.x0[full.states.index(s)] for s in states]
+        state_units = dict(zip(full.states, full.state_units))
         return Dynamics(f, states=states, inputs=inputs, parameters=full.parameters, defaults=defaults, outputs=h,
-                        output_names=full.output_names, output_units=full.output_units, x0=x0, name=name)
+                        output_names=full.output_names, output_units=full.output_units, x0=x0, name=name,
+                        state_units=[state_units.get(s, "") for s in states], input_units=[INPUT_UNITS.get(n, "") for n in inputs])
 
     def _check_azimuth(self, full: Dynamics) -> None:
         """The right-hand side must not depend on the azimuth (it is dropped)."""

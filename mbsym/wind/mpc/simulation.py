@@ -41,7 +41,8 @@ def measurement_dynamics(model, names) -> Dynamics:
         units = [d.output_units[d.output_names.index(n)] for n in rows]
         cache[key] = Dynamics(d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters,
                               defaults=dict(d.defaults), outputs=h, output_names=rows, output_units=units, x0=d.x0,
-                              u0=d.u0, name=f"{d.name}_loop", eom=d.eom)
+                              u0=d.u0, name=f"{d.name}_loop", eom=d.eom, state_units=d.state_units,
+                              input_units=d.input_units)
     return cache[key]
 
 

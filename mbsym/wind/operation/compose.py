@@ -35,6 +35,7 @@ from ...held import HeldPart
 from ...spd_solve import spd_solve
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
+from .units import input_units, state_units
 
 __all__ = ["compose", "check_structure", "Graph", "WIRED_INPUTS"]
 
@@ -303,9 +304,11 @@ def compose(model, graph: type | None = None) -> Dynamics:
         defaults["rotor_speed"] = float(model.turbine.initial_conditions.rotor_speed)
     x0 = _deck_state(model, g)
     u0 = _input_defaults(model, g)
+    wind = getattr(model, "wind", None)
     return Dynamics(rhs, states=g.states, inputs=g.inputs, parameters=g.parameters, defaults=defaults,
                     outputs=outputs, output_names=names, output_units=units, x0=x0, u0=u0, name=model.name, eom=eom,
-                    held=held)
+                    held=held, state_units=state_units(g.states, eom.units),
+                    input_units=input_units(g.inputs, wind.units() if wind is not None else None))
 
 
 def _held_part(model, g: Graph, y: Any, measured: Any, opts: dict) -> HeldPart | None:

@@ -84,7 +84,8 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
     law = ca.Function(f"{name}_in_loop", [xc, y], [x_next, u], ["xc", "y"], ["xc_next", "u"], {"cse": True})
     start = controller.x0 if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
     return DiscreteController(law, controller.dt, start, measurements=measured, actuates=actuates,
-                              state_names=[f"{name}.{s}" for s in controller.state_names], name=name)
+                              state_names=[f"{name}.{s}" for s in controller.state_names],
+                              state_units=controller.state_units, name=name)
 
 
 def _plant_commands(u, commands: tuple[str, ...], model) -> tuple:

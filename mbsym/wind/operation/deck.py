@@ -34,7 +34,7 @@ from ..deck.parameters import TurbineParameters
 from .actuators import ActuatorSettings
 from .model import OPERATING_DOFS, OperatingTurbine
 
-__all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT", "AERO_MODELS"]
+__all__ = ["OperatingDeck", "operating_deck", "builtin_deck", "ROSCO_HINT", "BUILTIN_DISCON_HINT", "AERO_MODELS"]
 
 #: Aerodynamic models of an operating turbine: blade-element on every blade, or rotor-effective surfaces.
 AERO_MODELS = ("blade", "rotor")
@@ -45,6 +45,11 @@ _LOAD_CUT_BLADE = re.compile(r"^(LSShftF[xyz][as]|YawBr[FM][xyz]p|RootF[xyz]c[1-
 #: How to get ROSCO's library, for messages.
 ROSCO_HINT = ("'pip download --no-deps rosco==2.10.6' gives a wheel (a zip) holding rosco/lib/libdiscon.so and its "
               "runtime rosco.libs/; unzip both side by side, or pass the library with --discon LIB.so")
+
+#: Where a DISCON.IN for the built-in NREL 5 MW comes from, for messages.
+BUILTIN_DISCON_HINT = ("mbsym.wind.operation.nrel5mw.write_nrel5mw_discon(folder) writes the package's ROSCO 2.10.6 "
+                       "NREL 5 MW one; the rosco wheel holds the original as Examples/Test_Cases/NREL-5MW/DISCON.IN "
+                       "with Cp_Ct_Cq.NREL5MW.txt beside it")
 
 
 @dataclass(frozen=True)
@@ -272,9 +277,13 @@ class OperatingDeck:
                                      self.servodyn is not None else "") + ". Fix the path or pass --discon-input.")
         return BaselineSettings.from_discon(source, dt=dt)
 
-    def discon_paths(self, library: str | Path | None = None,
-                     input_file: str | Path | None = None) -> tuple[Path, Path]:
+    def discon_paths(self, library: str | Path | None = None, input_file: str | Path | None = None, *,
+                     folder: str | Path | None = None) -> tuple[Path, Path]:
         """``(library, DISCON.IN)`` for the DISCON controller: the given ones, else the deck's.
+
+        The built-in turbine names no input file: with ``folder`` (the run's output folder) the package's
+        ROSCO 2.10.6 NREL 5 MW ``DISCON.IN`` and its performance file are written into
+        ``folder/nrel5mw_rosco/`` (:func:`~.nrel5mw.write_nrel5mw_discon`) and that file is returned.
 
         Raises
         ------
@@ -288,9 +297,13 @@ class OperatingDeck:
             raise ControllerError(f"no DISCON library: {self.label} names none; pass --discon LIB.so ({ROSCO_HINT}).")
         if not lib.is_file():
             raise ControllerError(f"DISCON library not found: tried '{lib.absolute()}'{where}. {ROSCO_HINT}.")
+        if infile is None and self.path is None and folder is not None:
+            from .nrel5mw import NREL5MW_DISCON_FOLDER, write_nrel5mw_discon
+
+            infile = write_nrel5mw_discon(Path(folder) / NREL5MW_DISCON_FOLDER, dt=self.controller_dt)
         if infile is None:
             raise ControllerError(f"no controller input file: {self.label} names none; pass --discon-input "
-                                  "DISCON.IN.")
+                                  "DISCON.IN" + (f" ({BUILTIN_DISCON_HINT})" if self.path is None else "") + ".")
         if not infile.is_file():
             raise ControllerError(f"controller input file not found: tried '{infile.absolute()}'. Fix ServoDyn's "
                                   "DLL_InFile or pass --discon-input DISCON.IN.")

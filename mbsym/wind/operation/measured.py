@@ -121,9 +121,12 @@ class MeasuredInputTurbine:
         units = None if full.output_units is None else [full.output_units[i] for i in keep]
         x0 = [full.x0[full.states.index(s)] for s in self.states]
         u0 = [_default_input(full, n) for n in inputs]
+        state_units = dict(zip(full.states, full.state_units))
+        input_units = {**dict(zip(full.inputs, full.input_units)), **MEASURED_INPUTS}
         return Dynamics(f, states=self.states, inputs=inputs, parameters=full.parameters, defaults=dict(full.defaults),
                         outputs=h, output_names=[full.output_names[i] for i in keep], output_units=units, x0=x0,
-                        u0=u0, name=name)
+                        u0=u0, name=name, state_units=[state_units.get(s, "") for s in self.states],
+                        input_units=[input_units.get(n, "") for n in inputs])
 
     def dynamics(self) -> Dynamics:
         """The model as an :class:`mbsym.Dynamics` (states :attr:`states`; inputs the wind's, then

@@ -272,7 +272,7 @@ class OperatingTurbine:
                 d.rhs, states=d.states, inputs=d.inputs, parameters=d.parameters, defaults=dict(d.defaults),
                 outputs=self._parts["measurements"], output_names=self._parts["measurement_names"],
                 output_units=self._parts["measurement_units"], x0=d.x0, u0=d.u0, name=f"{d.name}_measured",
-                eom=d.eom, held=held)
+                eom=d.eom, held=held, state_units=d.state_units, input_units=d.input_units)
         return self._parts["measurement_dynamics"]
 
     # ------------------------------------------------------------------ initial states

@@ -296,7 +296,8 @@ class BladeFrame:
         Tx = np.block([[T.T1, np.zeros((n, n))], [om * T.T2, T.T1]])
         Q = np.linalg.solve(T.T1, lin.Q)
         return LinearModel(M, C, K, Q, A, B, lin.coordinates, lin.states, lin.inputs, lin.operating_point,
-                           lin.outputs, lin.Cy @ Tx, lin.Dy, lin.output_units, lin.method)
+                           lin.outputs, lin.Cy @ Tx, lin.Dy, lin.output_units, lin.method, units=dict(lin.units),
+                           input_units=lin.input_units)
 
 
 #: Per-blade names: a leading ``B<k>`` followed by a letter (``B1F1``, ``B2N7_vind_x``), or a trailing blade

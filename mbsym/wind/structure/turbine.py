@@ -294,6 +294,12 @@ class TurbineModel:
         """Inputs for :func:`mbsym.simulate`: zero loads, prescribed motions as functions of time."""
         return self.input_defaults()
 
+    def input_units(self) -> dict[str, str]:
+        """Units of the inputs by name (SI: :mod:`mbsym.wind.structure.units`; simulation protocol hook)."""
+        from .units import structural_input_unit
+
+        return {n: structural_input_unit(n) for n in self.eom.inputs}
+
     def output_function(self):
         """OpenFAST channels (:class:`mbsym.wind.structure.channels.Channels`: ``function``, ``names``, ``units``)."""
         if self._channels is None:

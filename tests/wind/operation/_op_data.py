@@ -74,3 +74,34 @@ def runnable_rosco_deck(fst: Path, target: Path) -> Path:
     edit_deck_file(aero, r"^True\s+TwrAero", "False   TwrAero")
     edit_deck_file(aero, r"^3\s+UA_Mod", "0   UA_Mod")
     return target / fst.name
+
+
+#: DISCON.IN keys the writer derives from BaselineSettings (their vectors' lengths, the performance file).
+DERIVED_DISCON_KEYS = ("PC_GS_n", "VS_n", "WE_FOPoles_N", "PS_BldPitchMin_N", "PerfFileName", "PerfTableSize")
+
+
+def discon_other_data(discon_in: Path) -> dict:
+    """The package data of :func:`mbsym.wind.operation.nrel5mw.write_nrel5mw_discon` generated from a DISCON.IN:
+    every key ROSCO reads that :data:`~mbsym.wind.control.settings.DISCON_MAP` does not map (nor one derived from
+    the mapped ones), and the thrust and torque tables of its performance file (the power table is in the
+    settings)."""
+    import numpy as np
+
+    from mbsym.wind.control.settings import DISCON_MAP
+    from mbsym.wind.deck.discon_in import DISCON_KEYS, read_discon_in
+    from mbsym.wind.deck.performance import read_performance_table
+
+    d = read_discon_in(discon_in)
+    other = {}
+    for spec in DISCON_KEYS:
+        if spec.key in DISCON_MAP or spec.key in DERIVED_DISCON_KEYS:
+            continue
+        value = d[spec.key]
+        other[spec.key] = np.asarray(value).tolist() if isinstance(value, np.ndarray) else value
+    table = read_performance_table(d.performance_file)
+    return {"_source": {
+        "controller": "ROSCO 2.10.6 (rosco wheel on PyPI), Examples/Test_Cases/NREL-5MW/DISCON.IN (LoggingLevel 0) "
+                      "and its performance table Cp_Ct_Cq.NREL5MW.txt (Apache-2.0): the keys that "
+                      "mbsym.wind.control.settings.DISCON_MAP does not map, and the thrust and torque tables",
+        "generated_by": "tests/wind/operation/test_discon_write.py"},
+        "other": other, "ct": np.asarray(table.ct).tolist(), "cq": np.asarray(table.cq).tolist()}
