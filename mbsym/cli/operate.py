@@ -135,6 +135,10 @@ def run_operation(args: argparse.Namespace) -> int:
         controller = _for_plant(controller, handle, model, kind, args, deck)
         x0 = _initial_state(model, deck, wind)
         loop = mpc.loop(deck, model, wind) if mpc.active else None
+        if loop is not None:                 # the solvers' libraries compile in the background: say so, wait
+            from ..codegen_async import wait_for_compilations
+
+            wait_for_compilations(lambda line: print(f"mbsym simulate: {line}", file=sys.stderr, flush=True))
         controller = loop.controller() if loop is not None else controller
     except BaseException:
         if handle is not None:

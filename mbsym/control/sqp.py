@@ -31,7 +31,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..codegen import compile_function
+from ..codegen_async import compile_async
 from ..exceptions import ControlDefinitionError
 from .nlp import merit_function
 from .qp import QP_SOLVERS, QPCall, conic, preparation_function
@@ -92,9 +92,16 @@ class GaussNewtonSQP:
     w : ndarray
         The current iterate (stage order).
     build_time : float
-        Seconds spent building (and compiling) the Functions and the QP solver.
+        Seconds spent building the Functions and the QP solver, and waiting for their compilation.
     compiled : bool
-        Whether the preparation runs compiled code.
+        Whether the preparation runs compiled code (waits for its compilation).
+
+    Notes
+    -----
+    With ``compile``, the preparation and merit Functions are compiled in the background
+    (:func:`mbsym.codegen_async.compile_async`): the constructor returns at once; the first
+    :meth:`prepare` waits for the preparation's library; the line search evaluates the merit
+    Function in CasADi's virtual machine until its library is ready (same values).
     """
 
     def __init__(self, problem: StageProblem, *, qp_solver: str = "hpipm", qp_options: Mapping[str, Any] | None = None,
@@ -104,10 +111,8 @@ class GaussNewtonSQP:
         t0 = time.perf_counter()
         self.problem, self.layout = problem, problem.layout
         prep = preparation_function(problem)
-        self.compiled = False
-        if compile:
-            c = compile_function(prep)
-            prep, self.compiled = c.function, c.compiled
+        self._compiled = False
+        self._prep_job = compile_async(prep) if compile else None
         self._prep = prep
         self._H_sp, self._A_sp = prep.sparsity_out(0), prep.sparsity_out(2)
         self._qp = conic(qp_solver, problem, self._H_sp, self._A_sp, qp_options or {})
@@ -115,25 +120,44 @@ class GaussNewtonSQP:
         self._alloc()
         self.w = np.zeros(self.layout.n_w)
         self._prepared = False
-        self._merit_fn = None
-        if self.compiled:               # the line search's merit Function, compiled now rather than mid-solve
-            self._merit_fn = compile_function(merit_function(problem)).function
+        self._merit_fn = merit_function(problem)          # virtual machine until compiled
+        self._merit_job = compile_async(self._merit_fn) if compile else None
         self.build_time = time.perf_counter() - t0
+
+    @property
+    def compiled(self) -> bool:
+        self._resolve()
+        return self._compiled
+
+    def _resolve(self) -> None:
+        """Swap in the compiled preparation Function (waits for its compilation)."""
+        if self._prep_job is None:
+            return
+        t0 = time.perf_counter()
+        c = self._prep_job.result()
+        self._prep_job = None
+        self._prep, self._compiled = c.function, c.compiled
+        self._bind_preparation()
+        self.build_time += time.perf_counter() - t0
 
     def _alloc(self) -> None:
         """Preallocated arrays and the two buffers (no conversions in the loop)."""
         f, q = self._prep, self._qp
         self._in = {f.name_in(i): np.zeros(f.nnz_in(i)) for i in range(f.n_in())}
         self._out = {f.name_out(i): np.zeros(f.nnz_out(i)) for i in range(f.n_out())}
+        self._bind_preparation()
+        self._qp_call = QPCall(q, {"H": self._out["H"], "A": self._out["A"], "g": self._out["g"],
+                                   "lba": self._out["lba"], "uba": self._out["uba"], "lbx": self._out["lbdw"],
+                                   "ubx": self._out["ubdw"]})
+        self._dw = self._qp_call.x
+
+    def _bind_preparation(self) -> None:
+        f = self._prep
         self._prep_buf, self._prep_run = f.buffer()
         for i in range(f.n_in()):
             self._prep_buf.set_arg(i, memoryview(self._in[f.name_in(i)]))
         for i in range(f.n_out()):
             self._prep_buf.set_res(i, memoryview(self._out[f.name_out(i)]))
-        self._qp_call = QPCall(q, {"H": self._out["H"], "A": self._out["A"], "g": self._out["g"],
-                                   "lba": self._out["lba"], "uba": self._out["uba"], "lbx": self._out["lbdw"],
-                                   "ubx": self._out["ubdw"]})
-        self._dw = self._qp_call.x
 
     # ---------------------------------------------------------------- phases
     def set_iterate(self, w: np.ndarray) -> None:
@@ -143,6 +167,7 @@ class GaussNewtonSQP:
 
     def prepare(self, D: np.ndarray, p: np.ndarray, bounds: tuple[np.ndarray, ...]) -> float:
         """Linearize at the current iterate: build the QP. Returns the wall time [s]."""
+        self._resolve()
         t0 = time.perf_counter()
         self._in["w"][:] = self.w
         self._in["D"][:] = np.asarray(D, dtype=float).reshape(-1, order="F")
@@ -239,11 +264,9 @@ class GaussNewtonSQP:
         return float(np.max(np.abs(lam))) if lam.size and np.all(np.isfinite(lam)) else 0.0
 
     def _merit(self, w, D, p, bounds, mu: float) -> tuple[float, float]:
-        if self._merit_fn is None:
-            t0 = time.perf_counter()
-            f = merit_function(self.problem)
-            self._merit_fn = compile_function(f).function if self.compiled else f
-            self.build_time += time.perf_counter() - t0
+        if self._merit_job is not None and self._merit_job.done():
+            self._merit_fn = self._merit_job.result().function
+            self._merit_job = None
         cost, viol = self._merit_fn(w, np.asarray(D, dtype=float), p, *bounds)
         return float(cost) + mu * float(viol), float(viol)
 
