@@ -73,3 +73,12 @@ def test_bad_options_are_one_line_errors(flags, match, capsys):
 def test_unknown_estimator_is_a_usage_error(capsys):
     assert main(["simulate", "--wind", "steady:14", "--controller", "nmpc", "--estimator", "kalman"]) == 2
     assert "--estimator" in capsys.readouterr().err
+
+
+def test_mhe_first_solves_after_the_window_fills_succeed(capsys):
+    # issue 22 item 14: seed 12, the 11 solves after the window filled at 1 s ended "infeasible" (the line search's
+    # penalty was below the QP multipliers, mbsym/control/sqp.py); every solve must succeed
+    assert main(["simulate", "--wind", "kaimal:14:0.16:12", "--tmax", "2", "--controller", "nmpc", "--estimator",
+                 "mhe", "--stats"]) == 0
+    stats = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert stats["estimator"] == "mhe" and stats["estimator_failures"] == 0 and stats["controller_failures"] == 0
