@@ -117,7 +117,23 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
                                  tuple(res.output_units[n_meas:] if res.output_units else ("",) * extra.shape[1]),
                                  statistics=stats)
     check_physical(result, model)            # stops a run gone unphysical (time, channel): UnphysicalRunError
+    _warn_deadline(loop)
     return result
+
+
+def _warn_deadline(loop) -> None:
+    """A :class:`~mbsym.exceptions.DeadlineWarning` when the NMPC missed its deadline."""
+    if loop.nmpc is None or not loop.nmpc.nmpc.deadline_misses:
+        return
+    import warnings
+
+    from ...exceptions import DeadlineWarning
+
+    s = loop.nmpc.summary()
+    warnings.warn(f"the NMPC missed its {s['deadline_s'] * 1e3:.3g} ms deadline at {s['deadline_misses']} of "
+                  f"{s['steps']} steps (worst step {s['step_max_s'] * 1e3:.3g} ms); each applied the previous plan's "
+                  "next rates instead of its own. A larger deadline, a shorter horizon or a less loaded "
+                  "machine avoids it.", DeadlineWarning, stacklevel=3)
 
 
 def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list[str], list[str]]:
