@@ -84,6 +84,9 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
         raise TypeError(f"model must be an OperatingTurbine; got {type(model).__name__}.")
     if not isinstance(loop, TurbineLoop):
         raise TypeError(f"loop must be a TurbineLoop; got {type(loop).__name__}.")
+    from ...codegen_async import wait_for_compilations
+
+    wait_for_compilations()           # the solvers' libraries (compiled in the background): not inside a step's time
     dyn = model.dynamics()
     u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
     x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
