@@ -100,5 +100,6 @@ def test_a_zero_deadline_applies_the_previous_plan_counts_and_warns(capsys):
     assert stats["controller_deadline_s"] == 0.0 and stats["controller_failures"] == 0
     assert stats["controller_deadline_misses"] == stats["controller_steps"] - 1 == 19
     assert "missed its 0 ms deadline at 19 of 20 steps" in err
+    assert "preparing the NMPC (models, reference table, solvers): about 3 s" in err      # issue 22 item 8
     [row] = [line.split() for line in out.splitlines() if line.startswith("RotSpeed ")]   # name unit initial min max
     assert abs(float(row[3]) - 12.1) < 0.2 and abs(float(row[4]) - 12.1) < 0.2           # rated 12.1 rpm (NREL 5 MW)
