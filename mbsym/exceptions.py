@@ -146,6 +146,10 @@ class IdentifiabilityWarning(UserWarning):
     """Identified parameters are poorly determined by the data (nearly collinear: large correlation)."""
 
 
+class DeadlineWarning(MbsymWarning):
+    """A real-time controller missed its deadline at some steps (each applied its fallback; the count says how many)."""
+
+
 class ConvergenceWarning(MbsymWarning):
     """An iterative fit stopped before converging (iteration or time limit, failed line search); the
     result is returned with ``success = False`` and the message says what to try."""

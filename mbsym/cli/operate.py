@@ -142,7 +142,16 @@ def run_operation(args: argparse.Namespace) -> int:
         dyn = model.dynamics()
         controller = _for_plant(controller, handle, model, kind, args, deck)
         x0 = _initial_state(model, deck, wind)
+        if mpc.active:
+            parts = " and the ".join(x for x in (mpc.controller.upper() if mpc.controller == "nmpc" else "",
+                                                 (mpc.estimator or "").upper()) if x)
+            print(f"mbsym simulate: preparing the {parts} (models, reference table, solvers): about 3 s, more when "
+                  "solver libraries compile (said below)", file=sys.stderr, flush=True)
         loop = mpc.loop(deck, model, wind) if mpc.active else None
+        if loop is not None:                 # the solvers' libraries compile in the background: say so, wait
+            from ..codegen_async import wait_for_compilations
+
+            wait_for_compilations(lambda line: print(f"mbsym simulate: {line}", file=sys.stderr, flush=True))
         controller = loop.controller() if loop is not None else controller
     except BaseException:
         if handle is not None:

@@ -3,7 +3,7 @@
 Contract (kept for acceptance checks)::
 
     mbsym simulate [DECK] --wind SPEC --controller nmpc|baseline [--preview S] [--estimator ekf|mhe]
-                   [--out F.csv] [--stats]
+                   [--deadline S] [--out F.csv] [--stats]
 
 * ``--controller nmpc``: the turbine NMPC (:class:`mbsym.wind.mpc.TurbineNMPC`: real-time
   iterations, 0.1 s, 40 stages) on the prediction model chosen with the fidelity ladder (GenDOF +
@@ -15,6 +15,10 @@ Contract (kept for acceptance checks)::
   mode added, :func:`mbsym.wind.mpc.estimation_model`); the NMPC uses the estimate (and the estimated wind when
   there is no preview). With ``--controller baseline`` the baseline keeps its own measurements and
   the estimates are only reported.
+* ``--deadline S``: the NMPC's wall time per step (default its sample time, 0.1 s; ``inf``: none).
+  A step computed later applies the previous plan's next rates (zero rates when none is left); the
+  misses are counted (``--stats``: ``controller_deadline_s``, ``controller_deadline_misses``) and a
+  one-line warning at the end says how many.
 * ``--controller nmpc`` with neither ``--preview`` nor ``--estimator`` uses the EKF (a turbine
   has no lidar by default).
 * With an estimator the CSV adds ``<channel>_est`` (same units) for the channels of
@@ -43,6 +47,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--preview", type=float, metavar="S",
                    help="NMPC: ideal wind preview (a perfect lidar) of S seconds; without --estimator also the "
                         "plant's true state")
+    p.add_argument("--deadline", type=float, metavar="S",
+                   help="NMPC: wall time allowed per step in seconds (default: its sample time, 0.1 s; inf: none); a "
+                        "later step applies the previous plan's next rates, misses are counted (--stats "
+                        "controller_deadline_misses) and reported at the end")
     p.add_argument("--estimator", choices=ESTIMATOR_CHOICES,
                    help="estimate the state and rotor-effective wind at 20 Hz from generator speed, tower-top "
                         "acceleration, pitch and torque (the CSV adds <channel>_est); default for --controller "
@@ -56,6 +64,7 @@ class MpcOptions:
     controller: str
     preview: float | None
     estimator: str | None
+    deadline: float | None = None
 
     @property
     def active(self) -> bool:
@@ -79,7 +88,8 @@ class MpcOptions:
         settings = deck.baseline_settings()
         if self.controller == "nmpc":
             tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()
-            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning)
+            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning,
+                               deadline=self.deadline)
         else:
             baseline = BaselineController(settings)
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,
@@ -110,6 +120,14 @@ def check_options(args: argparse.Namespace, controller: str) -> MpcOptions:
     from ..exceptions import SimulationOptionError
 
     preview, estimator = getattr(args, "preview", None), getattr(args, "estimator", None)
+    deadline = getattr(args, "deadline", None)
+    if deadline is not None:
+        if controller != "nmpc":
+            raise SimulationOptionError(f"--deadline is the NMPC's time per step; it needs --controller nmpc (the "
+                                        f"controller is {controller}).")
+        if not deadline >= 0:
+            raise SimulationOptionError(f"--deadline {deadline:g}: give the wall time per step in seconds >= 0 "
+                                        "(e.g. --deadline 0.1, or inf for none).")
     if preview is not None:
         if controller != "nmpc":
             raise SimulationOptionError(f"--preview is the NMPC's wind preview; it needs --controller nmpc (the "
@@ -122,7 +140,7 @@ def check_options(args: argparse.Namespace, controller: str) -> MpcOptions:
                                     f"{controller}.")
     if controller == "nmpc" and preview is None and estimator is None:
         estimator = DEFAULT_ESTIMATOR
-    options = MpcOptions(controller, preview, estimator)
+    options = MpcOptions(controller, preview, estimator, deadline)
     if options.active:
         given = [f for f, v in (("--accuracy", args.accuracy), ("--method", args.method)) if v is not None]
         if given:

@@ -157,7 +157,21 @@ class MHE:
                                                 "d": [f"u_dyn:{n}" for n in m.known_inputs] +
                                                 [f"u_meas:{n}" for n in m.known_inputs] + list(m.measurements),
                                                 "p": list(m.fixed_parameters) + [f"prior:{n}" for n in m.names] +
-                                                [f"L0_{i}" for i in range(nz * nz)]})
+                                                [f"L0_{i}" for i in range(nz * nz)]},
+                            dynamics_jacobian=self._dynamics_jacobian(d.numel(), p.numel()))
+
+    def _dynamics_jacobian(self, n_d: int, n_p: int) -> ca.Function | None:
+        """``(z, ξ, d, p) -> (f, ∂f/∂[z; ξ])`` from the model's chained step Jacobian (None without one)."""
+        m = self.model
+        if m.step_jacobian is None:
+            return None
+        nk, nr = len(m.known_inputs), len(m.p_rest)
+        z, xi = ca.MX.sym("z", m.n_z), ca.MX.sym("xi", self._G.shape[1])
+        d, p = ca.MX.sym("d", n_d), ca.MX.sym("p", n_p)
+        zn, F = m.step_jacobian(z, d[:nk], p[:nr])
+        G = ca.DM(self._G)
+        return ca.Function("mhe_dynamics_jacobian", [z, xi, d, p], [zn + ca.mtimes(G, xi), ca.horzcat(F, G)],
+                           ["x", "u", "d", "p"], ["f", "J"])
 
     # ------------------------------------------------------------------ step
     def step(self, y, u=None) -> np.ndarray:

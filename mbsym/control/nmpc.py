@@ -14,7 +14,18 @@ Solvers (``solver=``):
 Failures (QP or NLP failure, maximum iterations, NaN) are reported in the step's
 :class:`StepStats` and counted; the input applied is then the **previous
 solution shifted** (its next planned input), and the next step starts from that
-shifted plan. Before any successful step the fallback is the last applied input.
+shifted plan. Before any successful step the fallback is the last applied input
+(or ``hold``).
+
+**Deadline** (``deadline=`` seconds of wall time per step): a step whose solution took longer is
+a *miss*: it arrived too late to be applied, so the step applies the previous plan's next input
+(``hold`` or the last input when there is no plan) and counts the miss
+(:attr:`NMPC.deadline_misses`, ``status`` ``"fallback (deadline missed ...)"``); the late
+solution becomes the plan and warm start of the next step (by then it has arrived), so the next
+step is again one bounded real-time iteration. The first step, the start-up (a converged,
+globalized SQP from the initial guess), is not held to it. The work of a real-time iteration is
+bounded: one linearization and one QP of at most 50 interior-point iterations (hpipm
+``iter_max``).
 """
 
 from __future__ import annotations
@@ -26,7 +37,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..exceptions import ControlDefinitionError
-from ._checks import positive_int, vector
+from ._checks import finite_number, positive_int, vector
 from .nlpsolvers import NLP_SOLVERS, NlpSolver
 from .ocp import OCP
 from .qp import QP_SOLVERS
@@ -127,13 +138,22 @@ class NMPC:
         Options of the QP solver (``"rti"``, ``"sqp"``) or of the nlpsol.
     compile : bool, keyword-only
         Compile the solver Functions (generated C, disk cache). Default True.
+    deadline : float, optional, keyword-only
+        Wall time allowed per step [s] (after the first); a later result is not applied (see the module
+        docstring). Default None: no deadline.
+    hold : array, optional, keyword-only
+        Input applied when no plan is left to fall back on (before any success, or after
+        :attr:`MAX_FALLBACKS` failures in a row); default the last applied input. A controller of
+        rates holds zero, for example.
 
     Attributes
     ----------
     stats : list of StepStats
         One per call of :meth:`step`.
     failures : int
-        Steps that fell back to the previous shifted solution.
+        Steps whose solve failed (they fell back to the previous shifted solution).
+    deadline_misses : int
+        Steps whose solution came after the deadline (they fell back too; not counted in ``failures``).
 
     Examples
     --------
@@ -153,7 +173,7 @@ class NMPC:
     def __init__(self, ocp: OCP, *, solver: str = "rti", qp_solver: str = "hpipm", hessian: str = "exact",
                  max_iter: int | None = None, tol: float = 1e-8, warmup_iterations: int = 200,
                  p: Mapping[str, float] | None = None, u_prev=None, solver_options: Mapping[str, Any] | None = None,
-                 compile: bool = True) -> None:
+                 compile: bool = True, deadline: float | None = None, hold=None) -> None:
         if not isinstance(ocp, OCP):
             raise TypeError(f"ocp must be an mbsym.control.OCP; got {type(ocp).__name__}.")
         self._ocp = ocp
@@ -177,8 +197,11 @@ class NMPC:
         self._plan: np.ndarray | None = None       # last successful solution
         self._since = 0                            # steps since that solution
         self._prepared_for: tuple | None = None
+        self.deadline = None if deadline is None else finite_number(deadline, "deadline [s]", nonnegative=True)
+        self._hold = None if hold is None else vector(hold, len(self._tr.controls), "hold", self._tr.controls)
         self.stats: list[StepStats] = []
         self.failures = 0
+        self.deadline_misses = 0
         self._streak = 0                           # consecutive failures
 
     # ------------------------------------------------------------ description
@@ -250,7 +273,12 @@ class NMPC:
         self._update(p, preview, reference)
         xa = self._tr.augmented_state(x, self._u_prev)
         result = self._solve(xa)
-        u, fallback = self._apply(result)
+        elapsed = time.perf_counter() - t0
+        if self.deadline is not None and self.stats and elapsed > self.deadline and result.success:
+            u, fallback = self._late(result)
+            result.status = f"deadline missed ({elapsed * 1e3:.3g} ms > {self.deadline * 1e3:.3g} ms)"
+        else:
+            u, fallback = self._apply(result)
         times = result.times
         prep = times.get("preparation", 0.0)
         fb = times.get("feedback", times.get("solver", 0.0))
@@ -288,6 +316,22 @@ class NMPC:
             return self._engine.solve(self._D, self._p, self._bounds, xa, max_iter=self._max_iter, tol=self._tol)
         return self._engine.solve(self._w, self._D, self._p, self._bounds, xa)
 
+    def _late(self, result: SolveResult) -> tuple[np.ndarray, bool]:
+        """A solution that came after the deadline: apply the previous plan's next input (``hold`` or the last input
+        without a plan); the late solution is the plan and warm start from the next step on (it will have arrived)."""
+        L, nc = self._P.layout, len(self._tr.controls)
+        self.deadline_misses += 1
+        if self._plan is None:
+            u = self._hold.copy() if self._hold is not None else self._u_prev.copy()
+        else:
+            u = np.clip(L.split(L.shift(self._plan))[1][:nc, 0], self._P.lbu[:nc], self._P.ubu[:nc])
+        self._plan, self._streak = result.w.copy(), 0
+        self._w = L.shift(self._plan)
+        if isinstance(self._engine, NlpSolver):
+            self._engine.shift_multipliers()
+        self._u_prev = u
+        return u.copy(), True
+
     def _apply(self, result: SolveResult) -> tuple[np.ndarray, bool]:
         """The input to apply and the next warm start; on failure the previous plan, shifted."""
         L, nc = self._P.layout, len(self._tr.controls)
@@ -299,8 +343,10 @@ class NMPC:
             self.failures += 1
             self._streak += 1
             if self._plan is None or self._streak > self.MAX_FALLBACKS:
-                # nothing (left) to fall back on: hold the last input; the next step initializes again
+                # nothing (left) to fall back on: hold; the next step initializes again
                 self._w = self._plan = None
+                if self._hold is not None:
+                    self._u_prev = self._hold.copy()
                 return self._u_prev.copy(), True
             self._plan = L.shift(self._plan)        # its next planned input is the fallback
         u = np.clip(L.split(self._plan)[1][:nc, 0], self._P.lbu[:nc], self._P.ubu[:nc])   # QP tolerance
@@ -324,7 +370,8 @@ class NMPC:
         """Step-time median/max [s], failures and steps (JSON-friendly)."""
         walls = np.array([s.wall_s for s in self.stats]) if self.stats else np.zeros(1)
         return {"steps": len(self.stats), "failures": self.failures, "step_median_s": float(np.median(walls)),
-                "step_max_s": float(np.max(walls)), "solver": self.solver}
+                "step_max_s": float(np.max(walls)), "solver": self.solver, "deadline_s": self.deadline,
+                "deadline_misses": self.deadline_misses}
 
     def as_controller(self, *, estimator=None, name: str = "nmpc"):
         """This NMPC (with ``estimator``) as a :class:`mbsym.simulate.DiscreteController`
@@ -340,4 +387,4 @@ class NMPC:
             self._u_prev = vector(u_prev, len(self._tr.controls), "u_prev", self._tr.controls)
         self._w = self._plan = None
         self._prepared_for = None
-        self.stats, self.failures, self._streak = [], 0, 0
+        self.stats, self.failures, self._streak, self.deadline_misses = [], 0, 0, 0

@@ -31,7 +31,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..codegen import compile_function
+from ..codegen_async import compile_async
 from ..exceptions import ControlDefinitionError
 from .nlp import merit_function
 from .qp import QP_SOLVERS, QPCall, conic, preparation_function
@@ -92,10 +92,20 @@ class GaussNewtonSQP:
     w : ndarray
         The current iterate (stage order).
     build_time : float
-        Seconds spent building (and compiling) the Functions and the QP solver.
+        Seconds spent building the Functions and the QP solver, and waiting for their compilation.
     compiled : bool
-        Whether the preparation runs compiled code.
+        Whether the preparation runs compiled code (waits for its compilation).
+
+    Notes
+    -----
+    With ``compile``, the preparation and merit Functions are compiled in the background
+    (:func:`mbsym.codegen_async.compile_async`): the constructor returns at once; the first
+    :meth:`prepare` waits for the preparation's library; the line search evaluates the merit
+    Function in CasADi's virtual machine until its library is ready (same values).
     """
+
+    #: Smallest step fraction of the line search; below it the search has failed.
+    MIN_STEP = 1e-6
 
     def __init__(self, problem: StageProblem, *, qp_solver: str = "hpipm", qp_options: Mapping[str, Any] | None = None,
                  compile: bool = True) -> None:
@@ -104,10 +114,8 @@ class GaussNewtonSQP:
         t0 = time.perf_counter()
         self.problem, self.layout = problem, problem.layout
         prep = preparation_function(problem)
-        self.compiled = False
-        if compile:
-            c = compile_function(prep)
-            prep, self.compiled = c.function, c.compiled
+        self._compiled = False
+        self._prep_job = compile_async(prep) if compile else None
         self._prep = prep
         self._H_sp, self._A_sp = prep.sparsity_out(0), prep.sparsity_out(2)
         self._qp = conic(qp_solver, problem, self._H_sp, self._A_sp, qp_options or {})
@@ -115,25 +123,44 @@ class GaussNewtonSQP:
         self._alloc()
         self.w = np.zeros(self.layout.n_w)
         self._prepared = False
-        self._merit_fn = None
-        if self.compiled:               # the line search's merit Function, compiled now rather than mid-solve
-            self._merit_fn = compile_function(merit_function(problem)).function
+        self._merit_fn = merit_function(problem)          # virtual machine until compiled
+        self._merit_job = compile_async(self._merit_fn) if compile else None
         self.build_time = time.perf_counter() - t0
+
+    @property
+    def compiled(self) -> bool:
+        self._resolve()
+        return self._compiled
+
+    def _resolve(self) -> None:
+        """Swap in the compiled preparation Function (waits for its compilation)."""
+        if self._prep_job is None:
+            return
+        t0 = time.perf_counter()
+        c = self._prep_job.result()
+        self._prep_job = None
+        self._prep, self._compiled = c.function, c.compiled
+        self._bind_preparation()
+        self.build_time += time.perf_counter() - t0
 
     def _alloc(self) -> None:
         """Preallocated arrays and the two buffers (no conversions in the loop)."""
         f, q = self._prep, self._qp
         self._in = {f.name_in(i): np.zeros(f.nnz_in(i)) for i in range(f.n_in())}
         self._out = {f.name_out(i): np.zeros(f.nnz_out(i)) for i in range(f.n_out())}
+        self._bind_preparation()
+        self._qp_call = QPCall(q, {"H": self._out["H"], "A": self._out["A"], "g": self._out["g"],
+                                   "lba": self._out["lba"], "uba": self._out["uba"], "lbx": self._out["lbdw"],
+                                   "ubx": self._out["ubdw"]})
+        self._dw = self._qp_call.x
+
+    def _bind_preparation(self) -> None:
+        f = self._prep
         self._prep_buf, self._prep_run = f.buffer()
         for i in range(f.n_in()):
             self._prep_buf.set_arg(i, memoryview(self._in[f.name_in(i)]))
         for i in range(f.n_out()):
             self._prep_buf.set_res(i, memoryview(self._out[f.name_out(i)]))
-        self._qp_call = QPCall(q, {"H": self._out["H"], "A": self._out["A"], "g": self._out["g"],
-                                   "lba": self._out["lba"], "uba": self._out["uba"], "lbx": self._out["lbdw"],
-                                   "ubx": self._out["ubdw"]})
-        self._dw = self._qp_call.x
 
     # ---------------------------------------------------------------- phases
     def set_iterate(self, w: np.ndarray) -> None:
@@ -143,6 +170,7 @@ class GaussNewtonSQP:
 
     def prepare(self, D: np.ndarray, p: np.ndarray, bounds: tuple[np.ndarray, ...]) -> float:
         """Linearize at the current iterate: build the QP. Returns the wall time [s]."""
+        self._resolve()
         t0 = time.perf_counter()
         self._in["w"][:] = self.w
         self._in["D"][:] = np.asarray(D, dtype=float).reshape(-1, order="F")
@@ -222,28 +250,63 @@ class GaussNewtonSQP:
             if not okq:
                 status = st
                 break
+            stalled = False
             if line_search:
                 mu = max(mu, 1.1 * self._multiplier_norm())
-                self._dw *= self._line_search(D, p, merit_bounds, mu)
+                alpha = self._line_search(D, p, merit_bounds, mu)
+                if alpha < self.MIN_STEP and self._multipliers_missing() and self.violation > max(1e-6, 1e3 * tol):
+                    # infeasible and the solver gave no multipliers: μ may be below them, find them
+                    mu = max(mu, 1.1 * self._multiplier_norm(stationary=True))
+                    alpha = self._line_search(D, p, merit_bounds, mu)
+                stalled = alpha < self.MIN_STEP        # near a solution: rounding; elsewhere a failure
+                self._dw *= alpha
                 self.w += self._dw
             if self.step_norm <= tol * (1.0 + np.max(np.abs(self.w))):
                 t_prep += self.prepare(D, p, bounds)          # cost and violation at the converged point
                 feasible = self.violation <= max(1e-6, 1e3 * tol)
-                ok, status = feasible, "success" if feasible else "infeasible"
+                ok = feasible
+                status = "success" if feasible else (
+                    "infeasible: line search stalled" if stalled else "infeasible")
                 break
         return SolveResult(self.w.copy(), ok, status, it, self.cost, self.violation, qp_it,
                            {"preparation": t_prep, "feedback": t_fb})
 
-    def _multiplier_norm(self) -> float:
-        lam = np.concatenate([self._qp_call.lam_a, self._qp_call.lam_x])
+    def _multipliers_missing(self) -> bool:
+        lam_a = self._qp_call.lam_a
+        return bool(lam_a.size) and not np.any(lam_a)
+
+    def _multiplier_norm(self, stationary: bool = False) -> float:
+        """Largest multiplier of the last QP: the solver's or (``stationary``) from stationarity.
+
+        CasADi 3.8's hpipm returns ``lam_a = 0`` for every row (measured): the ℓ₁ merit then kept μ = 1 below
+        the true multipliers, the Gauss–Newton step stopped being a descent direction of the merit, the
+        line search shrank it to nothing and the tiny step passed for convergence at an infeasible point
+        (the turbine MHE's first solves, issue 22 item 14). ``H Δw + g + Aᵀλ_a + λ_x = 0`` gives ``λ_a``
+        (least squares); :meth:`solve` asks for it when a line search fails with the solver's (zero) ``λ_a``.
+        """
+        q = self._qp_call
+        lam_a, lam_x = q.lam_a, q.lam_x
+        if not (np.all(np.isfinite(lam_a)) and np.all(np.isfinite(lam_x))):
+            return 0.0
+        if stationary and lam_a.size:
+            lam_a = self._stationary_multipliers(lam_x)
+        lam = np.concatenate([lam_a, lam_x])
         return float(np.max(np.abs(lam))) if lam.size and np.all(np.isfinite(lam)) else 0.0
 
+    def _stationary_multipliers(self, lam_x: np.ndarray) -> np.ndarray:
+        """``λ_a`` of the last QP from ``Aᵀλ_a = −(H Δw + g + λ_x)``: least squares by the normal equations
+        ``A Aᵀ λ_a = A r`` (``A Aᵀ`` is banded and small; a tiny ridge keeps dependent rows solvable)."""
+        H = _dense(self._H_sp, self._out["H"])
+        A = _dense(self._A_sp, self._out["A"])
+        r = -(H @ self._dw + self._out["g"] + lam_x)
+        AAt = A @ A.T
+        ridge = 1e-12 * max(float(np.trace(AAt)) / max(AAt.shape[0], 1), 1.0)
+        return np.linalg.solve(AAt + ridge * np.eye(AAt.shape[0]), A @ r)
+
     def _merit(self, w, D, p, bounds, mu: float) -> tuple[float, float]:
-        if self._merit_fn is None:
-            t0 = time.perf_counter()
-            f = merit_function(self.problem)
-            self._merit_fn = compile_function(f).function if self.compiled else f
-            self.build_time += time.perf_counter() - t0
+        if self._merit_job is not None and self._merit_job.done():
+            self._merit_fn = self._merit_job.result().function
+            self._merit_job = None
         cost, viol = self._merit_fn(w, np.asarray(D, dtype=float), p, *bounds)
         return float(cost) + mu * float(viol), float(viol)
 
@@ -252,9 +315,17 @@ class GaussNewtonSQP:
         phi0, viol0 = self._merit(self.w, D, p, bounds, mu)
         slope = float(self._out["g"] @ self._dw) - mu * viol0
         alpha = 1.0
-        while alpha > 1e-6:
+        while alpha >= self.MIN_STEP:
             phi, _ = self._merit(self.w + alpha * self._dw, D, p, bounds, mu)
             if np.isfinite(phi) and phi <= phi0 + 1e-4 * alpha * min(slope, 0.0):
                 break
             alpha *= 0.5
         return alpha
+
+
+def _dense(sp, nonzeros: np.ndarray) -> np.ndarray:
+    """A dense matrix of sparsity ``sp`` from its nonzeros (CasADi's column-major order)."""
+    rows, cols = sp.get_triplet()
+    M = np.zeros((sp.size1(), sp.size2()))
+    M[rows, cols] = nonzeros
+    return M

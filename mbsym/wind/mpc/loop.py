@@ -265,6 +265,7 @@ class TurbineLoop:
             out.update(controller_step_median_s=s["step_median_s"], controller_step_max_s=s["step_max_s"],
                        controller_first_step_s=s["first_step_s"], controller_failures=s["failures"],
                        controller_steps=s["steps"], controller_build_s=s["build_s"],
+                       controller_deadline_s=s["deadline_s"], controller_deadline_misses=s["deadline_misses"],
                        controller_dt=self.nmpc.dt, controller_horizon=self.nmpc.horizon)
         else:
             w = np.array(self._law_time[1:] or [0.0])

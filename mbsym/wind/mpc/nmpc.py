@@ -150,6 +150,12 @@ class TurbineNMPC:
         Of :class:`mbsym.control.NMPC` (default real-time iterations with hpipm, compiled).
     p : dict, optional, keyword-only
         Parameter values of the prediction model by name.
+    deadline : float, optional, keyword-only
+        Wall time allowed per step [s]; default the sample time (0.1 s); ``math.inf``: none. A step
+        computed later applies the previous plan's next rates instead (zero rates, the demands held, when
+        there is no plan); its late solution is the next step's warm start; misses are counted (:meth:`summary`,
+        ``--stats`` ``controller_deadline_misses``) and :func:`~.simulation.simulate_with_loop` warns.
+        The first step (the start-up, a converged SQP) is not held to it.
 
     Attributes
     ----------
@@ -162,7 +168,8 @@ class TurbineNMPC:
 
     def __init__(self, prediction, setpoints: SetPoints, *, tuning: NMPCTuning | None = None,
                  references: ReferenceTable | None = None, solver: str = "rti", qp_solver: str = "hpipm",
-                 compile: bool = True, warmup_iterations: int = 200, p: Mapping[str, float] | None = None) -> None:
+                 compile: bool = True, warmup_iterations: int = 200, p: Mapping[str, float] | None = None,
+                 deadline: float | None = None) -> None:
         from ...control import NMPC
         from .prediction import PredictionModel
 
@@ -178,8 +185,14 @@ class TurbineNMPC:
         self.prediction, self.setpoints, self.tuning = prediction, setpoints, tuning
         self.references = reference_table(prediction, setpoints, p=p) if references is None else references
         self.ocp = self._ocp()
+        if deadline is None:
+            deadline = tuning.dt
+        if isinstance(deadline, bool) or not isinstance(deadline, (int, float)) or not deadline >= 0:
+            raise ControlDefinitionError(f"deadline must be a number of seconds >= 0 (math.inf: none); got "
+                                         f"{deadline!r}.")
         self.nmpc = NMPC(self.ocp, solver=solver, qp_solver=qp_solver, compile=compile,
-                         warmup_iterations=warmup_iterations, p=p, u_prev=np.zeros(2))
+                         warmup_iterations=warmup_iterations, p=p, u_prev=np.zeros(2), hold=np.zeros(2),
+                         deadline=None if math.isinf(deadline) else float(deadline))
         self._tracked = tuple(n for n in self.nmpc.transcription.references
                               if n.split(":")[-1] in self.references.channels)
 
@@ -240,4 +253,10 @@ class TurbineNMPC:
         first = self.nmpc.stats[0].wall_s if self.nmpc.stats else float("nan")
         return {"steps": len(self.nmpc.stats), "failures": self.nmpc.failures, "step_median_s": float(np.median(walls)),
                 "step_max_s": float(np.max(walls)), "first_step_s": float(first),
-                "build_s": float(self.nmpc.build_time)}
+                "build_s": float(self.nmpc.build_time), "deadline_s": self.deadline,
+                "deadline_misses": self.nmpc.deadline_misses}
+
+    @property
+    def deadline(self) -> float:
+        """Wall time allowed per step [s] (``math.inf``: none)."""
+        return math.inf if self.nmpc.deadline is None else self.nmpc.deadline

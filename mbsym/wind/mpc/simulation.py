@@ -85,6 +85,9 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
         raise TypeError(f"model must be an OperatingTurbine; got {type(model).__name__}.")
     if not isinstance(loop, TurbineLoop):
         raise TypeError(f"loop must be a TurbineLoop; got {type(loop).__name__}.")
+    from ...codegen_async import wait_for_compilations
+
+    wait_for_compilations()           # the solvers' libraries (compiled in the background): not inside a step's time
     dyn = model.dynamics()
     u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
     x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
@@ -121,7 +124,23 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
                                  tuple(res.output_units[n_meas:] if res.output_units else ("",) * extra.shape[1]),
                                  statistics=stats)
     check_physical(result, model)            # stops a run gone unphysical (time, channel): UnphysicalRunError
+    _warn_deadline(loop)
     return result
+
+
+def _warn_deadline(loop) -> None:
+    """A :class:`~mbsym.exceptions.DeadlineWarning` when the NMPC missed its deadline."""
+    if loop.nmpc is None or not loop.nmpc.nmpc.deadline_misses:
+        return
+    import warnings
+
+    from ...exceptions import DeadlineWarning
+
+    s = loop.nmpc.summary()
+    warnings.warn(f"the NMPC missed its {s['deadline_s'] * 1e3:.3g} ms deadline at {s['deadline_misses']} of "
+                  f"{s['steps']} steps (worst step {s['step_max_s'] * 1e3:.3g} ms); each applied the previous plan's "
+                  "next rates instead of its own. A larger deadline, a shorter horizon or a less loaded "
+                  "machine avoids it.", DeadlineWarning, stacklevel=3)
 
 
 def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list[str], list[str]]:
