@@ -51,8 +51,9 @@ def test_ipc_loop_tracks_the_library(rosco_lib, tmp_path):
     field = operating_deck(fst).inflow.field()
     x0 = model.initial_state(wind_at_start(model, field), pitch=np.deg2rad(8.6))
     t = np.round(np.arange(0.0, 20.0 + 1e-9, 0.05), 10)
+    # like the library's loop (a Python call per sample): the aerodynamics every sample, held over it
     ours = simulate_turbine(model, field, 20.0, x0=x0, t_out=t, controller=baseline_in_loop(
-        BaselineController.from_discon(discon, dt=dt), model=model))
+        BaselineController.from_discon(discon, dt=dt), model=model), aero_dt=dt, aero_order=0)
     with DisconController(rosco_lib, discon, dt=dt, individual_pitch=True) as lib:
         theirs = simulate_turbine(model, field, 20.0, x0=x0, t_out=t, controller=discon_in_loop(lib, model=model))
     pitch = [f"BldPitch{k}" for k in (1, 2, 3)]
