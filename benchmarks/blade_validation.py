@@ -468,21 +468,41 @@ DIAGNOSIS = """\
   sample (cross-correlation lags −0.05 … +0.05 s, sub-sample fit); the blade-element rung's disk-averaged
   wind `RtVAvgxh` has ε 0.8 % (rigid) and 1.4 % (flexible blades), mean within 0.01 %.
 * **Rigid blades (ff14_rigid): every target met** (ε ≤ 1.3 %, R² ≥ 0.984, DELs within 3.9 %, means within
-  0.6 %). **Flexible blades (ff14_flex): every target met except R² of TTDspFA (0.889 for ≥ 0.95; its ε is
-  2.0 %)**; TwrBsMyt (R² 0.854) and RtAeroFxh (0.895) follow. The overlay (figure below) shows where: the
+  0.6 %). **Flexible blades (ff14_flex): every target met except R² of TTDspFA (0.895 for ≥ 0.95; its ε is
+  1.9 %)**; TwrBsMyt (R² 0.864) and RtAeroFxh (0.902) follow. The overlay (figure below) shows where: the
   series are indistinguishable while the pitch is active and split for 10–20 s after the pitch comes back
   to its floor (ROSCO's peak-shaving minimum pitch, 3.1–4°, where the blade pitch stops acting on the
-  thrust), e.g. 372–390 s: OpenFAST and mbsym bounce off the floor with a different number of pitch
-  pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA variance in the
-  reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the record).
-  The DELs and means are unaffected (TwrBsMyt DEL −2.0 %, mean
-  +0.2 %). Of the aerodynamic channels the torque differs most, and much more with flexible blades: RtAeroMxh
-  ε 5.4 % / R² 0.67 (flexible) against 2.7 % / 0.90 (rigid); the speed loop, hence the pitch pulses at the
-  floor, is driven by it. Which flexible-blade or drivetrain detail produces it is not yet isolated; the
-  reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the difference is model, not chaos.
-* **Steady shear and 10° yaw: means within 1.1 %** (TwrBsMxt −1.1 % with shear, the only one above 1 %), RootMyc1
-  1P amplitude within 0.8 %, phase-aligned (R² of RootMyc1 0.998). The TwrBsMxt DEL (+5.5 % / +5.1 %) is the
-  3P side-side cycle of a steady run, a small range (a few tens of kN m) on a large mean.
+  thrust), e.g. 372–390 s and 470–490 s: OpenFAST and mbsym bounce off the floor with a different number of
+  pitch pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA variance in the
+  reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the record); over
+  60–360 s alone R² of TTDspFA is 0.97. The DELs and means are unaffected (TwrBsMyt DEL −1.2 %, mean
+  −0.0 %). Of the aerodynamic channels the torque differs most, and much more with flexible blades: RtAeroMxh
+  ε 5.2 % / R² 0.69 (flexible) against 1.9 % / 0.95 (rigid); the speed loop, hence the pitch pulses at the
+  floor, is driven by it. The reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the
+  difference is model, not chaos; but this R² moves by ~0.01 with numerical details of ours (3 → 2 Newton
+  steps: 0.876 → 0.888 before the change below).
+* **Which DOF: the flap modes (bisection against OpenFAST itself,** OpenFAST and mbsym both rerun with a DOF
+  set off, everything else equal). EdgeDOF off: both codes change by R² ≥ 0.995 against their own
+  ff14_flex run and the gap stays (R² TTDspFA 0.866, RtAeroMxh ε 5.7 %). DrTrDOF off (60–360 s): R² ≥ 0.998
+  / 1.000 against their own runs, gap unchanged (0.974; RtAeroMxh 4.1 % / 0.86). FlapDOF1/2 off (edge and
+  drivetrain on, 60–360 s): the gap closes, R² TTDspFA 0.995 and RtAeroMxh ε 0.9 % / R² 0.994 (0.973 and
+  4.2 % / 0.85 with flaps over the same window). AeroDyn node outputs (B1N…, 57 m of span) locate it: with
+  flaps the outer node's Vrel has R² 0.70 (0.99 without), its error in 2.2–5 Hz (uncorrelated there, equal
+  energy), and OpenFAST's local twist `B1N…Theta` carries an elastic part mbsym did not have.
+* **Found and fixed: AeroDyn's elastic twist of ElastoDyn's bent section.** ElastoDyn orients a section by
+  one orthonormal small rotation about the bending-slope axis; AeroDyn (BEM_Mod 1) takes θ from the z Euler
+  angle of that orientation relative to the unpitched root, which adds `¼ sin 2β (s_x² − s_y²) − ½ cos 2β
+  s_x s_y` to twist + pitch (flap and edge slopes `s_x`, `s_y` along the pitched axes): in OpenFAST's
+  ff14_flex output +0.075° on average, up to +0.32°, at 57 m of span (feathering). mbsym now adds it
+  (`blade_compose.elastic_twist`). ff14_flex before → after: ε / R² TTDspFA 2.15 / 0.876 → 1.91 / 0.895,
+  RotSpeed 1.99 / 0.956 → 1.79 / 0.963, GenPwr 1.54 / 0.978 → 1.35 / 0.983, RtAeroMxh 5.75 / 0.632 →
+  5.16 / 0.693, RootMyc1 1P amplitude +2.7 % → +0.8 %, DEL RootMyc1 +3.2 % → +1.3 %, mean pitch
+  +0.06° → +0.02°, TwrBsMxt mean −1.0 % → −0.7 %. The tagged variant rows below (aero_dt, dt, rk4) were
+  run before this change. **Still open:** the outer nodes' 2–5 Hz inflow (Vrel) with flap DOFs.
+* **Steady shear and 10° yaw: means within 0.9 %** (TwrBsMxt −0.9 % with shear, the largest), RootMyc1
+  1P amplitude within 1.3 % (−1.3 % / −0.9 %; +0.3 % / +0.4 % before the elastic twist above), phase-aligned
+  (R² of RootMyc1 ≥ 0.999). The TwrBsMxt DEL (+5.8 % / +5.5 %) is the 3P side-side cycle of a steady run, a
+  small range (a few tens of kN m) on a large mean.
 * **Rotor-effective rung:** a disk average is not the wind a sheared, turbulent rotor converts: over ff14 the
   cube-mean of the disk `⟨u³⟩^(1/3)` is 1.8 % above the average (0.6 % from the shear alone). Above rated the
   surfaces need less pitch (mean −0.23° flexible, −0.47° rigid) and carry more thrust (RtAeroFxh mean +4 to

@@ -17,7 +17,7 @@ RtAeroMxh … RtAeroMzh  N-m     aerodynamic moment about the apex in the hub ax
 RtSkew                 deg     skew angle of the disk-averaged relative wind to the shaft
 Wind1VelY, Wind1VelZ   m/s     the wind at the hub point (0, 0, hub height), as InflowWind's output point
 B1N<j>Alpha …          deg …   AeroDyn node channels of blade 1 (Alpha, Phi [deg], Vrel [m/s],
-                               AxInd, TnInd, Cl, Cd [-], Fn, Ft [N/m]) for the nodes
+                               AxInd, TnInd, Cl, Cd [-], Fn, Ft [N/m], Theta [deg]) for the nodes
                                :attr:`OperatingTurbine.output_nodes` lists
 =====================  ======  =============================================================
 """
@@ -37,7 +37,7 @@ __all__ = ["blade_channel_rows", "NODE_CHANNELS"]
 NODE_CHANNELS = {"Alpha": ("alpha", "deg", 180.0 / math.pi), "Phi": ("phi", "deg", 180.0 / math.pi),
                  "Vrel": ("vrel", "m/s", 1.0), "AxInd": ("axial_induction", "-", 1.0),
                  "TnInd": ("tangential_induction", "-", 1.0), "Cl": ("cl", "-", 1.0), "Cd": ("cd", "-", 1.0),
-                 "Fn": ("fn", "N/m", 1.0), "Ft": ("ft", "N/m", 1.0)}
+                 "Fn": ("fn", "N/m", 1.0), "Ft": ("ft", "N/m", 1.0), "Theta": ("theta", "deg", 180.0 / math.pi)}
 
 
 def blade_channel_rows(g) -> list[tuple[str, str, Any]]:

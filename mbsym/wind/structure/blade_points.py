@@ -124,8 +124,9 @@ def blade_point_kinematics(shapes: BladePointShapes, frame: dict[str, Any], qe: 
     -------
     dict
         ``p`` (3, N) body positions, ``r`` (3, N) ground positions [m], ``v`` (3, N) ground velocities
-        [m/s], ``tangent`` (3, N) unit deflected span direction (ground), ``dp`` list over coordinates of
-        (3, N) ``∂p/∂q_i`` (body axes).
+        [m/s], ``tangent`` (3, N) unit deflected span direction (ground), ``slope`` (2, N) the slopes
+        ``Φ' q`` along the body axes ``x``, ``y`` [rad], ``dp`` list over coordinates of (3, N)
+        ``∂p/∂q_i`` (body axes).
     """
     n, ne = shapes.n_points, len(shapes.coordinates)
     zeros = ca.SX.zeros(1, n)
@@ -155,7 +156,7 @@ def blade_point_kinematics(shapes: BladePointShapes, frame: dict[str, Any], qe: 
     v = ca.repmat(frame["v"], 1, n) + _cross_columns(w, s) + R @ pdot
     t_body = ca.vertcat(sx, sy, ca.DM.ones(1, n))
     tangent = R @ (t_body / ca.repmat(ca.sqrt(ca.sum1(t_body**2)), 3, 1))
-    return {"p": p, "r": r, "v": v, "tangent": tangent, "dp": dp}
+    return {"p": p, "r": r, "v": v, "tangent": tangent, "slope": ca.vertcat(sx, sy), "dp": dp}
 
 
 def _cross_columns(a: Any, B: Any) -> Any:
