@@ -497,8 +497,7 @@ DIAGNOSIS = """\
   (`blade_compose.elastic_twist`). ff14_flex before → after: ε / R² TTDspFA 2.15 / 0.876 → 1.91 / 0.895,
   RotSpeed 1.99 / 0.956 → 1.79 / 0.963, GenPwr 1.54 / 0.978 → 1.35 / 0.983, RtAeroMxh 5.75 / 0.632 →
   5.16 / 0.693, RootMyc1 1P amplitude +2.7 % → +0.8 %, DEL RootMyc1 +3.2 % → +1.3 %, mean pitch
-  +0.06° → +0.02°, TwrBsMxt mean −1.0 % → −0.7 %. The tagged variant rows below (aero_dt, dt, rk4) were
-  run before this change. **Still open:** the outer nodes' 2–5 Hz inflow (Vrel) with flap DOFs.
+  +0.06° → +0.02°, TwrBsMxt mean −1.0 % → −0.7 % (both with the aerodynamics every 25 ms, held). **Still open:** the outer nodes' 2–5 Hz inflow (Vrel) with flap DOFs.
 * **Steady shear and 10° yaw: means within 0.9 %** (TwrBsMxt −0.9 % with shear, the largest), RootMyc1
   1P amplitude within 1.3 % (−1.3 % / −0.9 %; +0.3 % / +0.4 % before the elastic twist above), phase-aligned
   (R² of RootMyc1 ≥ 0.999). The TwrBsMxt DEL (+5.8 % / +5.5 %) is the 3P side-side cycle of a steady run, a
@@ -511,22 +510,26 @@ DIAGNOSIS = """\
   TTDspSS and TwrBsMxt are wrong (ε 16–18 %, R² < 0, TwrBsMxt mean −23 to −29 %). Its `Wind1VelX` is the disk
   average, so its ε against the hub point (8.5 %) only measures the 0.70 correlation of the two winds.
 * **Integration:** one step per 6.25 ms controller sample (OpenFAST's DT), by default `rk4-held`: the
-  aerodynamics held over the RK4 stages as OpenFAST's glue code holds AeroDyn's loads, and evaluated every 2° of
-  rotor rotation (`aero_dt`, here every 4 samples, 25 ms) while the controller and the structure keep the
-  6.25 ms sample. Tags: "aero_dt=0.00625" (the aerodynamics every sample), "rk4" (in every stage): the figures
-  agree to within 0.2 point of ε and 0.8 point of DEL, the default at half the CPU of the every-sample run
-  (11.0 against 23.4 s) and a thirteenth of rk4's (140.9 s, an older build). Larger steps (tags
-  "dt=…": plant **and controller** at that step) are cheaper still but the controller's sample time costs
-  accuracy: 12.5 ms keeps every DEL within 3.3 %, 25 ms misses them (TwrBsMyt +5.2 %, TwrBsMxt +6.6 %; with the
-  plant at 6.25 ms and the controller at 25 ms +4.4 / +6.0 %). The reference's own DT 0.005 s rerun moves ε by
-  ≤ 0.7 %.
+  aerodynamics evaluated once per step and, between evaluations, **extrapolated quadratically** through the last
+  three (the deck's `InterpOrder` 2, as OpenFAST's glue code extrapolates module outputs), evaluated every 4° of
+  rotor rotation (`aero_dt`, here every 8 samples, 50 ms) while the controller and the structure keep the
+  6.25 ms sample; 2 Newton steps from the DBEMT states. Tags: "aero_dt=0.00625, aero_order=0" (the
+  aerodynamics every sample, held over it) and "aero_dt=0.025, aero_order=0" (every 25 ms, held: the previous
+  default). The default has the every-sample run's accuracy (ε within 0.1 point, R² of TTDspFA 0.907 against
+  0.904, DELs within 1.5 points) at about half its CPU. Measured before the elastic twist below, on the same
+  case: linear extrapolation at 50 ms raised the TwrBsMxt and RootMyc1 DEL errors by 2.3 and 0.8 points over
+  25 ms, quadratic at 50 ms stayed within 1.7 points of the every-sample run, and quadratic at 25 ms gave
+  `"rk4"`'s figures (the aerodynamics at every stage: DELs −2.0 / +0.8 / +2.9 % then). Larger steps for the
+  plant **and controller** (12.5, 25 ms; measured before the elastic twist) cost accuracy through the
+  controller's sample time: 25 ms missed the tower DELs (+5.2 / +6.6 %). The reference's own DT 0.005 s rerun
+  moves ε by ≤ 0.7 %.
 * **Spectra (ff14_flex, rk4-held at 6.25 ms, RMS per band against OpenFAST's):** within ±6 % in every band
   from 0 to 10 Hz for TTDspFA, RtAeroFxh, IPDefl1 and (below 1.3 Hz) RotSpeed, GenTq, RootMxc1, TwrBsMxt; the
   band 1.7–1.9 Hz (the drivetrain-torsion / collective-edge mode) is 1.4× OpenFAST's in RotSpeed, TwrBsMxt and
   RootMxc1, its peak 3 % higher (1.73 against 1.68 Hz in RotSpeed). So the lower R² of TTDspFA is a phase
   (timing) difference, not missing energy.
-* **Not done:** `n_newton` (3 with DBEMT) and `dbemt_mode` variants (the script takes `--n-newton N --dbemt
-  MODE`)."""
+* **Newton steps:** 2 (the default with DBEMT) and 3 give the same ε, R², DELs and means to the digits
+  reported on ff14_flex (measured before the elastic twist)."""
 
 
 if __name__ == "__main__":
