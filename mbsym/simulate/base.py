@@ -231,6 +231,19 @@ class Method:
         raise NotImplementedError
 
 
+def run_buffered(f: ca.Function, args: list, n: int) -> tuple:
+    """One call of ``f`` through its buffer on contiguous float arrays ``args``; each output returned as
+    ``(size / n, n)`` columns (a view of the column-major result)."""
+    outs = [np.empty(f.numel_out(i)) for i in range(f.n_out())]
+    buf, trigger = f.buffer()
+    for i, a in enumerate(args):
+        buf.set_arg(i, memoryview(a))
+    for i, o in enumerate(outs):
+        buf.set_res(i, memoryview(o))
+    trigger()
+    return tuple(o.reshape(n, -1).T for o in outs)
+
+
 def maybe_compile(f: ca.Function, enabled: bool, *, jacobian: bool = False, with_hit: bool = False) -> tuple:
     """``(f compiled, True)`` when ``enabled`` and a compiler works, else ``(f, False)``.
 

@@ -24,7 +24,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from .base import Method, Trajectory, prepared, stability_hint, symbolic_rhs
+from .base import Method, Trajectory, prepared, run_buffered, stability_hint, symbolic_rhs
 from .checks import first_bad_column, raise_diverged
 from .monitor import CHUNK_WALL_S
 
@@ -54,14 +54,7 @@ class PreparedLoop:
         """States after each step ``(n_z, n)`` and by-products ``(n_aux, n)``; ``U`` is ``(n_u, n_c n)``."""
         args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
                 np.ascontiguousarray(p, dtype=float), np.array([h], dtype=float)]
-        outs = [np.empty(self.n * self.step.numel_out(i)) for i in range(2)]
-        buf, trigger = self.loop.buffer()
-        for i, a in enumerate(args):
-            buf.set_arg(i, memoryview(a))
-        for i, o in enumerate(outs):
-            buf.set_res(i, memoryview(o))
-        trigger()
-        return tuple(o.reshape(self.n, -1).T for o in outs)      # column-major (n_x, n) as a view
+        return run_buffered(self.loop, args, self.n)      # column-major (n_x, n) as a view
 
     def runner(self, p: np.ndarray):
         """A fast ``run(z0, U, h) -> (Z, aux)`` for many calls with the same ``p`` (one buffer, reused arrays;

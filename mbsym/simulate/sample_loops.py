@@ -13,7 +13,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from .base import prepared
+from .base import prepared, run_buffered
 from .monitor import CHUNK_WALL_S
 
 __all__ = ["sample_loop", "chunk_length", "SampleLoop", "StepLoop"]
@@ -48,14 +48,7 @@ class SampleLoop:
     def run(self, z0, U, p, H):
         args = [np.ascontiguousarray(z0, dtype=float), np.asfortranarray(U, dtype=float).reshape(-1, order="F"),
                 np.ascontiguousarray(p, dtype=float), np.asfortranarray(H, dtype=float).reshape(-1, order="F")]
-        outs = [np.empty(self.n * self.body.numel_out(i)) for i in range(2)]
-        buf, trigger = self.loop.buffer()
-        for i, a in enumerate(args):
-            buf.set_arg(i, memoryview(a))
-        for i, o in enumerate(outs):
-            buf.set_res(i, memoryview(o))
-        trigger()
-        return tuple(o.reshape(self.n, -1).T for o in outs)
+        return run_buffered(self.loop, args, self.n)
 
 
 class StepLoop:
