@@ -114,7 +114,8 @@ def read_lin(path: Path) -> dict:
     ``A`` (n_x, n_x)."""
     lines = Path(path).read_text().splitlines()
     out: dict = {}
-    for key, label in (("rotor_speed", "Rotor Speed:"), ("azimuth", "Azimuth:"), ("wind_speed", "Wind Speed:")):
+    for key, label in (("rotor_speed", "Rotor Speed:"), ("azimuth", "Azimuth:"), ("wind_speed", "Wind Speed:"),
+                       ("time", "Simulation time:")):
         line = next(ln for ln in lines if ln.strip().startswith(label))
         out[key] = float(line.split(":")[1].split()[0])
     out["states"] = _table(lines, "Order of continuous states:")
@@ -135,12 +136,18 @@ def _table(lines: list[str], title: str) -> list[dict]:
     return rows
 
 
-def case_modes(case: Path) -> dict:
-    """Azimuth-averaged modes of one case (module docstring)."""
+def case_modes(case: Path, min_azimuths: int = 12) -> dict:
+    """Azimuth-averaged modes of one case (module docstring); with ``min_azimuths`` < 12, of the complete
+    ``.lin`` files written so far (``n_azimuths`` in the result says how many)."""
     files = sorted(case.glob("*.lin"), key=lambda p: int(p.suffixes[-2][1:]))
-    if len(files) != 12:
-        raise SystemExit(f"{case}: expected 12 .lin files, found {len(files)} (did OpenFAST finish?)")
-    lins = [read_lin(f) for f in files]
+    lins = []
+    for f in files:
+        try:
+            lins.append(read_lin(f))
+        except (StopIteration, IndexError, ValueError):      # still being written
+            continue
+    if len(lins) < min_azimuths:
+        raise SystemExit(f"{case}: {len(lins)} complete .lin files, expected {min_azimuths} (did OpenFAST finish?)")
     states = [s["description"] for s in lins[0]["states"]]
     if any(s["rotating"] for s in lins[0]["states"]):
         raise SystemExit(f"{case}: rotating-frame states {states}: MBC3 of blade states is not implemented here")
@@ -158,7 +165,9 @@ def case_modes(case: Path) -> dict:
     pitch = next(s["op"] for s in lins[0]["inputs"] if "collective blade-pitch command" in s["description"])
     return {"wind_speed": lins[0]["wind_speed"], "rotor_speed_rpm": float(np.mean([x["rotor_speed"] for x in lins])
                                                                           * 30 / np.pi),
-            "pitch_deg": float(np.degrees(pitch)), "states": names, "modes": modes,
+            "pitch_deg": float(np.degrees(pitch)), "n_azimuths": len(lins),
+            "azimuth_deg": [round(float(np.degrees(x["azimuth"])), 2) for x in lins],
+            "linearization_time_s": float(lins[0]["time"]), "states": names, "modes": modes,
             "eigenvalues": [[float(v.real), float(v.imag)] for v in sorted(lam, key=lambda v: (abs(v), v.imag))]}
 
 
@@ -168,13 +177,13 @@ def _short(description: str) -> str:
     return base + "_d" if description.startswith("ED First time derivative") else base
 
 
-def write_table(root: Path, path: Path = TABLE) -> dict:
+def write_table(root: Path, path: Path = TABLE, min_azimuths: int = 12) -> dict:
     """Modes of every finished case under ``root`` to ``path`` (JSON)."""
     cases = []
     for case in sorted(root.glob("lin_*")):
         kind = case.name.split("_", 2)[2]
         dbemt = {v: k for k, v in _CASE.items()}[kind]
-        cases.append({"case": case.name, "DBEMT_Mod": dbemt, "inflow": INFLOW_OF_DBEMT[dbemt], **case_modes(case)})
+        cases.append({"case": case.name, "DBEMT_Mod": dbemt, "inflow": INFLOW_OF_DBEMT[dbemt], **case_modes(case, min_azimuths)})
     cases.sort(key=lambda c: (c["inflow"], c["wind_speed"]))
     table = {"source": "OpenFAST v5.0.0 linearizations (CalcSteady, NLinTimes 12) of the NREL 5 MW with rigid "
                        "blades; see README.md here and benchmarks/openfast_linear_inflow.py",
@@ -192,6 +201,8 @@ def main(argv=None) -> int:
     ap.add_argument("dir", type=Path)
     ap.add_argument("--wind", default="12,14,16,18")
     ap.add_argument("--dbemt", default="-1,0")
+    ap.add_argument("--min-azimuths", type=int, default=12,
+                    help="modes: accept cases with at least this many complete .lin files (default all 12)")
     args = ap.parse_args(argv)
     if args.step == "decks":
         for dbemt in (int(v) for v in args.dbemt.split(",")):
@@ -203,9 +214,9 @@ def main(argv=None) -> int:
                                   stderr=subprocess.STDOUT) for c in sorted(args.dir.glob("lin_*"))]
         return max(p.wait() for p in procs)
     else:
-        table = write_table(args.dir)
+        table = write_table(args.dir, min_azimuths=args.min_azimuths)
         for c in table["cases"]:
-            print(c["case"], {k: (round(v["freq_hz"], 4), round(v["damping_ratio"], 4)) for k, v in c["modes"].items()})
+            print(c["case"], c["n_azimuths"], {k: (round(v["freq_hz"], 4), round(v["damping_ratio"], 4)) for k, v in c["modes"].items()})
     return 0
 
 

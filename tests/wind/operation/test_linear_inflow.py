@@ -126,3 +126,72 @@ def test_cli_inflow_needs_the_operating_model():
         assert main(["linearize", "--inflow", "frozen"]) == 2
         assert main(["linearize", "--wind", "14", "--inflow", "frozen-wake"]) == 2
     assert "--inflow frozen applies" in err.getvalue() and "expected one of" in err.getvalue()
+
+
+# ---------------------------------------------------------------------- against OpenFAST's own linearization
+def _openfast(inflow: str, wind_speed: float) -> dict:
+    table = json.loads(REFERENCE.read_text())
+    case = next(c for c in table["cases"] if c["inflow"] == inflow and c["wind_speed"] == wind_speed)
+    return case["modes"]
+
+
+def _tower_modes(lin) -> dict:
+    from mbsym.wind.analysis.trim_linear import mode_label
+
+    return {mode_label(m): (m.freq_hz, m.damping_ratio) for m in lin.modes()
+            if mode_label(m) in ("1st tower fore-aft", "1st tower side-side")}
+
+
+@pytest.mark.parametrize("inflow", ["frozen", "quasi-steady"])
+def test_rotor_rung_tower_frequencies_and_side_side_damping_match_openfast(dynamic, inflow):
+    """Like for like at 14 m/s (OpenFAST DBEMT_Mod -1 / 0): both tower frequencies within 1 %; side-side damping
+    within 0.5 points although the rotor-effective rung has no rotor side force (the structure's 0.35 % against
+    OpenFAST's ~0.5 %: the aerodynamic side-side damping is small)."""
+    ours, ref = _tower_modes(with_inflow(dynamic, inflow)), _openfast(inflow, 14.0)
+    for label in ("1st tower fore-aft", "1st tower side-side"):
+        assert ours[label][0] == pytest.approx(ref[label]["freq_hz"], rel=0.01), label
+    assert abs(ours["1st tower side-side"][1] - ref["1st tower side-side"]["damping_ratio"]) <= 0.005
+
+
+@pytest.mark.xfail(strict=True, reason="rotor-effective rung: tower fore-aft damping 5.6 % frozen and 5.0 % quasi-"
+                                       "steady at 14 m/s against OpenFAST's 7.5 % and 6.2 %: the gap is the rung's "
+                                       "thrust slope (performance surfaces), not the inflow choice; the blade-element "
+                                       "rung meets it (test_blade_rung_tower_modes_match_openfast)")
+@pytest.mark.parametrize("inflow", ["frozen", "quasi-steady"])
+def test_rotor_rung_fore_aft_damping_matches_openfast(dynamic, inflow):
+    ours, ref = _tower_modes(with_inflow(dynamic, inflow)), _openfast(inflow, 14.0)
+    assert abs(ours["1st tower fore-aft"][1] - ref["1st tower fore-aft"]["damping_ratio"]) <= 0.005
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("inflow", ["frozen", "quasi-steady"])
+def test_blade_rung_tower_modes_match_openfast(blade_point_14, inflow):
+    """The blade-element rung (BEM and DBEMT per node, rotor side forces) at 14 m/s, like for like: both tower
+    frequencies within 1 % and damping ratios within 0.5 points of OpenFAST's."""
+    from mbsym.wind.analysis.blade_linear import blade_linear_model, labelled_modes
+
+    model, point = blade_point_14
+    lin = blade_linear_model(model, point, outputs=(), keep_azimuth=True, inflow=inflow)
+    assert not wake_states(lin.states) and lin.operating_point["inflow"] == inflow
+    ours = {lab: (f, z) for lab, f, z in zip(*labelled_modes(lin))}
+    ref = _openfast(inflow, 14.0)
+    for label in ("1st tower fore-aft", "1st tower side-side"):
+        assert ours[label][0] == pytest.approx(ref[label]["freq_hz"], rel=0.01), label
+        assert abs(ours[label][1] - ref[label]["damping_ratio"]) <= 0.005, label
+
+
+@pytest.fixture(scope="module")
+def blade_point_14():
+    """The blade-element NREL 5 MW (GenDOF, TwFADOF1, TwSSDOF1) at its periodic point at 14 m/s, pitch and torque
+    held at the rotor-effective trim of the same deck (several minutes)."""
+    from _op_data import INPUTS, need
+
+    import mbsym as mb
+    from mbsym.wind.analysis.blade_periodic import periodic_point
+    from mbsym.wind.operation import trim
+
+    fst = need(INPUTS / "steady_14" / "steady_14.fst")
+    dofs = ["GenDOF", "TwFADOF1", "TwSSDOF1"]
+    start = trim(mb.wind.OperatingTurbine.from_openfast(fst, aero="rotor", dofs=dofs), 14.0)
+    model = mb.wind.OperatingTurbine.from_openfast(fst, aero="blade", dofs=dofs)
+    return model, periodic_point(model, 14.0, start=start)
