@@ -128,6 +128,32 @@ def test_cli_inflow_needs_the_operating_model():
     assert "--inflow frozen applies" in err.getvalue() and "expected one of" in err.getvalue()
 
 
+
+@pytest.mark.slow
+def test_cli_frozen_json_keeps_the_layout():
+    """``mbsym linearize --wind 14 --inflow frozen --json``: item 3's layout, without the wake states, whose
+    values are reported under removed_states; A is the dynamic model's with the wake rows and columns deleted
+    (the dynamic CLI run of the same point, to round-off)."""
+    from contextlib import redirect_stdout
+
+    from mbsym.cli import main
+
+    reports = {}
+    for inflow in ("frozen", "dynamic"):
+        out = io.StringIO()
+        with redirect_stdout(out):
+            assert main(["linearize", "--wind", "14", "--inflow", inflow, "--json"]) == 0
+        reports[inflow] = json.loads(out.getvalue().strip().splitlines()[-1])
+    frozen, dyn = reports["frozen"], reports["dynamic"]
+    assert frozen["inflow"] == "frozen" and {"DBEMT_w", "DBEMT_v"} <= set(frozen["removed_states"])
+    assert {"BlPitchCom", "GenTqCom", "Wind1VelX"} <= set(frozen["inputs"])
+    assert {"RotSpeed", "GenPwr", "TTDspFA"} <= set(frozen["outputs"])
+    keep = [dyn["states"].index(s) for s in frozen["states"]]
+    assert frozen["states"] == [s for s in dyn["states"] if not s.startswith("DBEMT")]
+    np.testing.assert_allclose(frozen["A"], np.array(dyn["A"])[np.ix_(keep, keep)], rtol=1e-12, atol=1e-12)
+    for mode in frozen["modes"]:
+        assert {"freq_hz", "damping_ratio", "dominant_dof", "label"} <= set(mode)
+
 # ---------------------------------------------------------------------- against OpenFAST's own linearization
 def _openfast(inflow: str, wind_speed: float) -> dict:
     table = json.loads(REFERENCE.read_text())
