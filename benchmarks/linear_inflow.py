@@ -133,8 +133,11 @@ def main(argv=None) -> int:
     print(text)
     print(f"\nrotor-effective rung: {len(speeds)} trims and {3 * len(speeds)} linear models in {rotor_s:.1f} s")
     if args.write:
-        note = (f"Run: `python benchmarks/linear_inflow.py{' --blade' if blade else ''} --write` "
-                f"(rotor-effective rung {rotor_s:.0f} s on a shared 2-core machine). OpenFAST: "
+        speeds_b = ", ".join(f"{U:g}" for U in sorted({U for _, U in blade}))
+        note = (f"Run: `python benchmarks/linear_inflow.py --write` (rotor-effective rung {rotor_s:.0f} s on a "
+                "shared 2-core machine)" + (f"; blade-element rung at {speeds_b} m/s from {BLADE_CACHE.name} "
+                                            "(`--blade` recomputes it: ~30 min per wind speed on the loaded "
+                                            "machine)" if blade else "") + ". OpenFAST: "
                 "tests/data/openfast_linear_inflow (frozen wake DBEMT_Mod = -1, quasi-steady BEM 0). Targets: "
                 "|Δf| ≤ 1 %, |Δζ| ≤ 0.5 points. The rotor-effective rung has no rotor side force: its side-side "
                 "damping is the structure's alone.")
