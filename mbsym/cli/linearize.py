@@ -5,6 +5,7 @@ Contract (kept for acceptance checks)::
     mbsym linearize [DECK.fst] [--rpm R] [--json] [--deflected] [--method {exact,elastodyn-fd}]
                     [--structure-only]
     mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
+                    [--inflow {dynamic,frozen,quasi-steady}]
     mbsym linearize [DECK.fst] --wind SPEEDS --closed-loop [--json] [--plot FILE.png] [--bode FILE.png]
                     [--discon-input DISCON.IN]
 
@@ -73,6 +74,10 @@ def add_parser(sub) -> None:
     p.add_argument("--keep-azimuth", action="store_true",
                    help="with --wind: keep the free generator azimuth GeAz as a state (default: left out, so "
                         "dcgain works)")
+    p.add_argument("--inflow", metavar="{dynamic,frozen,quasi-steady}",
+                   help="with --wind U: the wake (induction) of the linear model: dynamic (default, the DBEMT "
+                        "states), frozen (induction held at the trim, as OpenFAST's DBEMT_Mod = -1) or "
+                        "quasi-steady (induction in equilibrium with the inflow)")
     p.add_argument("--discon-input", metavar="DISCON.IN",
                    help="with --wind: ROSCO controller input file instead of the deck's (ServoDyn DLL_InFile)")
     p.add_argument("--closed-loop", action="store_true",
@@ -194,6 +199,13 @@ def state_units(model) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if getattr(args, "inflow", None) is not None and (getattr(args, "wind", None) is None
+                                                       or getattr(args, "closed_loop", False)):
+        from ..exceptions import OptionError
+
+        raise OptionError(f"--inflow {args.inflow} applies to the operating turbine's open-loop linear model: "
+                          "mbsym linearize [DECK] --wind U --inflow frozen (not to the structure alone, nor to "
+                          "--closed-loop, which keeps the dynamic inflow).")
     if getattr(args, "closed_loop", False) or getattr(args, "plot", None) is not None or \
             getattr(args, "bode", None) is not None:
         from ..exceptions import OptionError

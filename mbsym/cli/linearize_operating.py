@@ -3,6 +3,7 @@
 Contract (kept for acceptance checks)::
 
     mbsym linearize [DECK.fst] --wind U [--json] [--keep-azimuth] [--discon-input DISCON.IN]
+                    [--inflow {dynamic,frozen,quasi-steady}]
 
 The turbine the deck describes (ElastoDyn DOFs, AeroDyn 15 rotor as rotor-effective performance
 surfaces, pitch and torque actuators, dynamic inflow; no deck: the built-in NREL 5 MW) is trimmed at
@@ -12,14 +13,20 @@ as ``mbsym operating-points``) and linearized there
 [m/s], ``BlPitchCom`` [rad], ``GenTqCom`` [N m]. Everything is in SI units (outputs converted from
 their channel units: ``RotSpeed`` rad/s, ``BldPitch1`` rad, ``GenPwr`` W …). The free generator
 azimuth is left out (``--keep-azimuth`` keeps it); a model that depends on it (flexible blades under
-gravity) is refused without ``--keep-azimuth``.
+gravity) is refused without ``--keep-azimuth``. ``--inflow`` chooses the wake of the linear model
+(:mod:`mbsym.wind.analysis.inflow_choice`): ``dynamic`` (default: the rotor-averaged DBEMT states
+``DBEMT_w``, ``DBEMT_v``), ``frozen`` (those states removed, the induction held at its trim value:
+compare with OpenFAST's linearization with ``DBEMT_Mod = -1``) or ``quasi-steady`` (the induction in
+equilibrium with the inflow). The rotor is rotor-effective: thrust along the shaft, no side force,
+so the tower side-side mode has no aerodynamic damping.
 
 ``--json`` prints one JSON object on the last line: ``states``, ``inputs``, ``outputs`` (names),
 ``A``, ``B``, ``C``, ``D`` (lists of rows), ``modes`` (per mode ``freq_hz``, ``damping_ratio``,
 ``dominant_dof`` (the state group with the largest participation factor), ``label``,
 ``rigid_body``, ``participation`` by state group), ``units`` (``states``, ``inputs``,
 ``outputs``, lists in the order of the names), ``wind_speed`` [m/s], ``region``,
-``operating_point`` (``x``, ``u``, ``y`` by name, SI) and ``removed_states``.
+``operating_point`` (``x``, ``u``, ``y`` by name, SI), ``removed_states`` (with ``frozen`` the held
+induction states) and ``inflow``.
 """
 
 from __future__ import annotations
@@ -47,14 +54,17 @@ def operating_report(lin, point) -> dict:
             "operating_point": {"x": dict(zip(lin.states, np.asarray(op["x"], dtype=float).tolist())),
                                 "u": dict(zip(lin.inputs, np.asarray(op["u"], dtype=float).tolist())),
                                 "y": dict(zip(lin.outputs, np.asarray(op["y"], dtype=float).tolist()))},
-            "removed_states": dict(op.get("removed_states", {}))}
+            "removed_states": dict(op.get("removed_states", {})), "inflow": op.get("inflow", "dynamic")}
 
 
 def run_operating(args) -> int:
     """Run ``mbsym linearize --wind U`` (module docstring); returns the exit status."""
     from ..exceptions import OptionError, SolverError
+    from ..wind.analysis.inflow_choice import check_inflow
     from ..wind.analysis.operating_points import operating_points, parse_wind_speeds, turbine_and_control
 
+    inflow = getattr(args, "inflow", None)
+    inflow = check_inflow("dynamic" if inflow is None else inflow)
     speeds = parse_wind_speeds(args.wind)
     if len(speeds) != 1:
         raise OptionError(f"--wind {args.wind}: linearize takes one wind speed U [m/s] (e.g. --wind 14); got "
@@ -70,12 +80,13 @@ def run_operating(args) -> int:
     point = ops[0]
     if not point.success:
         raise SolverError(f"no operating point at {point.wind_speed:g} m/s: {point.message}")
-    lin = ops.linearize(keep_azimuth=args.keep_azimuth)[0]
+    lin = ops.linearize(keep_azimuth=args.keep_azimuth, inflow=inflow)[0]
     report = operating_report(lin, point)
     if args.json:
         print(json.dumps(report, allow_nan=False))
         return 0
-    print(f"mbsym linearize: {label} at {point.wind_speed:g} m/s (region {point.region}), controller {control!r}")
+    print(f"mbsym linearize: {label} at {point.wind_speed:g} m/s (region {point.region}), controller {control!r}, "
+          f"inflow {inflow}")
     print(f"\n{'mode':>4} {'f [Hz]':>10} {'zeta [-]':>10}  {'dominant':<13} label")
     from ._run import number
 

@@ -108,7 +108,8 @@ def mbc_average(jac: Mapping[str, np.ndarray], states: Sequence[str], inputs: Se
 
 
 def blade_linear_model(model, point: PeriodicPoint, *, inputs: Sequence[str] | None = None,
-                       outputs: Sequence[str] | None = None, keep_azimuth: bool = False) -> LinearModel:
+                       outputs: Sequence[str] | None = None, keep_azimuth: bool = False,
+                       inflow: str = "dynamic") -> LinearModel:
     """The azimuth-averaged linear model in multi-blade coordinates about a periodic point (module docstring).
 
     Parameters
@@ -123,6 +124,12 @@ def blade_linear_model(model, point: PeriodicPoint, *, inputs: Sequence[str] | N
         OpenFAST channels (default :data:`DEFAULT_OUTPUTS`, those the model has).
     keep_azimuth : bool, keyword-only
         Keep the rotor azimuth state ``GeAz`` (default: left out).
+    inflow : {"dynamic", "frozen", "quasi-steady"}, keyword-only
+        The wake states of every node kept (default; OpenFAST's ``DBEMT_Mod = 3``), removed with
+        the induced velocities held at the periodic point (frozen wake, ``DBEMT_Mod = -1``), or in
+        equilibrium with each node's inflow (quasi-steady, ``DBEMT_Mod = 0``), applied at every
+        azimuth in the rotating frame before the multi-blade transformation
+        (:mod:`.inflow_choice`).
 
     Returns
     -------
@@ -131,13 +138,18 @@ def blade_linear_model(model, point: PeriodicPoint, *, inputs: Sequence[str] | N
         azimuth-averaged structural mass matrix in multi-blade coordinates (azimuth left out
         unless kept); ``operating_point`` holds the mean state ``x`` (multi-blade coordinates),
         ``u``, mean outputs ``y`` (SI), ``wind``, ``rotor_speed``, ``residual_norm``,
-        ``blade_azimuths``. ``.to_statespace()`` gives the named ``control.StateSpace``.
+        ``blade_azimuths``, ``inflow``. ``.to_statespace()`` gives the named ``control.StateSpace``.
 
     Raises
     ------
     ParameterError
         Unknown input or output names, or a point of another model.
+    OptionError, ArgumentTypeError
+        A bad ``inflow``.
     """
+    from .inflow_choice import check_inflow
+
+    check_inflow(inflow)
     dyn = model.dynamics()
     if tuple(point.state_names) != tuple(dyn.states):
         raise ParameterError("the periodic point belongs to another model (its states differ); compute it with "
@@ -154,19 +166,43 @@ def blade_linear_model(model, point: PeriodicPoint, *, inputs: Sequence[str] | N
     f = np.array([SI_FACTORS.get(u, 1.0) for u in units])
     sel = {"A": jac["A"], "B": jac["B"][:, :, cols], "C": jac["C"] * f[None, :, None],
            "D": jac["D"][:, :, cols] * f[None, :, None], "x": point.states}
-    avg = mbc_average(sel, dyn.states, ins, outs, point.blade_azimuths, point.rotor_speed, keep_azimuth=keep_azimuth)
+    sel, states, held = _apply_inflow(sel, dyn.states, inflow)
+    avg = mbc_average(sel, states, ins, outs, point.blade_azimuths, point.rotor_speed, keep_azimuth=keep_azimuth)
     M, coords = _mass_in_mbc(model, point, keep_azimuth)
     op = {"x": avg["x"], "u": np.asarray(point.inputs)[cols], "y": np.mean(jac["y"], axis=0) * f,
           "wind": dict(point.wind), "commands": dict(point.commands), "rotor_speed": point.rotor_speed,
           "residual_norm": point.residual_norm, "blade_azimuths": np.asarray(point.blade_azimuths).copy(),
-          "p": dict(point.parameters)}
-    state_units = dyn.state_units
+          "p": dict(point.parameters), "inflow": inflow}
+    if held:
+        op["removed_states"] = held
+    state_units = [u for s, u in zip(dyn.states, dyn.state_units) if s in states]
     units_x = {avg["states"][j]: state_units[i] for j, i in enumerate(avg["keep"])}
     empty = np.zeros((0, 0))
     return LinearModel(M, empty, empty, np.zeros((0, len(ins))), avg["A"], avg["B"], coords, avg["states"],
                        avg["inputs"], op, outputs=avg["outputs"], Cy=avg["C"], Dy=avg["D"],
                        output_units=tuple(to_si(u)[1] for u in units), method="exact", units=units_x,
                        input_units=tuple(dyn.input_units[dyn.inputs.index(n)] for n in ins))   # MBC renames in place
+
+
+def _apply_inflow(sel: dict, states: Sequence[str], inflow: str) -> tuple[dict, tuple[str, ...], dict]:
+    """The azimuth-wise matrices with the inflow choice applied (:func:`~.inflow_choice.reduce_inflow` at every
+    sample, rotating frame), the remaining state names and the mean values of the removed states."""
+    from .inflow_choice import reduce_inflow
+
+    if inflow == "dynamic":
+        return sel, tuple(states), {}
+    out: dict = {"A": [], "B": [], "C": [], "D": []}
+    keep: list[int] = []
+    for k in range(sel["A"].shape[0]):
+        mats = reduce_inflow(sel["A"][k], sel["B"][k], sel["C"][k], sel["D"][k], states, inflow)
+        for name, m in zip("ABCD", mats[:4]):
+            out[name].append(m)
+        keep = mats[4]
+    reduced = {name: np.asarray(v) for name, v in out.items()}
+    reduced["x"] = np.asarray(sel["x"])[:, keep]
+    dropped = [i for i in range(len(states)) if i not in set(keep)]
+    held = {states[i]: float(np.mean(np.asarray(sel["x"])[:, i])) for i in dropped}
+    return reduced, tuple(states[i] for i in keep), held
 
 
 def blade_statespace(model, point: PeriodicPoint, *, inputs: Sequence[str] | None = None,

@@ -118,12 +118,14 @@ class OperatingPoints:
             lines.append("  ".join(v.rjust(w) for v, w in zip(r, widths)) if len(r) == len(head) else "  ".join(r))
         return "\n".join(lines)
 
-    def linearize(self, *, outputs: Sequence[str] | None = None, keep_azimuth: bool = False) -> list:
+    def linearize(self, *, outputs: Sequence[str] | None = None, keep_azimuth: bool = False,
+                  inflow: str = "dynamic") -> list:
         """Linear models about every successful point (:func:`~.trim_linear.linearize_point`): SI units,
-        the free azimuth left out unless ``keep_azimuth``."""
+        the free azimuth left out unless ``keep_azimuth``, the wake ``inflow`` "dynamic" (default),
+        "frozen" or "quasi-steady" (:mod:`.inflow_choice`)."""
         from .trim_linear import linearize_point
 
-        return [linearize_point(self.trimmer, p, outputs=outputs, keep_azimuth=keep_azimuth)
+        return [linearize_point(self.trimmer, p, outputs=outputs, keep_azimuth=keep_azimuth, inflow=inflow)
                 for p in self.points if p.success]
 
     def campbell(self):

@@ -90,7 +90,7 @@ def _jacobian_function(dyn, names: tuple[str, ...]) -> ca.Function:
 
 
 def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
-                    keep_azimuth: bool = False) -> LinearModel:
+                    keep_azimuth: bool = False, inflow: str = "dynamic") -> LinearModel:
     """The linear model about a trimmed point (module docstring), in SI units.
 
     Outputs are converted from their channel units to SI (:data:`SI_UNITS`: rpm → rad/s,
@@ -111,13 +111,25 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
         OpenFAST users do after MBC): it only integrates the rotor speed, and its zero
         eigenvalue with a zero at the origin makes ``dcgain`` 0 in python-control.
         Refused (:meth:`LinearModel.without_states`) if anything depends on it.
+    inflow : {"dynamic", "frozen", "quasi-steady"}, optional, keyword-only
+        The rotor-averaged DBEMT states kept (default), removed with the induction held at the
+        trim (as OpenFAST's frozen-wake linearization), or in equilibrium with the inflow
+        (:mod:`.inflow_choice`).
 
     Returns
     -------
     LinearModel
         ``operating_point`` holds ``x``, ``u``, ``p``, ``xd`` (the trim residual, the azimuth
-        row the rotor speed), ``y``, the wind speed and the regime.
+        row the rotor speed), ``y``, the wind speed, the regime and ``inflow``.
+
+    Raises
+    ------
+    OptionError, ArgumentTypeError, UnsupportedFeatureError
+        A bad ``inflow`` (:func:`~.inflow_choice.with_inflow`).
     """
+    from .inflow_choice import check_inflow, with_inflow
+
+    check_inflow(inflow)
     if not point.success:
         raise ModelDefinitionError(f"cannot linearize a failed operating point ({point.message}).")
     dyn, model = trimmer.dyn, trimmer.model
@@ -140,7 +152,7 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
                          input_units=tuple(dyn.input_units))
     if not keep_azimuth and "GeAz" in result.states:
         result = result.without_states(["GeAz"])
-    return result
+    return with_inflow(result, inflow)
 
 
 #: Units of the operating turbine's inputs (:mod:`mbsym.wind.operation.units`).

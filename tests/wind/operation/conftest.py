@@ -32,6 +32,17 @@ def quasi_steady():
 
 
 @pytest.fixture(scope="session")
+def trimmed_14(operating):
+    """``operating`` trimmed at 14 m/s under the built-in controller's settings (OperatingPoints)."""
+    from mbsym.wind.analysis.operating_points import operating_points
+    from mbsym.wind.operation import SteadyControl
+
+    ops = operating_points(operating, [14.0], SteadyControl.nrel5mw())
+    assert ops.success
+    return ops
+
+
+@pytest.fixture(scope="session")
 def rigid_tower():
     """The built-in NREL 5 MW with GenDOF only (rigid tower), quasi-steady rotor loads."""
     from mbsym.wind.operation import OperatingTurbine

@@ -25,18 +25,14 @@ import numpy as np
 import pytest
 
 from mbsym.exceptions import ModelDefinitionError
-from mbsym.wind.analysis.operating_points import operating_points
 from mbsym.wind.analysis.trim_linear import mode_label
-from mbsym.wind.operation import SteadyControl
 
 control = pytest.importorskip("control")
 
 
 @pytest.fixture(scope="module")
-def point(operating):
-    ops = operating_points(operating, [14.0], SteadyControl.nrel5mw())
-    assert ops.success
-    return ops
+def point(trimmed_14):
+    return trimmed_14
 
 
 @pytest.fixture(scope="module")
