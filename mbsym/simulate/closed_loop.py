@@ -197,8 +197,8 @@ class _ClosedLoop:
             if carried:                   # refreshed where the last row of h asks, else carried; extrapolated
                 case = hf[-1] + hf[1] if outputs else hf[-1]
                 carry, held_z = hc.refresh(case, x, u_meas, p, z[n_x + n_xc + n_a:])
-                stages = tuple(hc.stage_values(carry, [0.0, h / 2, h]))
-                y = bc.measure_held(x, u_meas, p, hc.scatter(stages[0]))
+                stages = tuple(hc.scatter(v) for v in hc.stage_values(carry, [0.0, h / 2, h]))
+                y = bc.measure_held(x, u_meas, p, stages[0])
             elif shared:                  # one evaluation of the held part serves measurement and first step
                 held_z = plant.held.part(x, u_meas, p)
                 y = bc.measure_held(x, u_meas, p, held_z)
@@ -207,9 +207,9 @@ class _ClosedLoop:
             xc1, ua = bc.ctrl.law(xc, y)
             Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
             if carried:
-                x1, K1 = held_rk4_step(hc.held_rhs, x, Uh, p, h, stages)
+                x1, K1 = held_rk4_step(plant.held, x, Uh, p, h, stages)
                 Xs = x1
-                k_end = hc.held_rhs.rhs(x1, Uh[:, -1], p, stages[2]) if self.end_derivative else ca.MX.zeros(n_x)
+                k_end = plant.held.rhs(x1, Uh[:, -1], p, stages[2]) if self.end_derivative else ca.MX.zeros(n_x)
                 z_next = ca.vertcat(x1, xc1, ua, hc.advanced(carry, h))
             else:
                 Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None, self.end_derivative)

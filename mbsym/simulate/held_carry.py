@@ -22,8 +22,6 @@ of evaluations so far (at most ``k + 1``) and the time ``tau`` [s] since the new
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import casadi as ca
 import numpy as np
 
@@ -42,13 +40,6 @@ def check_held_order(order) -> int:
                                     f"evaluations, 1: linear, 2: quadratic extrapolation, as OpenFAST's "
                                     f"InterpOrder); got {order!r}.")
     return int(order)
-
-
-@dataclass(frozen=True)
-class _SelectedRhs:
-    """The held part's right-hand side on the carried entries (for :func:`held_rk4_step`)."""
-
-    rhs: ca.Function
 
 
 class HeldCarry:
@@ -74,21 +65,16 @@ class HeldCarry:
         self.sel = np.array(sorted(used), dtype=int)
         self.n_sel = int(self.sel.size)
         self.n_carry = (self.order + 1) * self.n_sel + self.order + 2
-        self._scatter = ca.DM(ca.Sparsity.triplet(self.n_z, max(self.n_sel, 1), self.sel.tolist(),
-                                                  list(range(self.n_sel))), 1.0) if self.n_sel else None
-        x, u, p = (ca.MX.sym(s, n) for s, n in (("x", plant.n_x), ("u", plant.n_u), ("p", plant.n_p)))
-        zs = ca.MX.sym("zs", self.n_sel)
-        self.held_rhs = _SelectedRhs(ca.Function(f"{plant.name}_held_rhs_selected", [x, u, p, zs],
-                                                 [held.rhs(x, u, p, self.scatter(zs))], ["x", "u", "p", "zs"],
-                                                 ["xd"]))
         self.refresh = self._refresh_function()
 
     # ------------------------------------------------------------------ graph pieces
     def scatter(self, zs):
-        """The full held vector (n_z) with the carried entries ``zs`` in place and zeros elsewhere."""
-        if not self.n_sel:
-            return ca.MX.zeros(self.n_z)
-        return ca.mtimes(self._scatter, zs)
+        """The full held vector (n_z) with the carried entries ``zs`` in place and zeros elsewhere (an indexed
+        assignment: ~0.4 µs for the blade-element turbine's 1068 entries, against ~2 µs for a sparse product)."""
+        z = ca.MX.zeros(self.n_z)
+        if self.n_sel:
+            z[self.sel.tolist()] = zs
+        return z
 
     def _refresh_function(self) -> ca.Function:
         """``(index, x, u, p, carry) -> (carry', z_full)``: index 0 keeps ``carry`` (z_full zeros), 1 evaluates
