@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib
 from typing import Callable, Mapping, Sequence
 
-__all__ = ["lazy_attributes"]
+__all__ = ["lazy_attributes", "installed_version"]
 
 
 def lazy_attributes(package: str, table: Mapping[str, Sequence[str]],
@@ -39,7 +39,7 @@ def lazy_attributes(package: str, table: Mapping[str, Sequence[str]],
 
     def __getattr__(name: str):
         if name == "__version__" and name in table:
-            value = _version(package.split(".")[0])
+            value = installed_version(package.split(".")[0])
         elif name in table:
             value = None
             for module in table[name]:
@@ -65,7 +65,7 @@ def lazy_attributes(package: str, table: Mapping[str, Sequence[str]],
     return __getattr__, __dir__
 
 
-def _version(distribution: str) -> str:
+def installed_version(distribution: str) -> str:
     from importlib.metadata import PackageNotFoundError, version
 
     try:

@@ -111,3 +111,37 @@ def test_general_packages_form_no_cycle():
     for node in sorted(edges):
         visit(node)
     assert not cycles, cycles
+
+
+def _face_imports(path: Path) -> list[str]:
+    """Imports in ``path`` of the package face ``mbsym`` itself (``import mbsym``, ``from mbsym import Name``,
+    ``from .. import Name`` resolving to ``mbsym``) where ``Name`` is not a sub-module: the face re-exports
+    names, the defining modules hold them."""
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    package = parts[:-1] if parts[-1] != "__init__" else parts[:-1]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found += [a.name for a in node.names if a.name == "mbsym"]
+        elif isinstance(node, ast.ImportFrom):
+            base = package[: len(package) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else [])) if node.level else node.module
+            if target == "mbsym":
+                found += [f"from mbsym import {a.name}" for a in node.names
+                          if not (PACKAGE / a.name).is_dir() and not (PACKAGE / f"{a.name}.py").is_file()]
+    return found
+
+
+def test_library_modules_import_the_defining_modules_not_the_face():
+    """ARCHITECTURE.md: only the package's own ``__init__``, the CLI and the demo (top layers, written as a user
+    writes) import the face ``mbsym``; a library module importing it depends on everything the face loads and
+    hides its real dependency (e.g. control/models.py once did ``import mbsym as mb`` for ``System``)."""
+    bad = {}
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE).as_posix()
+        if rel == "__init__.py" or rel.startswith("cli/") or rel in ("demo.py", "__main__.py"):
+            continue
+        found = _face_imports(path)
+        if found:
+            bad[rel] = found
+    assert not bad, bad

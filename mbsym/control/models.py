@@ -47,20 +47,20 @@ def cart_double_pendulum(*, cart_mass: float = 1.0, masses: tuple[float, float] 
     >>> dyn.states
     ('s', 'a1', 'a2', 's_d', 'a1_d', 'a2_d')
     """
-    import mbsym as mb      # the System API (no import cycle at module import time)
+    from .. import bodies as _b, joints as _j, system as _s  # the System API, imported on use
 
-    sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    sys = _s.System(gravity=[0.0, 0.0, -9.81])
     s, a1, a2 = sys.coordinates("s a1 a2")
     mc, m1, m2, l1, l2, d = sys.parameters(
         "mc m1 m2 l1 l2 d", values={"mc": cart_mass, "m1": masses[0], "m2": masses[1], "l1": lengths[0],
                                      "l2": lengths[1], "d": damping})
     force = sys.inputs("F")
-    cart = mb.RigidBody("cart", mass=mc)
-    link1 = mb.RigidBody("link1", mass=m1, com=[0, 0, l1])
-    link2 = mb.RigidBody("link2", mass=m2, com=[0, 0, l2])
-    sys.add_joint(mb.Prismatic(sys.ground, cart, axis=[1, 0, 0], coordinate=s))
-    sys.add_joint(mb.Revolute(cart, link1, axis=[0, 1, 0], coordinate=a1))
-    sys.add_joint(mb.Revolute(link1, link2, axis=[0, 1, 0], coordinate=a2, offset=[0, 0, l1]))
+    cart = _b.RigidBody("cart", mass=mc)
+    link1 = _b.RigidBody("link1", mass=m1, com=[0, 0, l1])
+    link2 = _b.RigidBody("link2", mass=m2, com=[0, 0, l2])
+    sys.add_joint(_j.Prismatic(sys.ground, cart, axis=[1, 0, 0], coordinate=s))
+    sys.add_joint(_j.Revolute(cart, link1, axis=[0, 1, 0], coordinate=a1))
+    sys.add_joint(_j.Revolute(link1, link2, axis=[0, 1, 0], coordinate=a2, offset=[0, 0, l1]))
     sys.add_generalized_force(s, force)
     sys.add_damper(a1, d)
     sys.add_damper(a2, d)
@@ -108,16 +108,16 @@ def rotor_tower(*, tower_mass: float = 3.5e5, tower_frequency: float = 0.32, tow
         ``gen_torque`` [N m, high-speed shaft], ``wind`` [m/s]; outputs ``gen_speed``
         [rpm], ``power`` [W], ``tower``, ``tower_d``, ``pitch``, ``thrust`` [N].
     """
-    import mbsym as mb
+    from .. import bodies as _b, joints as _j, system as _s
 
-    sys = mb.System(gravity=[0.0, 0.0, 0.0])
+    sys = _s.System(gravity=[0.0, 0.0, 0.0])
     xt, psi = sys.coordinates("tower azimuth")
     m, J = sys.parameters("tower_mass rotor_inertia", values={"tower_mass": tower_mass, "rotor_inertia": rotor_inertia})
     thrust, shaft = sys.inputs("thrust shaft_torque")
-    nacelle = mb.RigidBody("nacelle", mass=m)
-    rotor = mb.RigidBody("rotor", mass=0.0, inertia=(J, 0.0, 0.0))
-    sys.add_joint(mb.Prismatic(sys.ground, nacelle, axis=[1, 0, 0], coordinate=xt))
-    sys.add_joint(mb.Revolute(nacelle, rotor, axis=[1, 0, 0], coordinate=psi))
+    nacelle = _b.RigidBody("nacelle", mass=m)
+    rotor = _b.RigidBody("rotor", mass=0.0, inertia=(J, 0.0, 0.0))
+    sys.add_joint(_j.Prismatic(sys.ground, nacelle, axis=[1, 0, 0], coordinate=xt))
+    sys.add_joint(_j.Revolute(nacelle, rotor, axis=[1, 0, 0], coordinate=psi))
     k = tower_mass * (2 * np.pi * tower_frequency) ** 2
     sys.add_spring(xt, k)
     sys.add_damper(xt, 2 * tower_damping * np.sqrt(k * tower_mass))
@@ -157,18 +157,18 @@ def hanging_chain(n_links: int = 6, *, cart_mass: float = 1.0, link_mass: float 
     States ``s, a1..an`` (relative joint angles, 0 hanging down) and their speeds;
     input ``F`` [N]; outputs ``cart`` [m] and ``tip_x`` [m] (horizontal position of the last mass).
     """
-    import mbsym as mb
+    from .. import bodies as _b, joints as _j, system as _s
 
-    sys = mb.System(gravity=[0.0, 0.0, -9.81])
+    sys = _s.System(gravity=[0.0, 0.0, -9.81])
     names = ["s"] + [f"a{i + 1}" for i in range(n_links)]
     coords = sys.coordinates(" ".join(names))
     force = sys.inputs("F")
-    cart = mb.RigidBody("cart", mass=cart_mass)
-    sys.add_joint(mb.Prismatic(sys.ground, cart, axis=[1, 0, 0], coordinate=coords[0]))
+    cart = _b.RigidBody("cart", mass=cart_mass)
+    sys.add_joint(_j.Prismatic(sys.ground, cart, axis=[1, 0, 0], coordinate=coords[0]))
     parent, offset = cart, [0.0, 0.0, 0.0]
     for i in range(n_links):
-        link = mb.RigidBody(f"link{i + 1}", mass=link_mass, com=[0, 0, -link_length])
-        sys.add_joint(mb.Revolute(parent, link, axis=[0, 1, 0], coordinate=coords[i + 1], offset=offset))
+        link = _b.RigidBody(f"link{i + 1}", mass=link_mass, com=[0, 0, -link_length])
+        sys.add_joint(_j.Revolute(parent, link, axis=[0, 1, 0], coordinate=coords[i + 1], offset=offset))
         sys.add_damper(coords[i + 1], damping)
         parent, offset = link, [0.0, 0.0, -link_length]
     sys.add_generalized_force(coords[0], force)

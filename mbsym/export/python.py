@@ -204,12 +204,12 @@ def parameter_vector(values=None):
 
 def python_source(eom, *, functions=FUNCTION_NAMES) -> str:
     """The source text of the module :func:`export_python` writes."""
-    import mbsym
+    from .._lazy import installed_version
 
     f = eom.functions
     specs = export_specs(eom, functions)
     header = [
-        f'"""Equations of motion of the mbsym model {eom.name!r}, exported by mbsym {mbsym.__version__}.',
+        f'"""Equations of motion of the mbsym model {eom.name!r}, exported by mbsym {installed_version("mbsym")}.',
         "",
         "Dependency-free (numpy only). Functions are called like mbsym's eom.functions, with p the",
         "parameter vector in PARAMETERS order (parameter_vector({...}) fills in the DEFAULTS); they",
