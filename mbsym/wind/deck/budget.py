@@ -47,9 +47,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator
+from collections.abc import Iterator
+from typing import Any
 
-from ...exceptions import DeckMemoryError
+from ...exceptions import ArgumentTypeError, DeckMemoryError, OptionError
 from ._format import _TOKEN, _canon, _is_key, _real
 
 __all__ = ["MemoryItem", "MemoryEstimate", "deck_memory_estimate", "check_deck_memory", "STRUCTURE_BYTES",
@@ -141,7 +142,7 @@ class MemoryEstimate:
         """The ``n`` largest items."""
         return self.items[:n]
 
-    def check(self) -> "MemoryEstimate":
+    def check(self) -> MemoryEstimate:
         """Raise :class:`~mbsym.exceptions.DeckMemoryError` when :attr:`total` exceeds :attr:`limit`."""
         if self.total <= self.limit:
             return self
@@ -259,14 +260,14 @@ class _Pricer:
 
 
 # ----------------------------------------------------------------------------- the deck
-def deck_memory_estimate(fst: str | Path, *, aero: str | None = None,
+def deck_memory_estimate(fst: str | Path | Any, *, aero: str | None = None,
                          surface_points: int = SURFACE_POINTS) -> MemoryEstimate:
     """Estimate the memory an OpenFAST deck implies (see the module docstring for what is priced).
 
     Parameters
     ----------
-    fst : str or Path
-        The main ``.fst`` file.
+    fst : str, Path, TurbineParameters or OperatingDeck
+        The main ``.fst`` file, or what was read from it (its ``source_files["fst"]`` or ``path``).
     aero : {"blade", "rotor"} or None, optional, keyword-only
         The aerodynamic model to price (AeroDyn decks): the blade-element graph, the rotor-effective
         surfaces, or (None) the cheaper of the two.
@@ -282,9 +283,9 @@ def deck_memory_estimate(fst: str | Path, *, aero: str | None = None,
     from ...simulate.monitor import memory_limit
 
     if aero not in (None, *AERO_MODELS):
-        raise ValueError(f"aero must be one of {list(AERO_MODELS)} or None; got {aero!r}.")
+        raise OptionError(f"aero must be one of {list(AERO_MODELS)} or None; got {aero!r}.")
     pricer = _Pricer(memory_limit())
-    path = Path(fst)
+    path = _fst_path(fst)
     main = _Keys(path) if path.is_file() else None
     if main is not None:
         channels = 0
@@ -308,6 +309,18 @@ def deck_memory_estimate(fst: str | Path, *, aero: str | None = None,
         _output(pricer, main, channels)
     items = tuple(sorted(pricer.items, key=lambda i: -i.bytes))
     return MemoryEstimate(items, pricer.limit)
+
+
+def _fst_path(deck: Any) -> Path:
+    if isinstance(deck, (str, Path)):
+        return Path(deck)
+    sources = getattr(deck, "source_files", None) or getattr(getattr(deck, "turbine", None), "source_files", None)
+    if sources and sources.get("fst"):
+        return Path(sources["fst"])
+    if getattr(deck, "path", None) is not None:
+        return Path(deck.path)
+    raise ArgumentTypeError(f"expected the path of a .fst, TurbineParameters or an OperatingDeck read from one; got "
+                    f"{type(deck).__name__}.")
 
 
 def check_deck_memory(fst: str | Path, *, aero: str | None = None, surface_points: int = SURFACE_POINTS
