@@ -84,12 +84,19 @@ def test_station_counts_are_refused_from_the_count(deck, edit, which, key, colum
     assert f"x {columns} columns" in message
 
 
-def test_output_samples_are_refused(deck, edit):
-    """TMax = 1e9 s at DT_Out = 0.02 s: 5e10 output times; the key to change (DT_Out) and TMax's line are named."""
+def test_output_samples_are_refused_for_the_decks_own_run(deck, edit):
+    """TMax = 1e9 s at DT_Out = 0.02 s: 5e10 output times. check_deck_memory (run=True) names the key to change (DT_Out)
+    and TMax's line; read_openfast leaves the run out (a run may be shorter; it checks its own result)."""
+    from mbsym.wind.deck.budget import check_deck_memory
+
     edit(deck.fst, r"^10\.0( +TMax)", r"1e9\1")
-    message = _refused(deck.fst)
+    with pytest.raises(DeckMemoryError) as info:
+        check_deck_memory(deck.fst)
+    message = str(info.value)
     assert re.match(r".*NREL5MW_Onshore_ElastoDynOnly\.fst, line 58, key 'DT_Out': DT_Out = 0\.02 implies", message)
-    assert "a shorter TMax (line 6)" in message
+    assert "a shorter TMax (line 6)" in message and "MBSYM_MEMORY_LIMIT" in message
+    assert read_openfast(deck.fst).simulation.total_time == 1e9
+    assert not any(i.key == "DT_Out" for i in deck_memory_estimate(deck.fst, run=False).items)
 
 
 @pytest.mark.parametrize("nodes, expect", [(100_000, "blade-element"), (None, None)])

@@ -142,7 +142,7 @@ class RotorAero:
             raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and "
                                  "AeroFile must exist).")
         points = np.size(DEFAULT_TSR if tsr is None else tsr) * np.size(DEFAULT_PITCH if pitch is None else pitch)
-        check_deck_memory(fst, aero="rotor", surface_points=int(points))   # the surfaces, before they are computed
+        check_deck_memory(fst, aero="rotor", surface_points=int(points), run=False)   # the surfaces, before they are computed
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
         rotor = BEMRotor.from_aerodyn(aerodyn, hub_radius=params.hub_radius,
                                       precone=params.precone[0], n_blades=params.number_of_blades,

@@ -8,7 +8,8 @@ table row counts, the TurbSim ``.bts`` header, file sizes, the run's ``TMax``/``
 :class:`~mbsym.exceptions.DeckMemoryError` naming the file, line and key of the largest items.
 :func:`~mbsym.wind.deck.openfast.read_openfast` calls it once the ``.fst`` and ElastoDyn keys are
 read, before the tower, blade and module files are parsed, so every reader of a whole deck
-(``operating_deck``, ``RotorAero.from_openfast``, the CLI) is covered.
+(``operating_deck``, ``RotorAero.from_openfast``, the CLI) is covered; it leaves out the result of
+the deck's own run (``run=False``: a run may be shorter, and checks its own result).
 
 The estimate is tolerant: a file or key it cannot find or read costs nothing here (the readers
 report it, with file/line/key). A file too large to be parsed within the limit is priced from its
@@ -260,8 +261,8 @@ class _Pricer:
 
 
 # ----------------------------------------------------------------------------- the deck
-def deck_memory_estimate(fst: str | Path | Any, *, aero: str | None = None,
-                         surface_points: int = SURFACE_POINTS) -> MemoryEstimate:
+def deck_memory_estimate(fst: str | Path | Any, *, aero: str | None = None, surface_points: int = SURFACE_POINTS,
+                         run: bool = True) -> MemoryEstimate:
     """Estimate the memory an OpenFAST deck implies (see the module docstring for what is priced).
 
     Parameters
@@ -273,6 +274,10 @@ def deck_memory_estimate(fst: str | Path | Any, *, aero: str | None = None,
         surfaces, or (None) the cheaper of the two.
     surface_points : int, optional, keyword-only
         Points of the tip-speed-ratio x pitch grid of the rotor-effective surfaces.
+    run : bool, optional, keyword-only
+        Price the result of a run of the deck's own ``TMax`` with outputs every ``DT_Out``. The readers
+        leave it out (a run may be shorter: ``--tmax``, ``t_end``): the run checks its own result
+        (:func:`mbsym.simulate.monitor.check_resources`, naming the deck's TMax/DT_Out or the flags).
 
     Returns
     -------
@@ -306,7 +311,8 @@ def deck_memory_estimate(fst: str | Path | Any, *, aero: str | None = None,
             if _switch(main, switch):
                 module = pricer.open(main, key, what, read=switch == "CompHydro")
                 _wamit(pricer, module)
-        _output(pricer, main, channels)
+        if run:
+            _output(pricer, main, channels)
     items = tuple(sorted(pricer.items, key=lambda i: -i.bytes))
     return MemoryEstimate(items, pricer.limit)
 
@@ -323,8 +329,8 @@ def _fst_path(deck: Any) -> Path:
                     f"{type(deck).__name__}.")
 
 
-def check_deck_memory(fst: str | Path, *, aero: str | None = None, surface_points: int = SURFACE_POINTS
-                      ) -> MemoryEstimate:
+def check_deck_memory(fst: str | Path | Any, *, aero: str | None = None, surface_points: int = SURFACE_POINTS,
+                      run: bool = True) -> MemoryEstimate:
     """:func:`deck_memory_estimate`, refused above the limit.
 
     Raises
@@ -333,7 +339,7 @@ def check_deck_memory(fst: str | Path, *, aero: str | None = None, surface_point
         The estimate is above :func:`mbsym.simulate.monitor.memory_limit`; names the file, line and key
         of the largest item, the estimate, the limit and how to need less.
     """
-    return deck_memory_estimate(fst, aero=aero, surface_points=surface_points).check()
+    return deck_memory_estimate(fst, aero=aero, surface_points=surface_points, run=run).check()
 
 
 def _switch(keys: _Keys, key: str) -> int:

@@ -181,7 +181,7 @@ class BladeElementRotor:
         if aerodyn_file is None:
             raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and AeroFile "
                                  "must exist).")
-        check_deck_memory(fst, aero="blade")       # the graph, before it is built
+        check_deck_memory(fst, aero="blade", run=False)       # the graph, before it is built
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
         return cls.from_aerodyn(aerodyn, hub_radius=params.hub_radius, precone=params.precone[0],
                                 n_blades=params.number_of_blades, **options)
