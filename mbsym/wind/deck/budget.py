@@ -175,29 +175,34 @@ class _Keys:
 
     def __init__(self, path: Path, until: str | None = None) -> None:
         self.path = path
-        self.lines = path.read_text(encoding="latin-1").splitlines()
+        self.lines: list[str] = []
         self.entries: dict[str, tuple[list[str], int, str]] = {}
         self.outlist = 0
+        stop = None if until is None else _canon(until)
         inside = False
-        for number, text in enumerate(self.lines[2:], start=3):
-            tokens = _TOKEN.findall(text.strip())
-            if not tokens or text.lstrip().startswith(("!", "#", "--", "==")):
-                continue
-            if inside:
-                if text.strip()[:3].upper() == "END":
-                    inside = False
-                else:
-                    names = tokens[: tokens.index("-") if "-" in tokens else None]
-                    self.outlist += sum(len([n for n in t.strip("\"'").replace(",", " ").split() if n]) for t in names)
-                continue
-            if tokens[0].lower() == "outlist":
-                inside = True
-                continue
-            j = next((j for j in range(1, len(tokens)) if _is_key(tokens[j])), None)
-            if j is not None:
-                self.entries.setdefault(_canon(tokens[j]), ([t.strip("\"'") for t in tokens[:j]], number, tokens[j]))
-                if until is not None and _canon(tokens[j]) == _canon(until):
-                    break
+        with path.open(encoding="latin-1") as fh:      # line by line: a table after ``until`` is not read
+            for number, text in enumerate(fh, start=1):
+                text = text.rstrip("\r\n")
+                self.lines.append(text)
+                if number <= 2 or text.lstrip().startswith(("!", "#", "--", "==")):
+                    continue
+                tokens = _TOKEN.findall(text.strip())
+                if not tokens:
+                    continue
+                if inside:
+                    inside = text.strip()[:3].upper() != "END"
+                    names = tokens[: tokens.index("-") if "-" in tokens else None] if inside else []
+                    self.outlist += sum(len(t.strip("\"'").replace(",", " ").split()) for t in names)
+                    continue
+                if tokens[0].lower() == "outlist":
+                    inside = True
+                    continue
+                j = next((j for j in range(1, len(tokens)) if _is_key(tokens[j])), None)
+                if j is not None:
+                    key = _canon(tokens[j])
+                    self.entries.setdefault(key, ([t.strip("\"'") for t in tokens[:j]], number, tokens[j]))
+                    if key == stop:
+                        break
 
     def raw(self, key: str) -> tuple[str, int, str] | None:
         entry = self.entries.get(_canon(key))
