@@ -24,7 +24,8 @@ resident size ``VmHWM`` of a fresh process minus its size after ``import mbsym``
   ``NumAlf`` x columns, ROSCO ``PerfTableSize``): ~104 B per cell parsed (tracemalloc peak of
   ``read_openfast`` with a 1e5 x 4 tower table: 41.5 MB), and text files named by a key without a
   count (uniform wind, WAMIT, MoorDyn, MAP++, SeaState, HydroDyn, DISCON.IN, Cp/Ct/Cq): 6.7 bytes
-  per byte of text (same measurement: 41.5 MB for a 6.2 MB file).
+  per byte of text (same measurement: 41.5 MB for a 6.2 MB file; the IEA 15 MW semi-submersible's WAMIT
+  files, 2.1 MB: read_wamit peaks at 10.8 MB, priced 14.3 MB).
 * AeroDyn ``NumBlNds``: the blade-element CasADi graph (``aero="blade"``) costs ~100 kB per node
   and blade (ff14_flex with the blade file resampled to 152 and 2000 nodes: +45 MB and +600 MB
   for ``OperatingTurbine.dynamics()``, linear in the nodes); airfoils ~140 kB each (the spline
