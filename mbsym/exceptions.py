@@ -15,6 +15,7 @@ __all__ = [
     "SingularMassMatrixError",
     "BeamDataError",
     "OpenFASTFormatError",
+    "DeckMemoryError",
     "IntegrationError",
     "UnphysicalRunError",
     "SolverError",
@@ -66,6 +67,17 @@ class BeamDataError(MbsymError, ValueError):
 
 class OpenFASTFormatError(MbsymError, ValueError):
     """An OpenFAST input file is malformed (names the file, line and key)."""
+
+
+class DeckMemoryError(OpenFASTFormatError):
+    """A deck implies more memory than the limit (names the file, line and key of the largest size).
+
+    Attribute ``estimate``: the :class:`~mbsym.wind.deck.budget.MemoryEstimate` (items, total, limit).
+    """
+
+    def __init__(self, message: str, *, estimate=None) -> None:
+        super().__init__(message)
+        self.estimate = estimate
 
 
 class IntegrationError(MbsymError, RuntimeError):

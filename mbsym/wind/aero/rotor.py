@@ -123,17 +123,26 @@ class RotorAero:
             :data:`~mbsym.wind.aero.surfaces.DEFAULT_PITCH`).
         degree : int, optional
             Spline degree (3 or 5).
+
+        Raises
+        ------
+        DeckMemoryError
+            Computing the surfaces would take more memory than the limit (~4.8 kB per AeroDyn blade node and
+            grid point: :func:`mbsym.wind.deck.budget.deck_memory_estimate` with ``aero="rotor"``).
         """
         from ..deck.aerodyn import read_aerodyn
+        from ..deck.budget import check_deck_memory
         from ..deck.openfast import read_openfast
         from .bem import BEMRotor
-        from .surfaces import performance_surface
+        from .surfaces import DEFAULT_PITCH, DEFAULT_TSR, performance_surface
 
         params = read_openfast(fst)
         aerodyn_file = params.source_files.get("aerodyn")
         if aerodyn_file is None:
             raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and "
                                  "AeroFile must exist).")
+        points = np.size(DEFAULT_TSR if tsr is None else tsr) * np.size(DEFAULT_PITCH if pitch is None else pitch)
+        check_deck_memory(fst, aero="rotor", surface_points=int(points), run=False)   # the surfaces, before they are computed
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
         rotor = BEMRotor.from_aerodyn(aerodyn, hub_radius=params.hub_radius,
                                       precone=params.precone[0], n_blades=params.number_of_blades,

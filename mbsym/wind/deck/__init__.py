@@ -5,12 +5,14 @@ records (:mod:`.parameters`), the ElastoDyn deck reader (:mod:`.openfast`), the 
 readers (:mod:`.aerodyn`, :mod:`.airfoils`), ROSCO performance tables (:mod:`.performance`), the
 floating-platform readers (:mod:`.hydrodyn`, :mod:`.seastate`, :mod:`.wamit`, :mod:`.moordyn`,
 :mod:`.mapplusplus`; positional files through ``_lines``, sectioned ones through ``_sections``)
-and the package data of the NREL 5 MW (:mod:`.nrel5mw`, :mod:`.nrel5mw_aero`). Imports
+the package data of the NREL 5 MW (:mod:`.nrel5mw`, :mod:`.nrel5mw_aero`) and the memory a deck
+implies (:mod:`.budget`). Imports
 nothing else of ``mbsym.wind``.
 """
 
 from .aerodyn import AeroDynBlade, AeroDynInput, read_aerodyn, read_aerodyn_blade
 from .airfoils import AirfoilPolar, read_airfoil
+from .budget import MemoryEstimate, MemoryItem, check_deck_memory, deck_memory_estimate
 from .hydrodyn import HydroDynInput, read_hydrodyn
 from .mapplusplus import MapInput, read_map
 from .moordyn import MoorDynInput, read_moordyn
@@ -31,4 +33,6 @@ __all__ = ["read_openfast", "nrel5mw", "KEY_MAP", "DOF_NAMES", "TurbineParameter
            "nrel5mw_aerodyn", "nrel5mw_performance_table",
            # floating platforms (HydroDyn, SeaState, WAMIT output, MoorDyn, MAP++)
            "read_hydrodyn", "HydroDynInput", "read_seastate", "SeaStateInput", "read_wamit", "WamitData",
-           "WamitHydrodynamics", "read_moordyn", "MoorDynInput", "read_map", "MapInput"]
+           "WamitHydrodynamics", "read_moordyn", "MoorDynInput", "read_map", "MapInput",
+           # the memory a deck implies
+           "deck_memory_estimate", "check_deck_memory", "MemoryEstimate", "MemoryItem"]

@@ -35,6 +35,7 @@ import numpy as np
 
 from ...exceptions import OpenFASTFormatError
 from . import checks
+from .budget import check_deck_memory
 from ._format import (
     _REQ, _Check, _canon, _convert, _Deck, _Key, _read_keys, _read_table_columns, _resolve, _TableSpec,
 )
@@ -403,6 +404,10 @@ def read_openfast(path: str | Path) -> TurbineParameters:
     OpenFASTFormatError
         If a file is missing, a key is missing or malformed, or a value fails
         ElastoDyn's checks; the message names the file, line and key.
+    DeckMemoryError
+        (an OpenFASTFormatError) The memory the deck implies (its node counts, tables, wind field;
+        :func:`mbsym.wind.deck.budget.deck_memory_estimate` with ``run=False``) is above
+        :func:`mbsym.simulate.monitor.memory_limit`; names the file, line and key that dominate.
 
     Warns
     -----
@@ -434,6 +439,7 @@ def read_openfast(path: str | Path) -> TurbineParameters:
                     "file. Add a line '9.80665  Gravity  - ...' to the environment section.")
         fst.raise_problems()
     ed.raise_problems()
+    check_deck_memory(fst_path, run=False)     # before the tower, blade and module files are parsed or anything is built
     sources = {"fst": str(fst_path), "elastodyn": str(ed.path)}
     sources |= _module_files(fst, sim)
     tower_path = _resolve(ed, "TwrFile", "tower file")

@@ -169,8 +169,11 @@ class BladeElementRotor:
     def from_openfast(cls, fst: str | Path, **options: Any) -> "BladeElementRotor":
         """The rotor of an OpenFAST deck: ElastoDyn HubRad, PreCone(1), NumBl; AeroDyn files.
 
-        ``options`` are those of :meth:`from_aerodyn` (``tip_radius``, ``dynamic_wake``, ...).
+        ``options`` are those of :meth:`from_aerodyn` (``tip_radius``, ``dynamic_wake``, ...). A deck whose graph
+        would take more memory than the limit is refused first (:class:`~mbsym.exceptions.DeckMemoryError`,
+        :func:`mbsym.wind.deck.budget.deck_memory_estimate` with ``aero="blade"``).
         """
+        from ...deck.budget import check_deck_memory
         from ...deck.openfast import read_openfast
 
         params = read_openfast(fst)
@@ -178,6 +181,7 @@ class BladeElementRotor:
         if aerodyn_file is None:
             raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and AeroFile "
                                  "must exist).")
+        check_deck_memory(fst, aero="blade", run=False)       # the graph, before it is built
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
         return cls.from_aerodyn(aerodyn, hub_radius=params.hub_radius, precone=params.precone[0],
                                 n_blades=params.number_of_blades, **options)
