@@ -232,8 +232,10 @@ _MEASURE = textwrap.dedent("""
 
 @pytest.mark.skipif(not Path("/proc/self/status").is_file(), reason="peak resident size read from /proc (Linux)")
 @pytest.mark.parametrize("case, kind", [("NREL5MW/NREL5MW_Onshore_ElastoDynOnly.fst", "structure"),
-                                        ("aero/openfast_inputs/steady_14/steady_14.fst", "rotor"),
-                                        ("aero/openfast_inputs/ff14_flex/ff14_flex.fst", "blade")])
+                                        pytest.param("aero/openfast_inputs/steady_14/steady_14.fst", "rotor",
+                                                     marks=pytest.mark.slow),        # ~17 s: the rotor surfaces
+                                        pytest.param("aero/openfast_inputs/ff14_flex/ff14_flex.fst", "blade",
+                                                     marks=pytest.mark.slow)])       # ~10 s
 def test_estimate_is_within_a_factor_two_of_the_measured_peak(case, kind):
     """The estimate (without the result of a run: nothing is simulated here) against the peak resident size of a
     fresh process building the model, over its size after importing the libraries. Measured when written
