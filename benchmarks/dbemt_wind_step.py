@@ -160,10 +160,28 @@ def table(outb: Path, blade_file: Path, hub_radius: float = 1.5) -> list[str]:
     return rows
 
 
+def write_csv(outb: Path, path: Path, t_from: float = 29.0) -> None:
+    """Time, hub wind, tau1 and, per node of :data:`NODES`, AxInd, AxInd_qs, Vx from ``t_from`` on (12 digits)."""
+    names, t, d = read_outb(outb)
+    nodal = [i for i, n in enumerate(names) if n.startswith("AB1N")]
+    n_nodes = len(nodal) // len(NODE_CHANNELS)
+    cols, header = [t, d[:, names.index("Wind1VelX")], d[:, names.index("DBEMTau1")]], ["Time_[s]", "Wind1VelX_[m/s]",
+                                                                                       "DBEMTau1_[s]"]
+    for n in NODES:
+        for j, (c, unit) in enumerate(zip(NODE_CHANNELS, ("-", "-", "m/s"))):
+            cols.append(d[:, nodal[j * n_nodes + n - 1]])
+            header.append(f"AB1N{n:03d}{c}_[{unit}]")
+    keep = t >= t_from - 1e-9
+    data = np.column_stack(cols)[keep]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savetxt(path, data, delimiter=",", header=",".join(header), comments="", fmt="%.12g")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--workdir", type=Path, help="where the case is written and run (default: a temporary dir)")
     ap.add_argument("--outb", type=Path, help="use this output of an earlier run instead of running OpenFAST")
+    ap.add_argument("--csv", type=Path, help="also write the reference series of the test (tests/data/openfast_dbemt_step)")
     args = ap.parse_args(argv)
     work = args.workdir or Path(tempfile.mkdtemp(prefix="dbemt_step_"))
     outb = args.outb
@@ -174,6 +192,8 @@ def main(argv=None) -> int:
         outb = fst.with_suffix(".outb")
     blade = shared_aero() / "openfast_inputs" / "deck" / "NRELOffshrBsline5MW_AeroDyn_blade.dat"
     print("\n".join(table(outb, blade)))
+    if args.csv is not None:
+        write_csv(outb, args.csv)
     return 0
 
 
