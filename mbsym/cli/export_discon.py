@@ -93,7 +93,14 @@ def _run_nmpc(args) -> int:
 
     from ..exceptions import ControllerError, OptionError
     from ..wind.control.baseline import BaselineController
-    from ..wind.mpc import NMPCTuning, PredictionModel, SetPoints, TurbineEstimator, TurbineNMPC, estimation_model
+    from ..wind.mpc import (
+        NMPCTuning,
+        PredictionModel,
+        SetPoints,
+        TurbineEstimator,
+        TurbineNMPC,
+        estimation_model,
+    )
     from ..wind.mpc.discon_nmpc import export_nmpc_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
     from .operate_mpc import _initial_estimate

@@ -19,7 +19,11 @@ the measurements 20 ``GenSpeed`` [rad/s] (the estimator reads it in rpm), 53 ``Y
 generator torque demand [N m]; 35 = 1, 36 = 0, 41 = 0, 46 = 0, 48 = 0, 55 = 56 = 0, 65 = 0.
 
 **Schedule** (:class:`~.sample.SampledLoop`, :class:`~.loop.TurbineLoop`): the library's sample time
-is the loop's; the EKF runs every ``ke`` samples on the mean measured pitch and torque of its
+is the loop's; the initialization call (status 0) is answered with the baseline's commands (OpenFAST
+v5.0.0's ServoDyn makes it before the first time step with the inputs of its initialization: a
+tower-top acceleration of -1.36 m/s² where the first step has 0.002 m/s², and zero measured torque,
+which drove the EKF's wind estimate to -0.6 m/s in 0.05 s, measured), and the schedule starts at the
+first step call (status 1); the EKF runs every ``ke`` samples on the mean measured pitch and torque of its
 interval, the NMPC every ``kn`` samples on the estimate and the measured pitch and torque; between
 NMPC samples the demands ramp at the NMPC's rates with the actuators' lead. The host may call more
 often (the communication interval divides the sample time; commands held in between).
@@ -49,7 +53,7 @@ from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
 from ..control.swap import MEASUREMENT_RECORDS
 from .sample import QP_ACCEPT, sample_functions
 
-__all__ = ["export_nmpc_discon", "NMPC_PART", "NMPC_RECORDS"]
+__all__ = ["NMPC_PART", "NMPC_RECORDS", "export_nmpc_discon"]
 
 #: Swap records the NMPC and its EKF read (besides the baseline law's).
 NMPC_RECORDS = {"GenSpeed": 20, "YawBrTAxp": 53, "BldPitch1": 4, "GenTq": 23}
@@ -72,7 +76,7 @@ static const double LIMITS[4] = {{{limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
 static double acc[2], t_a, ramp0[2], rate[2], cmd[2];
 static long k_loop, n_acc, fallbacks;
-static int have_plan, nmpc_on;
+static int have_plan, nmpc_on, init_call;
 static const double *narg[{n_arg}];
 static double *nres[{n_res}];
 static casadi_int niw[{n_iw}];
@@ -88,6 +92,7 @@ static void nmpc_start(void)
     acc[0] = acc[1] = 0.0;
     k_loop = n_acc = fallbacks = 0;
     have_plan = nmpc_on = 0;
+    init_call = 1;
 }}
 
 static int all_finite(const double *v, int n)
@@ -103,6 +108,11 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
     double yv[2], mean[2], flag, pitch, torque, el;
     int r, warn = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
+    if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
+        init_call = 0;
+        cmd[0] = held[0]; cmd[1] = held[N_U - 1];
+        return 0;
+    }}
     yv[0] = (double)swap[19] * 30.0 / 3.14159265358979323846;     /* record 20 GenSpeed [rad/s] -> rpm */
     yv[1] = (double)swap[52];                                      /* record 53 YawBrTAxp [m/s^2] */
     pitch = (double)swap[3];                                       /* record 4 BldPitch1 [rad] */

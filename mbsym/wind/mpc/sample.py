@@ -39,7 +39,7 @@ import numpy as np
 
 from ...exceptions import ControlDefinitionError
 
-__all__ = ["SampleFunctions", "sample_functions", "SampledLoop", "STARTUP_ITERATIONS", "QP_ACCEPT"]
+__all__ = ["QP_ACCEPT", "STARTUP_ITERATIONS", "SampleFunctions", "SampledLoop", "sample_functions"]
 
 #: Full Gauss–Newton iterations of the first sample (fixed work; see the module docstring).
 STARTUP_ITERATIONS = 10
