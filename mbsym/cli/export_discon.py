@@ -22,7 +22,9 @@ simulate``).
 with ``NMPCTuning.estimated_wind()`` on the deck's turbine, one real-time iteration per 0.1 s) with its
 EKF (``--estimator ekf``, the default; 20 Hz) and the baseline controller of the deck as its fallback
 on a QP failure, all generated as C. The library's sample time is the controller sample time above.
-The EKF starts from the steady operation at ``--initial-wind`` (default 10 m/s). ``--estimator mhe``
+The EKF starts from the steady operation at ``--initial-wind`` (default 10 m/s). For a deck whose
+plant needs blade-element aerodynamics (full field, shear, blade DOFs) the controller's models are the
+deck's rotor-effective model with the DOFs they use (GenDOF, TwFADOF1, TwSSDOF1). ``--estimator mhe``
 is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
 """
 
@@ -115,7 +117,7 @@ def _run_nmpc(args) -> int:
     deck = operating_deck(args.deck) if args.deck is not None else builtin_deck()
     settings = deck.baseline_settings(discon_in=args.discon_input, dt=args.sample_time)
     baseline = BaselineController(settings)
-    model = deck.model()
+    model = _controller_model(deck)
     observed = estimation_model(model)
     estimator = TurbineEstimator(observed, "ekf", x0=_initial_estimate(model, observed, lambda t: np.full_like(
         np.asarray(t, dtype=float), wind0)))
@@ -129,3 +131,19 @@ def _run_nmpc(args) -> int:
           f"DLL_InFile \"{out['input']}\", DLL_DT a divisor of {baseline.dt:g} s, PCMode 5, VSContrl 5")
     print(json.dumps(out))
     return 0
+
+
+def _controller_model(deck):
+    """The rotor-effective turbine the NMPC and its EKF predict with: the deck's own model when it is one; else
+    (blade-element aerodynamics for a full field, shear or blade DOFs) the deck's rotor-effective model with the
+    DOFs the controller models (the controller never sees the field: its estimator reads the turbine)."""
+    import dataclasses
+
+    from ..wind.mpc import ESTIMATOR_DOFS, PREDICTION_DOFS
+
+    if deck.default_aero() == "rotor":
+        return deck.model()
+    dofs = [d for d in dict.fromkeys(PREDICTION_DOFS + ESTIMATOR_DOFS) if deck.turbine.dofs.get(d, False)]
+    print(f"mbsym export-discon: the deck's plant is blade-element; the NMPC and its EKF use its rotor-effective "
+          f"model with {', '.join(dofs)}")
+    return dataclasses.replace(deck, inflow=None).model(dofs=dofs, aero="rotor")

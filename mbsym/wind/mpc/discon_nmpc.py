@@ -74,8 +74,8 @@ static const double P0[NZ * NZ] = {{{p0}}};
 static const double LEAD[2] = {{{lead}}};
 static const double LIMITS[4] = {{{limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
-static double acc[2], t_a, ramp0[2], rate[2], cmd[2];
-static long k_loop, n_acc, fallbacks;
+static double acc[2], ramp0[2], rate[2], cmd[2];
+static long k_loop, k_a, n_acc, fallbacks;
 static int have_plan, nmpc_on, init_call;
 static const double *narg[{n_arg}];
 static double *nres[{n_res}];
@@ -105,7 +105,7 @@ static int all_finite(const double *v, int n)
 /* One loop sample: the baseline law, the EKF every KE samples, the NMPC every KN samples, the demands. */
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
-    double yv[2], mean[2], flag, pitch, torque, el;
+    double yv[2], mean[2], flag, pitch, torque, el, since;
     int r, warn = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
     if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
@@ -153,10 +153,11 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
         }}
         if (r == 0 && all_finite(plan_next, NW) && all_finite(rates, 2) && viol <= QP_ACCEPT) {{
             if (nmpc_on) {{                     /* the new ramps start where the previous ones are now */
-                ramp0[0] = clip(ramp0[0] + rate[0] * (t - t_a), LIMITS[0], LIMITS[1]);
-                ramp0[1] = clip(ramp0[1] + rate[1] * (t - t_a), LIMITS[2], LIMITS[3]);
+                since = (double)(k_loop - k_a) * SAMPLE_TIME;
+                ramp0[0] = clip(ramp0[0] + rate[0] * since, LIMITS[0], LIMITS[1]);
+                ramp0[1] = clip(ramp0[1] + rate[1] * since, LIMITS[2], LIMITS[3]);
             }} else {{ ramp0[0] = pitch; ramp0[1] = torque; }}
-            t_a = t; rate[0] = rates[0]; rate[1] = rates[1];
+            k_a = k_loop; rate[0] = rates[0]; rate[1] = rates[1];
             memcpy(plan, plan_next, sizeof plan);
             have_plan = nmpc_on = 1;
         }} else {{
@@ -167,12 +168,12 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
             warn = 1;
         }}
     }}
-    ++k_loop;
-    if (nmpc_on) {{
-        el = t - t_a;
+    if (nmpc_on) {{            /* elapsed time from the sample count: the swap array's time is float32 */
+        el = (double)(k_loop - k_a) * SAMPLE_TIME;
         cmd[0] = clip(ramp0[0] + rate[0] * (el + LEAD[0]), LIMITS[0], LIMITS[1]);
         cmd[1] = clip(ramp0[1] + rate[1] * (el + LEAD[1]), LIMITS[2], LIMITS[3]);
     }} else {{ cmd[0] = held[0]; cmd[1] = held[N_U - 1]; }}
+    ++k_loop;
     return warn;
 }}
 
