@@ -179,6 +179,41 @@ def test_library_is_self_contained(library):
     assert "nmpc" in text.split()[text.split().index("Controller") - 1]
 
 
+@pytest.mark.slow
+def test_qp_failure_falls_back_to_the_baseline_and_recovers(library):
+    # A measured torque of 60 kN m (above the 47.4 kN m limit; the torque rate bound, 40 kN m/s over 0.1 s, cannot
+    # bring it back inside) at the NMPC sample t = 0.11 s (the schedule starts at the first step call, 0.01 s)
+    # makes the QP infeasible. Expected: aviFAIL = 1 with the message, the baseline law's commands there (its own
+    # Function on the same float32 measurements: equal to float32 rounding), no exception; with sane measurements
+    # again the NMPC starts over at the next NMPC sample, and its commands leave the baseline's.
+    from mbsym.wind.control import BaselineController, DisconController
+    from mbsym.wind.mpc import LOOP_CHANNELS
+
+    t = turbine()
+    baseline = BaselineController(t.deck.baseline_settings())
+    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
+    xb, got, expected = baseline.x0, [], []
+    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
+        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
+        for k in range(31):
+            yk = y.copy()
+            if k == 11:
+                yk[5] = 60.0
+            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
+            got.append(step(0.01 * k, y32))
+            xb, u = baseline.function(xb, y32[:5])
+            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
+            expected.append([u[0], u[-1]])
+            if k == 11:
+                assert any("QP failed at t = 0.11 s" in m and "1 fallbacks" in m for m in lib.messages), lib.messages
+                warned = len(lib.messages)
+        assert len(lib.messages) == warned                                      # recovered: no further warning
+    got, expected = np.array(got), np.array(expected, dtype=F32).astype(float)
+    for k in range(11, 21):                                                     # held until the next NMPC sample
+        assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
+    assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
+
+
 def test_cli_refuses_what_cannot_be_exported(tmp_path, capsys):
     from mbsym.cli import main
 
