@@ -262,8 +262,13 @@ class SampledLoop:
 
     Attributes
     ----------
-    failures : int
-        NMPC samples whose QP was not accepted (the run stops: this class is a reference, not a fallback).
+    rti_walls : list of float
+        Wall time of every NMPC sample's Function call [s] (CasADi's virtual machine).
+
+    Raises
+    ------
+    SolverError
+        From :meth:`step`, when a QP is not accepted (a reference, not a fallback).
     """
 
     def __init__(self, functions: SampleFunctions) -> None:
@@ -294,7 +299,10 @@ class SampledLoop:
             self.rti_walls.append(time.perf_counter() - c0)
             w, rates, viol = (np.asarray(v).ravel() for v in out)
             if not (np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT):
-                raise ControlDefinitionError(f"the NMPC's QP was not accepted at t = {t:g} s (violation {viol[0]:.3g}).")
+                from ...exceptions import SolverError
+
+                raise SolverError(f"the NMPC's QP was not accepted at t = {t:g} s (violation {viol[0]:.3g}); this "
+                                  "reference has no fallback (the exported library applies the baseline there).")
             self.w = w
             self._anchor = (t, *self._ramp_start(t, pitch, torque), rates)
         self.k += 1
