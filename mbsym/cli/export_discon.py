@@ -3,11 +3,11 @@
 Contract (kept for acceptance checks)::
 
     mbsym export-discon [DECK] --controller baseline|nmpc [--estimator ekf|mhe] --out DIR
-                        [--discon-input DISCON.IN] [--sample-time S] [--name NAME]
+                        [--discon-input DISCON.IN] [--sample-time S] [--name NAME] [--initial-wind V]
 
 writes the library ``DIR/NAME.so`` and its input file ``DIR/NAME.IN`` (with the C sources in
 ``DIR/src``) and prints one JSON object on its last line: ``{"library": "<path>.so", "input":
-"<path>", "controller": "baseline", "sample_time_s": ...}``. Putting the two paths into a ServoDyn
+"<path>", "controller": "baseline"|"nmpc", "sample_time_s": ...}``. Putting the two paths into a ServoDyn
 file (``DLL_FileName``, ``DLL_InFile``; ``PCMode`` and ``VSContrl`` 5, ``DLL_DT`` a divisor of the
 sample time, ``Ptch_Cntrl`` 1 with IPC) is all OpenFAST needs.
 
@@ -15,8 +15,17 @@ The deck configures the controller exactly as ``mbsym simulate DECK --controller
 its ServoDyn ``DLL_InFile`` (ROSCO's ``DISCON.IN``; ``--discon-input`` instead) and its controller
 sample time (``DLL_DT``, else ServoDyn's ``DT``, else the glue ``DT``; ``--sample-time`` instead).
 Without a deck: ROSCO 2.10.6's NREL 5 MW settings at 0.01 s (the built-in turbine of ``mbsym
-simulate``). ``--controller nmpc`` (and ``--estimator``) is part of the contract but not yet
-available: it is refused with exit status 2.
+simulate``).
+
+``--controller nmpc`` (:func:`mbsym.wind.mpc.discon_nmpc.export_nmpc_discon`): the turbine NMPC as
+``mbsym simulate DECK --controller nmpc`` runs it without preview (:class:`~mbsym.wind.mpc.TurbineNMPC`
+with ``NMPCTuning.estimated_wind()`` on the deck's turbine, one real-time iteration per 0.1 s) with its
+EKF (``--estimator ekf``, the default; 20 Hz) and the baseline controller of the deck as its fallback
+on a QP failure, all generated as C. The library's sample time is the controller sample time above.
+The EKF starts from the steady operation at ``--initial-wind`` (default 10 m/s). For a deck whose
+plant needs blade-element aerodynamics (full field, shear, blade DOFs) the controller's models are the
+deck's rotor-effective model with the DOFs they use (GenDOF, TwFADOF1, TwSSDOF1). ``--estimator mhe``
+is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
 """
 
 from __future__ import annotations
@@ -35,28 +44,33 @@ def add_parser(sub) -> None:
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst) whose ServoDyn DISCON.IN and controller "
                                            "sample time configure the controller; default: built-in NREL 5 MW")
     p.add_argument("--controller", required=True, choices=CONTROLLERS,
-                   help="baseline (our ROSCO-scheme controller); nmpc: not yet available")
-    p.add_argument("--estimator", choices=("ekf", "mhe"), help="the NMPC's estimator (nmpc only; not yet available)")
+                   help="baseline (our ROSCO-scheme controller) or nmpc (the turbine NMPC with its EKF and the "
+                        "baseline as fallback)")
+    p.add_argument("--estimator", choices=("ekf", "mhe"), help="the NMPC's estimator (nmpc only; default ekf; mhe "
+                                                               "is not exportable yet)")
     p.add_argument("--out", required=True, metavar="DIR", help="directory for the library, its input file and src/")
     p.add_argument("--discon-input", metavar="DISCON.IN", help="ROSCO controller input file instead of the deck's "
                                                                "(ServoDyn DLL_InFile)")
     p.add_argument("--sample-time", type=float, metavar="S",
                    help="controller sample time [s] (default: the deck's DLL_DT/DT; built-in 0.01)")
-    p.add_argument("--name", default="baseline_discon", help="file name stem (default baseline_discon)")
+    p.add_argument("--name", help="file name stem (default baseline_discon or nmpc_discon)")
+    p.add_argument("--initial-wind", type=float, metavar="V",
+                   help="nmpc: wind [m/s] of the steady operation the EKF starts from (default 10)")
 
 
 def run(args) -> int:
     """Export and print the JSON line (see the module docstring)."""
-    from ..exceptions import ControllerError, OptionError
+    from ..exceptions import OptionError
 
+    if args.sample_time is not None and not (math.isfinite(args.sample_time) and args.sample_time > 0):
+        raise OptionError(f"--sample-time must be a positive finite time [s]; got {args.sample_time:g}.")
     if args.controller == "nmpc":
-        raise ControllerError("export-discon --controller nmpc is not yet available (issue 21: the NMPC with its "
-                              "estimator as generated C); export --controller baseline for now.")
+        return _run_nmpc(args)
+    if args.initial_wind is not None:
+        raise OptionError("--initial-wind is the NMPC's EKF prior; the baseline controller has none. Drop it.")
     if args.estimator is not None:
         raise OptionError(f"--estimator {args.estimator} belongs to --controller nmpc; the baseline controller has "
                           "its own wind-speed estimator (set by WE_Mode in its DISCON.IN). Drop --estimator.")
-    if args.sample_time is not None and not (math.isfinite(args.sample_time) and args.sample_time > 0):
-        raise OptionError(f"--sample-time must be a positive finite time [s]; got {args.sample_time:g}.")
     from ..wind.control.baseline import BaselineController
     from ..wind.control.discon_export import export_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
@@ -67,9 +81,69 @@ def run(args) -> int:
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: baseline controller from {source}, sample time {controller.dt:g} s, "
           f"{len(controller.state_names)} states, measurements {', '.join(controller.measurements)}")
-    out = export_discon(controller, args.out, name=args.name)
+    out = export_discon(controller, args.out, name=args.name or "baseline_discon")
     print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "
           f"DLL_InFile \"{out['input']}\", DLL_DT a divisor of {controller.dt:g} s"
           + (", Ptch_Cntrl 1" if controller.ipc else ""))
     print(json.dumps(out))
     return 0
+
+
+def _run_nmpc(args) -> int:
+    """``--controller nmpc``: the NMPC with its EKF and the baseline as fallback (module docstring)."""
+    import numpy as np
+
+    from ..exceptions import ControllerError, OptionError
+    from ..wind.control.baseline import BaselineController
+    from ..wind.mpc import (
+        NMPCTuning,
+        PredictionModel,
+        SetPoints,
+        TurbineEstimator,
+        TurbineNMPC,
+        estimation_model,
+    )
+    from ..wind.mpc.discon_nmpc import export_nmpc_discon
+    from ..wind.operation.deck import builtin_deck, operating_deck
+    from .operate_mpc import _initial_estimate
+
+    if args.estimator == "mhe":
+        raise ControllerError("--estimator mhe is not exportable yet: the MHE solves a nonlinear program at every "
+                              "sample (no fixed amount of work to generate as C). Export --estimator ekf (the "
+                              "default).")
+    wind0 = 10.0 if args.initial_wind is None else args.initial_wind
+    if not (math.isfinite(wind0) and 3.0 <= wind0 <= 30.0):
+        raise OptionError(f"--initial-wind must be a wind speed in [3, 30] m/s; got {wind0:g}.")
+    deck = operating_deck(args.deck) if args.deck is not None else builtin_deck()
+    settings = deck.baseline_settings(discon_in=args.discon_input, dt=args.sample_time)
+    baseline = BaselineController(settings)
+    model = _controller_model(deck)
+    observed = estimation_model(model)
+    estimator = TurbineEstimator(observed, "ekf", x0=_initial_estimate(model, observed, lambda t: np.full_like(
+        np.asarray(t, dtype=float), wind0)))
+    nmpc = TurbineNMPC(PredictionModel(model), SetPoints.from_settings(settings, model.rotor),
+                       tuning=NMPCTuning.estimated_wind())
+    source = settings.source or "built-in NREL 5 MW"
+    print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
+          f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
+    out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon")
+    print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "
+          f"DLL_InFile \"{out['input']}\", DLL_DT a divisor of {baseline.dt:g} s, PCMode 5, VSContrl 5")
+    print(json.dumps(out))
+    return 0
+
+
+def _controller_model(deck):
+    """The rotor-effective turbine the NMPC and its EKF predict with: the deck's own model when it is one; else
+    (blade-element aerodynamics for a full field, shear or blade DOFs) the deck's rotor-effective model with the
+    DOFs the controller models (the controller never sees the field: its estimator reads the turbine)."""
+    import dataclasses
+
+    from ..wind.mpc import ESTIMATOR_DOFS, PREDICTION_DOFS
+
+    if deck.default_aero() == "rotor":
+        return deck.model()
+    dofs = [d for d in dict.fromkeys(PREDICTION_DOFS + ESTIMATOR_DOFS) if deck.turbine.dofs.get(d, False)]
+    print(f"mbsym export-discon: the deck's plant is blade-element; the NMPC and its EKF use its rotor-effective "
+          f"model with {', '.join(dofs)}")
+    return dataclasses.replace(deck, inflow=None).model(dofs=dofs, aero="rotor")

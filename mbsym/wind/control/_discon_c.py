@@ -4,13 +4,20 @@
 controller law ``law(xc, y) -> (xc_next, u)`` (CasADi ``CodeGenerator``) is called from
 ``DISCON`` with the swap-array records as measurements, once per controller sample, its
 commands held between samples. Fixed memory: every array is static and sized at generation time.
+
+The template is assembled from parts that other exported controllers reuse (the NMPC's wrapper,
+:mod:`mbsym.wind.mpc.discon_nmpc`): :data:`HEAD` (constants, static arrays, messages, the input
+file), :data:`LAW` (the law called on the swap records, its commands written), :data:`CHECK` (the
+interface records) and :data:`ENTRY` (the ``DISCON`` entry point with its decimation, calling a
+sample function that may warn: ``aviFAIL = 1``).
 """
 
 from __future__ import annotations
 
-__all__ = ["WRAPPER"]
+__all__ = ["WRAPPER", "HEAD", "LAW", "CHECK", "ENTRY"]
 
-WRAPPER = r"""/* DISCON entry point of an mbsym-exported controller ({controller}); written by mbsym export-discon.
+#: The C before the controller law: includes, constants, static arrays, messages and the input file.
+HEAD = r"""/* DISCON entry point of an mbsym-exported controller ({controller}); written by mbsym export-discon.
  *
  * void DISCON(float *avrSWAP, int *aviFAIL, const char *accINFILE, char *avcOUTNAME, char *avcMSG)
  * Bladed-style interface as OpenFAST ServoDyn calls it (records 1-based as in the Bladed manual):
@@ -127,7 +134,10 @@ static int read_input(float *swap, const char *infile, char *err, size_t n_err)
     return 0;
 }}
 
-static int run_law(float *swap, double t, char *err, size_t n_err)
+"""
+
+#: The baseline law called on the swap records (``run_law``) and its commands written (``write_commands``).
+LAW = r"""static int run_law(float *swap, double t, char *err, size_t n_err)
 {{
     int i;
     for (i = 0; i < N_Y; ++i) {{
@@ -159,7 +169,10 @@ static void write_commands(float *swap)
     swap[47] = 0.0f; swap[54] = 0.0f; swap[55] = 0.0f; swap[64] = 0.0f;        /* 48, 55, 56, 65 */
 }}
 
-static int check_records(float *swap, char *err, size_t n_err)
+"""
+
+#: ``check_records``: the interface records checked at the first call.
+CHECK = r"""static int check_records(float *swap, char *err, size_t n_err)
 {{
     double dt = (double)swap[2], ratio;
     int blades = (int)lround((double)swap[60]);
@@ -187,6 +200,24 @@ static int check_records(float *swap, char *err, size_t n_err)
     return 0;
 }}
 
+"""
+
+#: The ``DISCON`` entry point; fields ``start`` (C run at the first call), ``sample`` (a function
+#: ``int f(float *swap, double t, char *err, size_t n_err)``: 0 done, 1 warning, -1 error) and ``write``.
+ENTRY = r"""/* One controller sample: {sample}() returns 0 (done), 1 (done with a warning in err: aviFAIL = 1) or -1 (error). */
+static int sample(float *swap, int *status, char *msg, double t, char *err, size_t n_err)
+{{
+    int r = {sample}(swap, t, err, n_err);
+    if (r < 0) {{ fail(swap, status, msg, err); return -1; }}
+    if (r > 0) {{
+        char buf[600];
+        snprintf(buf, sizeof buf, "mbsym DISCON (%s): %s", CONTROLLER, err);
+        message(swap, msg, buf);
+        *status = 1;
+    }}
+    return 0;
+}}
+
 EXPORT void DISCON(float *avrSWAP, int *aviFAIL, const char *accINFILE, char *avcOUTNAME, char *avcMSG)
 {{
     char err[512];
@@ -208,12 +239,12 @@ EXPORT void DISCON(float *avrSWAP, int *aviFAIL, const char *accINFILE, char *av
         if (read_input(avrSWAP, accINFILE, err, sizeof err) || check_records(avrSWAP, err, sizeof err)) {{
             fail(avrSWAP, aviFAIL, avcMSG, err); return;
         }}
-        memcpy(xc, X0, sizeof xc);
-        if (run_law(avrSWAP, t, err, sizeof err)) {{ fail(avrSWAP, aviFAIL, avcMSG, err); return; }}
+        {start}
+        if (sample(avrSWAP, aviFAIL, avcMSG, t, err, sizeof err)) return;
         started = 1;
         t_first = t;
         t_next = t + SAMPLE_TIME;
-        write_commands(avrSWAP);
+        {write}(avrSWAP);
         return;
     }}
     if (status != 1) {{
@@ -232,9 +263,13 @@ EXPORT void DISCON(float *avrSWAP, int *aviFAIL, const char *accINFILE, char *av
         fail(avrSWAP, aviFAIL, avcMSG, err); return;
     }}
     if (t >= t_next - 0.5 * interval) {{                                /* a controller sample */
-        if (run_law(avrSWAP, t, err, sizeof err)) {{ fail(avrSWAP, aviFAIL, avcMSG, err); return; }}
+        if (sample(avrSWAP, aviFAIL, avcMSG, t, err, sizeof err)) return;
         t_next = t_first + (floor((t - t_first) / SAMPLE_TIME + 0.5) + 1.0) * SAMPLE_TIME;
     }}
-    write_commands(avrSWAP);
+    {write}(avrSWAP);
 }}
 """
+
+#: The baseline controller's whole wrapper.
+WRAPPER = (HEAD + LAW + CHECK + ENTRY).replace("{start}", "memcpy(xc, X0, sizeof xc);").replace(
+    "{sample}", "run_law").replace("{write}", "write_commands")

@@ -1,0 +1,321 @@
+"""Export the turbine NMPC with its EKF as a self-contained Bladed-style ``DISCON`` library.
+
+:func:`export_nmpc_discon` generates C for the fixed-work Functions of :mod:`.sample` (the EKF
+sample, the first sample's start-up iterations and one real-time iteration with CasADi's ``qrqp``)
+and for the baseline controller's law (the fallback), and compiles them with a hand-written
+wrapper (:mod:`mbsym.wind.control._discon_c`'s parts and :data:`NMPC_PART`) into one shared
+library linked against ``libm`` only: no Python, numpy or CasADi at run time, fixed (static) memory.
+
+**Why qrqp.** Of CasADi 3.8's QP plugins, ``qrqp`` is the one whose C CasADi generates in full
+(``hpipm``, ``osqp``, ``daqp`` generate calls into their own libraries, shipped with CasADi as
+shared libraries only, which the library would then need at run time).
+
+**Swap-array records** (1-based): read: 1 status, 2 time, 3 communication interval, 10 pitch
+actuator type (must be 0), 49 size of ``avcMSG``, 50 length of ``accINFILE``, 61 number of blades;
+the measurements 20 ``GenSpeed`` [rad/s] (the estimator reads it in rpm), 53 ``YawBrTAxp`` [m/s²],
+4 ``BldPitch1`` [rad], 23 ``GenTq`` (measured generator torque) [N m], and for the baseline law
+(run at every sample, so its filters are current when it takes over) 21 ``RotSpeed`` [rad/s],
+15 ``GenPwr`` [W], 27 ``Wind1VelX`` [m/s]. Written: 42-45 the collective pitch demand [rad], 47 the
+generator torque demand [N m]; 35 = 1, 36 = 0, 41 = 0, 46 = 0, 48 = 0, 55 = 56 = 0, 65 = 0.
+
+**Schedule** (:class:`~.sample.SampledLoop`, :class:`~.loop.TurbineLoop`): the library's sample time
+is the loop's; the initialization call (status 0) is answered with the baseline's commands (OpenFAST
+v5.0.0's ServoDyn makes it before the first time step with the inputs of its initialization: a
+tower-top acceleration of -1.36 m/s² where the first step has 0.002 m/s², and zero measured torque,
+which drove the EKF's wind estimate to -0.6 m/s in 0.05 s, measured), and the schedule starts at the
+first step call (status 1); the EKF runs every ``ke`` samples on the mean measured pitch and torque of its
+interval, the NMPC every ``kn`` samples on the estimate and the measured pitch and torque; between
+NMPC samples the demands ramp at the NMPC's rates with the actuators' lead. The host may call more
+often (the communication interval divides the sample time; commands held in between).
+
+**QP failure** (the generated QP returns an error, a non-finite result, or a step violating the
+QP's constraints by more than :data:`~.sample.QP_ACCEPT` relative): the baseline law's commands
+are applied until the next NMPC sample, which starts again with the start-up iterations; each
+failure is counted and reported through ``aviFAIL = 1`` and ``avcMSG``; the host is never stopped.
+
+**Input file**: ``Controller`` (``nmpc``), ``SampleTime`` [s] and ``Fingerprint``, checked as for
+the baseline export; the horizon, sample times, cost scales and limits compiled into the library
+are listed in it as comments (changing them means exporting again).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from pathlib import Path
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ControllerError, ExportError
+from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
+from ..control.swap import MEASUREMENT_RECORDS
+from .sample import QP_ACCEPT, sample_functions
+
+__all__ = ["NMPC_PART", "NMPC_RECORDS", "export_nmpc_discon"]
+
+#: Swap records the NMPC and its EKF read (besides the baseline law's).
+NMPC_RECORDS = {"GenSpeed": 20, "YawBrTAxp": 53, "BldPitch1": 4, "GenTq": 23}
+
+NMPC_PART = r"""
+/* ---- the NMPC with its EKF (generated: nmpc_ekf, nmpc_startup, nmpc_rti) ---- */
+#define NZ {n_z}
+#define NW {n_w}
+#define KE {ke}
+#define KN {kn}
+#define QP_ACCEPT {qp_accept!r}
+int nmpc_ekf(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_startup(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_rti(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+
+static const double Z0[NZ] = {{{z0}}};
+static const double P0[NZ * NZ] = {{{p0}}};
+static const double LEAD[2] = {{{lead}}};
+static const double LIMITS[4] = {{{limits}}};
+static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
+static double acc[2], ramp0[2], rate[2], cmd[2];
+static long k_loop, k_a, n_acc, fallbacks;
+static int have_plan, nmpc_on, init_call;
+static const double *narg[{n_arg}];
+static double *nres[{n_res}];
+static casadi_int niw[{n_iw}];
+static double nw[{n_w_work}];
+
+static double clip(double v, double lo, double hi) {{ return v < lo ? lo : (v > hi ? hi : v); }}
+
+static void nmpc_start(void)
+{{
+    memcpy(xc, X0, sizeof xc);
+    memcpy(z, Z0, sizeof z);
+    memcpy(P, P0, sizeof P);
+    acc[0] = acc[1] = 0.0;
+    k_loop = n_acc = fallbacks = 0;
+    have_plan = nmpc_on = 0;
+    init_call = 1;
+}}
+
+static int all_finite(const double *v, int n)
+{{
+    int i;
+    for (i = 0; i < n; ++i) if (!isfinite(v[i])) return 0;
+    return 1;
+}}
+
+/* One loop sample: the baseline law, the EKF every KE samples, the NMPC every KN samples, the demands. */
+static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
+{{
+    double yv[2], mean[2], flag, pitch, torque, el, since;
+    int r, warn = 0;
+    if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
+    if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
+        init_call = 0;
+        cmd[0] = held[0]; cmd[1] = held[N_U - 1];
+        return 0;
+    }}
+    yv[0] = (double)swap[19] * 30.0 / 3.14159265358979323846;     /* record 20 GenSpeed [rad/s] -> rpm */
+    yv[1] = (double)swap[52];                                      /* record 53 YawBrTAxp [m/s^2] */
+    pitch = (double)swap[3];                                       /* record 4 BldPitch1 [rad] */
+    torque = (double)swap[22];                                     /* record 23 GenTq [N m] */
+    if (!(isfinite(yv[0]) && isfinite(yv[1]) && isfinite(pitch) && isfinite(torque))) {{
+        snprintf(err, n_err, "records 20, 53, 4, 23 (GenSpeed, YawBrTAxp, BldPitch1, GenTq) must be finite at "
+                 "t = %g s", t);
+        return -1;
+    }}
+    if (k_loop > 0) {{ acc[0] += pitch; acc[1] += torque; ++n_acc; }}
+    if (k_loop % KE == 0) {{
+        if (n_acc > 0) {{ mean[0] = acc[0] / n_acc; mean[1] = acc[1] / n_acc; }}
+        else {{ mean[0] = pitch; mean[1] = torque; }}
+        flag = k_loop > 0 ? 1.0 : 0.0;
+        narg[0] = z; narg[1] = P; narg[2] = yv; narg[3] = mean; narg[4] = &flag;
+        nres[0] = z_next; nres[1] = P_next;
+        r = nmpc_ekf(narg, nres, niw, nw, 0);
+        if (r == 0 && all_finite(z_next, NZ) && all_finite(P_next, NZ * NZ)) {{
+            memcpy(z, z_next, sizeof z); memcpy(P, P_next, sizeof P);
+        }} else {{
+            memcpy(z, Z0, sizeof z); memcpy(P, P0, sizeof P);
+            have_plan = nmpc_on = 0;
+            ++fallbacks;
+            snprintf(err, n_err, "the EKF estimate became non-finite at t = %g s: estimator restarted, baseline "
+                     "commands applied (%ld fallbacks so far)", t, fallbacks);
+            warn = 1;
+        }}
+        acc[0] = acc[1] = 0.0; n_acc = 0;
+    }}
+    if (k_loop % KN == 0 && !warn) {{
+        nres[0] = plan_next; nres[1] = rates; nres[2] = &viol;
+        if (have_plan) {{
+            narg[0] = plan; narg[1] = z; narg[2] = &pitch; narg[3] = &torque;
+            r = nmpc_rti(narg, nres, niw, nw, 0);
+        }} else {{
+            narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
+            r = nmpc_startup(narg, nres, niw, nw, 0);
+        }}
+        if (r == 0 && all_finite(plan_next, NW) && all_finite(rates, 2) && viol <= QP_ACCEPT) {{
+            if (nmpc_on) {{                     /* the new ramps start where the previous ones are now */
+                since = (double)(k_loop - k_a) * SAMPLE_TIME;
+                ramp0[0] = clip(ramp0[0] + rate[0] * since, LIMITS[0], LIMITS[1]);
+                ramp0[1] = clip(ramp0[1] + rate[1] * since, LIMITS[2], LIMITS[3]);
+            }} else {{ ramp0[0] = pitch; ramp0[1] = torque; }}
+            k_a = k_loop; rate[0] = rates[0]; rate[1] = rates[1];
+            memcpy(plan, plan_next, sizeof plan);
+            have_plan = nmpc_on = 1;
+        }} else {{
+            have_plan = nmpc_on = 0;
+            ++fallbacks;
+            snprintf(err, n_err, "the NMPC's QP failed at t = %g s (code %d, violation %.3g): baseline commands "
+                     "applied until the next NMPC sample (%ld fallbacks so far)", t, r, viol, fallbacks);
+            warn = 1;
+        }}
+    }}
+    if (nmpc_on) {{            /* elapsed time from the sample count: the swap array's time is float32 */
+        el = (double)(k_loop - k_a) * SAMPLE_TIME;
+        cmd[0] = clip(ramp0[0] + rate[0] * (el + LEAD[0]), LIMITS[0], LIMITS[1]);
+        cmd[1] = clip(ramp0[1] + rate[1] * (el + LEAD[1]), LIMITS[2], LIMITS[3]);
+    }} else {{ cmd[0] = held[0]; cmd[1] = held[N_U - 1]; }}
+    ++k_loop;
+    return warn;
+}}
+
+static void nmpc_write(float *swap)
+{{
+    int k;
+    for (k = 0; k < 3; ++k) swap[41 + k] = (float)cmd[0];                    /* records 42-44 */
+    swap[44] = (float)cmd[0];                                                 /* 45 collective */
+    swap[46] = (float)cmd[1];                                                 /* 47 torque */
+    swap[34] = 1.0f; swap[35] = 0.0f; swap[40] = 0.0f; swap[45] = 0.0f;       /* 35, 36, 41, 46 */
+    swap[47] = 0.0f; swap[54] = 0.0f; swap[55] = 0.0f; swap[64] = 0.0f;       /* 48, 55, 56, 65 */
+}}
+
+"""
+
+
+def _floats(values) -> str:
+    return ", ".join(repr(float(v)) for v in np.asarray(values, dtype=float).reshape(-1, order="F"))
+
+
+def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, name: str = "nmpc_discon",
+                       compiler: str | None = None) -> dict:
+    """Compile the NMPC with its EKF (and the baseline as its fallback) into a ``DISCON`` library.
+
+    Parameters
+    ----------
+    nmpc : TurbineNMPC
+        Solver ``"rti"``.
+    estimator : TurbineEstimator
+        Kind ``"ekf"``.
+    baseline : BaselineController
+        Without IPC, sample time ``loop_dt``: the fallback law.
+    out_dir : str or Path
+        Directory for ``<name>.so``, ``<name>.IN`` and ``src/``.
+    loop_dt : float, keyword-only
+        The library's sample time [s] (the loop's: ``deck.controller_dt``).
+    name : str, keyword-only
+        File name stem.
+    compiler : str, optional, keyword-only
+        C compiler command (default :func:`mbsym.codegen.compiler_command`).
+
+    Returns
+    -------
+    dict
+        ``{"library", "input", "controller": "nmpc", "sample_time_s"}`` (absolute paths).
+
+    Raises
+    ------
+    ControllerError
+        No C compiler, a baseline of another sample time or with IPC, a failed compilation.
+    ControlDefinitionError
+        What :func:`~.sample.sample_functions` refuses (an MHE, a solver other than ``"rti"``, ...).
+    ExportError
+        A bad ``name`` or an unwritable ``out_dir``.
+    """
+    from ...codegen import compiler_command
+    from ..control.baseline import BaselineController
+    from ..control.discon_export import _compile, _write_sources
+
+    if not isinstance(baseline, BaselineController):
+        raise TypeError(f"baseline must be a BaselineController; got {type(baseline).__name__}.")
+    if not math.isclose(baseline.dt, loop_dt, rel_tol=1e-12) or baseline.ipc:
+        raise ControllerError(f"the fallback baseline must run at the loop sample time {loop_dt:g} s without IPC; "
+                              f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
+    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "_-." for c in name):
+        raise ExportError(f"name must be a file name stem of letters, digits, '_', '-', '.'; got {name!r}.")
+    fns = sample_functions(nmpc, estimator, loop_dt)
+    cc = compiler_command(compiler)
+    if cc is None:
+        raise ControllerError("exporting the NMPC needs a C compiler: none found (tried $MBSYM_CC, $CC, gcc, cc). "
+                              "Install gcc or set CC.")
+    out = Path(out_dir)
+    try:
+        (out / "src").mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ExportError(f"cannot create the output directory {out}: {exc}.") from exc
+    gen = (fns.ekf, fns.startup, fns.rti)
+    fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
+                                          repr(float(loop_dt))]).encode()).hexdigest()[:16]
+    law, _ = _write_sources(baseline, out / "src", name, fingerprint)
+    cg = ca.CodeGenerator(f"{name}_nmpc.c", {"with_header": False, "with_export": False,
+                                             "casadi_int": "long long int", "casadi_real": "double"})
+    for f in gen:
+        cg.add(f)
+    cg.generate(str(out / "src") + os.sep)
+    wrapper = out / "src" / f"{name}_discon.c"
+    wrapper.write_text(_wrapper_text(baseline, fns, fingerprint))
+    library = out / f"{name}.so"
+    _compile(cc, [law, out / "src" / f"{name}_nmpc.c", wrapper], library)
+    infile = out / f"{name}.IN"
+    infile.write_text(_input_text(nmpc, estimator, baseline, loop_dt, fingerprint))
+    return {"library": str(library.resolve()), "input": str(infile.resolve()), "controller": "nmpc",
+            "sample_time_s": float(loop_dt)}
+
+
+def _wrapper_text(baseline, fns, fingerprint: str) -> str:
+    from ..control.discon_export import _LAW
+
+    f = baseline.function
+    xs, ys = ca.SX.sym("xc", f.size1_in(0)), ca.SX.sym("y", f.size1_in(1))
+    base = ca.Function(_LAW, [xs, ys], f(xs, ys), {"cse": True})        # as discon_export generates it
+    measured = list(baseline.measurements)
+    records = [MEASUREMENT_RECORDS[m][0] for m in measured]
+    gens = (fns.ekf, fns.startup, fns.rti)
+    common = dict(
+        controller="nmpc", sample_time=float(fns.loop_dt), n_x=f.size1_in(0), n_y=len(measured), n_u=f.size1_out(1),
+        fingerprint=fingerprint, ipc=0, law=_LAW, x0=_floats(baseline.x0),
+        y_records=", ".join(str(r) for r in records), y_names=", ".join(f'"{m}"' for m in measured),
+        sz_arg=max(base.sz_arg(), 1), sz_res=max(base.sz_res(), 1), sz_iw=max(base.sz_iw(), 1),
+        sz_w=max(base.sz_w(), 1),
+        measured=", ".join(f"{r} {m}" for m, r in NMPC_RECORDS.items()) + " (NMPC, EKF); "
+        + ", ".join(f"{r} {m}" for r, m in zip(records, measured)) + " (baseline fallback)",
+        written="42-45 collective pitch, 47 torque")
+    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
+                p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
+                n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
+                n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1))
+    entry = ENTRY.replace("{start}", "nmpc_start();").replace("{sample}", "nmpc_sample").replace("{write}",
+                                                                                                 "nmpc_write")
+    return (HEAD + LAW + CHECK).format(**common) + NMPC_PART.format(**nmpc) + entry.format(**common)
+
+
+def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str) -> str:
+    t, e = nmpc.tuning, estimator.tuning
+    lines = [
+        "! mbsym DISCON input file, written by mbsym export-discon (value  Key  ! comment)",
+        "! the NMPC, its EKF and the fallback baseline are compiled into the library; these values are checked",
+        f"{'nmpc':<24} Controller   ! controller kind",
+        f"{float(loop_dt)!r:<24} SampleTime   ! library (loop) sample time [s]; the communication interval must "
+        "divide it",
+        f"{fingerprint:<24} Fingerprint  ! identity of the compiled controller (pairs this file with its library)",
+        "! compiled in (export again to change):",
+        f"!   NMPC: sample time {t.dt:g} s, horizon {t.horizon} stages, real-time iteration with qrqp; "
+        f"estimator: EKF at {e.dt:g} s",
+        "!   cost scales: " + ", ".join(f"{k} {getattr(t, k):g}" for k in (
+            "speed_scale", "power_scale", "pitch_scale", "torque_scale", "tower_velocity_scale",
+            "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "terminal_factor"))
+        + f", power_reference {t.power_reference}",
+        "!   limits: " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in nmpc.prediction.plant.bounds().items()),
+        f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}",
+        f"!   fallback: baseline controller from {baseline.settings.source or 'settings given in Python'}",
+        "! measurements (swap records): " + ", ".join(f"{m} ({r})" for m, r in NMPC_RECORDS.items())
+        + "; baseline: " + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in baseline.measurements),
+    ]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,238 @@
+"""The exported NMPC with its EKF (``mbsym.wind.mpc.sample``, ``export_nmpc_discon``) against the Python NMPC.
+
+Reference: :class:`TurbineLoop` with :class:`TurbineNMPC` (real-time iterations driven from Python, hpipm)
+and :class:`TurbineEstimator` (the EKF in numpy): an independent path to the same commands. The exported
+controller is the same algorithm as fixed-work CasADi Functions (one QP by qrqp per NMPC sample, the EKF
+algebra in the graph) on the same schedule, then generated C behind a swap-array wrapper.
+
+Tolerances. Both sides solve the same QP at every NMPC sample, hpipm and qrqp each to about 1e-8 of its
+solution; the real-time iteration feeds each QP's solution into the next linearization, so the two runs
+stay within the QP tolerances' effect on the commands: 1e-6 relative (observed 3.5e-10 pitch, 1.6e-9 torque
+over 10 s at 14 m/s; with qrqp on both sides 1.5e-11). The first sample converges from a cold start in both
+(10 full Gauss–Newton steps against a line-search SQP to 1e-6 relative): its solution agrees to 1e-12.
+Through the library, the swap array is single precision: its commands are rounded to float32 (half a
+spacing: 7.5e-9 rad below 0.25 rad of pitch, 0.0019 N m at 45 kN m), so the pitch tolerance is 1e-6 relative
+plus 1e-8 rad and the torque 1e-6 relative (observed over 20 s, benchmarks/nmpc_discon_export.py: 7.6e-9 rad,
+5.2e-8 relative; with the ramps timed by the swap array's float32 time instead of the sample count, 3.8e-7 rad).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _mpc_setup import turbine
+
+from mbsym.codegen import compiler_command
+
+T_RUN = 10.0        # closed-loop seconds (NMPC every 0.1 s, EKF every 0.05 s, loop 0.01 s)
+F32 = np.float32
+LOOP_SI = (math.pi / 30.0, math.pi / 30.0, math.pi / 180.0, 1e3, 1.0, 1e3, 1.0)   # LOOP_CHANNELS -> SI
+
+
+def _wind(seconds):
+    from mbsym.wind.inflow import kaimal_wind
+
+    return kaimal_wind(14.0, 0.14, 3, duration=seconds + 1.0)          # region 3: pitch and torque both act
+
+
+def _controllers(wind, qp_solver="hpipm"):
+    """A fresh EKF and NMPC (no deadline: every step's own solution is applied), and the plant's start."""
+    from mbsym.wind.mpc import (
+        NMPCTuning,
+        TurbineEstimator,
+        TurbineNMPC,
+        estimation_model,
+    )
+    from mbsym.wind.operation.steady import steady_guess
+
+    t = turbine()
+    x0 = steady_guess(t.plant, float(wind(0.0))).state
+    dyn = t.plant.dynamics()
+    observed = estimation_model(t.plant)
+    z0 = [x0[dyn.states.index(s)] for s in observed.estimation_states] + [float(wind(0.0))]
+    est = TurbineEstimator(observed, "ekf", x0=z0)
+    nmpc = TurbineNMPC(t.prediction, t.setpoints, tuning=NMPCTuning.estimated_wind(), references=t.references,
+                       qp_solver=qp_solver, deadline=math.inf)
+    return est, nmpc, x0
+
+
+def _recorded_loop(seconds):
+    """The Python loop closed on the plant; every loop sample's measurements (loop units) and commands."""
+    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
+
+    t = turbine()
+    wind = _wind(seconds)
+    est, nmpc, x0 = _controllers(wind)
+    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est)
+    law, rows = loop.law, []
+
+    def recording(tt, xc, y):
+        xn, u = law(tt, xc, y)
+        rows.append((tt, np.array(y, dtype=float), np.array(u, dtype=float)))
+        return xn, u
+
+    loop.law = recording
+    simulate_with_loop(t.plant, wind, seconds, loop, x0=x0, compile=True)
+    return rows
+
+
+def test_sample_functions_equal_the_python_nmpc_in_closed_loop():
+    from mbsym.wind.mpc.sample import SampledLoop, sample_functions
+
+    t = turbine()
+    rows = _recorded_loop(T_RUN)
+    est, nmpc, _ = _controllers(_wind(T_RUN))
+    sampled = SampledLoop(sample_functions(nmpc, est, t.deck.controller_dt))
+    got = np.array([sampled.step(tt, y[0], y[6], math.radians(y[2]), y[5] * 1e3) for tt, y, _ in rows])
+    ref = np.array([u for _, _, u in rows])
+    assert len(rows) == round(T_RUN / 0.01)
+    rel = np.abs(got - ref) / np.maximum(np.abs(ref), [1e-3, 1.0])
+    assert np.max(rel) < 1e-6, np.max(rel, axis=0)                    # see the module docstring
+    assert np.ptp(ref[:, 0]) > math.radians(1.0) and np.ptp(ref[:, 1]) > 100.0    # both commands move
+
+
+def test_sample_functions_refuse_what_has_no_fixed_work():
+    from mbsym.exceptions import ControlDefinitionError
+    from mbsym.wind.mpc import TurbineEstimator, estimation_model
+    from mbsym.wind.mpc.sample import sample_functions
+
+    t = turbine()
+    est, nmpc, _ = _controllers(_wind(1.0))
+    with pytest.raises(ControlDefinitionError, match="MHE .*not exportable"):
+        sample_functions(nmpc, TurbineEstimator(estimation_model(t.plant), "mhe", compile=False), 0.01)
+    with pytest.raises(ControlDefinitionError, match="whole multiple"):
+        sample_functions(nmpc, est, 0.03)
+    with pytest.raises(TypeError, match="TurbineNMPC"):
+        sample_functions(t.prediction, est, 0.01)
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    if compiler_command() is None:
+        pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
+    from mbsym.wind.control import BaselineController
+    from mbsym.wind.mpc.discon_nmpc import export_nmpc_discon
+
+    t = turbine()
+    est, nmpc, _ = _controllers(_wind(T_RUN))
+    baseline = BaselineController(t.deck.baseline_settings())
+    return export_nmpc_discon(nmpc, est, baseline, tmp_path_factory.mktemp("nmpc"), loop_dt=t.deck.controller_dt)
+
+
+@pytest.mark.slow
+def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
+    # The library closed on the plant in mbsym's DISCON loop (ctypes, float32 swap array), 10 s; then the Python
+    # loop (TurbineLoop: hpipm RTI, numpy EKF) fed the same float32 measurements, sample by sample.
+    # Tolerance: module docstring. ~2 min with the export (60 s of gcc -O2 on 6.6 MB of generated C).
+    from mbsym.simulate.api import simulate
+    from mbsym.simulate.controller import DiscreteController
+    from mbsym.wind.control import DisconController
+    from mbsym.wind.mpc import LOOP_CHANNELS, TurbineLoop, measurement_dynamics
+    from mbsym.wind.operation.controllers import ACTUATED, held_commands
+
+    assert set(library) == {"library", "input", "controller", "sample_time_s"}
+    assert library["controller"] == "nmpc" and library["sample_time_s"] == 0.01
+    t = turbine()
+    wind = _wind(T_RUN)
+    rows = []
+    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
+        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
+
+        def law(tt, xc, y):
+            y32 = np.asarray(y * np.asarray(LOOP_SI), dtype=F32).astype(float)
+            u = step(tt, y32)
+            rows.append((tt, y32, u))
+            return xc, u
+
+        est, nmpc, x0 = _controllers(wind)
+        ctrl = DiscreteController(law, 0.01, np.zeros(0), measurements=LOOP_CHANNELS, actuates=ACTUATED)
+        res = simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), T_RUN, x0=x0, controller=ctrl, method="rk4",
+                       dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
+        assert not any("fallback" in m or "failed" in m for m in lib.messages), lib.messages
+    # the library answers its initialization call (status 0, t = 0) with the baseline and starts at the next call
+    loop = TurbineLoop(t.plant, 0.01, nmpc=nmpc, estimator=est)
+    xc = loop.controller().x0
+    ref = []
+    for tt, y32, _ in rows[1:]:
+        xc, u = loop.law(tt - rows[1][0], xc, y32 / np.asarray(LOOP_SI))
+        ref.append(u)
+    ref, got = np.array(ref), np.array([u for _, _, u in rows[1:]])
+    assert loop.nmpc.nmpc.failures == 0 and len(rows) == round(T_RUN / 0.01)
+    assert np.max(np.abs(got[:, 0] - ref[:, 0]) - 1e-6 * np.abs(ref[:, 0])) < 1e-8
+    assert np.max(np.abs(got[:, 1] - ref[:, 1]) / np.abs(ref[:, 1])) < 1e-6
+    assert np.ptp(res.output("BldPitch1")) > 1.0                      # deg: the library pitches the rotor
+
+
+@pytest.mark.slow
+def test_library_is_self_contained(library):
+    if shutil.which("ldd") is None:
+        pytest.skip("ldd not available to inspect the library")
+    needed = subprocess.run(["ldd", library["library"]], capture_output=True, text=True, check=True).stdout
+    assert "casadi" not in needed and "python" not in needed and "hpipm" not in needed, needed
+    text = Path(library["input"]).read_text()
+    assert "nmpc" in text.split()[text.split().index("Controller") - 1]
+
+
+@pytest.mark.slow
+def test_qp_failure_falls_back_to_the_baseline_and_recovers(library):
+    # A measured torque of 60 kN m (above the 47.4 kN m limit; the torque rate bound, 40 kN m/s over 0.1 s, cannot
+    # bring it back inside) at the NMPC sample t = 0.11 s (the schedule starts at the first step call, 0.01 s)
+    # makes the QP infeasible. Expected: aviFAIL = 1 with the message, the baseline law's commands there (its own
+    # Function on the same float32 measurements: equal to float32 rounding), no exception; with sane measurements
+    # again the NMPC starts over at the next NMPC sample, and its commands leave the baseline's.
+    from mbsym.wind.control import BaselineController, DisconController
+    from mbsym.wind.mpc import LOOP_CHANNELS
+
+    t = turbine()
+    baseline = BaselineController(t.deck.baseline_settings())
+    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
+    xb, got, expected = baseline.x0, [], []
+    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
+        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
+        for k in range(31):
+            yk = y.copy()
+            if k == 11:
+                yk[5] = 60.0
+            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
+            got.append(step(0.01 * k, y32))
+            xb, u = baseline.function(xb, y32[:5])
+            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
+            expected.append([u[0], u[-1]])
+            if k == 11:
+                assert any("QP failed at t = 0.11 s" in m and "1 fallbacks" in m for m in lib.messages), lib.messages
+                warned = len(lib.messages)
+        assert len(lib.messages) == warned                                      # recovered: no further warning
+    got, expected = np.array(got), np.array(expected, dtype=F32).astype(float)
+    for k in range(11, 21):                                                     # held until the next NMPC sample
+        assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
+    assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
+
+
+def test_cli_refuses_what_cannot_be_exported(tmp_path, capsys):
+    from mbsym.cli import main
+
+    for extra, expected in ((["--estimator", "mhe"], "mhe is not exportable yet: the MHE solves"),
+                            (["--initial-wind", "40"], "--initial-wind must be a wind speed in [3, 30] m/s")):
+        assert main(["export-discon", "--controller", "nmpc", *extra, "--out", str(tmp_path / "z")]) == 2
+        assert expected in capsys.readouterr().err and not (tmp_path / "z").exists()
+    assert main(["export-discon", "--controller", "baseline", "--initial-wind", "10", "--out", str(tmp_path)]) == 2
+    assert "--initial-wind is the NMPC's EKF prior" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_cli_contract_nmpc(tmp_path, capsys):
+    if compiler_command() is None:
+        pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
+    from mbsym.cli import main
+
+    assert main(["export-discon", "--controller", "nmpc", "--out", str(tmp_path)]) == 0
+    out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert set(out) == {"library", "input", "controller", "sample_time_s"}
+    assert out["controller"] == "nmpc" and out["sample_time_s"] == 0.01
+    assert out["library"].endswith(".so") and Path(out["input"]).read_text().startswith("! mbsym DISCON input")
