@@ -103,7 +103,8 @@ def rotor_model(fst: Path):
 
 
 # ---------------------------------------------------------------------------------------------------- running
-def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk4", aero_dt=None, aero_order=None):
+def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str | None = None, aero_dt=None,
+             aero_order=None):
     from mbsym.wind.control.baseline import BaselineController
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
@@ -120,7 +121,7 @@ def simulate(model, deck, wind, wind0, tmax: float, dt: float, method: str = "rk
 
 
 def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
-        method: str = "rk4", aero_dt=None, aero_order=None) -> tuple[dict, object]:
+        method: str | None = None, aero_dt=None, aero_order=None) -> tuple[dict, object]:
     fst = INPUTS / case / f"{case}.fst"
     t0 = time.perf_counter()
     if rung == "blade":
@@ -149,7 +150,7 @@ def run(case: str, rung: str, tmax: float, dt: float, n_newton=None, dbemt=None,
     timing["rtf_integration"] = timing["integration_s"] / tmax
     print(f"  {case}/{rung}: build {build:.1f} s, compile {timing['compile_s']:.1f} s, integration "
           f"{timing['integration_s']:.1f} s ({timing['rtf_integration']:.3f} x real time), outputs "
-          f"{timing['outputs_s']:.1f} s", flush=True)
+          f"{timing['outputs_s']:.1f} s; run CPU {cpu:.2f} s; {st.get('method')}: {st.get('message', '')}", flush=True)
     return timing, res
 
 
@@ -383,9 +384,9 @@ def main() -> None:
     ap.add_argument("--dt", type=float, default=CONTROLLER_DT, help="plant and controller step [s]")
     ap.add_argument("--n-newton", type=int, default=None, help="Newton steps of the blade-element induction")
     ap.add_argument("--dbemt", type=int, default=None, help="DBEMT_Mod of the blade-element rotor (0: off)")
-    ap.add_argument("--method", choices=("rk4", "rk4-held"), default="rk4-held",
-                    help="integration of the blade-element rung (default rk4-held, the product's default: "
-                         "aerodynamics once per step; rk4: at every stage)")
+    ap.add_argument("--method", choices=("rk4", "rk4-held", "abm4-held", "ab4-held"), default=None,
+                    help="integration of the blade-element rung (default: the product's, the deck's ElastoDyn Method; "
+                         "rk4-held: RK4, the aerodynamics once per step; rk4: at every stage)")
     ap.add_argument("--aero-dt", type=float, default=None,
                     help="blade-element rung: interval of the aerodynamics [s], a multiple of --dt (default: the "
                          "model's default)")
@@ -396,7 +397,7 @@ def main() -> None:
     ap.add_argument("--series", type=Path, default=None, help="save each run's channels (npz) in this folder")
     ap.add_argument("--tag", default="", help="label of a variant (stored separately in the JSON)")
     args = ap.parse_args()
-    parts = ([f"dt={args.dt:g}"] * (args.dt != CONTROLLER_DT) + [args.method] * (args.method != "rk4-held")
+    parts = ([f"dt={args.dt:g}"] * (args.dt != CONTROLLER_DT) + [args.method] * (args.method is not None)
              + [f"n_newton={args.n_newton}"] * (args.n_newton is not None)
              + [f"DBEMT_Mod={args.dbemt}"] * (args.dbemt is not None)
              + ([f"aero_dt={args.aero_dt:g}"] if args.aero_dt is not None else [])
@@ -421,7 +422,7 @@ def main() -> None:
             stored[key] = {"case": case, "rung": rung, "tag": tag, "dt": args.dt, "aero_dt": args.aero_dt,
                            "aero_order": args.aero_order,
                            "metrics": m, "timing": timing,
-                           "method": args.method if rung == "blade" else "rk4"}
+                           "method": res.statistics.get("method", "rk4")}
             print("    ε %: " + ", ".join(f"{c} {100 * m['eps'][c]:.2f}" for c in m["eps"]), flush=True)
             print("    R²: " + ", ".join(f"{c} {m['r2'][c]:.3f}" for c in m["r2"]), flush=True)
             print("    DEL Δ %: " + ", ".join(f"{c} {100 * v:+.2f}" for c, v in m["del_rel"].items())

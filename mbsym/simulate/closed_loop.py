@@ -225,6 +225,8 @@ class _ClosedLoop:
             aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
             if outputs:   # the outputs at the sample start, from the held part already evaluated, where h[1] asks
                 aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))
+            # dense: a structural zero (a law whose command is a constant 0) is not written by a buffered call
+            z_next, aux = ca.densify(z_next), ca.densify(aux)
             return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, hf], [z_next, aux],
                                ["z", "U", "p", "h"], ["z_next", "aux"])
 

@@ -35,11 +35,16 @@ import numpy as np
 
 from ...exceptions import SimulationOptionError
 from ...simulate.controller import DiscreteController
+from ...simulate.held_multistep import ELASTODYN_METHODS, HELD_METHODS
 from .controllers import held_commands
 from .model import OperatingTurbine
 from .sanity import check_physical
 
-__all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "AERO_ROTATION_DEG", "TIP_SPEED_REF"]
+__all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "deck_method", "AERO_ROTATION_DEG",
+           "TIP_SPEED_REF"]
+
+#: ElastoDyn's Method key -> its name.
+ELASTODYN_NAMES = {1: "RK4", 2: "AB4", 3: "ABM4"}
 
 #: Rotor rotation [deg] between evaluations of the blade-element aerodynamics by default, per extrapolation order
 #: (0 hold, 1 linear, 2 quadratic). Held, at 2 deg the loads' 1P and 3P variation is sampled 180 times per turn
@@ -135,13 +140,13 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
                                             "follow; give method='rk4' and dt instead.")
             options["accuracy"] = accuracy
         else:
-            options.update(method=method or ("rk4-held" if model.aero == "blade" else "rk4"),
+            options.update(method=method or _default_method(model, controller, dt),
                            dt=controller.dt if dt is None else dt)
         if compile is None:
             options["compile"] = _compile_pays_off(tmax / controller.dt)
     else:
         options.update(method=method, dt=dt, accuracy=accuracy)
-    in_loop = controller is not None and controller.is_function and options.get("method") == "rk4-held" \
+    in_loop = controller is not None and controller.is_function and options.get("method") in HELD_METHODS \
         and options.get("dt") == controller.dt               # a Python law (DISCON library) samples every step
     if aero_order is None and in_loop:
         aero_order = int(model.turbine.simulation.interp_order)
@@ -154,15 +159,57 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     options = {k: v for k, v in options.items() if v is not None}
     if controller is None:
         res = simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
-    elif options.get("method") == "rk4-held":
+    elif options.get("method") in HELD_METHODS:
         # the loop evaluates every channel at the samples from the aerodynamics it holds over the step
         res = simulate(dyn, tmax, x0=x0, inputs=inputs, controller=controller, **options)
     else:
         # in the loop only the measurements are evaluated; the channels afterwards, from the states
         res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
         res = _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
+    _state_deck_method(res, model, controller, method is not None)
     check_physical(res, model)
     return res
+
+
+def deck_method(model: OperatingTurbine) -> int | None:
+    """The ElastoDyn ``Method`` (1 RK4, 2 AB4, 3 ABM4) of the deck ``model`` was read from, else None."""
+    code = getattr(model.turbine, "integration_method", None)
+    return int(code) if code in ELASTODYN_METHODS else None
+
+
+def _default_method(model: OperatingTurbine, controller: DiscreteController, dt: float | None) -> str:
+    """With a controller: the deck's ElastoDyn Method for blade-element aerodynamics with a CasADi controller and
+    one step per sample (:mod:`mbsym.simulate.held_multistep`), else ``"rk4-held"`` (blade) or ``"rk4"``."""
+    if model.aero != "blade":
+        return "rk4"
+    code = deck_method(model)
+    if code is None or not controller.is_function or (dt is not None and dt != controller.dt):
+        return "rk4-held"
+    return ELASTODYN_METHODS[code]
+
+
+def _state_deck_method(res, model: OperatingTurbine, controller, given: bool) -> None:
+    """``res.statistics``: the deck's ElastoDyn Method, and in the message where the run integrates otherwise."""
+    code = deck_method(model)
+    stats = res.statistics
+    if code is None or not isinstance(stats, dict):
+        return
+    used, name = stats.get("method"), ELASTODYN_NAMES[code]
+    stats["deck_method"] = f"{name} (ElastoDyn Method {code})"
+    if used == ELASTODYN_METHODS[code] or (code == 1 and used == "rk4"):
+        return
+    if given:
+        why = "the method given"
+    elif model.aero != "blade":
+        why = "the multistep methods are modelled for blade-element aerodynamics only"
+    elif controller is None:
+        why = "without a controller the accuracy-driven default chooses"
+    elif not controller.is_function:
+        why = "the controller is called from Python; the multistep methods run in the compiled loop"
+    else:
+        why = "the multistep methods need one step per controller sample"
+    stats["message"] = (str(stats.get("message", "")).rstrip() + f" The deck asks ElastoDyn Method {code} "
+                        f"({name}); this run integrates with {used} ({why}).").strip()
 
 
 def default_aero_dt(model: OperatingTurbine, sample_dt: float, x0: np.ndarray, *, order: int = 0) -> float:
