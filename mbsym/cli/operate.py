@@ -28,8 +28,9 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   blade-element aerodynamics and the baseline controller the deck's ElastoDyn ``Method`` by default
   (3: ``abm4-held``, Adams-Bashforth-Moulton 4 as ElastoDyn; 2: ``ab4-held``; 1: ``rk4-held``), else
   ``rk4-held``: the aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds
-  AeroDyn's loads; the output says which method ran and where it differs from the deck's (``--method rk4`` evaluates them at every
-  stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md "blade-speed"); with the
+  AeroDyn's loads; the output says which method ran and where it differs from the deck's (``--method rk4``
+  evaluates them at every stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md
+  "blade-speed"); with the
   baseline controller the aerodynamics are evaluated every 2 deg of rotor rotation (``--aero-dt``
   overrides; :func:`mbsym.wind.operation.simulation.default_aero_dt`);
   compiled to C from 2000 controller samples on (``--compile`` forces it).
