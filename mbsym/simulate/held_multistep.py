@@ -47,6 +47,7 @@ stable for ``ω h`` below ~0.43 (ζ ≤ 5 %) and for real eigenvalues ``|λ| h <
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import ClassVar
 
 import casadi as ca
@@ -56,7 +57,7 @@ from .checks import SimulationOptionError
 from .held_rk4 import HeldRK4
 
 __all__ = ["MULTISTEP_METHODS", "HELD_METHODS", "ELASTODYN_METHODS", "MultistepHistory", "HeldABM4", "HeldAB4",
-           "AB4", "ABM4_CORRECTOR"]
+           "AB4", "ABM4_CORRECTOR", "stability_limit"]
 
 #: Adams-Bashforth 4 weights of f_n, f_{n-1}, f_{n-2}, f_{n-3}, over 24 (ED_AB4).
 AB4 = (55.0, -59.0, 37.0, -9.0)
@@ -68,9 +69,6 @@ START_STEPS = 3
 MULTISTEP_METHODS = {"abm4-held": 2, "ab4-held": 1}
 #: Methods that treat the plant's held part apart (the carried-held closed loop).
 HELD_METHODS = ("rk4-held", *MULTISTEP_METHODS)
-#: |λ| h below which each method is stable for every mode with damping ζ >= 2 % (from its characteristic polynomial
-#: with f = λ x: the real axis, ζ = 0.7 and ζ = 0.02 give AB4 0.30 / 0.33 / 0.43, ABM4 1.29 / 0.93 / 0.92).
-STABLE_LAMBDA_H = {"ab4-held": 0.30, "abm4-held": 0.92}
 #: ElastoDyn's Method key -> the closed-loop method of a plant with a held part.
 ELASTODYN_METHODS = {1: "rk4-held", 2: "ab4-held", 3: "abm4-held"}
 
@@ -184,3 +182,28 @@ class HeldAB4(_ClosedLoopMultistep):
 
     name: ClassVar[str] = "ab4-held"
     rhs_per_step: ClassVar[int] = 1
+
+
+def stability_limit(method: str, zeta: float) -> float:
+    """The largest ``|λ| h`` for which ``method`` is stable on a mode ``λ = |λ| (-ζ + i √(1 - ζ²))`` (ζ = 1: a real
+    eigenvalue): the first ``|λ| h`` at which a root of the method's characteristic polynomial for ``ẋ = λ x``
+    leaves the unit circle (to 1e-3). E.g. AB4 0.30 (ζ = 1), 0.33 (0.7), 0.43 (0.02); ABM4 1.29, 0.93, 0.92."""
+    return _stability_limit(method, round(float(min(max(zeta, 0.0), 1.0)), 6))
+
+
+@lru_cache(maxsize=None)
+def _stability_limit(method: str, zeta: float) -> float:
+    direction = complex(-zeta, np.sqrt(max(1.0 - zeta * zeta, 0.0)))
+    r = np.arange(1, 4001) * 1e-3
+    a = r * direction / 24.0                                           # z / 24 for every |λ| h of the scan
+    pred = np.stack([1.0 + AB4[0] * a, AB4[1] * a, AB4[2] * a, AB4[3] * a], axis=1)     # x^p on x_n .. x_{n-3}
+    if method == "ab4-held":
+        nxt = pred
+    else:
+        c = ABM4_CORRECTOR
+        nxt = c[0] * a[:, None] * pred + np.stack([1.0 + c[1] * a, c[2] * a, c[3] * a, 0.0 * a], axis=1)
+    companion = np.zeros((r.size, 4, 4), dtype=complex)               # x_{n+1} = nxt · [x_n .. x_{n-3}]
+    companion[:, 0, :] = nxt
+    companion[:, 1, 0] = companion[:, 2, 1] = companion[:, 3, 2] = 1.0
+    unstable = np.flatnonzero(np.max(np.abs(np.linalg.eigvals(companion)), axis=1) > 1.0 + 1e-9)
+    return float(r[unstable[0]] - 1e-3) if unstable.size else float(r[-1])

@@ -169,24 +169,28 @@ def test_zero_order_hold_difference_is_first_order():
 
 
 # ------------------------------------------------------------------------ stability
-def _light_oscillator(omega: float, zeta: float) -> mb.Dynamics:
+def _light_oscillator(omega: float, zeta: float, held_damping: bool = True) -> mb.Dynamics:
     """ẍ + 2ζωẋ + ω²x = 0, the damping force as the held part (extrapolated quadratically, as the turbine's
-    aerodynamics: what is tested is the method's own stability, not a held stiffness's delay)."""
+    aerodynamics: what is tested is the method's own stability, not a held stiffness's delay), or nothing held
+    (a zero force: the method's characteristic polynomial alone)."""
     x, u, p, z = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("p", 0), ca.SX.sym("z", 1)
-    part = ca.Function("part", [x, u, p], [-2 * zeta * omega * x[1]])
-    rhs_z = ca.Function("rhs_z", [x, u, p, z], [ca.vertcat(x[1], z[0] - omega ** 2 * x[0] + u[0])])
+    damping = -2 * zeta * omega * x[1]
+    part = ca.Function("part", [x, u, p], [damping if held_damping else 0.0 * x[1]])
+    rest = -omega ** 2 * x[0] + (0.0 if held_damping else damping)
+    rhs_z = ca.Function("rhs_z", [x, u, p, z], [ca.vertcat(x[1], z[0] + rest + u[0])])
     out_z = ca.Function("out_z", [x, u, p, z], [x[0]])
     rhs = ca.Function("rhs", [x, u, p], [rhs_z(x, u, p, part(x, u, p))])
     out = ca.Function("out", [x, u, p], [out_z(x, u, p, part(x, u, p))])
     return mb.Dynamics(rhs, states=["x", "x_d"], inputs=["f"], outputs=out, output_names=["X"],
-                       held=HeldPart(part, rhs_z, out_z, "stiffness"))
+                       held=HeldPart(part, rhs_z, out_z, "damping"))
 
 
-def _tail_amplitudes(method: str, omega: float, zeta: float, h: float, periods: int) -> tuple[float, float]:
+def _tail_amplitudes(method: str, omega: float, zeta: float, h: float, periods: int,
+                     held_damping: bool = True) -> tuple[float, float]:
     """Largest |x| over the last period of ``periods``, integrated and from the closed form (x0 = 1)."""
     tmax = periods * 2 * np.pi / omega
     n = int(np.ceil(tmax / h))
-    res = simulate(_light_oscillator(omega, zeta), n * h, x0=[1.0, 0.0], controller=_zero_controller(h),
+    res = simulate(_light_oscillator(omega, zeta, held_damping), n * h, x0=[1.0, 0.0], controller=_zero_controller(h),
                    method=method, dt=h, t_out=np.round(np.arange(n + 1) * h, 12), held_order=2)
     x_ref, _ = sdof_response(res.t, 1.0, 2 * zeta * omega, omega ** 2, x0=1.0, v0=0.0)
     tail = slice(-int(np.ceil(2 * np.pi / omega / h)), None)          # the last period
@@ -214,6 +218,22 @@ def test_ab4_unstable_beyond_its_interval_abm4_not():
     except IntegrationError:
         return
     assert grown > 10.0, grown
+
+
+@pytest.mark.parametrize("method, zeta", [("ab4-held", 0.02), ("abm4-held", 0.02), ("abm4-held", 0.7)])
+def test_stability_limit_matches_the_simulated_mode(method, zeta):
+    """stability_limit (from the characteristic polynomial) against the loop itself, nothing held (the method
+    alone): 5 % below the limit the mode decays over 40 periods, 5 % above it grows beyond its start."""
+    from mbsym.simulate.held_multistep import stability_limit
+
+    limit, h = stability_limit(method, zeta), 0.01
+    below, _ = _tail_amplitudes(method, 0.95 * limit / h, zeta, h, 40, held_damping=False)
+    assert below < 1.0, (limit, below)
+    try:
+        above, _ = _tail_amplitudes(method, 1.05 * limit / h, zeta, h, 40, held_damping=False)
+    except IntegrationError:
+        return
+    assert above > 1.0, (limit, above)
 
 
 # ------------------------------------------------------------------------ options

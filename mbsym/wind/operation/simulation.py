@@ -41,7 +41,7 @@ import numpy as np
 
 from ...exceptions import SimulationOptionError
 from ...simulate.controller import DiscreteController
-from ...simulate.held_multistep import ELASTODYN_METHODS, HELD_METHODS, MULTISTEP_METHODS, STABLE_LAMBDA_H
+from ...simulate.held_multistep import ELASTODYN_METHODS, HELD_METHODS, MULTISTEP_METHODS, stability_limit
 from .controllers import held_commands
 from .model import OperatingTurbine
 from .sanity import check_physical
@@ -208,17 +208,17 @@ def _default_method(model: OperatingTurbine, controller: DiscreteController, dt:
 def _actuator_instability(model: OperatingTurbine, method: str, dt: float) -> str:
     """Why ``method`` is unstable for the actuators' modes at the step ``dt`` [s] (an empty string: it is not).
 
-    The pitch actuator (second order, ``pitch_frequency`` ω) and the generator-torque lag (``1/τ``) are the fastest
-    modes of an operating turbine; the multistep methods are stable only for ``|λ| h`` below
-    :data:`~mbsym.simulate.held_multistep.STABLE_LAMBDA_H` (ElastoDyn has neither: ServoDyn applies its commands
-    at once)."""
+    The pitch actuator (second order, ``pitch_frequency`` ω, ``pitch_damping`` ζ) and the generator-torque lag
+    (``1/τ``, real) are the fastest modes of an operating turbine; each must be inside the method's stability
+    interval in its direction (:func:`~mbsym.simulate.held_multistep.stability_limit`; ElastoDyn has neither:
+    ServoDyn applies its commands at once)."""
     act = getattr(model, "actuators", None)
     if act is None:
         return ""
-    limit = STABLE_LAMBDA_H[method]
-    modes = [("the generator-torque lag", 1.0 / act.torque_time_constant if act.torque_time_constant > 0 else 0.0),
-             ("the pitch actuator", act.pitch_frequency)]
-    bad = [f"{name} |λ| h = {lam * dt:.3g} > {limit:g}" for name, lam in modes if lam * dt > limit]
+    modes = [("the generator-torque lag", 1.0 / act.torque_time_constant if act.torque_time_constant > 0 else 0.0,
+              1.0), ("the pitch actuator", act.pitch_frequency, min(act.pitch_damping, 1.0))]
+    bad = [f"{name} |λ| h = {lam * dt:.3g} > {stability_limit(method, zeta):.3g}" for name, lam, zeta in modes
+           if lam * dt > stability_limit(method, zeta)]
     return "; ".join(bad)
 
 

@@ -240,3 +240,25 @@ def test_ab4_refused_where_the_torque_lag_is_outside_its_stability_interval(stea
     ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
     with pytest.raises(SimulationOptionError, match="generator-torque lag"):
         simulate_turbine(steady14, 14.0, 0.1, controller=ctrl, method="ab4-held", compile=False)
+
+
+def test_deck_asking_ab4_runs_rk4_held_and_says_why(steady14):
+    """A deck with ElastoDyn Method 2 (AB4): AB4 is unstable for the generator-torque lag at 6.25 ms (the test
+    above), so the default is "rk4-held" and the message gives the reason with the numbers (|λ| h = 0.625)."""
+    import copy
+    import dataclasses
+
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import deck_method, simulate_turbine
+
+    model = copy.copy(steady14)
+    model.turbine = dataclasses.replace(steady14.turbine, integration_method=2)
+    assert deck_method(model) == 2
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    res = simulate_turbine(model, 14.0, 0.05, controller=ctrl, compile=False)
+    st = res.statistics
+    assert st["method"] == "rk4-held" and st["deck_method"] == "AB4 (ElastoDyn Method 2)"
+    # the pitch actuator (50 rad/s, ζ = 0.7: |λ| h = 0.31) is inside AB4's interval in its direction (0.325)
+    assert "this run integrates with rk4-held (AB4 is unstable here: the generator-torque lag |λ| h = 0.625 > 0.3)." \
+        in st["message"]
