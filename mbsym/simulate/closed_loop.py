@@ -382,7 +382,7 @@ class _ClosedLoop:
         n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_xc
         z = self.initial_carry(m)
         collector = _Collector(self, times, m)
-        K, k0, per, wall = self.samples, 0, 0.0, 0.0
+        K, k0, per, wall, cpu = self.samples, 0, 0.0, 0.0, 0.0
         first = self.sample_seconds(body) if K > 64 else None
         stepwise = first is not None and first >= STEPWISE_FROM_S
         try:
@@ -391,11 +391,12 @@ class _ClosedLoop:
                 loop = sample_loop(self.plant.owner, body, L, stepwise)
                 start, length = self._sample_grid(k0, k0 + L)
                 U = self._exogenous(start, length, m)
-                t1 = time.perf_counter()
+                t1, c1 = time.perf_counter(), time.process_time()
                 H = self.h_rows(k0, start, length, m, collector)
                 Zn, A = loop.run(z, U, self.p, H)
                 dt_run = time.perf_counter() - t1
                 wall += dt_run
+                cpu += time.process_time() - c1
                 per = max(dt_run / L, 1e-8)
                 Xs = A[: n_x * m].reshape(n_x, m, L, order="F")
                 K1 = A[n_x * m: 2 * n_x * m].reshape(n_x, m, L, order="F")
@@ -411,7 +412,9 @@ class _ClosedLoop:
                     monitor.update(float(min(k0 * self.bc.ctrl.dt, self.tmax)))
         except KeyboardInterrupt:
             raise SimulationInterrupted(min(k0 * self.bc.ctrl.dt, self.tmax), collector.partial()) from None
-        return collector.result(wall, m)
+        out = collector.result(wall, m)
+        out.stats["integration_cpu_s"] = cpu            # CPU of this process in the loop (wall counts neighbours)
+        return out
 
     def _run_callable(self, loop: PreparedLoop, rhs, meas, times, m, monitor) -> _Run:
         """One Python call of the law per sample; samples batched in chunks for inputs and outputs."""

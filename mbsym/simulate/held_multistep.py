@@ -187,23 +187,34 @@ class HeldAB4(_ClosedLoopMultistep):
 def stability_limit(method: str, zeta: float) -> float:
     """The largest ``|λ| h`` for which ``method`` is stable on a mode ``λ = |λ| (-ζ + i √(1 - ζ²))`` (ζ = 1: a real
     eigenvalue): the first ``|λ| h`` at which a root of the method's characteristic polynomial for ``ẋ = λ x``
-    leaves the unit circle (to 1e-3). E.g. AB4 0.30 (ζ = 1), 0.33 (0.7), 0.43 (0.02); ABM4 1.29, 0.93, 0.92."""
+    leaves the unit circle (to 1e-4). E.g. AB4 0.30 (ζ = 1), 0.33 (0.7), 0.43 (0.02); ABM4 1.29, 0.93, 0.92."""
     return _stability_limit(method, round(float(min(max(zeta, 0.0), 1.0)), 6))
 
 
 @lru_cache(maxsize=None)
 def _stability_limit(method: str, zeta: float) -> float:
     direction = complex(-zeta, np.sqrt(max(1.0 - zeta * zeta, 0.0)))
-    r = np.arange(1, 4001) * 1e-3
-    a = r * direction / 24.0                                           # z / 24 for every |λ| h of the scan
+    coarse = np.arange(1, 401) * 1e-2                                  # |λ| h up to 4, then bisection
+    unstable = np.flatnonzero(_spectral_radius(method, coarse * direction) > 1.0 + 1e-9)
+    if not unstable.size:
+        return float(coarse[-1])
+    lo, hi = (coarse[unstable[0] - 1] if unstable[0] else 0.0), coarse[unstable[0]]
+    while hi - lo > 1e-4:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if _spectral_radius(method, np.array([mid * direction]))[0] > 1.0 + 1e-9 else (mid, hi)
+    return float(lo)
+
+
+def _spectral_radius(method: str, z: np.ndarray) -> np.ndarray:
+    """Largest root modulus of the method's recurrence ``x_{n+1} = Σ c_i x_{n-i}`` for ``ẋ = λ x``, ``z = λ h``."""
+    a = z / 24.0
     pred = np.stack([1.0 + AB4[0] * a, AB4[1] * a, AB4[2] * a, AB4[3] * a], axis=1)     # x^p on x_n .. x_{n-3}
     if method == "ab4-held":
         nxt = pred
     else:
         c = ABM4_CORRECTOR
         nxt = c[0] * a[:, None] * pred + np.stack([1.0 + c[1] * a, c[2] * a, c[3] * a, 0.0 * a], axis=1)
-    companion = np.zeros((r.size, 4, 4), dtype=complex)               # x_{n+1} = nxt · [x_n .. x_{n-3}]
+    companion = np.zeros((z.size, 4, 4), dtype=complex)
     companion[:, 0, :] = nxt
     companion[:, 1, 0] = companion[:, 2, 1] = companion[:, 3, 2] = 1.0
-    unstable = np.flatnonzero(np.max(np.abs(np.linalg.eigvals(companion)), axis=1) > 1.0 + 1e-9)
-    return float(r[unstable[0]] - 1e-3) if unstable.size else float(r[-1])
+    return np.max(np.abs(np.linalg.eigvals(companion)), axis=1)
