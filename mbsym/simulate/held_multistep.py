@@ -10,8 +10,8 @@ one step per controller sample of length ``h``, with ``f_k = f(x_k, u_k, p, z(t_
       x_{n+1} = x_n + h/24 (55 f_n - 59 f_{n-1} + 37 f_{n-2} - 9 f_{n-3})
 
   one right-hand side per step (``f_n``);
-* ``"abm4-held"`` (the AB4 predictor ``x^p``, one evaluation ``f^p = f(x^p, u_{n+1}, p, z(t_{n+1}))``, and the
-  Adams-Moulton 4 corrector)::
+* ``"abm4-held"`` (the AB4 predictor ``x^p``, one evaluation ``f^p = f(x^p, u_{n+1}, p, z(t_{n+1}))`` with the
+  exogenous inputs at t_{n+1} and the commands of sample n, and the Adams-Moulton 4 corrector)::
 
       x_{n+1} = x_n + h/24 (9 f^p + 19 f_n - 5 f_{n-1} + f_{n-2})
 
@@ -41,8 +41,12 @@ Stability (one mode ``ẍ + 2ζωẋ + ω²x = 0``, step ``h``; from the methods
 stable for ``ω h`` below ~0.43 (ζ ≤ 5 %) and for real eigenvalues ``|λ| h < 0.30``; ABM4 as here
 (predict-evaluate-correct) is weakly anti-damping on the imaginary axis (an amplitude growth ~(ω h)^6 per step:
 +0.009 % per period at ω h = 0.157), so a mode needs some damping: stable up to ω h ≈ 0.57 at ζ = 0.5 %, 0.92 at
-ζ = 2 %, and ``|λ| h < 1.29`` on the real axis; RK4 up to 2.8. At 6.25 ms the NREL 5 MW's modes (≤ ~4 Hz: ω h
-≤ 0.16) are well inside.
+ζ = 2 %, and ``|λ| h < 1.29`` on the real axis; RK4 up to 2.8 (:func:`stability_limit`). At 6.25 ms the NREL 5 MW's
+structural modes (≤ ~4 Hz: ω h ≤ 0.16) are well inside; the operating turbine's generator-torque lag (τ = 0.01 s:
+|λ| h = 0.63) is outside AB4's interval, so :func:`mbsym.wind.operation.simulate_turbine` refuses ``"ab4-held"``
+there. The held part extrapolated to t_{n+1} enters the corrector explicitly: a mode it drives strongly and fast
+narrows ABM4's interval further (a held damping force of ζ = 0.7 diverged at ω h = 0.88 in the tests, inside the
+method's own 0.93).
 """
 
 from __future__ import annotations
