@@ -1,4 +1,4 @@
-"""Cost of one controller sample of the blade-element turbine in its compiled closed loop, rk4 against rk4-held.
+"""Cost of one controller sample of the blade-element turbine in its compiled closed loop, rk4, rk4-held, abm4-held.
 
 The ``ff14_flex`` deck's blade-element model (NREL 5 MW, 15 DOFs, 3 x 19 AeroDyn nodes with DBEMT) with mbsym's
 baseline controller (ROSCO's DISCON.IN) in the loop, as :func:`mbsym.wind.operation.simulate_turbine` runs it:
@@ -8,11 +8,14 @@ cores are shared, wall time measures the neighbours), median of 7 batches. Metho
 
 * ``rk4``: the blade-element aerodynamics evaluated in every RK4 stage, in the measurement and afterwards for
   the channels;
-* ``rk4-held`` (the default): the aerodynamics evaluated once per step (OpenFAST's coupling), every sample or,
+* ``rk4-held``: the aerodynamics evaluated once per step (OpenFAST's coupling), every sample or,
   with ``held_dt`` ("aerodynamics every"), every few samples while the controller and the structure keep the
   sample time, and in between held or extrapolated through the last evaluations (``held_order``; the default
   for this deck, InterpOrder 2: quadratic, every 8 samples, 50 ms: 4 deg of rotor rotation); the same
-  evaluation gives the measurements and, at the output times, every channel.
+  evaluation gives the measurements and, at the output times, every channel;
+* ``abm4-held`` (the default for this deck, its ElastoDyn ``Method`` 3) and ``ab4-held``: ElastoDyn's
+  Adams-Bashforth-Moulton 4 / Adams-Bashforth 4 instead of the RK4 step (2 / 1 right-hand sides per step after
+  three RK4 start-up steps), the aerodynamics as ``rk4-held``'s default.
 
 Costs per sample: "held" (the aerodynamics held or extrapolated), "fresh" (evaluated), "with the channels"
 (evaluated, and every output channel). The projection to the 660 s case counts each kind: the channels every
@@ -21,6 +24,7 @@ the rotor-effective model of the same deck (rigid-blade DOFs) at 6.25 ms. ``blad
 whole runs (its "run CPU" column) and their accuracy.
 
     python benchmarks/blade_loop_speed.py [--no-write]
+    BLADE_LOOP_VARIANTS=4,7 python benchmarks/blade_loop_speed.py --no-write     (rows 4 and 7 of VARIANTS only)
 """
 
 from __future__ import annotations
@@ -43,7 +47,7 @@ T_CASE, DT_OUT = 660.0, 0.05
 #: (method, controller sample = step [s], interval of the aerodynamics [s] or None: every sample, extrapolation order)
 VARIANTS = (("rk4", 0.00625, None, 0), ("rk4-held", 0.00625, None, 0), ("rk4-held", 0.00625, 0.025, 0),
             ("rk4-held", 0.00625, 0.025, 2), ("rk4-held", 0.00625, 0.05, 2), ("rk4-held", 0.0125, None, 0),
-            ("rk4-held", 0.025, None, 0))
+            ("rk4-held", 0.025, None, 0), ("abm4-held", 0.00625, 0.05, 2), ("ab4-held", 0.00625, 0.05, 2))
 
 
 def cpu_us(f, args) -> float:
@@ -64,7 +68,7 @@ def sample_costs(model, method: str, dt: float, wind: dict, held_dt=None, order:
     from mbsym.wind.operation.controllers import baseline_in_loop
 
     ctrl = baseline_in_loop(BaselineController.from_discon(INPUTS / "deck" / "DISCON.IN", dt=dt))
-    dyn = model.dynamics() if method == "rk4-held" else model.measurement_dynamics()
+    dyn = model.dynamics() if method != "rk4" else model.measurement_dynamics()
     plant = plant_of(dyn)
     bc = bind_controller(ctrl, plant, method, None, T_CASE, held_dt=held_dt, held_order=order)
     x0 = dyn.state_vector(model.initial_state(wind))
@@ -87,7 +91,7 @@ def sample_costs(model, method: str, dt: float, wind: dict, held_dt=None, order:
     if body.numel_in(3) == 2:          # every sample evaluates them
         c = cpu_us(body, (z, U, p, [dt, 0.0]))
         return {"held": c, "fresh": c, "output": cpu_us(body, (z, U, p, [dt, 1.0]))}, compile_s
-    for _ in range(3):                 # a history to extrapolate from
+    for _ in range(4):                 # a history to extrapolate from (and, multistep: past the RK4 start-up)
         z = np.array(body(z, U, p, [dt, 0.0, 1.0])[0]).ravel()
     return {"held": cpu_us(body, (z, U, p, [dt, 0.0, 0.0])), "fresh": cpu_us(body, (z, U, p, [dt, 0.0, 1.0])),
             "output": cpu_us(body, (z, U, p, [dt, 1.0, 1.0]))}, compile_s
@@ -109,7 +113,12 @@ def main() -> None:
     b0, _ = sample_costs(base, "rk4", 0.00625, {"Wind1VelX": 14.0})
     blade = deck.model(aero="blade")
     rows = [("rotor-effective, rigid (baseline)", "rk4", 0.00625, None, 0, b0, 0.0)]
-    for method, dt, held_dt, order in VARIANTS:
+    import os
+
+    only = os.environ.get("BLADE_LOOP_VARIANTS")         # e.g. "4,7,8": rows of VARIANTS (from 0)
+    for i, (method, dt, held_dt, order) in enumerate(VARIANTS):
+        if only and str(i) not in only.split(","):
+            continue
         costs, comp = sample_costs(blade, method, dt, {"WindTime": 30.0}, held_dt, order)
         rows.append(("blade-element, ff14_flex DOFs", method, dt, held_dt, order, costs, comp))
         print(rows[-1], flush=True)

@@ -25,9 +25,12 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   when the deck's ServoDyn runs a DISCON library, ``baseline`` without a deck, else ``none``.
 * Integration: one RK4 step per controller sample (``--method rk4 --dt`` changes the step, a
   divisor of the sample time; ``--accuracy`` chooses sub-steps for the baseline controller); with
-  blade-element aerodynamics ``rk4-held`` by default: the aerodynamics once per step, held over its
-  RK4 stages as OpenFAST's glue code holds AeroDyn's loads (``--method rk4`` evaluates them at every
-  stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md "blade-speed"); with the
+  blade-element aerodynamics and the baseline controller the deck's ElastoDyn ``Method`` by default
+  (3: ``abm4-held``, Adams-Bashforth-Moulton 4 as ElastoDyn; 2: ``ab4-held``; 1: ``rk4-held``), else
+  ``rk4-held``: the aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds
+  AeroDyn's loads; the output says which method ran and where it differs from the deck's (``--method rk4``
+  evaluates them at every stage: 3-4x the cost, the same figures against OpenFAST, benchmarks/README.md
+  "blade-speed"); with the
   baseline controller the aerodynamics are evaluated every 2 deg of rotor rotation (``--aero-dt``
   overrides; :func:`mbsym.wind.operation.simulation.default_aero_dt`);
   compiled to C from 2000 controller samples on (``--compile`` forces it).
@@ -231,10 +234,12 @@ def _integration(args) -> dict:
     if args.rtol is not None or args.atol is not None:
         raise SimulationOptionError("--rtol/--atol do not apply to an operating turbine: it runs RK4 steps between "
                                     "controller samples (choose the step with --method rk4 --dt, or --accuracy).")
-    if args.method is not None and args.method not in ("rk4", "rk4-held"):
+    if args.method is not None and args.method not in ("rk4", "rk4-held", "abm4-held", "ab4-held"):
         raise SimulationOptionError(f"--method {args.method}: an operating turbine runs RK4 steps between controller "
                                     "samples; use --method rk4 or rk4-held (blade-element aerodynamics held over "
-                                    "each step; with --dt as the step) or leave --method unset.")
+                                    "each step; with --dt as the step), abm4-held or ab4-held (ElastoDyn's "
+                                    "multistep methods, blade-element aerodynamics with the baseline controller) or "
+                                    "leave --method unset (the deck's ElastoDyn Method where it is modelled).")
     if args.accuracy is not None and args.method is not None:
         raise SimulationOptionError("--accuracy chooses the step itself; it cannot be combined with --method.")
     out: dict = {}
@@ -455,7 +460,7 @@ def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
     if model.aero == "blade":
         inflow = f"wind {model.wind!r}"
     ctrl = "none (held commands)" if controller is None else f"{kind} every {controller.dt:g} s"
-    how = f"accuracy {options['accuracy']:g}" if "accuracy" in options else "one RK4 step per controller sample" \
+    how = f"accuracy {options['accuracy']:g}" if "accuracy" in options else "one step per controller sample" \
         if controller is not None and "method" not in options else f"method {options.get('method', 'auto')}"
     print(f"mbsym simulate: {deck.label} operating in {wind_label}")
     print(f"DOFs: {dofs}; rotor {rotor}, {inflow}; controller {ctrl}")
@@ -482,7 +487,13 @@ def _summary(series, stats) -> None:
     print(f"method {stats.get('method')}{compiled}: {stats.get('steps')} steps{step}, integration "
           f"{1e3 * float(stats.get('integration_wall_s', 0)):.1f} ms ({stats['real_time_factor']:.0f}x real time), "
           f"preparation {1e3 * float(stats.get('prepare_wall_s', 0)):.1f} ms, {series.time[-1]:.2f} s simulated"
-          + _held_text(stats) + "\n")
+          + _held_text(stats))
+    if stats.get("deck_method"):
+        note = str(stats.get("message", ""))
+        note = note[note.index("The deck asks"):] if "The deck asks" in note else \
+            f"the deck's ElastoDyn Method: {stats['deck_method']}"
+        print(note)
+    print()
     print(f"{'channel':<12} {'unit':<6} {'initial':>12} {'min':>12} {'max':>12} {'mean':>12} {'final':>12}")
     for n in SUMMARY_CHANNELS:
         y = series.channel(n)

@@ -73,7 +73,10 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         CasADi), ``"newmark"``, ``"generalized-alpha"`` (implicit, second-order form with the
         exact residual Jacobians; equations of motion only); adaptive ``"adams"``
         (explicit), ``"cvodes"``, ``"idas"`` (BDF), ``"scipy-radau"``, ``"scipy-bdf"``
-        (scipy, exact Jacobian; references). Given, it is used exactly as asked. Not given:
+        (scipy, exact Jacobian; references); for a model with a held part (:mod:`mbsym.held`)
+        ``"rk4-held"``, and in a loop with a CasADi ``controller`` ElastoDyn's multistep methods
+        ``"abm4-held"`` and ``"ab4-held"`` (:mod:`mbsym.simulate.held_multistep`). Given, it is used
+        exactly as asked. Not given:
         ``"rk4"`` if ``dt`` is given, ``"cvodes"`` if ``rtol`` or ``atol`` is, else the
         accuracy-driven choice.
     dt : float, optional
@@ -103,15 +106,16 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         A discrete controller in the loop (:class:`mbsym.simulate.DiscreteController`):
         sampled every ``controller.dt`` with zero-order hold on the inputs it actuates; its
         states are appended to the outputs. Runs with RK4 sub-steps (``method`` unset or
-        ``"rk4"``).
+        ``"rk4"``), ``"rk4-held"`` steps, or one ``"abm4-held"``/``"ab4-held"`` step per sample.
     held_dt : float, optional
-        With ``method="rk4-held"`` and a ``controller``: the interval [s] at which the plant's held part
+        With a held method (``"rk4-held"``, ``"abm4-held"``, ``"ab4-held"``) and a ``controller``: the
+        interval [s] at which the plant's held part
         (:class:`mbsym.held.HeldPart`, e.g. blade-element aerodynamics) is evaluated again, a whole multiple
         of the controller's sample time; between evaluations it is held while the states advance sample by
         sample and the controller runs at its own rate (samples that return outputs evaluate it afresh).
         Default: every sample.
     held_order : {0, 1, 2}, optional
-        With ``method="rk4-held"`` and a ``controller``: between its evaluations the held part is held (0,
+        With a held method and a ``controller``: between its evaluations the held part is held (0,
         the default) or extrapolated in time through the last 2 (1, linear) or 3 (2, quadratic) evaluations
         at every RK4 stage, as OpenFAST's glue code extrapolates module outputs (``InterpOrder``)
         (:mod:`mbsym.simulate.held_carry`).

@@ -22,6 +22,7 @@ from .checks import first_bad_column, raise_diverged
 from .controller import BoundController, DiscreteController
 from .fixed import RK4, PreparedLoop
 from .held_carry import HeldCarry
+from .held_multistep import HELD_METHODS, MULTISTEP_METHODS, START_STEPS, MultistepHistory
 from .held_rk4 import HeldRK4, held_rk4_step
 from .monitor import CHUNK_WALL_S, SimulationInterrupted
 from .sample_loops import chunk_length, sample_loop
@@ -166,7 +167,7 @@ class _ClosedLoop:
         self.samples = max(int(math.ceil(tmax / c.dt - 1e-9)), 1)
         self.u_init = signal.at(0.0)[bc.act]
         dummy = Problem(plant, x0, p, signal, np.array([0.0]), tmax, dt=c.dt, n_steps=1)
-        self.rk4 = (HeldRK4 if bc.method == "rk4-held" else RK4)(dummy)
+        self.rk4 = (HeldRK4 if bc.method in HELD_METHODS else RK4)(dummy)
         self._shares: bool | None = None
         #: Whether the body returns the derivative at each sample's end (the dense output between samples needs
         #: it; when every output time is a sample start it does not, and one right-hand side per sample is saved).
@@ -186,7 +187,8 @@ class _ClosedLoop:
             carried = self.carries_held(m)
             hc = self.held_carry() if carried else None
             n_c = hc.n_carry if carried else 0
-            z, U = ca.MX.sym("z", n_x + n_xc + n_a + n_c), ca.MX.sym("U", n_u, 3 * m)
+            ms = self.multistep()
+            z, U = ca.MX.sym("z", n_x + n_xc + n_a + n_c + (ms.n_carry if ms else 0)), ca.MX.sym("U", n_u, 3 * m)
             p, hf = ca.MX.sym("p", plant.n_p), ca.MX.sym("h", self.n_h_rows(m))
             h = hf[0]
             x, xc, ua_prev = z[:n_x], z[n_x:n_x + n_xc], z[n_x + n_xc:n_x + n_xc + n_a]
@@ -196,8 +198,9 @@ class _ClosedLoop:
             outputs = self.outputs_in_loop(m)
             if carried:                   # refreshed where the last row of h asks, else carried; extrapolated
                 case = hf[-1] + hf[1] if outputs else hf[-1]
-                carry, held_z = hc.refresh(case, x, u_meas, p, z[n_x + n_xc + n_a:])
-                stages = tuple(hc.scatter(v) for v in hc.stage_values(carry, [0.0, h / 2, h]))
+                carry, held_z = hc.refresh(case, x, u_meas, p, z[n_x + n_xc + n_a:n_x + n_xc + n_a + n_c])
+                offsets = [0.0, h / 2, h] if ms is None else [0.0, h][:1 + int(ms.corrects or self.end_derivative)]
+                stages = tuple(hc.scatter(v) for v in hc.stage_values(carry, offsets))
                 y = bc.measure_held(x, u_meas, p, stages[0])
             elif shared:                  # one evaluation of the held part serves measurement and first step
                 held_z = plant.held.part(x, u_meas, p)
@@ -206,7 +209,12 @@ class _ClosedLoop:
                 y = bc.measure(x, u_meas, p)
             xc1, ua = bc.ctrl.law(xc, y)
             Uh = ca.mtimes(keep, U) + ca.repmat(ca.mtimes(put, ua), 1, 3 * m)
-            if carried:
+            if ms is not None:            # a multistep method: its derivative history after the held part's
+                hist = z[n_x + n_xc + n_a + n_c:]
+                Xs, K1, hist1 = ms.step(ms.index(hist, h), x, Uh, p, h, stages[0], stages[-1], hist)
+                k_end = plant.held.rhs(Xs, Uh[:, -1], p, stages[-1]) if self.end_derivative else ca.MX.zeros(n_x)
+                z_next = ca.vertcat(Xs, xc1, ua, hc.advanced(carry, h), hist1)
+            elif carried:
                 x1, K1 = held_rk4_step(plant.held, x, Uh, p, h, stages)
                 Xs = x1
                 k_end = plant.held.rhs(x1, Uh[:, -1], p, stages[2]) if self.end_derivative else ca.MX.zeros(n_x)
@@ -217,6 +225,8 @@ class _ClosedLoop:
             aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
             if outputs:   # the outputs at the sample start, from the held part already evaluated, where h[1] asks
                 aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))
+            # dense: a structural zero (a law whose command is a constant 0) is not written by a buffered call
+            z_next, aux = ca.densify(z_next), ca.densify(aux)
             return ca.Function(f"{plant.name}_closed_loop_{m}", [z, U, p, hf], [z_next, aux],
                                ["z", "U", "p", "h"], ["z_next", "aux"])
 
@@ -232,14 +242,24 @@ class _ClosedLoop:
                         lambda: HeldCarry(self.plant, bc.measure_held, bc.held_order,
                                           bc.held_samples * bc.ctrl.dt))[0]
 
+    def multistep(self) -> MultistepHistory | None:
+        """The derivative history of a multistep method (:mod:`.held_multistep`), else None."""
+        bc = self.bc
+        if bc.method not in MULTISTEP_METHODS:
+            return None
+        return prepared(self.plant.owner, ("multistep history", bc.method, bc.ctrl.dt),
+                        lambda: MultistepHistory(self.plant, bc.method, bc.ctrl.dt))[0]
+
     def carries_held(self, m: int) -> bool:
-        """Whether the held part is carried from sample to sample (``held_dt`` > the sample time, or extrapolated
-        with ``held_order`` > 0)."""
-        if self.bc.held_samples <= 1 and self.bc.held_order == 0:
+        """Whether the held part is carried from sample to sample (``held_dt`` > the sample time, extrapolated
+        with ``held_order`` > 0, or a multistep method)."""
+        multi = self.bc.method in MULTISTEP_METHODS
+        if self.bc.held_samples <= 1 and self.bc.held_order == 0 and not multi:
             return False
         if m != 1 or not self._shares_held_part():
+            what = f"method {self.bc.method!r}" if multi else "held_dt > the sample time or held_order > 0"
             raise SimulationOptionError(
-                f"held_dt > the sample time or held_order > 0 needs one rk4-held step per controller sample and a held "
+                f"{what} needs one step per controller sample and a held "
                 f"part that does not depend on the commanded inputs {list(self.bc.ctrl.actuates)} (the commands change "
                 f"at every sample); got {m} step(s) per sample"
                 + ("" if self._shares_held_part() else " and a dependent held part") + ".")
@@ -252,7 +272,8 @@ class _ClosedLoop:
     def initial_carry(self, m: int) -> np.ndarray:
         """``z`` at the first sample: plant, controller, held commands (and a placeholder for the held part)."""
         pad = self.held_carry().initial() if self.carries_held(m) else np.zeros(0)
-        return np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init, pad])
+        hist = self.multistep().initial() if self.multistep() is not None else np.zeros(0)
+        return np.concatenate([self.x0, self.bc.ctrl.x0, self.u_init, pad, hist])
 
     def h_rows(self, k0: int, start: np.ndarray, length: np.ndarray, m: int, collector) -> np.ndarray:
         """The body's ``h`` for samples ``k0, k0 + 1, ...`` (see :meth:`n_h_rows`)."""
@@ -273,7 +294,7 @@ class _ClosedLoop:
         """With "rk4-held" and one sub-step per sample, the held part at the sample serves the measurement
         and the step when it does not depend on the commanded inputs (the commands change at the sample)."""
         if self._shares is None:
-            held = self.plant.held if self.bc.method == "rk4-held" else None
+            held = self.plant.held if self.bc.method in HELD_METHODS else None
             self._shares = held is not None and held.outputs is not None and \
                 not held.depends_on_inputs(self.bc.act)
         return self._shares
@@ -320,6 +341,10 @@ class _ClosedLoop:
             prep = time.perf_counter() - t0
             out = self._run_function(body, times, m, monitor)
         else:
+            if self.bc.method in MULTISTEP_METHODS:
+                raise SimulationOptionError(f"method {self.bc.method!r} carries its derivative history inside the "
+                                            f"generated loop; the controller {self.bc.ctrl.name!r} is a Python "
+                                            "callable (e.g. a DISCON library): use method='rk4-held' (or 'rk4').")
             if self.bc.held_samples > 1 or self.bc.held_order > 0:
                 raise SimulationOptionError(f"held_dt > the sample time and held_order > 0 run inside the generated "
                                             f"loop; the controller {self.bc.ctrl.name!r} is a Python callable (e.g. a "
@@ -357,7 +382,7 @@ class _ClosedLoop:
         n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_xc
         z = self.initial_carry(m)
         collector = _Collector(self, times, m)
-        K, k0, per, wall = self.samples, 0, 0.0, 0.0
+        K, k0, per, wall, cpu = self.samples, 0, 0.0, 0.0, 0.0
         first = self.sample_seconds(body) if K > 64 else None
         stepwise = first is not None and first >= STEPWISE_FROM_S
         try:
@@ -366,11 +391,12 @@ class _ClosedLoop:
                 loop = sample_loop(self.plant.owner, body, L, stepwise)
                 start, length = self._sample_grid(k0, k0 + L)
                 U = self._exogenous(start, length, m)
-                t1 = time.perf_counter()
+                t1, c1 = time.perf_counter(), time.process_time()
                 H = self.h_rows(k0, start, length, m, collector)
                 Zn, A = loop.run(z, U, self.p, H)
                 dt_run = time.perf_counter() - t1
                 wall += dt_run
+                cpu += time.process_time() - c1
                 per = max(dt_run / L, 1e-8)
                 Xs = A[: n_x * m].reshape(n_x, m, L, order="F")
                 K1 = A[n_x * m: 2 * n_x * m].reshape(n_x, m, L, order="F")
@@ -386,7 +412,9 @@ class _ClosedLoop:
                     monitor.update(float(min(k0 * self.bc.ctrl.dt, self.tmax)))
         except KeyboardInterrupt:
             raise SimulationInterrupted(min(k0 * self.bc.ctrl.dt, self.tmax), collector.partial()) from None
-        return collector.result(wall, m)
+        out = collector.result(wall, m)
+        out.stats["integration_cpu_s"] = cpu            # CPU of this process in the loop (wall counts neighbours)
+        return out
 
     def _run_callable(self, loop: PreparedLoop, rhs, meas, times, m, monitor) -> _Run:
         """One Python call of the law per sample; samples batched in chunks for inputs and outputs."""
@@ -552,6 +580,12 @@ class _Collector:
         stats = {"steps": self.steps, "n_rhs": self.steps * 4 + lp.samples, "integration_wall_s": wall,
                  "message": f"{lp.samples} controller samples of {lp.bc.ctrl.dt:g} s, {m} {lp.bc.method} sub-step(s) each, "
                             f"up to t = {lp.tmax:g} s."}
+        if lp.bc.method in MULTISTEP_METHODS:        # RK4 for the start-up (and a shorter last step)
+            start = min(START_STEPS, self.steps)
+            stats["n_rhs"] = (start * 4 + (self.steps - start) * MULTISTEP_METHODS[lp.bc.method]
+                              + int(lp.end_derivative) * self.steps)
+            stats["message"] = stats["message"][:-1] + f" (the first {start} by RK4, as ElastoDyn starts its history)."
+
         return _Run(self.x, self.u, self.xc, stats, lp.samples, lp.bc.ctrl.dt / m, self.y)
 
 

@@ -10,6 +10,8 @@ name                   kind         order  implicit  what
 =====================  ===========  =====  ========  =========================================
 ``rk4``                fixed-step   4      no        classical Runge-Kutta, loop in CasADi
 ``rk4-held``           fixed-step   1      no        RK4, the dynamics' held part once per step
+``abm4-held``          fixed-step   1      no        ElastoDyn's ABM4, held part; controlled loops
+``ab4-held``           fixed-step   1      no        ElastoDyn's AB4, held part; controlled loops
 ``newmark``            fixed-step   2      yes       average acceleration, residual form
 ``generalized-alpha``  fixed-step   2      yes       Chung-Hulbert rho_inf = 0.8, residual form
 ``adams``              adaptive     5      no        CVODES Adams-Moulton, functional iteration
@@ -29,6 +31,7 @@ from .base import Method
 from .casadi_methods import Adams, Cvodes, Idas
 from .checks import SimulationOptionError
 from .fixed import RK4
+from .held_multistep import HeldAB4, HeldABM4
 from .held_rk4 import HeldRK4
 from .scipy_methods import ScipyBDF, ScipyRadau
 from .second_order import GeneralizedAlpha, Newmark
@@ -37,7 +40,7 @@ __all__ = ["METHODS", "get_method"]
 
 #: Integration methods by name (read-only).
 METHODS: Mapping[str, type[Method]] = MappingProxyType({m.name: m for m in (
-    RK4, HeldRK4, Newmark, GeneralizedAlpha, Adams, Cvodes, Idas, ScipyRadau, ScipyBDF)})
+    RK4, HeldRK4, HeldABM4, HeldAB4, Newmark, GeneralizedAlpha, Adams, Cvodes, Idas, ScipyRadau, ScipyBDF)})
 
 
 def get_method(name) -> type[Method]:

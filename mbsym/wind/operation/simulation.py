@@ -8,15 +8,21 @@
 * the wind as the input ``Wind1VelX`` (any :class:`~mbsym.wind.inflow.WindSignal` or callable);
 * the controller as a :class:`~mbsym.simulate.DiscreteController` (:mod:`.controllers`), or none:
   then the commands hold the initial pitch and torque (or ``commands``);
-* integration: with a controller, one RK4 step per controller sample (the sample time of ROSCO's
+* integration: with a controller, one step per controller sample (the sample time of ROSCO's
   deck, 6.25 ms, resolves every mode of the model; the accuracy-driven default of
   :func:`mbsym.simulate` re-runs the loop to check the step, which a DISCON library — a state
   machine outside our control — cannot follow); without, the accuracy-driven default. With
-  blade-element aerodynamics the default method is ``"rk4-held"`` (:mod:`mbsym.held`): the
+  blade-element aerodynamics and a CasADi controller the default method is the deck's ElastoDyn
+  ``Method`` (:func:`deck_method`; 3 ABM4: ``"abm4-held"``, 2 AB4: ``"ab4-held"``, 1 RK4: ``"rk4-held"``,
+  :mod:`mbsym.simulate.held_multistep`), otherwise ``"rk4-held"`` (:mod:`mbsym.held`): the
   aerodynamics once per step, held over its RK4 stages as OpenFAST's glue code holds AeroDyn's loads
   over an ElastoDyn step; one evaluation serves the controller's measurements, the step and every
-  channel at the samples. Against OpenFAST on ``ff14_flex`` it gives the figures of ``"rk4"`` (which
-  evaluates the aerodynamics at every stage) to the third digit at 3-4x less cost.
+  channel at the samples. Against OpenFAST on ``ff14_flex`` ``"rk4-held"`` gives the figures of ``"rk4"``
+  (the aerodynamics at every stage) to the third digit at 3-4x less cost, and ``"abm4-held"`` those of
+  ``"rk4-held"`` (ε within 0.02 point, DELs within 0.1 point) with 2 right-hand sides per step instead of 4
+  (benchmarks/README.md, "blade-loop-speed"). The result's ``statistics["deck_method"]`` names the deck's
+  Method, and its message says where the run integrates otherwise (a DISCON library called from Python,
+  the rotor-effective model: RK4).
 * the blade-element aerodynamics are evaluated every :func:`default_aero_dt` (``aero_dt``), a whole number
   of controller samples, and between evaluations **extrapolated** in time through the last ones with the
   deck's ``InterpOrder`` (``aero_order``; OpenFAST's glue code extrapolates module outputs the same way),
@@ -35,11 +41,16 @@ import numpy as np
 
 from ...exceptions import SimulationOptionError
 from ...simulate.controller import DiscreteController
+from ...simulate.held_multistep import ELASTODYN_METHODS, HELD_METHODS, MULTISTEP_METHODS, stability_limit
 from .controllers import held_commands
 from .model import OperatingTurbine
 from .sanity import check_physical
 
-__all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "AERO_ROTATION_DEG", "TIP_SPEED_REF"]
+__all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "deck_method", "AERO_ROTATION_DEG",
+           "TIP_SPEED_REF"]
+
+#: ElastoDyn's Method key -> its name.
+ELASTODYN_NAMES = {1: "RK4", 2: "AB4", 3: "ABM4"}
 
 #: Rotor rotation [deg] between evaluations of the blade-element aerodynamics by default, per extrapolation order
 #: (0 hold, 1 linear, 2 quadratic). Held, at 2 deg the loads' 1P and 3P variation is sampled 180 times per turn
@@ -82,18 +93,20 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     p : dict, optional, keyword-only
         Parameter values by name.
     aero_dt : float, optional, keyword-only
-        Blade-element aerodynamics with a controller and ``"rk4-held"``: their interval [s], a whole multiple of
+        Blade-element aerodynamics with a controller and a held method (``"rk4-held"``, ``"abm4-held"``,
+        ``"ab4-held"``): their interval [s], a whole multiple of
         the controller's sample time (:func:`mbsym.simulate`'s ``held_dt``). Default :func:`default_aero_dt` for
         ``aero_order`` when the step is the controller's sample time and the controller a CasADi Function (a
         DISCON library, called from Python, gets the aerodynamics every sample), else every step.
     aero_order : {0, 1, 2}, optional, keyword-only
-        Blade-element aerodynamics with a CasADi controller and ``"rk4-held"``: between their evaluations they are
+        Blade-element aerodynamics with a CasADi controller and a held method: between their evaluations they are
         held (0) or extrapolated through the last 2 (1) or 3 (2) evaluations (:func:`mbsym.simulate`'s
         ``held_order``). Default: the deck's ``InterpOrder`` (``model.turbine.simulation.interp_order``); 0 with
         a DISCON library (called from Python, it gets the aerodynamics every sample, held over the step).
     method, dt, accuracy, compile, progress
-        As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"``
-        (``"rk4-held"`` with blade-element aerodynamics) with ``dt = controller.dt``; ``accuracy``
+        As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"`` (with blade-element
+        aerodynamics the deck's ElastoDyn Method with a CasADi controller, else ``"rk4-held"``; see the module
+        docstring) with ``dt = controller.dt``; ``accuracy``
         asks for the accuracy-driven sub-steps instead (CasADi-Function controllers only); ``compile`` defaults to compiling runs of more than
         :data:`COMPILE_FROM_SAMPLES` controller samples.
 
@@ -135,13 +148,18 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
                                             "follow; give method='rk4' and dt instead.")
             options["accuracy"] = accuracy
         else:
-            options.update(method=method or ("rk4-held" if model.aero == "blade" else "rk4"),
-                           dt=controller.dt if dt is None else dt)
+            step = controller.dt if dt is None else dt
+            if method in MULTISTEP_METHODS:
+                unstable = _actuator_instability(model, method, step)
+                if unstable:
+                    raise SimulationOptionError(f"method {method!r} is unstable for this model at dt = {step:g} s: "
+                                                f"{unstable}; use 'abm4-held' or 'rk4-held', or a shorter sample time.")
+            options.update(method=method or _default_method(model, controller, dt), dt=step)
         if compile is None:
             options["compile"] = _compile_pays_off(tmax / controller.dt)
     else:
         options.update(method=method, dt=dt, accuracy=accuracy)
-    in_loop = controller is not None and controller.is_function and options.get("method") == "rk4-held" \
+    in_loop = controller is not None and controller.is_function and options.get("method") in HELD_METHODS \
         and options.get("dt") == controller.dt               # a Python law (DISCON library) samples every step
     if aero_order is None and in_loop:
         aero_order = int(model.turbine.simulation.interp_order)
@@ -154,15 +172,81 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     options = {k: v for k, v in options.items() if v is not None}
     if controller is None:
         res = simulate(dyn, tmax, x0=x0, inputs=inputs, **options)
-    elif options.get("method") == "rk4-held":
+    elif options.get("method") in HELD_METHODS:
         # the loop evaluates every channel at the samples from the aerodynamics it holds over the step
         res = simulate(dyn, tmax, x0=x0, inputs=inputs, controller=controller, **options)
     else:
         # in the loop only the measurements are evaluated; the channels afterwards, from the states
         res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
         res = _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
+    _state_deck_method(res, model, controller, method is not None)
     check_physical(res, model)
     return res
+
+
+def deck_method(model: OperatingTurbine) -> int | None:
+    """The ElastoDyn ``Method`` (1 RK4, 2 AB4, 3 ABM4) of the deck ``model`` was read from, else None."""
+    code = getattr(model.turbine, "integration_method", None)
+    return int(code) if code in ELASTODYN_METHODS else None
+
+
+def _default_method(model: OperatingTurbine, controller: DiscreteController, dt: float | None) -> str:
+    """With a controller: the deck's ElastoDyn Method for blade-element aerodynamics with a CasADi controller and
+    one step per sample (:mod:`mbsym.simulate.held_multistep`) where the actuators' modes are inside its stability
+    interval, else ``"rk4-held"`` (blade) or ``"rk4"``."""
+    if model.aero != "blade":
+        return "rk4"
+    code = deck_method(model)
+    if code is None or not controller.is_function or (dt is not None and dt != controller.dt):
+        return "rk4-held"
+    method = ELASTODYN_METHODS[code]
+    if method in MULTISTEP_METHODS and _actuator_instability(model, method, controller.dt):
+        return "rk4-held"
+    return method
+
+
+def _actuator_instability(model: OperatingTurbine, method: str, dt: float) -> str:
+    """Why ``method`` is unstable for the actuators' modes at the step ``dt`` [s] (an empty string: it is not).
+
+    The pitch actuator (second order, ``pitch_frequency`` ω, ``pitch_damping`` ζ) and the generator-torque lag
+    (``1/τ``, real) are the fastest modes of an operating turbine; each must be inside the method's stability
+    interval in its direction (:func:`~mbsym.simulate.held_multistep.stability_limit`; ElastoDyn has neither:
+    ServoDyn applies its commands at once)."""
+    act = getattr(model, "actuators", None)
+    if act is None:
+        return ""
+    modes = [("the generator-torque lag", 1.0 / act.torque_time_constant if act.torque_time_constant > 0 else 0.0,
+              1.0), ("the pitch actuator", act.pitch_frequency, min(act.pitch_damping, 1.0))]
+    bad = [f"{name} |λ| h = {lam * dt:.3g} > {stability_limit(method, zeta):.3g}" for name, lam, zeta in modes
+           if lam * dt > stability_limit(method, zeta)]
+    return "; ".join(bad)
+
+
+def _state_deck_method(res, model: OperatingTurbine, controller, given: bool) -> None:
+    """``res.statistics``: the deck's ElastoDyn Method, and in the message where the run integrates otherwise."""
+    code = deck_method(model)
+    stats = res.statistics
+    if code is None or not isinstance(stats, dict):
+        return
+    used, name = stats.get("method"), ELASTODYN_NAMES[code]
+    stats["deck_method"] = f"{name} (ElastoDyn Method {code})"
+    if used == ELASTODYN_METHODS[code] or (code == 1 and used == "rk4"):
+        return
+    if given:
+        why = "the method given"
+    elif model.aero != "blade":
+        why = "the multistep methods are modelled for blade-element aerodynamics only"
+    elif controller is None:
+        why = "without a controller the accuracy-driven default chooses"
+    elif not controller.is_function:
+        why = "the controller is called from Python; the multistep methods run in the compiled loop"
+    elif _actuator_instability(model, ELASTODYN_METHODS[code], float(stats.get("dt", controller.dt))):
+        why = (f"{name} is unstable here: " + _actuator_instability(model, ELASTODYN_METHODS[code],
+                                                                  float(stats.get("dt", controller.dt))))
+    else:
+        why = "the multistep methods need one step per controller sample"
+    stats["message"] = (str(stats.get("message", "")).rstrip() + f" The deck asks ElastoDyn Method {code} "
+                        f"({name}); this run integrates with {used} ({why}).").strip()
 
 
 def default_aero_dt(model: OperatingTurbine, sample_dt: float, x0: np.ndarray, *, order: int = 0) -> float:

@@ -184,3 +184,81 @@ def test_a_run_extrapolates_the_aerodynamics_with_the_decks_interp_order(steady1
                                                           order=order))
     res0 = simulate_turbine(steady14, 14.0, 0.1, controller=ctrl, x0=x0, compile=False, aero_order=0, aero_dt=0.0125)
     assert res0.statistics["held_order"] == 0 and res0.statistics["held_dt"] == pytest.approx(0.0125)
+
+
+def test_default_method_is_the_decks_elastodyn_method(steady14):
+    """The deck says ElastoDyn Method 3 (ABM4): simulate_turbine with the compiled-loop baseline controller runs
+    "abm4-held" and says so; the same loop by "rk4-held" (the method given, which the message states against the
+    deck's) agrees over 0.25 s from the steady state at 14 m/s: both are the same discretized loop to their
+    truncation errors and the commands' zero-order hold (measured 5.4e-7 rad/s in GeAz_d; tolerance 1e-4 of the
+    12.1 rpm = 1.27 rad/s speed)."""
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import deck_method, simulate_turbine
+
+    assert deck_method(steady14) == 3
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    x0 = steady14.initial_state({"Wind1VelX": 14.0})
+    res = simulate_turbine(steady14, 14.0, 0.25, controller=ctrl, x0=x0, compile=False)
+    st = res.statistics
+    assert st["method"] == "abm4-held" and st["deck_method"] == "ABM4 (ElastoDyn Method 3)"
+    assert "The deck asks" not in st["message"]
+    ref = simulate_turbine(steady14, 14.0, 0.25, controller=ctrl, x0=x0, compile=False, method="rk4-held")
+    assert "The deck asks ElastoDyn Method 3 (ABM4); this run integrates with rk4-held (the method given)" in \
+        ref.statistics["message"]
+    speed = res.state("GeAz_d")
+    assert np.max(np.abs(speed - ref.state("GeAz_d"))) < 1e-4 * 1.27
+
+
+def test_rotor_effective_run_says_it_integrates_with_rk4():
+    """The rotor-effective model of the same deck has no held part: it runs "rk4" and its message says the deck
+    asks ABM4 (nothing a user gives is silently ignored)."""
+    import mbsym as mb
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import simulate_turbine
+
+    model = mb.wind.OperatingTurbine.from_openfast(need(INPUTS / "steady_14" / "steady_14.fst"), aero="rotor",
+                                                   dofs=["GenDOF"])
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    res = simulate_turbine(model, 14.0, 0.05, controller=ctrl, compile=False)
+    st = res.statistics
+    assert st["method"] == "rk4" and st["deck_method"] == "ABM4 (ElastoDyn Method 3)"
+    assert "this run integrates with rk4 (the multistep methods are modelled for blade-element aerodynamics only)" \
+        in st["message"]
+
+
+def test_ab4_refused_where_the_torque_lag_is_outside_its_stability_interval(steady14):
+    """AB4 is stable for real eigenvalues |λ| h < 0.30 (its characteristic polynomial); the generator-torque lag
+    of the actuator model (τ = 0.01 s: |λ| h = 0.625 at 6.25 ms) is not: run, it settles into a bounded 1.7 kN m
+    limit cycle at the torque rate limit (measured), a wrong answer that is not a divergence, so it is refused."""
+    from mbsym.exceptions import SimulationOptionError
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import simulate_turbine
+
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    with pytest.raises(SimulationOptionError, match="generator-torque lag"):
+        simulate_turbine(steady14, 14.0, 0.1, controller=ctrl, method="ab4-held", compile=False)
+
+
+def test_deck_asking_ab4_runs_rk4_held_and_says_why(steady14):
+    """A deck with ElastoDyn Method 2 (AB4): AB4 is unstable for the generator-torque lag at 6.25 ms (the test
+    above), so the default is "rk4-held" and the message gives the reason with the numbers (|λ| h = 0.625)."""
+    import copy
+    import dataclasses
+
+    from mbsym.wind.control.baseline import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.simulation import deck_method, simulate_turbine
+
+    model = copy.copy(steady14)
+    model.turbine = dataclasses.replace(steady14.turbine, integration_method=2)
+    assert deck_method(model) == 2
+    ctrl = baseline_in_loop(BaselineController.from_discon(need(INPUTS / "deck" / "DISCON.IN"), dt=0.00625))
+    res = simulate_turbine(model, 14.0, 0.05, controller=ctrl, compile=False)
+    st = res.statistics
+    assert st["method"] == "rk4-held" and st["deck_method"] == "AB4 (ElastoDyn Method 2)"
+    # the pitch actuator (50 rad/s, ζ = 0.7: |λ| h = 0.31) is inside AB4's interval in its direction (0.325)
+    assert "this run integrates with rk4-held (AB4 is unstable here: the generator-torque lag |λ| h = 0.625 > 0.3)." \
+        in st["message"]

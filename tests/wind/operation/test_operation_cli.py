@@ -84,6 +84,8 @@ def test_deck_runs_its_inflowwind_and_discon_in_with_the_baseline(capsys):
     out = capsys.readouterr().out
     assert "InflowWind" in out and "baseline every 0.00625 s" in out and "TwFADOF1, TwSSDOF1, GenDOF" in out
     assert json.loads(out.strip().splitlines()[-1])["steps"] == 160
+    # the deck's ElastoDyn Method 3 (ABM4) is not modelled for the rotor-effective rung: the output says so
+    assert "The deck asks ElastoDyn Method 3 (ABM4); this run integrates with rk4" in out
 
 
 def test_deck_without_its_library_names_the_path_and_the_fix(capsys):
