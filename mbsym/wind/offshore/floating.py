@@ -76,7 +76,7 @@ class FloatingStructure:
         load = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp)
         line_mass = ca.SX.zeros(6, 6)
         if self.mooring is not None:
-            static, drag, line_mass = self.mooring.line_loads(qp, vp)
+            static, drag, line_mass, _ = self.mooring.line_loads(qp, vp)
             load = load + static + drag
         if self.radiation is not None:
             load = load + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)

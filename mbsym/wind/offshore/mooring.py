@@ -116,9 +116,11 @@ class MooringSystem:
         mass : SX (6 × 6)
             The lines' mass and added mass on ``q`` [kg, kg m, kg m²]: ``Σ J_rᵀ M_r J_r`` with ``J_r = ∂r/∂q``
             the fairlead's Jacobian (:mod:`.line_dynamics`; 0 without ``dynamics``).
+        tension : SX (n)
+            Fairlead tensions [N], as :meth:`tensions`.
         """
         R = euler_zyx(q[3:6])
-        static, drag, mass = ca.SX.zeros(6), ca.SX.zeros(6), ca.SX.zeros(6, 6)
+        static, drag, mass, tension = ca.SX.zeros(6), ca.SX.zeros(6), ca.SX.zeros(6, 6), []
         for k, line in enumerate(self.lines):
             arm = ca.mtimes(R, ca.DM(self.fairleads[k]))
             r = q[0:3] + arm
@@ -127,6 +129,7 @@ class MooringSystem:
             H, V = _newton(line, l, h, steps)
             f = ca.vertcat(H * d / l, -V)
             static += ca.vertcat(f, ca.cross(arm, f))
+            tension.append(ca.sqrt(H ** 2 + V ** 2))
             if self.dynamics is None:
                 continue
             terms = fairlead_terms(line, self.dynamics[k], self.water_density, self.anchors[k])
@@ -135,7 +138,7 @@ class MooringSystem:
             drag += ca.vertcat(fd, ca.cross(arm, fd))
             J = ca.jacobian(r, q)
             mass += ca.mtimes([J.T, mr, J])
-        return static, drag, mass
+        return static, drag, mass, ca.vertcat(*tension)
 
     def function(self, *, method: str = "newton", steps: int = 30) -> ca.Function:
         """``q → (load [N, N m] (6), tensions [N] (n), HV (2 × n))`` as one CasADi Function."""

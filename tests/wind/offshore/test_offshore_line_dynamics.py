@@ -109,7 +109,7 @@ def _system():
 def test_line_drag_dissipates_power():
     system = _system()
     q, qd = ca.SX.sym("q", 6), ca.SX.sym("qd", 6)
-    _, drag, mass = system.line_loads(q, qd)
+    _, drag, mass, _ = system.line_loads(q, qd)
     from mbsym.wind.offshore._casadi import euler_zyx
 
     R = euler_zyx(q[3:6])
