@@ -9,7 +9,7 @@ decay periods (up-crossings: heave, pitch, TTDspFA about a 40 s moving mean over
 mean of the last 100 s), and the cost: model build, integration wall and CPU time.
 
     python benchmarks/floating_decay.py [--tmax 600] [--segments 10] [--only on|off]
-                                        [--reference OTHER.csv]
+                                        [--reference OTHER.csv] [--plot FILE.png]
 """
 
 from __future__ import annotations
@@ -116,9 +116,11 @@ def main(argv=None) -> None:
     parser.add_argument("--segments", type=int, default=10, help="quadrature segments per line (default 10)")
     parser.add_argument("--only", choices=("on", "off"), help="only with (on) or without (off) line dynamics")
     parser.add_argument("--reference", type=Path, default=FLOATING / "fl_decay_a.csv")
+    parser.add_argument("--plot", type=Path, help="write the four channels, OpenFAST and each mbsym run, to FILE.png")
     args = parser.parse_args(argv)
     ref = read_reference(args.reference)
     cases = [c for c in (False, True) if args.only is None or (args.only == "on") == c]
+    runs = {}
     for dynamics in cases:
         t, ours, cost = run(dynamics, args.segments, args.tmax)
         label = f"line drag and inertia ({args.segments} segments)" if dynamics else "quasi-static lines"
@@ -127,6 +129,31 @@ def main(argv=None) -> None:
         print("| channel | ε | R² | period mbsym / OpenFAST |\n|---|---|---|---|")
         for name, (eps, r2, p_ours, p_ref) in compare(t, ours, ref, args.tmax).items():
             print(f"| {name} | {100 * eps:.2f} % | {r2:.4f} | {p_ours:.2f} / {p_ref:.2f} s ({100 * (p_ours / p_ref - 1):+.2f} %) |")
+        runs[label] = (t, ours)
+    if args.plot:
+        plot(args.plot, ref, runs, args.tmax)
+
+
+def plot(path: Path, ref: dict, runs: dict, t_end: float) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(CHANNELS), 1, figsize=(10, 9), sharex=True)
+    keep = ref["Time"] <= t_end
+    units = {"PtfmSurge": "m", "PtfmHeave": "m", "PtfmPitch": "deg", "TTDspFA": "m"}
+    for ax, (name, _, _) in zip(axes, CHANNELS):
+        ax.plot(ref["Time"][keep], ref[name][keep], "k", lw=1.6, label="OpenFAST v5 + MoorDyn")
+        for (label, (t, ours)), style in zip(runs.items(), ("C1--", "C0")):
+            ax.plot(t, ours[name], style, lw=0.9, label=f"mbsym, {label}")
+        ax.set_ylabel(f"{name} [{units[name]}]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle("fl_decay_a: free decay of the IEA 15 MW on the VolturnUS-S (still water)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 if __name__ == "__main__":
