@@ -102,14 +102,13 @@ def line_nodes(line: CatenaryLine, segments: int, H, V, anchor, fairlead):
     (a 3-vector) in inertial axes; nodes at equal unstretched arc lengths.
     """
     s = ca.DM(np.linspace(0.0, line.length, segments + 1)).T
-    x, z = line.profile(H, V, s)
+    x, z = (ca.DM(v).T if isinstance(v, np.ndarray) else v for v in line.profile(H, V, s))   # rows
     fairlead = fairlead if isinstance(fairlead, (ca.SX, ca.MX)) else ca.DM(np.asarray(fairlead, dtype=float))
-    d = fairlead[0:2] - ca.DM(np.asarray(anchor[:2], dtype=float))
-    e = ca.vertcat(d / ca.sqrt(ca.sumsqr(d)), 0)
+    anchor = ca.DM(np.asarray(anchor, dtype=float))
+    d = fairlead[0:2] - anchor[0:2]
+    e = ca.vertcat(d / ca.sqrt(ca.sumsqr(d)), 0)                 # horizontal direction anchor → fairlead
     ez = ca.DM([0.0, 0.0, 1.0])
-    points = ca.repmat(ca.DM(np.asarray(anchor, dtype=float)), 1, segments + 1) + ca.mtimes(e, ca.DM(x).T if
-                                                                                          isinstance(x, np.ndarray) else x)
-    points = points + ca.mtimes(ez, ca.DM(z).T if isinstance(z, np.ndarray) else z)
+    points = ca.repmat(anchor, 1, segments + 1) + ca.mtimes(e, x) + ca.mtimes(ez, z)
     # the tangent is along the line force (H e + V(s) e_z)/T, V(s) the vertical force at s (0 on the seabed)
     w, L = line.weight, line.length
     vs = ca.fmax(V - w * L, 0) + w * ca.fmax(s - ca.fmax(L - V / w, 0), 0)
