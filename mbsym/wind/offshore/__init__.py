@@ -8,6 +8,7 @@ A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
 - :mod:`.radiation`, :mod:`.radiation_fit`: the radiation memory as a state-space block, read from a
   ``.ss`` file or fitted to the ``.1`` data;
 - :mod:`.catenary`, :mod:`.mooring`: the quasi-static elastic catenary mooring;
+- :mod:`.line_dynamics`: the lines' drag and inertia on their quasi-static shape (MoorDyn decks);
 - :mod:`.modes`: natural periods from the generalized eigenproblem;
 - :mod:`.floating`: a first floating structure (a structural model + water + mooring; no rotor
   loads, no controller);
@@ -21,6 +22,7 @@ yaw). See docs/offshore.md.
 
 from .catenary import CatenaryLine, wet_weight
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
+from .line_dynamics import LineHydrodynamics
 from .modes import PlatformModes, natural_periods, periods_with_frequency_dependent_added_mass
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .operating import FloatingPlatform, floating_platform
@@ -30,6 +32,6 @@ from .radiation_fit import fit_radiation, vector_fit
 
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
-           "CatenaryLine", "wet_weight", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
+           "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
            "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit", "FloatingPlatform",
            "floating_platform"]

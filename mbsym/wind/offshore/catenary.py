@@ -20,7 +20,18 @@ force at the fairlead (MAP++ documentation, "Theory"; Jonkman 2007, NREL/TP-500-
 equations are solved for (H, V) by Newton's method inside a CasADi ``rootfinder`` (started
 from MAP++'s initial guess of Peyrot and Goulois), so H and V — and every load built from them
 — are differentiable in the fairlead position (implicit-function theorem). Line inertia,
-drag and the seabed's stiffness are not modelled: a quasi-static line.
+drag and the seabed's stiffness are not modelled here (:mod:`.line_dynamics` adds drag and inertia
+on the quasi-static shape).
+
+The shape (:meth:`CatenaryLine.profile`) at unstretched arc length s from the anchor, with
+L_B = max(L − V/w, 0) on the seabed, V_A = max(V − wL, 0) the vertical force at the anchor (or at
+the touchdown point) and σ = max(s − L_B, 0) the arc length along the hanging part::
+
+    x(s) = min(s, L_B) + ∫₀^min(s, L_B) T_B/EA ds'
+           + H/w [asinh((V_A + wσ)/H) − asinh(V_A/H)] + H σ/EA
+    z(s) = H/w [√(1 + ((V_A + wσ)/H)²) − √(1 + (V_A/H)²)] + (V_A σ + wσ²/2)/EA
+
+with the tension on the seabed T_B(s) = max(H − C_B w (L_B − s), 0); at s = L it is (l, h) above.
 """
 
 from __future__ import annotations
@@ -29,6 +40,7 @@ import math
 from dataclasses import dataclass
 
 import casadi as ca
+import numpy as np
 
 from ...exceptions import ParameterError, SolverError
 
@@ -98,6 +110,28 @@ class CatenaryLine:
         if isinstance(H, (ca.SX, ca.MX)) or isinstance(V, (ca.SX, ca.MX)):
             return l, h
         return float(ca.evalf(l)), float(ca.evalf(h))
+
+    def profile(self, H, V, s):
+        """Horizontal and vertical distance (x, z) [m] from the anchor of the points at unstretched arc
+        lengths ``s`` [m] (0 at the anchor, L at the fairlead) for fairlead forces H, V [N] (module
+        docstring); CasADi expressions (or numbers for numeric arguments), elementwise in ``s``."""
+        L, w, EA, CB = self.length, self.weight, self.axial_stiffness, self.seabed_friction
+        s = ca.DM(s) if not isinstance(s, (ca.SX, ca.MX)) else s
+        lb = ca.fmax(L - V / w, 0)
+        va = ca.fmax(V - w * L, 0)
+        on_bed = ca.fmin(s, lb)
+        sigma = ca.fmax(s - lb, 0)
+        # stretch of the resting part: the integral of T_B = max(a + b s', 0), a = H - C_B w L_B, b = C_B w
+        a, b = H - CB * w * lb, CB * w
+        start = ca.fmax(lb - H / (CB * w), 0) if CB > 0 else 0.0
+        run = ca.fmax(on_bed - start, 0)
+        stretch = (a * run + b / 2 * ((start + run) ** 2 - start ** 2)) / EA
+        vs = va + w * sigma
+        x = on_bed + stretch + H / w * (ca.asinh(vs / H) - ca.asinh(va / H)) + H * sigma / EA
+        z = H / w * (ca.sqrt(1 + (vs / H) ** 2) - ca.sqrt(1 + (va / H) ** 2)) + (va * sigma + w * sigma ** 2 / 2) / EA
+        if any(isinstance(v, (ca.SX, ca.MX)) for v in (H, V, s)):
+            return x, z
+        return np.array(ca.evalf(x), dtype=float).ravel(), np.array(ca.evalf(z), dtype=float).ravel()
 
     def initial_guess(self, l, h):
         """MAP++'s starting point (Peyrot and Goulois): λ from the span, H0 = w l / (2 λ), V0 = w/2 (h / tanh λ + L)."""

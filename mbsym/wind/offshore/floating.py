@@ -11,8 +11,10 @@ Not the operating turbine (no aerodynamics, no controller): the structural model
 
 Approximations of this first layer (stated, to be removed when it joins the operating turbine):
 the platform's translational and angular velocity and acceleration are taken as the DOF rates
-(``q̇``, ``q̈`` of surge…yaw), exact at zero rotation and first order in the angles; line
-inertia and drag are left out. :meth:`FloatingStructure.simulate` integrates with fixed-step
+(``q̇``, ``q̈`` of surge…yaw), exact at zero rotation and first order in the angles; the lines
+are quasi-static, with their drag and inertia on that shape when the mooring has ``dynamics``
+(:mod:`.line_dynamics`: the fairlead's exact velocity, the lines' mass added to the platform block
+of the mass matrix). :meth:`FloatingStructure.simulate` integrates with fixed-step
 RK4 in one CasADi ``mapaccum``.
 """
 
@@ -72,8 +74,10 @@ class FloatingStructure:
         q, qd, xr = x[:n], x[n:2 * n], x[2 * n:]
         qp, vp = ca.vertcat(*[q[i] for i in index]), ca.vertcat(*[qd[i] for i in index])
         load = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp)
+        line_mass = ca.SX.zeros(6, 6)
         if self.mooring is not None:
-            load = load + self.mooring.load(qp)
+            static, drag, line_mass, _ = self.mooring.line_loads(qp, vp)
+            load = load + static + drag
         if self.radiation is not None:
             load = load + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
         u = [0.0] * eom.n_u
@@ -84,7 +88,8 @@ class FloatingStructure:
         f_m = eom.functions.mass_matrix
         select = np.zeros((6, n))
         select[range(6), index] = 1.0
-        M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, u, p)) + ca.DM(select.T @ self.hydro.added_mass @ select)
+        S = ca.DM(select)
+        M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, u, p)) + ca.mtimes([S.T, ca.DM(self.hydro.added_mass) + line_mass, S])
         qdd = ca.solve(M, eom.functions.forcing(q, qd, u, p))
         parts = [qd, qdd]
         if self.radiation is not None:

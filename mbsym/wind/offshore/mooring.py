@@ -14,7 +14,9 @@ Two solvers of the catenary equations: ``"rootfinder"`` (CasADi's Newton ``rootf
 converged to 1e-6 m; MX graphs) and ``"newton"`` (a fixed number of smooth Newton steps
 written out in SX, usable inside any SX graph; the default 30 steps converge the deck's lines
 to machine precision from MAP++'s starting point). Line dynamics (MoorDyn's lumped masses,
-drag, seabed stiffness) are not modelled: see docs/offshore.md.
+drag, seabed stiffness) are not modelled; with ``dynamics`` (one
+:class:`~.line_dynamics.LineHydrodynamics` per line) :meth:`MooringSystem.line_loads` adds the
+lines' drag and inertia on their quasi-static shape (:mod:`.line_dynamics`). See docs/offshore.md.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 from ...exceptions import DimensionError, ModelWarning, OptionError, UnsupportedFeatureError
 from ._casadi import _in, _symbolic, euler_zyx
 from .catenary import CatenaryLine, wet_weight
+from .line_dynamics import LineHydrodynamics, fairlead_terms
 
 __all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map"]
 
@@ -48,14 +51,25 @@ def _newton(line: CatenaryLine, l, h, steps: int):
 
 @dataclass(frozen=True, eq=False)
 class MooringSystem:
-    """Catenary lines between anchors (inertial) and fairleads (platform axes) [m]."""
+    """Catenary lines between anchors (inertial) and fairleads (platform axes) [m].
+
+    ``dynamics``: one :class:`~.line_dynamics.LineHydrodynamics` per line (mass, Morison coefficients,
+    segments) for :meth:`line_loads`, or None (quasi-static lines only); ``water_density`` [kg/m³] for
+    their drag and added mass.
+    """
 
     lines: tuple[CatenaryLine, ...]
     anchors: np.ndarray
     fairleads: np.ndarray
+    dynamics: tuple[LineHydrodynamics, ...] | None = None
+    water_density: float = 1025.0
 
     def __post_init__(self) -> None:
         n = len(self.lines)
+        if self.dynamics is not None and (len(self.dynamics) != n
+                                          or not all(isinstance(d, LineHydrodynamics) for d in self.dynamics)):
+            raise DimensionError(f"MooringSystem.dynamics must hold one LineHydrodynamics per line ({n}); got "
+                                 f"{self.dynamics!r}.")
         for name in ("anchors", "fairleads"):
             arr = np.array(getattr(self, name), dtype=float).reshape(-1, 3)
             if arr.shape[0] != n:
@@ -79,6 +93,52 @@ class MooringSystem:
             tension.append(ca.sqrt(H ** 2 + V ** 2))
             fair_h.append(ca.vertcat(H, V))
         return ca.vertcat(force, moment), ca.vertcat(*tension), ca.horzcat(*fair_h)
+
+    def with_dynamics(self, dynamics, water_density: float) -> "MooringSystem":
+        """The same lines with drag and inertia (:meth:`line_loads`), or quasi-static again with None."""
+        return MooringSystem(self.lines, self.anchors, self.fairleads,
+                             None if dynamics is None else tuple(dynamics), float(water_density))
+
+    def line_loads(self, q, qd, *, steps: int = 30):
+        """Static load, the lines' drag and their mass on the platform DOFs (SX expressions).
+
+        Parameters
+        ----------
+        q, qd : casadi.SX
+            Platform DOFs (surge … yaw) [m, rad] and their rates [m/s, rad/s].
+
+        Returns
+        -------
+        static : SX (6)
+            As :meth:`load` [N, N m].
+        drag : SX (6)
+            The lines' drag as a load at the reference point, inertial axes [N, N m] (0 without ``dynamics``).
+        mass : SX (6 × 6)
+            The lines' mass and added mass on ``q`` [kg, kg m, kg m²]: ``Σ J_rᵀ M_r J_r`` with ``J_r = ∂r/∂q``
+            the fairlead's Jacobian (:mod:`.line_dynamics`; 0 without ``dynamics``).
+        tension : SX (n)
+            Fairlead tensions [N], as :meth:`tensions`.
+        """
+        R = euler_zyx(q[3:6])
+        static, drag, mass, tension = ca.SX.zeros(6), ca.SX.zeros(6), ca.SX.zeros(6, 6), []
+        for k, line in enumerate(self.lines):
+            arm = ca.mtimes(R, ca.DM(self.fairleads[k]))
+            r = q[0:3] + arm
+            d = ca.DM(self.anchors[k][:2]) - r[0:2]
+            l, h = ca.sqrt(ca.sumsqr(d)), r[2] - self.anchors[k][2]
+            H, V = _newton(line, l, h, steps)
+            f = ca.vertcat(H * d / l, -V)
+            static += ca.vertcat(f, ca.cross(arm, f))
+            tension.append(ca.sqrt(H ** 2 + V ** 2))
+            if self.dynamics is None:
+                continue
+            terms = fairlead_terms(line, self.dynamics[k], self.water_density, self.anchors[k])
+            rd = ca.jtimes(r, q, qd)
+            fd, mr, _, _ = terms(r, ca.vertcat(H, V), rd)
+            drag += ca.vertcat(fd, ca.cross(arm, fd))
+            J = ca.jacobian(r, q)
+            mass += ca.mtimes([J.T, mr, J])
+        return static, drag, mass, ca.vertcat(*tension)
 
     def function(self, *, method: str = "newton", steps: int = 30) -> ca.Function:
         """``q → (load [N, N m] (6), tensions [N] (n), HV (2 × n))`` as one CasADi Function."""
@@ -112,22 +172,29 @@ class MooringSystem:
         return np.array(jac(_in(q, 6, "q")), dtype=float)
 
 
-def mooring_from_moordyn(md, *, water_density: float, gravity: float) -> MooringSystem:
+def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynamics: bool = True,
+                         line_segments: int | None = 10) -> MooringSystem:
     """The quasi-static system of a MoorDyn deck (every line between a fixed and a vessel point).
 
     The seabed is frictionless (MoorDyn's default). Free points, bodies, rods and lines
     between free points are refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`).
+    With ``line_dynamics`` (default) the lines carry MoorDyn's mass, added mass and drag on their
+    quasi-static shape (:meth:`MooringSystem.line_loads`), summed over ``line_segments`` segments of
+    each line (None: the deck's ``NumSegs``). The default 10 is a quadrature of a known shape, not
+    MoorDyn's discretization of the line's own dynamics: on ``fl_decay_a`` it differs from 50 segments
+    by 0.1 % of the surge decay at half the cost (docs/offshore.md §6).
 
     Warns
     -----
     ModelWarning
-        MoorDyn's line dynamics (lumped masses, drag and added mass, internal damping, the seabed's
-        stiffness ``kbot`` and damping ``cbot``) are left out: the lines are quasi-static.
+        What is left of MoorDyn's line dynamics: the line's own motion (waves along the line; with
+        ``line_dynamics=False`` also its drag and inertia), internal damping, the seabed's
+        stiffness ``kbot`` and damping ``cbot``.
     """
     if md.other_sections:
         raise UnsupportedFeatureError(f"{md.path}: sections {sorted(md.other_sections)} (rods, bodies, …) are not "
                                       "modelled by the quasi-static mooring.")
-    lines, anchors, fairs = [], [], []
+    lines, anchors, fairs, dynamics = [], [], [], []
     for ident, entry in sorted(md.lines.items()):
         kinds = {md.points[entry.end_a].kind, md.points[entry.end_b].kind}
         if not ({"fixed"} <= kinds and kinds & {"vessel", "coupled"}):
@@ -138,16 +205,27 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float) -> Mooring
                                                            gravity), kind.axial_stiffness))
         anchors.append(md.anchor(ident).position)
         fairs.append(md.fairlead(ident).position)
-    warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
-                  "stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries",
-                  ModelWarning, stacklevel=2)
-    return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs))
+        dynamics.append(LineHydrodynamics.from_moordyn(kind, entry.n_segments if line_segments is None
+                                                       else line_segments))
+    if line_dynamics:
+        segments = "NumSegs" if line_segments is None else f"{line_segments} segments per line, not NumSegs"
+        warnings.warn(f"{md.path}: MoorDyn's line dynamics are modelled on the quasi-static shape (line mass, added "
+                      f"mass and drag of nodes that follow the catenary, {segments}); the line's own motion (waves "
+                      "along it), internal damping and the seabed's stiffness and damping are not", ModelWarning,
+                      stacklevel=2)
+    else:
+        warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
+                      "stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries",
+                      ModelWarning, stacklevel=2)
+    return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs),
+                         tuple(dynamics) if line_dynamics else None, float(water_density))
 
 
 def mooring_from_map(mp, *, water_density: float, gravity: float, water_depth: float) -> MooringSystem:
     """The quasi-static system of a MAP++ deck (with its ``repeat`` copies, seabed friction ``CB``).
 
-    Connect nodes (line junctions) are refused.
+    Connect nodes (line junctions) are refused. MAP++ is quasi-static: no line drag or inertia
+    (its ``Ca``, ``Cdn``, ``Cdt`` columns are for its unused lumped-mass option).
     """
     lines, anchors, fairs = [], [], []
     angles = (0.0,) + mp.repeat_angles

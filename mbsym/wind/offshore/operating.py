@@ -6,7 +6,8 @@ structure and the rotor:
 * hydrostatics, buoyancy and HydroDyn's additional loads (:class:`~.platform.PlatformHydrodynamics`);
 * the radiation memory as linear states (:class:`~.radiation.RadiationStateSpace`, states
   ``Rdtn1 … RdtnN``), driven by the platform velocities;
-* the quasi-static catenary mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX);
+* the quasi-static catenary mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX), with
+  its lines' drag and inertia on their quasi-static shape for a MoorDyn deck (:mod:`.line_dynamics`);
 * the infinite-frequency added mass A∞, which the operating turbine adds to the platform block of
   its symbolic mass matrix (so trims and linear models see it).
 
@@ -20,8 +21,8 @@ and MoorDyn/MAP++ files.
 
 Approximations (stated in docs/offshore.md): the platform's velocity and acceleration are the DOF
 rates ``q̇``, ``q̈`` of surge … yaw (exact in translation; the angular ones are first order in the
-angles, as in :class:`~.floating.FloatingStructure`); the lines are quasi-static (no line inertia or
-drag); still water (``Wave1Elev`` = 0, no excitation).
+angles, as in :class:`~.floating.FloatingStructure`); the lines are quasi-static, with MoorDyn's drag and
+inertia on that shape when the mooring has ``dynamics`` (:mod:`.line_dynamics`); still water (``Wave1Elev`` = 0, no excitation).
 """
 
 from __future__ import annotations
@@ -105,8 +106,10 @@ class FloatingPlatform:
 
         ``qp``, ``vp``: the platform DOFs [m, rad] and their rates; ``xr``: the radiation states.
         ``load`` [N, N m]: everything but the added mass (hydrostatics, buoyancy, additional loads,
-        radiation, mooring); ``hydro``: HydroDyn's part of it (no mooring, no added mass);
-        ``tension``: the fairlead tensions [N].
+        radiation, mooring with its lines' drag); ``hydro``: HydroDyn's part of it (no mooring, no added
+        mass); ``tension``: the fairlead tensions [N]; ``mass``: the mooring lines' mass and added mass on
+        the platform DOFs (6 × 6, zero for quasi-static lines without ``dynamics``), which the operating
+        turbine adds to its mass matrix with A∞.
         """
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
         xr = ca.SX.sym("xr", self.n_radiation)
@@ -116,12 +119,12 @@ class FloatingPlatform:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
             xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr)
                       + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), vp))
-        load, tension = hydro, ca.SX(0, 1)
+        load, tension, mass = hydro, ca.SX(0, 1), ca.SX.zeros(6, 6)
         if self.mooring is not None:
-            mooring, tension, _ = self.mooring.function(steps=self.mooring_steps)(qp)
-            load = load + mooring
-        return ca.Function("platform_loads", [qp, vp, xr], [load, hydro, xr_dot, tension],
-                           ["qp", "vp", "xr"], ["load", "hydro", "xr_dot", "tension"], {"cse": True})
+            static, drag, mass, tension = self.mooring.line_loads(qp, vp, steps=self.mooring_steps)
+            load = load + static + drag
+        return ca.Function("platform_loads", [qp, vp, xr], [load, hydro, xr_dot, tension, mass],
+                           ["qp", "vp", "xr"], ["load", "hydro", "xr_dot", "tension", "mass"], {"cse": True})
 
     def loads(self, qp: Any, vp: Any, xr: Any) -> dict[str, Any]:
         """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments."""

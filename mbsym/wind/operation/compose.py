@@ -13,7 +13,8 @@ the new states and the rotor loads:
 ==============  ================================================================
 
 A floating turbine (``model.platform``, a :class:`~mbsym.wind.offshore.operating.FloatingPlatform`)
-also adds A∞ to the platform block of the mass matrix and its radiation states after the others.
+also adds A∞ (and its mooring lines' mass, when they have drag and inertia) to the platform block of
+the mass matrix and its radiation states after the others.
 
 so the first-order right-hand side is one expression of ``(x, u, p)``. Up to
 :data:`~mbsym.equations.SYMBOLIC_SOLVE_MAX_DOF` structural DOFs everything is SX with the
@@ -217,6 +218,9 @@ class Graph:
             select = np.zeros((6, self.eom.n_q))
             select[range(6), self.platform_index] = 1.0
             M = M + ca.sparsify(ca.DM(select.T @ self.platform.added_mass @ select))
+            lines = self.platform_terms.get("mass")        # mooring lines' mass on the platform DOFs (if any)
+            if lines is not None and not (isinstance(lines, (ca.SX, ca.MX, ca.DM)) and lines.is_zero()):
+                M = M + ca.mtimes([ca.DM(select).T, lines, ca.DM(select)])
         F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
         if self.kind is ca.SX:
             return ca.solve(M, F)

@@ -80,7 +80,8 @@ def floating():
 def test_platform_loads_and_added_mass_drive_the_structure(floating):
     """The composed right-hand side equals an assembly done here with numpy: the structure's own mass matrix and
     forcing with the platform inputs set to the hydrodynamic and mooring loads computed separately (numbers
-    through PlatformHydrodynamics.load and MooringSystem.load), A∞ added to the platform block, then solved.
+    through PlatformHydrodynamics.load, MooringSystem.load and the lines' drag of MooringSystem.line_loads), A∞
+    and the lines' mass added to the platform block, then solved.
     Without A∞ (or with the loads left at zero) the accelerations differ by far more than the tolerance."""
     import casadi as ca
 
@@ -98,7 +99,11 @@ def test_platform_loads_and_added_mass_drive_the_structure(floating):
     g = model._parts["graph"]
     u_s = np.asarray(ca.Function("u_s", [g.x, g.u, g.p], [g.u_s])(x, u, p)).ravel()
     q, qd = x[:nq], x[nq:2 * nq]
-    load = platform.hydro.load(q[idx], qd[idx]) + platform.mooring.load(q[idx])
+    qs, vs = ca.SX.sym("q", 6), ca.SX.sym("v", 6)
+    _, drag, line_mass, _ = platform.mooring.line_loads(qs, vs)        # the lines' drag and mass (MoorDyn deck)
+    drag, line_mass = (np.asarray(v) for v in ca.Function("lines", [qs, vs], [drag, line_mass])(q[idx], qd[idx]))
+    assert np.abs(drag).max() > 1e3 and np.abs(line_mass).max() > 1e5          # they are there and matter
+    load = platform.hydro.load(q[idx], qd[idx]) + platform.mooring.load(q[idx]) + drag.ravel()
     rows = [eom.inputs.index(n) for n in platform.inputs]
     assert np.allclose(u_s[rows], load, rtol=1e-9, atol=1e-3)        # loads [N, N m] of order 1e5-1e9
     f = eom.functions
@@ -107,7 +112,7 @@ def test_platform_loads_and_added_mass_drive_the_structure(floating):
     F = np.asarray(f.forcing(q, qd, u_s, p_s)).ravel()
     S = np.zeros((6, nq))
     S[range(6), idx] = 1.0
-    expected = np.linalg.solve(M + S.T @ platform.added_mass @ S, F)
+    expected = np.linalg.solve(M + S.T @ (platform.added_mass + line_mass) @ S, F)
     without = np.linalg.solve(M, F)
     scale = np.max(np.abs(expected))
     assert np.max(np.abs(qdd - expected)) < 1e-8 * scale

@@ -153,25 +153,32 @@ def test_floating_structure_needs_the_platform_dofs(floating):
 
 @pytest.mark.slow
 def test_free_decay_against_openfast(floating):
-    """600 s of fl_decay_a (RK4, 0.025 s as OpenFAST) with our radiation fit: decay periods from the time
-    series against OpenFAST's (surge 136.1 vs 136.9 s, heave 20.46 vs 20.62 s, pitch 28.61 vs 28.90 s:
-    -0.6, -0.8, -1.0 %; tolerance 1.5 %) and the surge series (eps 4.7 %, R^2 0.927; tolerance 6 %, 0.9).
-    Not yet the issue's 2 % / 0.98: heave eps 5.3 %, pitch 12.9 % (R^2 0.41) -- MoorDyn's line inertia and
-    drag are missing and the small-angle platform velocities feed the radiation (docs/offshore.md)."""
+    """600 s of fl_decay_a (RK4, 0.025 s as OpenFAST) with our radiation fit and the MoorDyn lines' drag and
+    inertia on their quasi-static shape (the default of mooring_from_moordyn, 10 segments per line) against
+    OpenFAST + MoorDyn: the issue's targets, eps <= 2 % and R^2 >= 0.98 on PtfmSurge, PtfmHeave, PtfmPitch,
+    TTDspFA (observed eps 1.07, 0.58, 0.28, 1.26 %; R^2 0.9962, 0.9975, 0.9997, 0.9916) and decay periods
+    within 1 % (observed +0.91, +0.11, +0.03, +0.02 %; TTDspFA averaged over 4 s first: the tower's own
+    0.51 Hz ringing, which MoorDyn's line dynamics damp 3x more than the quasi-static lines, adds up-crossings).
+    Without the lines' drag and inertia: eps 4.7, 5.3, 12.9, 10.7 % (docs/offshore.md §6)."""
     from mbsym.wind.offshore import fit_radiation
     from mbsym.wind.offshore.floating import FloatingStructure
 
+    assert floating["mooring"].dynamics is not None
     fs = FloatingStructure(floating["model"], floating["hydro"], floating["mooring"],
                            fit_radiation(floating["hydro"].wamit))
     _, states = fs.simulate(600.0, 0.025)
-    eom = floating["eom"]
+    model, eom = floating["model"], floating["eom"]
+    channels = model.output_function()
+    x = states[:2 * eom.n_q, 1::2]                     # OpenFAST's 0.05 s output samples, t = 0.05 ... 600 s
+    y = np.array(channels.function.map(x.shape[1])(x, np.zeros((eom.n_u, 1)), eom.parameter_vector()))
     csv = FLOATING / "fl_decay_a.csv"
-    names = csv.read_text().split("\n", 1)[0].split(",")
+    names = [h.split("_[")[0] for h in csv.read_text().split("\n", 1)[0].split(",")]
     data = np.loadtxt(csv, delimiter=",", skiprows=1)[1:]
-    ours = states[:, 1::2]
     t = data[:, 0]
 
-    def period(x, window, t_max):
+    def period(x, window, t_max, smooth=0.0):
+        if smooth:
+            x = np.convolve(x, np.ones(int(round(smooth / 0.05))) / int(round(smooth / 0.05)), "same")
         if window:
             k = int(window / 0.05)
             x = x - np.convolve(x, np.ones(k) / k, "same")
@@ -183,12 +190,10 @@ def test_free_decay_against_openfast(floating):
         up = np.where((xx[:-1] < 0) & (xx[1:] >= 0))[0]
         return float(np.diff(tt[up] - xx[up] * (tt[up + 1] - tt[up]) / (xx[up + 1] - xx[up])).mean())
 
-    for dof, column, scale, window, t_max in (("Sg", "PtfmSurge_[m]", 1.0, 0, 600), ("Hv", "PtfmHeave_[m]", 1.0, 40, 200),
-                                               ("P", "PtfmPitch_[deg]", 180 / math.pi, 40, 200)):
-        mine = ours[eom.coordinates.index(dof)] * scale
-        ref = data[:, names.index(column)]
-        assert period(mine, window, t_max) == pytest.approx(period(ref, window, t_max), rel=0.015)
-    surge, ref = ours[eom.coordinates.index("Sg")], data[:, names.index("PtfmSurge_[m]")]
-    eps = np.sqrt(np.mean((surge - ref) ** 2)) / np.ptp(ref)
-    r2 = 1 - np.sum((surge - ref) ** 2) / np.sum((ref - ref.mean()) ** 2)
-    assert eps < 0.06 and r2 > 0.9
+    for column, window, t_max, smooth in (("PtfmSurge", 0, 600, 0.0), ("PtfmHeave", 40, 200, 0.0),
+                                          ("PtfmPitch", 40, 200, 0.0), ("TTDspFA", 40, 200, 4.0)):
+        mine, ref = y[channels.names.index(column)], data[:, names.index(column)]
+        eps = np.sqrt(np.mean((mine - ref) ** 2)) / np.ptp(ref)
+        r2 = 1 - np.sum((mine - ref) ** 2) / np.sum((ref - ref.mean()) ** 2)
+        assert eps <= 0.02 and r2 >= 0.98, (column, eps, r2)
+        assert period(mine, window, t_max, smooth) == pytest.approx(period(ref, window, t_max, smooth), rel=0.01), column
