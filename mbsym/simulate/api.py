@@ -247,7 +247,7 @@ def simulate(model: Any, tmax: float, x0: Sequence[float] | Mapping[str, float] 
         Y = np.hstack([Y, extra.y])
         names, units = names + extra.names, units + extra.units
     return SimulationResult(times, X, plant.states, U, plant.inputs, Y, names, stats, units, plant.n_q,
-                            _state_units(model, plant), _known(plant.inputs, plant.input_units))
+                            _state_units(model, plant), _known(plant.inputs, plant.input_units), _owned=True)
 
 
 def _outputs(plant: Plant, X: np.ndarray, U: np.ndarray, p: np.ndarray, compile, extra) -> np.ndarray:

@@ -548,13 +548,15 @@ class _Collector:
         i = np.clip(np.floor(s_abs + 1e-9).astype(int), 0, m - 1)
         s = np.clip(s_abs - i, 0.0, 1.0)[:, None]
         XL = np.where((i == 0)[:, None], x_start_rows(x_start, Xs, j), Xs[:, np.maximum(i - 1, 0), j].T)
-        XR = Xs[:, i, j].T
-        FL = K1[:, i, j].T
-        FR = np.where((i == m - 1)[:, None], k_end[:, j].T, K1[:, np.minimum(i + 1, m - 1), j].T)
-        hh = h[:, None]
-        s2, s3 = s * s, s * s * s
-        self.x[self.done:hi] = ((2 * s3 - 3 * s2 + 1) * XL + (s3 - 2 * s2 + s) * hh * FL
-                                + (3 * s2 - 2 * s3) * XR + (s3 - s2) * hh * FR)
+        if np.any(s):                   # Hermite within the sub-steps; at their starts (s = 0) it is XL itself
+            XR = Xs[:, i, j].T
+            FL = K1[:, i, j].T
+            FR = np.where((i == m - 1)[:, None], k_end[:, j].T, K1[:, np.minimum(i + 1, m - 1), j].T)
+            hh = h[:, None]
+            s2, s3 = s * s, s * s * s
+            XL = ((2 * s3 - 3 * s2 + 1) * XL + (s3 - 2 * s2 + s) * hh * FL
+                  + (3 * s2 - 2 * s3) * XR + (s3 - s2) * hh * FR)
+        self.x[self.done:hi] = XL
         U = lp.signal(t)
         U[:, lp.bc.act] = ua[:, j].T
         self.u[self.done:hi] = U

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 
 import numpy as np
 
@@ -74,10 +74,14 @@ class SimulationResult:
     structural: int | None = -1
     state_units: dict = field(default_factory=dict)
     input_units: dict = field(default_factory=dict)
+    #: Internal: the arrays are fresh float arrays of the library's own (no private copy needed).
+    _owned: InitVar[bool] = False
 
-    def __post_init__(self) -> None:
+    def __post_init__(self, _owned: bool) -> None:
         for name in ("t", "x", "u", "y"):
-            arr = np.array(getattr(self, name), dtype=float)   # a private copy, then read-only
+            value = getattr(self, name)
+            adopt = _owned and isinstance(value, np.ndarray) and value.dtype == float and value.flags.owndata
+            arr = value if adopt else np.array(value, dtype=float)   # a private copy, then read-only
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
         units = tuple(self.output_units) or ("",) * len(self.output_names)

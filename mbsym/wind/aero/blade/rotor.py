@@ -431,9 +431,9 @@ class BladeElementRotor:
             a, ap = self._quasi_steady(*syms, x)
             f = ca.Function("blade_qs_induction", [*syms, x], [ca.horzcat(-a * syms[0], ap * syms[1])])
             self._cache["qs"] = f  # type: ignore[attr-defined]
-        quasi = replace_mode(self, 0)
-        a0, ap0 = (np.asarray(v).ravel() for v in quasi._numeric_qs(*args))
-        x = dbemt.equilibrium(np.stack([-a0 * args[0], ap0 * args[1]], axis=1))
+        # start from the states whose inflow angle is the quasi-steady start atan2(Vx (1 - a0), Vy): the first
+        # iterate is then the quasi-steady induction (no second graph to build for it)
+        x = dbemt.equilibrium(np.stack([-QS_GUESS_INDUCTION * args[0], np.zeros(n)], axis=1))
         for _ in range(max_iter):
             new = dbemt.equilibrium(np.asarray(f(*args, x)))
             change = np.max(np.abs(new - x))
@@ -442,14 +442,6 @@ class BladeElementRotor:
                 return x
         raise ParameterError(f"steady_states did not converge in {max_iter} iterations (last change {change:.3g} "
                              "m/s); check that the inputs describe an operating rotor (vx, vy > 0).")
-
-    def _numeric_qs(self, *args: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Quasi-steady ``(a, a')`` for numeric inputs (quasi-steady rotor only)."""
-        n = self.n_blades * self.n_nodes
-        syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta")]
-        a, ap = self._quasi_steady(*syms, None)
-        out = ca.Function("qs", syms, [a, ap])(*args)
-        return np.asarray(out[0]).ravel(), np.asarray(out[1]).ravel()
 
     def _disk_weights(self) -> np.ndarray:
         w = dbemt.integrate_weights(self.local_radius, self.n_blades)
@@ -506,11 +498,3 @@ def _replace(bem: BEMRotor, **changes: Any) -> BEMRotor:
     import dataclasses
 
     return dataclasses.replace(bem, **changes)
-
-
-def replace_mode(rotor: BladeElementRotor, mode: int) -> BladeElementRotor:
-    """``rotor`` with another DBEMT mode (0: quasi-steady), other settings equal."""
-    if mode == rotor.dbemt_mode:
-        return rotor
-    return BladeElementRotor(rotor.bem, dbemt_mode=mode, tau1_const=rotor.tau1_const or 1.0,
-                             polar_method=rotor.polar_method, n_newton=None, tip_radius=rotor.tip_radius)
