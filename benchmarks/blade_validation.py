@@ -469,23 +469,25 @@ DIAGNOSIS = """\
   R² 1.000, lag 0: InflowWind's full-field convention (Taylor advection from half a grid width upwind,
   `τ = t + (W/2 − x)/URef`) is reproduced. Aerodynamic and structural channels align within one output
   sample (cross-correlation lags −0.05 … +0.05 s, sub-sample fit); the blade-element rung's disk-averaged
-  wind `RtVAvgxh` has ε 0.8 % (rigid) and 1.4 % (flexible blades), mean within 0.01 %.
-* **Rigid blades (ff14_rigid): every target met** (ε ≤ 1.3 %, R² ≥ 0.984, DELs within 3.9 %, means within
-  0.6 %). **Flexible blades (ff14_flex): every target met except R² of TTDspFA (0.895 for ≥ 0.95; its ε is
-  1.9 %)**; TwrBsMyt (R² 0.864) and RtAeroFxh (0.902) follow. The overlay (figure below) shows where: the
-  series are indistinguishable while the pitch is active and split for 10–20 s after the pitch comes back
-  to its floor (ROSCO's peak-shaving minimum pitch, 3.1–4°, where the blade pitch stops acting on the
-  thrust), e.g. 372–390 s and 470–490 s: OpenFAST and mbsym bounce off the floor with a different number of
-  pitch pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA variance in the
-  reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the record); over
-  60–360 s alone R² of TTDspFA is 0.97. The DELs and means are unaffected (TwrBsMyt DEL −1.2 %, mean
-  −0.0 %). Of the aerodynamic channels the torque differs most, and much more with flexible blades: RtAeroMxh
-  ε 5.2 % / R² 0.69 (flexible) against 1.9 % / 0.95 (rigid); the speed loop, hence the pitch pulses at the
-  floor, is driven by it. The reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the
-  difference is model, not chaos; but this R² moves by ~0.01 with numerical details of ours (3 → 2 Newton
-  steps: 0.876 → 0.888 before the change below).
-* **Which DOF: the flap modes (bisection against OpenFAST itself,** OpenFAST and mbsym both rerun with a DOF
-  set off, everything else equal). EdgeDOF off: both codes change by R² ≥ 0.995 against their own
+  wind `RtVAvgxh` has ε 1.1 % (rigid) and 1.2 % (flexible blades), mean within 0.01 %.
+* **Flexible blades (ff14_flex): every target met except R² of TTDspFA, now 0.946 for ≥ 0.95** (ε 1.41 %;
+  0.907 before the two fixes below); RotSpeed 1.36 % / 0.980, BldPitch1 0.72 % / 0.997, GenPwr 0.92 % / 0.990,
+  TTDspSS 1.81 % / 0.979, DELs −1.0 / +0.8 / −0.5 %, means within 0.2 %. **Rigid blades (ff14_rigid):** ε ≤
+  1.9 %, DELs within 4.3 %, means within 0.6 %, but R² of TTDspFA 0.981 and TTDspSS 0.983 (0.986 and 0.994
+  before the fixes below, which make the rigid rotor's aerodynamics *closer* to OpenFAST's when both are fed
+  OpenFAST's own motion: see "open loop" below; **open**). The overlay (figure below) shows where the
+  flexible case still splits: the series are indistinguishable while the pitch is active and split for 10–20 s
+  after the pitch comes back to its floor (ROSCO's peak-shaving minimum pitch, 3.1–4°, where the blade pitch
+  stops acting on the thrust), e.g. 372–390 s and 470–490 s: OpenFAST and mbsym bounce off the floor with a
+  different number of pitch pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA
+  variance in the reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the
+  record). Of the aerodynamic channels the torque differs most: RtAeroMxh ε 4.4 % / R² 0.78 (5.1 % / 0.71
+  before the fixes below; rigid 3.8 % / 0.83); the speed loop, hence the pitch pulses at the floor, is driven
+  by it. The reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the difference is
+  model, not chaos; but this R² moves by ~0.01 with numerical details of ours (aerodynamics every 6.25 ms held:
+  0.944, every 25 ms held: 0.938, default 0.946).
+* **Which DOF: the flap modes (bisection against OpenFAST itself,** before the fixes below: OpenFAST and mbsym
+  both rerun with a DOF set off, everything else equal). EdgeDOF off: both codes change by R² ≥ 0.995 against their own
   ff14_flex run and the gap stays (R² TTDspFA 0.866, RtAeroMxh ε 5.7 %). DrTrDOF off (60–360 s): R² ≥ 0.998
   / 1.000 against their own runs, gap unchanged (0.974; RtAeroMxh 4.1 % / 0.86). FlapDOF1/2 off (edge and
   drivetrain on, 60–360 s): the gap closes, R² TTDspFA 0.995 and RtAeroMxh ε 0.9 % / R² 0.994 (0.973 and
@@ -500,11 +502,46 @@ DIAGNOSIS = """\
   (`blade_compose.elastic_twist`). ff14_flex before → after: ε / R² TTDspFA 2.15 / 0.876 → 1.91 / 0.895,
   RotSpeed 1.99 / 0.956 → 1.79 / 0.963, GenPwr 1.54 / 0.978 → 1.35 / 0.983, RtAeroMxh 5.75 / 0.632 →
   5.16 / 0.693, RootMyc1 1P amplitude +2.7 % → +0.8 %, DEL RootMyc1 +3.2 % → +1.3 %, mean pitch
-  +0.06° → +0.02°, TwrBsMxt mean −1.0 % → −0.7 % (both with the aerodynamics every 25 ms, held). **Still open:** the outer nodes' 2–5 Hz inflow (Vrel) with flap DOFs.
-* **Steady shear and 10° yaw: means within 0.9 %** (TwrBsMxt −0.9 % with shear, the largest), RootMyc1
-  1P amplitude within 1.3 % (−1.3 % / −0.9 %; +0.3 % / +0.4 % before the elastic twist above), phase-aligned
-  (R² of RootMyc1 ≥ 0.999). The TwrBsMxt DEL (+5.8 % / +5.5 %) is the 3P side-side cycle of a steady run, a
-  small range (a few tens of kN m) on a large mean.
+  +0.06° → +0.02°, TwrBsMxt mean −1.0 % → −0.7 % (both with the aerodynamics every 25 ms, held).
+* **Node by node, first difference first (open loop: OpenFAST's own structural states `Q_…`, `QD_…` and
+  pitch, from a 200 s rerun of ff14_flex with AeroDyn node outputs at 9 nodes of 18–60 m span, fed to mbsym's
+  node kinematics; tests/data/openfast_node_inflow).** The undisturbed wind and the structural velocity in
+  AeroDyn's axes (`B1N…VUnd`, `STV`) were the first quantities to differ: OpenFAST's nodes have a radial
+  velocity of −0.71 m/s at 18 m and −1.05 ± 0.43 m/s at 57 m of span (ours 0), correlated 0.90 with the edge
+  deflection, and their `Vx` (VUndx − STVx) was below ours by 0.087 m/s on average at 57 m (0.7 % of it), rms
+  difference 0.086–0.115 m/s and up to 0.46 m/s (`Vy` up to 0.74 m/s), about 0.03–0.06 m/s in every band
+  from 0 to 20 Hz (2.2–5 Hz: 0.032–0.057 m/s against OpenFAST's 0.19–0.40 m/s there). Two causes, both
+  AeroDyn's geometry: **(1) AeroDyn's nodes are the aerodynamic centres**, `BlSwpAC` (−0.1 … −0.6 m) and
+  `BlCrvAC` off the pitch axis in the root's axes, carried by the bent section (AeroDyn.f90 `Init_u`,
+  OpenFAST's mesh mapping): the wind is sampled there and the node moves with `ω × offset` (the radial
+  `−Ω BlSwpAC`); **(2) AeroDyn's annulus axes** (`Calculate_MeshOrientation_NoSweepPitchTwist`) are the
+  unpitched root's in-plane axis and the normal tilted by the section's out-of-plane Euler angle, *not* turned
+  by in-plane bending or by the offset, so the node's radial velocity leaks into `Vx` through the cone and flap
+  slope (`STVx` +0.086 m/s on average at 57 m). mbsym now does both (`blade_compose.aerodynamic_centres`,
+  `annulus_axes`): `Vx`, `Vy` within 0.011 m/s rms (≤ 0.043 m/s) of OpenFAST's at every node and in every band
+  (2.2–5 Hz: ≤ 0.006 m/s). Downstream, with the DBEMT states integrated along OpenFAST's motion: node α within
+  0.005° in 2.2–5 Hz (OpenFAST's 0.32–0.39° there; R² ≥ 0.997), Vrel R² ≥ 0.9995, Fx/Fy R² ≥ 0.996, and the
+  rotor RtAeroMxh ε 1.0 % / R² 0.993 (1.3 % / 0.989 with the annulus axes but the nodes on the pitch axis),
+  RtAeroFxh 0.7 % / 0.997. On ff14_rigid (its own OpenFAST states, 60–660 s) RtAeroMxh ε 1.05 → 0.72 %, R²
+  0.989 → 0.995, mean −0.69 → −0.14 %; RtAeroFxh mean −0.44 → −0.05 %. What remains first is the axial
+  induction at low frequency (AxInd R² 0.96–0.99, its error below 0.5 Hz, 3–6 % of its fluctuation). In the
+  closed loop (1)+(2) alone: ff14_flex TTDspFA R² 0.907 → 0.908, TTDspSS 0.974 → 0.982, RtAeroMxh ε 5.1 →
+  4.4 %, R² 0.71 → 0.78, RootMyc1 R² 0.92 → 0.95, means of BldPitch1 +0.27 → −0.08 % and TwrBsMxt −0.56 →
+  −0.06 %.
+* **Found and fixed: ElastoDyn's quasi-static pitch.** Without `PitchDOF` ElastoDyn turns the blades to the
+  commanded angle in `SetCoordSy` only: the pitch rate and acceleration are in none of its velocities and
+  accelerations (`PitchIner` = 0). mbsym's structure turned the blades as a prescribed coordinate, so a bent
+  blade's nodes got `β̇ ×` deflection velocities and the flap/edge DOFs inertial loads from β̈ (pitch pulses of
+  the actuator at the floor). The operating turbine now passes zero pitch rate and acceleration to the
+  structure (`compose.Graph.structural_inputs`; the actuator keeps β̇). Open loop (OpenFAST's states, as above)
+  OpenFAST's nodes have no `β̇ ×` deflection velocity: with the rate in our node kinematics the `Vy` error
+  grows from ≤ 0.005 to 0.025–0.039 m/s rms at 51–60 m (up to 0.41 m/s in pitch pulses), `Vx` from ≤ 0.011 to
+  0.014 m/s rms (up to 0.11 m/s); in the closed loop, before (1)+(2): TTDspFA R² 0.907 → 0.932 (rate only 0.916,
+  acceleration only 0.924), RotSpeed 0.965 → 0.973, TwrBsMyt DEL −1.7 → +0.1 %. Both fixes: TTDspFA 0.946.
+* **Steady shear and 10° yaw: means within 0.3 %** (TwrBsMxt −0.2 %, the largest; −0.9 % before the fixes
+  above), RootMyc1 1P amplitude −2.4 % / −1.8 % (−1.3 % / −0.9 % before them), phase-aligned (R² of RootMyc1
+  ≥ 0.999). The TwrBsMxt DEL (+3.3 % / +3.4 %) is the 3P side-side cycle of a steady run, a small range (a few
+  tens of kN m) on a large mean.
 * **Rotor-effective rung:** a disk average is not the wind a sheared, turbulent rotor converts: over ff14 the
   cube-mean of the disk `⟨u³⟩^(1/3)` is 1.8 % above the average (0.6 % from the shear alone). Above rated the
   surfaces need less pitch (mean −0.23° flexible, −0.47° rigid) and carry more thrust (RtAeroFxh mean +4 to
@@ -522,8 +559,8 @@ DIAGNOSIS = """\
   rotor rotation (`aero_dt`, here every 8 samples, 50 ms) while the controller and the structure keep the
   6.25 ms sample; 2 Newton steps from the DBEMT states. Tags: "aero_dt=0.00625, aero_order=0" (the
   aerodynamics every sample, held over it) and "aero_dt=0.025, aero_order=0" (every 25 ms, held: the previous
-  default). The default has the every-sample run's accuracy (ε within 0.1 point, R² of TTDspFA 0.907 against
-  0.904, DELs within 1.5 points) at about half its CPU. Measured before the elastic twist below, on the same
+  default). The default has the every-sample run's accuracy (ε within 0.1 point, R² of TTDspFA 0.946 against
+  0.944, DELs within 1.2 points) at about half its CPU. Measured before the elastic twist below, on the same
   case: linear extrapolation at 50 ms raised the TwrBsMxt and RootMyc1 DEL errors by 2.3 and 0.8 points over
   25 ms, quadratic at 50 ms stayed within 1.7 points of the every-sample run, and quadratic at 25 ms gave
   `"rk4"`'s figures (the aerodynamics at every stage: DELs −2.0 / +0.8 / +2.9 % then). Larger steps for the

@@ -7,16 +7,20 @@ and tower-base rotations for the reactions), the blade-element rotor
 
 1. every AeroDyn node of every blade moves with the structure (:mod:`mbsym.wind.structure.blade_points`:
    ElastoDyn's shapes interpolated to the node, as OpenFAST's mesh mapping does), so its position, velocity
-   and deflected span direction are expressions of ``(q, q̇)``;
-2. the wind at the node's position minus the node's velocity is the relative flow; in AeroDyn's
-   ``BEM_Mod = 1`` frame without sweep, pitch and twist (normal ``x_n`` = the shaft axis tilted by cone and
-   flap slope, ``e_rot`` = the direction of rotation) it gives ``Vx`` and ``Vy``, with the node's distance
-   from the shaft axis ``r_local`` and ``θ`` = aerodynamic twist + pitch + the second-order twist AeroDyn
-   reads from ElastoDyn's bent section (:func:`elastic_twist`);
-3. the rotor's BEM with dynamic wake gives forces per unit length along ``x_n`` and ``e_rot`` and the
+   and deflected span direction are expressions of ``(q, q̇)``; AeroDyn's node is the aerodynamic centre, off
+   the pitch axis by ``BlCrvAC``, ``BlSwpAC`` (:func:`aerodynamic_centres`);
+2. the wind at the aerodynamic centre's position minus its velocity is the relative flow; in AeroDyn's
+   ``BEM_Mod = 1`` axes without sweep, pitch and twist (:func:`annulus_axes`: the unpitched root's in-plane
+   axis ``y``, the normal ``x`` tilted by the section's out-of-plane angle; not turned by in-plane bending) it
+   gives ``Vx`` and ``Vy``, with the node's distance from the shaft axis ``r_local`` and ``θ`` = aerodynamic
+   twist + pitch + the second-order twist AeroDyn reads from ElastoDyn's bent section (:func:`elastic_twist`).
+   On OpenFAST's own structural states this reproduces AeroDyn's ``Vx``, ``Vy`` within 0.043 m/s
+   (tests/wind/blade/test_blade_node_inflow.py);
+3. the rotor's BEM with dynamic wake gives forces per unit length along ``x`` and ``−y`` and the
    pitching moment about the span; integrated with the rotor's node weights they become each blade's
-   root force, root moment and elastic generalized forces (the structure's blade-load inputs): the
-   work of the aerodynamic loads on the structure is exact, whatever DOFs are on.
+   root force, root moment (about the root, with the aerodynamic centres' arms) and elastic generalized
+   forces (the structure's blade-load inputs, with the pitch axis' shapes: the aerodynamic centres differ
+   from them only along the span, where these loads have no component).
 
 The aerodynamic part is one SX Function (``blade_aero``) called by the composed graph, so the
 structure may be SX or MX (MX beyond :data:`~mbsym.equations.SYMBOLIC_SOLVE_MAX_DOF` DOFs).
@@ -33,7 +37,8 @@ from ..structure.blade_points import blade_point_kinematics, blade_point_loads, 
 from ..structure.turbine import BLADE_LOAD_INPUTS
 from .compose import WIRED_INPUTS, Graph, actuator_states
 
-__all__ = ["BladeGraph", "blade_load_inputs", "HUB_POINT_OUTPUTS", "INFLOW_OUTPUTS"]
+__all__ = ["BladeGraph", "blade_load_inputs", "aerodynamic_centres", "annulus_axes", "elastic_twist",
+           "HUB_POINT_OUTPUTS", "INFLOW_OUTPUTS"]
 
 #: Aerodynamic quantities of the ``blade_aero`` Function besides the structural loads.
 HUB_POINT_OUTPUTS = ("rotor_force", "rotor_moment", "disk_velocity", "hub_wind")
@@ -155,20 +160,20 @@ class _AeroBuilder:
         wind = ca.SX.sym("wind", len(model.wind.inputs))
         rho = ca.SX.sym("rho")
         zeros = ca.SX.zeros(eom.n_q)
-        kin = self._kinematics(q, qd, u_s, p_s, zeros)
+        pitch = ca.vertcat(*[u_s[eom.inputs.index(n)] for n in model.pitch_names])
+        kin = self._kinematics(q, qd, u_s, p_s, zeros, pitch)
         U = {n: wind[i] for i, n in enumerate(model.wind.inputs)}
         hub_point = ca.DM([0.0, 0.0, float(model.turbine.hub_height)])
-        W = model.wind.velocity(ca.horzcat(kin["r"], hub_point), U)
+        W = model.wind.velocity(ca.horzcat(kin["r_ac"], hub_point), U)
         n = kin["r"].size2()
-        rel = W[:, :n] - kin["v"]
+        rel = W[:, :n] - kin["v_ac"]
         frames = self._frames(kin, rel)
-        pitch = ca.vertcat(*[u_s[eom.inputs.index(n)] for n in model.pitch_names])
         per_node = ca.repmat(pitch.T, rotor.n_nodes, 1)[:] if pitch.numel() > 1 else pitch      # blade by blade
         theta = (ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + per_node.T
                  + elastic_twist(kin["slope"][0, :], kin["slope"][1, :], per_node.T))
         aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,
                               states, rho=rho, **frames["rotor"])
-        force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) + frames["e_rot"] * ca.repmat(aero["ft"].T, 3, 1)
+        force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) - frames["y_n"] * ca.repmat(aero["ft"].T, 3, 1)
         moment = kin["tangent"] * ca.repmat(aero["m"].T, 3, 1)
         loads, rotor_force, rotor_moment = self._loads(kin, force, moment)
         outs = {"loads": ca.vertcat(*loads), "states_dot": aero["states_dot"], "rotor_force": rotor_force,
@@ -186,11 +191,16 @@ class _AeroBuilder:
                            ["q", "qd", "u_s", "p_s", "states", "wind", "rho"], list(outs),
                            {"never_inline": True})      # cse: 10 s of build for 4 % fewer instructions
 
-    def _kinematics(self, q, qd, u_s, p_s, qdd) -> dict[str, Any]:
-        """Every node of every blade (columns blade by blade), and the hub and shaft frames."""
+    def _kinematics(self, q, qd, u_s, p_s, qdd, pitch) -> dict[str, Any]:
+        """Every node of every blade (columns blade by blade), and the hub and shaft frames.
+
+        Besides the pitch-axis points (``r``, ``v``, ``tangent``, ``slope``: the structure's shapes), the
+        aerodynamic centres where AeroDyn's nodes sit (``r_ac``, ``v_ac``: :func:`aerodynamic_centres`) and
+        AeroDyn's local axes (``x_ann``, ``y_ann``: :func:`annulus_axes`)."""
         model, rotor, eom = self.model, self.rotor, self.eom
         cache = model._parts.setdefault("blade_shapes", {})
-        rows = {"r": [], "v": [], "tangent": [], "slope": []}
+        rows = {"r": [], "v": [], "tangent": [], "slope": [], "r_ac": [], "v_ac": [], "x_ann": [], "y_ann": []}
+        offsets = np.vstack([rotor.curve_ac, rotor.sweep_ac])
         self.blades = []
         for k in range(rotor.n_blades):
             shapes = cache.get(k)
@@ -199,8 +209,12 @@ class _AeroBuilder:
             f = eom.point_kinematics(f"blade{k + 1}")
             frame = dict(zip(f.name_out(), f(q, qd, qdd, u_s, p_s)))
             idx = [eom.coordinates.index(c) for c in shapes.coordinates]
-            kin = blade_point_kinematics(shapes, frame, q[idx] if idx else ca.SX(0, 1), qd[idx] if idx else ca.SX(0, 1))
+            qe, qde = (q[idx], qd[idx]) if idx else (ca.SX(0, 1), ca.SX(0, 1))
+            kin = blade_point_kinematics(shapes, frame, qe, qde)
             self.blades.append((shapes, frame, kin))
+            kin = {**kin, **aerodynamic_centres(shapes, frame, kin, qde, offsets)}
+            beta = pitch[k] if pitch.numel() > 1 else pitch[0]
+            kin["x_ann"], kin["y_ann"] = annulus_axes(frame["R"], kin["tangent"], beta)
             for key in rows:
                 rows[key].append(kin[key])
         out = {key: ca.horzcat(*v) for key, v in rows.items()}
@@ -210,27 +224,25 @@ class _AeroBuilder:
         return out
 
     def _frames(self, kin: dict[str, Any], rel: Any) -> dict[str, Any]:
-        """AeroDyn's local frames and inflow of every node (BEM_Mod = 1: without sweep, pitch and twist)."""
+        """AeroDyn's local frames and inflow of every node (BEM_Mod = 1, ``Calculate_MeshOrientation_
+        NoSweepPitchTwist``): ``Vx``, ``Vy`` along the annulus axes, the local radius of the aerodynamic
+        centre from the shaft axis, the node's azimuth."""
         c1 = kin["shaft"]["R"][:, 0]
         apex = kin["hub"]["r"]
         n = kin["r"].size2()
-        d = kin["r"] - ca.repmat(apex, 1, n)
+        d = kin["r_ac"] - ca.repmat(apex, 1, n)
         d_perp = d - ca.repmat(c1, 1, n) * ca.repmat(_dot(ca.repmat(c1, 1, n), d), 3, 1)
         r_local = ca.sqrt(ca.sum1(d_perp**2))
         e_r = d_perp / ca.repmat(r_local, 3, 1)
-        e_rot = _cross(c1, e_r)
-        t = kin["tangent"]
-        a, b = _dot(ca.repmat(c1, 1, n), t), _dot(e_r, t)
-        norm = ca.sqrt(a**2 + b**2)
-        x_n = (ca.repmat(c1, 1, n) * ca.repmat(b / norm, 3, 1) - e_r * ca.repmat(a / norm, 3, 1))
-        vx, vy = _dot(rel, x_n), -_dot(rel, e_rot)
+        x_n, y_n = kin["x_ann"], kin["y_ann"]
+        vx, vy = _dot(rel, x_n), _dot(rel, y_n)
         up = ca.DM([0.0, 0.0, 1.0]) - c1 * c1[2]
         up = up / ca.norm_2(up)
         side = ca.cross(c1, up)
         azimuth = ca.atan2(_dot(e_r, ca.repmat(side, 1, n)), _dot(e_r, ca.repmat(up, 1, n)))
         disk = ca.sum2(rel) / n
         rotor_inputs = self._rotor_inputs(c1, disk, up, side)
-        return {"vx": vx, "vy": vy, "r_local": r_local, "x_n": x_n, "e_rot": e_rot, "azimuth": azimuth,
+        return {"vx": vx, "vy": vy, "r_local": r_local, "x_n": x_n, "y_n": y_n, "azimuth": azimuth,
                 "disk_velocity": disk, "rotor": rotor_inputs}
 
     def _rotor_inputs(self, c1: Any, disk: Any, up: Any, side: Any) -> dict[str, Any]:
@@ -259,6 +271,82 @@ class _AeroBuilder:
         total_force = ca.sum2(force * w)
         total_moment = ca.sum2(_pair_cross(d, force * w) + moment * w)
         return loads, total_force, total_moment
+
+
+def aerodynamic_centres(shapes, frame: dict[str, Any], kin: dict[str, Any], qde: Any, offsets) -> dict[str, Any]:
+    """Positions and velocities of AeroDyn's nodes: the aerodynamic centres, off the pitch axis.
+
+    AeroDyn places node ``j`` at ``(BlCrvAC, BlSwpAC, BlSpn)`` in the blade root's axes (AeroDyn.f90
+    ``Init_u``) and OpenFAST's mesh mapping carries it rigidly with ElastoDyn's section: the offset ``o``
+    turns with the blade and with the section's small bending rotation ``(−s_y, s_x, 0)`` (body axes,
+    ``s`` the slopes). So ``r_ac = r + R o'`` with ``o' = o + (−s_y, s_x, 0) × o`` and ``v_ac = v + ω × R o'
+    + R ((−ṡ_y, ṡ_x, 0) × o)``. The in-plane offset (``BlSwpAC``, −0.1 … −0.6 m on the NREL 5 MW) gives the
+    node a radial velocity ``−Ω BlSwpAC`` (OpenFAST's ``B1N…STVz``, −0.7 m/s at 18 m of span) that the annulus
+    normal, tilted by cone and flap slope, turns partly into ``Vx`` (:func:`annulus_axes`).
+
+    Parameters
+    ----------
+    shapes : BladePointShapes
+    frame : dict
+        The blade body frame (``R`` body -> ground, ``w`` angular velocity [rad/s]).
+    kin : dict
+        :func:`~mbsym.wind.structure.blade_points.blade_point_kinematics` of the pitch-axis points.
+    qde : SX (n_e,)
+        The blade's elastic speeds, shape order.
+    offsets : array_like (2, N)
+        ``BlCrvAC``, ``BlSwpAC`` [m] along the body axes ``x``, ``y``.
+
+    Returns
+    -------
+    dict
+        ``r_ac``, ``v_ac`` (3, N), ground axes [m], [m/s].
+    """
+    n = kin["r"].size2()
+    o = ca.vertcat(ca.DM(np.asarray(offsets, dtype=float)), ca.DM.zeros(1, n))
+    sx, sy = kin["slope"][0, :], kin["slope"][1, :]
+    rate = [ca.DM.zeros(1, n), ca.DM.zeros(1, n)]
+    for i in range(len(shapes.coordinates)):
+        for a in range(2):
+            rate[a] = rate[a] + ca.DM(shapes.slope[i][:, a].reshape(1, -1)) * qde[i]
+    bend = ca.vertcat(-sy, sx, ca.SX.zeros(1, n))
+    bend_d = ca.vertcat(-rate[1], rate[0], ca.SX.zeros(1, n))
+    arm = frame["R"] @ (o + _pair_cross(bend, o))
+    w = ca.repmat(frame["w"], 1, n)
+    return {"r_ac": kin["r"] + arm, "v_ac": kin["v"] + _pair_cross(w, arm) + frame["R"] @ _pair_cross(bend_d, o)}
+
+
+def annulus_axes(R: Any, tangent: Any, pitch: Any) -> tuple[Any, Any]:
+    """AeroDyn's local normal and tangential axes of the nodes of one blade (``BEM_Mod = 1``).
+
+    AeroDyn (AeroDyn.f90 ``Calculate_MeshOrientation_NoSweepPitchTwist``) starts from the blade root's
+    axes without pitch ``i1, i2, i3`` (``i1`` downwind of the coned root, ``i3`` along it) and turns them
+    about ``i2`` by the y Euler angle θ₂ of the section (NWTC ``EulerExtract``: ``sin θ₂`` = the deflected
+    span direction's component along ``i1``); the live sweep of in-plane bending and the twist are left out.
+    So the normal is ``x = cos θ₂ i1 − sin θ₂ i3`` and the in-plane axis is the root's ``y = i2``, whatever
+    the node's in-plane deflection (``Vy`` against the rotation, ``Vx`` downwind).
+
+    Parameters
+    ----------
+    R : SX (3, 3)
+        The pitched blade frame, body -> ground (columns ``j1, j2, j3``; ``j1 = cos β i1 − sin β i2``,
+        ``j2 = sin β i1 + cos β i2``).
+    tangent : SX (3, N)
+        Unit deflected span directions, ground axes.
+    pitch : SX
+        Blade pitch β [rad].
+
+    Returns
+    -------
+    x, y : SX (3, N)
+        The normal and in-plane axes, ground axes.
+    """
+    n = tangent.size2()
+    c, s = ca.cos(pitch), ca.sin(pitch)
+    i1, i2, i3 = c * R[:, 0] + s * R[:, 1], -s * R[:, 0] + c * R[:, 1], R[:, 2]
+    sin_y = ca.mtimes(i1.T, tangent)
+    cos_y = ca.sqrt(1.0 - sin_y**2)
+    x = ca.repmat(i1, 1, n) * ca.repmat(cos_y, 3, 1) - ca.repmat(i3, 1, n) * ca.repmat(sin_y, 3, 1)
+    return x, ca.repmat(i2, 1, n)
 
 
 def elastic_twist(slope_x: Any, slope_y: Any, pitch: Any) -> Any:

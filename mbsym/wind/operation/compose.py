@@ -4,13 +4,20 @@ The structure's equations ``M(q, u_s, p) q̈ = F(q, q̇, u_s, p)`` get their inp
 the new states and the rotor loads:
 
 ==============  ================================================================
-``BlPitch``     pitch actuator state β (``BlPitch_d`` = β̇, ``BlPitch_dd`` = its rhs)
+``BlPitch``     pitch actuator state β; ``BlPitch_d``, ``BlPitch_dd`` = 0 (see below)
 ``GenTq``       generator torque actuator state
 ``RotThrust``   rotor thrust along the shaft (aero, or its lag state)
 ``RotTorq``     rotor torque about the shaft (aero, or its lag state)
 ``GeAz``        (GenDOF off) the azimuth state, turning at the parameter ``rotor_speed``
 ``PtfmFx…Mz``   (with ``model.platform``) the water's and the mooring's loads on the platform
 ==============  ================================================================
+
+The blades turn to the actuator's angle **without the pitch rate and acceleration in the structure's
+kinematics**, as ElastoDyn does without ``PitchDOF`` (ElastoDyn.f90: the blade pitch enters ``SetCoordSy``
+only; the pitch DOF's rate ``QDT(DOF_BP)`` stays out of every velocity and acceleration, and ``PitchIner`` is 0):
+a pitching blade gets no ``β̇ × r`` velocity at its deflected nodes and no inertial loads from ``β̈``. With
+flexible blades this is what OpenFAST's ``ff14_flex`` reference needs (benchmarks/README.md, "blade-validation":
+R² of TTDspFA +0.02 to +0.04); the pitch actuator's own states keep β̇.
 
 A floating turbine (``model.platform``, a :class:`~mbsym.wind.offshore.operating.FloatingPlatform`)
 also adds A∞ (and its mooring lines' mass, when they have drag and inertia) to the platform block of
@@ -194,7 +201,7 @@ class Graph:
         values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0, "RotMomZ": 0.0,
                   **self.platform_loads, **loads}
         for n in self.model.pitch_names:
-            values.update({n: X[n], f"{n}_d": X[f"{n}_d"], f"{n}_dd": self.beta_dd[n]})
+            values.update({n: X[n], f"{n}_d": 0.0, f"{n}_dd": 0.0})         # ElastoDyn: quasi-static pitch
         if not self.model.spins_freely:
             values.update(GeAz=X["GeAz"], GeAz_d=P["rotor_speed"], GeAz_dd=0.0)
         rows = [values[n] if n in values else U[n] for n in self.eom.inputs]
