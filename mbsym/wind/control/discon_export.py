@@ -56,7 +56,7 @@ from .baseline import BaselineController
 from .settings import BaselineSettings
 from .swap import MEASUREMENT_RECORDS
 
-__all__ = ["export_discon", "EXPORT_FLAGS", "LIBRARY_SUFFIX"]
+__all__ = ["export_discon", "prepare_export", "EXPORT_FLAGS", "LIBRARY_SUFFIX"]
 
 #: Compiler flags: optimized, position independent, only ``DISCON`` visible.
 EXPORT_FLAGS: tuple[str, ...] = ("-O2", "-fPIC", "-fvisibility=hidden")
@@ -106,19 +106,7 @@ def export_discon(controller, out_dir, *, name: str = "baseline_discon", sample_
     ('/.../build/baseline_discon.so', '/.../build/baseline_discon.IN')
     """
     ctrl = _controller(controller, sample_time)
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "_-." for c in name):
-        raise ExportError(f"name must be a file name stem of letters, digits, '_', '-', '.'; got {name!r}.")
-    from ...codegen import compiler_command
-
-    cc = compiler_command(compiler)
-    if cc is None:
-        raise ControllerError("export_discon needs a C compiler: none found (tried $MBSYM_CC, $CC, gcc, cc). "
-                              "Install gcc or set CC.")
-    out = Path(out_dir)
-    try:
-        (out / "src").mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ExportError(f"cannot create the output directory {out}: {exc}.") from exc
+    cc, out = prepare_export(name, compiler, out_dir, "export_discon")
     fingerprint = _fingerprint(ctrl)
     law, wrapper = _write_sources(ctrl, out / "src", name, fingerprint)
     library = out / f"{name}{LIBRARY_SUFFIX}"
@@ -127,6 +115,33 @@ def export_discon(controller, out_dir, *, name: str = "baseline_discon", sample_
     infile.write_text(_input_text(ctrl, fingerprint))
     return {"library": str(library.resolve()), "input": str(infile.resolve()), "controller": "baseline",
             "sample_time_s": float(ctrl.dt)}
+
+
+def prepare_export(name, compiler, out_dir, what: str) -> tuple[list[str], Path]:
+    """Checks shared by the DISCON exports: ``name`` a file-name stem, a C compiler found, ``out_dir/src``
+    created; returns ``(compiler command, out_dir)``.
+
+    Raises
+    ------
+    ExportError
+        A bad name, or an output directory that cannot be created.
+    ControllerError
+        No C compiler (``what`` names the export in the message).
+    """
+    from ...codegen import compiler_command
+
+    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "_-." for c in name):
+        raise ExportError(f"name must be a file name stem of letters, digits, '_', '-', '.'; got {name!r}.")
+    cc = compiler_command(compiler)
+    if cc is None:
+        raise ControllerError(f"{what} needs a C compiler: none found (tried $MBSYM_CC, $CC, gcc, cc). "
+                              "Install gcc or set CC.")
+    out = Path(out_dir)
+    try:
+        (out / "src").mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ExportError(f"cannot create the output directory {out}: {exc}.") from exc
+    return cc, out
 
 
 def _controller(controller, sample_time) -> BaselineController:
@@ -202,7 +217,7 @@ def _input_text(ctrl: BaselineController, fingerprint: str) -> str:
         f"{'baseline':<24} Controller   ! controller kind",
         f"{float(ctrl.dt)!r:<24} SampleTime   ! controller sample time [s]; the communication interval must divide it",
         f"{fingerprint:<24} Fingerprint  ! identity of the compiled law (pairs this file with its library)",
-        f"! measurements (swap records): "
+        "! measurements (swap records): "
         + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in ctrl.measurements),
         f"! commands: {', '.join(ctrl.commands)}; IPC_ControlMode {s.ipc_mode}",
     ]

@@ -43,12 +43,11 @@ from __future__ import annotations
 import hashlib
 import math
 import os
-from pathlib import Path
 
 import casadi as ca
 import numpy as np
 
-from ...exceptions import ControllerError, ExportError
+from ...exceptions import ControllerError
 from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
 from ..control.swap import MEASUREMENT_RECORDS
 from .sample import QP_ACCEPT, sample_functions
@@ -229,27 +228,16 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     ExportError
         A bad ``name`` or an unwritable ``out_dir``.
     """
-    from ...codegen import compiler_command
     from ..control.baseline import BaselineController
-    from ..control.discon_export import _compile, _write_sources
+    from ..control.discon_export import _compile, _write_sources, prepare_export
 
     if not isinstance(baseline, BaselineController):
         raise TypeError(f"baseline must be a BaselineController; got {type(baseline).__name__}.")
     if not math.isclose(baseline.dt, loop_dt, rel_tol=1e-12) or baseline.ipc:
         raise ControllerError(f"the fallback baseline must run at the loop sample time {loop_dt:g} s without IPC; "
                               f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "_-." for c in name):
-        raise ExportError(f"name must be a file name stem of letters, digits, '_', '-', '.'; got {name!r}.")
     fns = sample_functions(nmpc, estimator, loop_dt)
-    cc = compiler_command(compiler)
-    if cc is None:
-        raise ControllerError("exporting the NMPC needs a C compiler: none found (tried $MBSYM_CC, $CC, gcc, cc). "
-                              "Install gcc or set CC.")
-    out = Path(out_dir)
-    try:
-        (out / "src").mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ExportError(f"cannot create the output directory {out}: {exc}.") from exc
+    cc, out = prepare_export(name, compiler, out_dir, "exporting the NMPC")
     gen = (fns.ekf, fns.startup, fns.rti)
     fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
                                           repr(float(loop_dt))]).encode()).hexdigest()[:16]
