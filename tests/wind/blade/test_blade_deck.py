@@ -95,3 +95,28 @@ def test_discon_library_receives_the_blade_plants_root_moments():
         for k in range(3):
             assert swap[29 + k] == pytest.approx(1e3 * y[names.index(f"RootMyc{k + 1}")], rel=1e-6)
         assert swap[59] == pytest.approx(np.deg2rad(y[names.index("Azimuth")]), rel=1e-6)
+
+
+def test_cli_runs_the_full_field_flexible_deck_as_written_and_tracks_openfast(tmp_path, capsys):
+    """``mbsym simulate ff14_flex.fst`` (flap, edge, drivetrain, 2 tower modes; the TurbSim field; the deck's
+    ElastoDyn Method 3) runs the blade-element rung with ABM4 and says so; its channels over the first 10 s against
+    OpenFAST v5 + ROSCO's own record of the same deck (shared ff14_flex.csv). Measured when written, ε = mean|Δ| /
+    range: TTDspFA 2.6 %, TTDspSS 1.3 %, RootMyc1 1.7 %, TwrBsMyt 2.5 %. Bound 5 %: over 660 s the issue's target
+    is 3 % (met: 1.4-1.8 %); the first seconds add the start-up of two different controllers (ROSCO's library in
+    the reference, our baseline here: their first-call filter states differ), which is why the speed and power
+    loop channels are not checked on this short window."""
+    from mbsym.cli import main
+    from mbsym.wind.analysis.compare import read_csv
+
+    fst = need(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    reference = need(INPUTS.parent / "ff14_flex.csv")
+    out = tmp_path / "out.csv"
+    assert main(["simulate", str(fst), "--controller", "baseline", "--tmax", "10", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "method abm4-held" in text and "ElastoDyn Method 3" in text
+    ours, ref = read_csv(out), read_csv(reference)
+    t = ref.time[ref.time <= 10.0 + 1e-9]
+    for name in ("TTDspFA", "TTDspSS", "RootMyc1", "TwrBsMyt"):
+        y_ref = ref.channel(name)[:t.size]
+        eps = np.mean(np.abs(np.interp(t, ours.time, ours.channel(name)) - y_ref)) / np.ptp(y_ref)
+        assert eps < 0.05, (name, eps)
