@@ -3,22 +3,28 @@
 The IEA 15 MW on the VolturnUS-S (``shared/openfast/floating/cases/fl_steady_13``: steady 13 m/s, still
 water): the deck's structure (six platform DOFs, tower FA1/SS1, generator), rotor-effective aerodynamics of
 its AeroDyn blades with DBEMT, its actuators, HydroDyn (our radiation fit, 169 states) and MoorDyn (three
-quasi-static catenaries), our baseline controller with the deck's DISCON.IN (floating feedback Fl_Mode 2,
-pitch actuator model PA_Mode 2) compiled into the loop. Built with the public constructor, since the deck's
+quasi-static catenaries with their drag and inertia on that shape), our baseline controller with the deck's
+DISCON.IN (floating feedback Fl_Mode 2, pitch actuator model PA_Mode 2) compiled into the loop. Built with the public constructor, since the deck's
 AeroDyn switches on tower effects the rotor-effective model does not have (docs/offshore.md §7).
 
 Reports: the trim at 13 m/s, the 600 s run's means over its last 100 s against OpenFAST's (the shared CSV,
 and optionally an OpenFAST text output ``--openfast FILE.out``, e.g. a rerun without the tower effects), and
 the cost: model build, compilation (CPU of the compiler processes included), integration wall and CPU
-time, real-time factor.
+time, real-time factor. With ``--reference RUN.csv`` (an OpenFAST run of the same deck in the shared CSV
+format, ``<channel>_[<unit>]`` headers: e.g. the rerun with AeroDyn's tower effects and unsteady aerodynamics
+off, docs/offshore.md §7) it also gives ε and R² of every channel after ``--settle`` s
+(``mbsym.wind.analysis.compare.error_metrics``) and the means over the last 100 s; ``--summary FILE.json``
+writes those numbers.
 
-    python benchmarks/floating_operation.py [--tmax 600] [--openfast RUN.out]
+    python benchmarks/floating_operation.py [--tmax 600] [--fst DECK.fst] [--openfast RUN.out]
+        [--reference RUN.csv] [--settle 100] [--summary OUT.json]
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import resource
 import sys
 import time
@@ -30,7 +36,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 FLOATING = HERE.parent.parent / "shared" / "openfast" / "floating"
-CHANNELS = ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "FAIRTEN1", "TTDspFA")
+CHANNELS = ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "FAIRTEN1", "FAIRTEN2",
+            "FAIRTEN3", "TTDspFA")
 
 
 def _cpu() -> float:
@@ -58,13 +65,43 @@ def _out_means(path: Path, t_end: float) -> dict[str, float]:
     return {c: float(np.mean(data[window, names.index(c)])) for c in CHANNELS if c in names}
 
 
+def _series_metrics(t: np.ndarray, y: dict[str, np.ndarray], path: Path, settle: float) -> dict[str, dict]:
+    """Means over the last 100 s (ours, the reference's) and ε, R² after ``settle`` s against a CSV run."""
+    from mbsym.wind.analysis.compare import error_metrics, read_csv
+
+    ref = read_csv(path)
+    t_end = min(float(t[-1]), float(ref.time[-1]))
+    ours_last = (t >= t_end - 100.0) & (t <= t_end + 1e-9)
+    ref_last = (ref.time >= t_end - 100.0) & (ref.time <= t_end + 1e-9)
+    after = (t >= settle - 1e-9) & (t <= t_end + 1e-9)
+    rows = {}
+    for c in CHANNELS:
+        if c not in ref.names:
+            continue
+        y_ref = ref.channel(c)
+        eps, r2 = error_metrics(t[after], y[c][after], ref.time[ref.time >= settle - 1e-9],
+                                y_ref[ref.time >= settle - 1e-9])
+        mean, mean_ref = float(np.mean(y[c][ours_last])), float(np.mean(y_ref[ref_last]))
+        rows[c] = {"mean": mean, "mean_ref": mean_ref, "mean_diff_pct": 100.0 * (mean / mean_ref - 1.0),
+                   "eps_pct": 100.0 * eps, "r2": r2,
+                   "range_ref_after_settle": float(np.ptp(y_ref[ref.time >= settle - 1e-9])),
+                   "range_after_settle": float(np.ptp(y[c][after]))}
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tmax", type=float, default=600.0)
     ap.add_argument("--fst", default=str(FLOATING / "cases" / "fl_steady_13" / "fl_steady_13.fst"))
     ap.add_argument("--repeat", type=int, default=2, help="timed runs after the first (compiled loop reused)")
     ap.add_argument("--openfast", help="an OpenFAST text output (.out) of the same case to compare with")
+    ap.add_argument("--reference", help="an OpenFAST run of the same deck as CSV (<channel>_[<unit>] headers): "
+                                        "ε, R² after --settle s and the last 100 s means")
+    ap.add_argument("--settle", type=float, default=100.0, help="start of the ε, R² window [s]")
+    ap.add_argument("--summary", help="write the trim, means and --reference metrics to this JSON file")
     args = ap.parse_args()
+    if args.reference and not Path(args.reference).is_file():
+        ap.error(f"--reference {args.reference}: no such file (expected an OpenFAST run as CSV)")
 
     from mbsym.wind.control import BaselineController
     from mbsym.wind.operation import OperatingTurbine, SteadyControl, trim
@@ -118,6 +155,18 @@ def main() -> None:
         mean = float(np.mean(y[c][window]))
         cells = [f"{r[c]:.5g} ({100 * (mean / r[c] - 1):+.2f} %)" for r in refs.values()]
         print(f"| {c} | {point[c]:.5g} | {mean:.5g} | " + " | ".join(cells) + " |")
+    summary = {"fst": str(args.fst), "tmax": args.tmax, "trim": {c: float(point[c]) for c in CHANNELS},
+               "mean_last_100s": {c: float(np.mean(y[c][window])) for c in CHANNELS}}
+    if args.reference:
+        rows = _series_metrics(t, y, Path(args.reference), args.settle)
+        print(f"\nagainst {Path(args.reference).name}: means over the last 100 s, ε and R² after {args.settle:g} s")
+        print("| channel | reference | mbsym | difference | ε | R² |\n|---|---|---|---|---|---|")
+        for c, r in rows.items():
+            print(f"| {c} | {r['mean_ref']:.5g} | {r['mean']:.5g} | {r['mean_diff_pct']:+.2f} % | "
+                  f"{r['eps_pct']:.2f} % | {r['r2']:.3f} |")
+        summary["reference"] = {"csv": str(args.reference), "settle_s": args.settle, "channels": rows}
+    if args.summary:
+        Path(args.summary).write_text(json.dumps(summary, indent=1) + "\n")
 
 
 if __name__ == "__main__":
