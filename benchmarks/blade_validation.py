@@ -470,22 +470,29 @@ DIAGNOSIS = """\
   `τ = t + (W/2 − x)/URef`) is reproduced. Aerodynamic and structural channels align within one output
   sample (cross-correlation lags −0.05 … +0.05 s, sub-sample fit); the blade-element rung's disk-averaged
   wind `RtVAvgxh` has ε 1.1 % (rigid) and 1.2 % (flexible blades), mean within 0.01 %.
-* **Flexible blades (ff14_flex): every target met except R² of TTDspFA, now 0.947 for ≥ 0.95** (ε 1.41 %;
-  0.907 before the two fixes below); RotSpeed 1.36 % / 0.980, BldPitch1 0.72 % / 0.997, GenPwr 0.92 % / 0.990,
-  TTDspSS 1.81 % / 0.979, DELs −1.0 / +0.8 / −0.5 %, means within 0.2 %. **Rigid blades (ff14_rigid):** ε ≤
-  1.9 %, DELs within 4.3 %, means within 0.6 %, but R² of TTDspFA 0.981 and TTDspSS 0.983 (0.986 and 0.994
-  before the fixes below, which make the rigid rotor's aerodynamics *closer* to OpenFAST's when both are fed
-  OpenFAST's own motion: see "open loop" below; **open**). The overlay (figure below) shows where the
-  flexible case still splits: the series are indistinguishable while the pitch is active and split for 10–20 s
-  after the pitch comes back to its floor (ROSCO's peak-shaving minimum pitch, 3.1–4°, where the blade pitch
-  stops acting on the thrust), e.g. 372–390 s and 470–490 s: OpenFAST and mbsym bounce off the floor with a
-  different number of pitch pulses, and the lightly damped tower fore-aft mode (0.33 Hz, 21 % of the TTDspFA
-  variance in the reference) then rings with a different phase (the pitch is below 4.5° during 16 % of the
-  record). Of the aerodynamic channels the torque differs most: RtAeroMxh ε 4.4 % / R² 0.78 (5.1 % / 0.71
-  before the fixes below; rigid 3.8 % / 0.83); the speed loop, hence the pitch pulses at the floor, is driven
-  by it. The reference's own reproducibility (DT 0.005 vs 0.00625 s: R² ≥ 0.997) says the difference is
-  model, not chaos; but this R² moves by ~0.01 with numerical details of ours (aerodynamics every 6.25 ms held:
-  0.944, every 25 ms held: 0.938, rk4-held 0.946, default 0.947).
+* **Every target met on both full-field cases** (after the DBEMT fix below). Flexible blades (ff14_flex):
+  ε ≤ 0.85 % and R² ≥ 0.986 on RotSpeed, BldPitch1, GenPwr, TTDspFA, TTDspSS (TTDspFA 0.78 % / 0.986), DELs
+  TwrBsMyt +3.6 %, TwrBsMxt +3.7 %, RootMyc1 +0.7 %, means within 0.13 %; rigid blades (ff14_rigid): ε ≤ 0.87 %,
+  R² ≥ 0.996, DELs +3.3 / +2.0 / +0.9 %. Before it: ff14_flex TTDspFA R² 0.947 (the one missed target), RotSpeed
+  1.36 % / 0.980, RtAeroMxh 4.4 % / 0.78 (now 1.9 % / 0.965), DELs −1.1 / +0.8 / −0.5 %; ff14_rigid TTDspFA R²
+  0.981. Of the DELs the tower fore-aft one moves most with numerical details (aerodynamics every 6.25 ms,
+  held: +3.2 %; every 25 ms, held: see its row; `rk4-held`: +3.7 %).
+* **Found and fixed: AeroDyn v5's DBEMT takes no wind rate.** Bisection against OpenFAST itself: with
+  `DBEMT_Mod = 0` in both codes (quasi-steady BEM, everything else equal) ff14_flex agreed at R² 0.991 on
+  TTDspFA and RtAeroMxh ε 2.0 % where DBEMT on gave 0.947 and 4.5 %. AeroDyn's finite-difference DBEMT
+  (modes 1, 2: `B = (v_s(t+Δt) − v_s(t))/Δt` in Øye's rate term `k τ₁ dv_s/dt`) gets both inputs of a step
+  from `AD_UpdateStates`, which builds them with the structural motion of each time but one copy of the
+  inflow, the wind of the step's end; `v_s(t)` is `−a(φ(t)) Vx` with that `Vx`. So the filter sees every
+  change of the induction factors and of `Vx`, `Vy` from the motion, but not the change of `Vx`, `Vy` from
+  the wind moving past the node (turbulence, rotation through shear): for them its high-frequency gain is
+  ~0 instead of Øye's k = 0.6. mbsym now leaves `k (−a_qs dVx_W/dt, a'_qs dVy_W/dt)` out for modes 1 and 2
+  (`BladeElementRotor.dbemt_wind_rate`, default as AeroDyn; the full field's rate along each node's path is a
+  central difference over the field's time step, a uniform wind's exact). Open loop on OpenFAST's own motion
+  (200 s of ff14_flex at 80 Hz, 9 AeroDyn nodes): RtAeroMxh ε 1.00 → 0.20 %, R² 0.993 → 0.9998; node AxInd
+  R² 0.96–0.985 → ≥ 0.9996 (its error below 0.5 Hz 11–21 % → 1.3–1.9 % of the signal there). Closed loop:
+  the figures above; steady shear and yaw: RootMyc1 1P amplitude −2.3 / −1.8 % → −0.1 / −0.2 %. Cost: two
+  more field evaluations per aerodynamic evaluation ("blade-loop-speed"). The bullets below were measured
+  before this fix.
 * **Which DOF: the flap modes (bisection against OpenFAST itself,** before the fixes below: OpenFAST and mbsym
   both rerun with a DOF set off, everything else equal). EdgeDOF off: both codes change by R² ≥ 0.995 against their own
   ff14_flex run and the gap stays (R² TTDspFA 0.866, RtAeroMxh ε 5.7 %). DrTrDOF off (60–360 s): R² ≥ 0.998

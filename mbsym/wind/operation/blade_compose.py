@@ -171,8 +171,12 @@ class _AeroBuilder:
         per_node = ca.repmat(pitch.T, rotor.n_nodes, 1)[:] if pitch.numel() > 1 else pitch      # blade by blade
         theta = (ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + per_node.T
                  + elastic_twist(kin["slope"][0, :], kin["slope"][1, :], per_node.T))
+        wind_rate = None
+        if rotor.dbemt_mode and not rotor.dbemt_wind_rate:       # the wind's rate along each node's path
+            rate = model.wind.path_rate(kin["r_ac"], kin["v_ac"], U)
+            wind_rate = (_dot(rate, frames["x_n"]).T, _dot(rate, frames["y_n"]).T)
         aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,
-                              states, rho=rho, **frames["rotor"])
+                              states, rho=rho, wind_rate=wind_rate, **frames["rotor"])
         force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) - frames["y_n"] * ca.repmat(aero["ft"].T, 3, 1)
         moment = kin["tangent"] * ca.repmat(aero["m"].T, 3, 1)
         loads, rotor_force, rotor_moment = self._loads(kin, force, moment)

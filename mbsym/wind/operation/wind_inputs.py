@@ -82,6 +82,15 @@ class UniformWindInputs:
         return uniform_velocity_expr(columns, points, ref_height=self.ref_height, ref_length=self.ref_length,
                                      propagation_direction=self.propagation_direction, upflow_angle=self.upflow_angle)
 
+    def path_rate(self, points: Any, velocities: Any, U: Mapping[str, Any]) -> Any:
+        """Rate of the wind [m/s²] (3 x N) seen by points moving with ``velocities`` (3 x N) [m/s]: its change
+        across their motion, exact (the columns are inputs: their own change in time is not in the graph, so a
+        simulation's time-varying uniform wind contributes nothing here)."""
+        points = ca.SX(points) if not isinstance(points, ca.SX) else points
+        probe = ca.SX.sym("p", points.size1(), points.size2())
+        w = self.velocity(probe, U)
+        return ca.substitute(ca.jtimes(w, ca.vec(probe), ca.vec(velocities)), probe, points)
+
     @classmethod
     def from_field(cls, field) -> "UniformWindInputs":
         """The inputs of a :class:`~mbsym.wind.inflow.UniformFieldWind` (its columns at t = 0 as defaults)."""
@@ -140,6 +149,20 @@ class FieldWindInputs:
         if n not in self._functions:
             self._functions[n] = self.field.casadi_function(n)
         return self._functions[n](U["WindTime"], points)
+
+    def path_rate(self, points: Any, velocities: Any, U: Mapping[str, Any]) -> Any:
+        """Rate of the wind [m/s²] (3 x N) seen by points moving with ``velocities`` (3 x N) [m/s]: the change of
+        the field along their (straight) path over one time step ``dt`` of the field, centred on now, per second.
+
+        The field is known at its own time step only (linear in time and bilinear in space between samples), so
+        its rate is taken at that resolution: a central difference over ``dt`` is continuous in time, where the
+        exact derivative of the interpolation jumps at every sample and grid line. It reaches ``dt / 2`` ahead
+        of the current time, within the step beyond the field's end that InflowWind accepts."""
+        h = float(self.field.dt)
+        step = 0.5 * h * velocities
+        ahead = self.velocity(points + step, {"WindTime": U["WindTime"] + 0.5 * h})
+        before = self.velocity(points - step, {"WindTime": U["WindTime"] - 0.5 * h})
+        return (ahead - before) / h
 
     def signals(self, wind=None) -> dict[str, Any]:
         """Input signals of a simulation: the field's time is the simulation time. ``wind`` must be None or this

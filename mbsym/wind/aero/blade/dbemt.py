@@ -27,6 +27,22 @@ are time discretizations of this ODE; DBEMT_Mod 2 adds a time-varying
 ``τ₂ = (0.39 - 0.26 (r/R)²) τ₁`` per node, ``r/R`` from the current ``r_local`` (DBEMT_Mod 2)
 or the undeflected geometry (1, 3), as AeroDyn does.
 
+**The wind's rate (AeroDyn v5, DBEMT_Mod 1 and 2).** AeroDyn's finite-difference update
+(DBEMT.f90 ``DBEMT_UpdateStates``: ``B = (v_s(t+Δt) - v_s(t))/Δt``, ``A = v_s(t) + k τ₁ B``) gets
+both of its inputs from ``AD_UpdateStates``, which builds the inputs at t and at t + Δt from the
+structural motion of each time but from one copy of the inflow made before that loop: the wind at
+the step's end (at the nodes' positions of the step's end). ``BEMT_UpdateStates`` then takes the
+input at t as ``-a(φ(t)) Vx`` with the inflow angle solved at the previous step (its own wind) and
+this ``Vx``. So ``B`` holds every change of the induction factors (from the wind too, through φ)
+and the change of ``Vx``, ``Vy`` from the motion, pitch and turning node axes, but not the change
+of ``Vx``, ``Vy`` from the wind changing along the node's path (turbulence passing, rotation
+through shear). In the ODE above: ``dw/dt = ((1 - k) v_s - w)/τ₁ - k (-a_qs dVx_W/dt,
+a'_qs dVy_W/dt)`` with ``dV_W/dt`` the wind's rate along the path projected on the node's axes
+(``wind_rate``). :class:`~mbsym.wind.aero.blade.BladeElementRotor` does this by default for modes
+1 and 2 (``dbemt_wind_rate=False``; True gives Øye's filter on the whole rate, as mode 3's
+continuous form has it). Measured against OpenFAST's node outputs and on the shared ``ff14_flex``
+case: docs/blade_aero.md.
+
 State layout: per node (blades outer, nodes inner) the four states ``vind_x, vind_y, vind1_x,
 vind1_y`` (``v`` then ``w``), named ``B{b}N{j}_vind_x`` ... (1-based).
 """
@@ -77,7 +93,7 @@ def tau1(mode: int, tau1_const: float, a_qs: Any, weights: np.ndarray, tip_radiu
     return ca.fmin(value, _TAU1_MAX)
 
 
-def derivatives(states: Any, v_s: Any, tau_1: Any, span_ratio: Any) -> Any:
+def derivatives(states: Any, v_s: Any, tau_1: Any, span_ratio: Any, wind_rate: Any = None) -> Any:
     """Time derivatives of the states (layout in the module docstring).
 
     Parameters
@@ -89,11 +105,17 @@ def derivatives(states: Any, v_s: Any, tau_1: Any, span_ratio: Any) -> Any:
         τ₁ [s].
     span_ratio : SX or ndarray, shape (n, 1)
         ``r / R`` of each node.
+    wind_rate : SX, shape (n, 2), optional
+        ``(-a_qs dVx_W/dt, a'_qs dVy_W/dt)`` [m/s²]: the part of ``dv_s/dt`` that AeroDyn v5's
+        DBEMT_Mod 1 and 2 leave out of Øye's rate term (module docstring); ``dw/dt`` gains
+        ``-k wind_rate``.
     """
     x = ca.reshape(states, 4, -1).T  # (n, 4)
     v, w = x[:, 0:2], x[:, 2:4]
     tau_2 = (0.39 - 0.26 * span_ratio**2) * tau_1
     w_dot = ((1.0 - OYE_K) * v_s - w) / tau_1
+    if wind_rate is not None:
+        w_dot = w_dot - OYE_K * wind_rate
     v_dot = (w + OYE_K * v_s - v) / ca.repmat(tau_2, 1, 2)
     return ca.reshape(ca.horzcat(v_dot, w_dot).T, -1, 1)
 

@@ -78,6 +78,11 @@ class BladeElementRotor:
     tip_radius : float
         Default rotor radius ``R_tip`` [m] (skew ``r/R``, DBEMT ``R``): the undeflected
         largest local radius (AeroDyn's ``rmax``) unless given.
+    dbemt_wind_rate : bool
+        Whether the rate of the quasi-steady induced velocity caused by the wind changing along a
+        node's path enters Øye's ``k τ₁ dv_s/dt`` (see :mod:`.dbemt`). Default (None) as AeroDyn
+        v5: False for DBEMT_Mod 1 and 2 (both inputs of its finite-difference update are built
+        with the wind of the step's end), True for 3 (its continuous form has no rate term).
     """
 
     bem: BEMRotor
@@ -86,6 +91,7 @@ class BladeElementRotor:
     polar_method: str = "spline"
     n_newton: int | None = None
     tip_radius: float | None = None
+    dbemt_wind_rate: bool | None = None
     polars: NodePolars = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -106,6 +112,12 @@ class BladeElementRotor:
         if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
             raise ParameterError(f"tip_radius must be a positive length [m]; got {radius!r}.")
         object.__setattr__(self, "tip_radius", float(radius))
+        wind_rate = self.dbemt_wind_rate
+        if wind_rate is None:
+            wind_rate = self.dbemt_mode not in (1, 2)
+        if not isinstance(wind_rate, bool):
+            raise ParameterError(f"dbemt_wind_rate must be True, False or None; got {self.dbemt_wind_rate!r}.")
+        object.__setattr__(self, "dbemt_wind_rate", wind_rate)
         object.__setattr__(self, "polars", NodePolars(self.bem.polars, method=self.polar_method))
         object.__setattr__(self, "_cache", {})
 
@@ -251,7 +263,7 @@ class BladeElementRotor:
             "pitching_moment": b.pitching_moment, "skew_correction": b.skew_correction,
             "skew_factor": b.skew_factor, "low_tsr_blend": b.low_tsr_blend, "dbemt_mode": self.dbemt_mode,
             "tau1_const": self.tau1_const, "polar_method": self.polar_method, "n_newton": self.n_newton,
-            "tip_radius": self.tip_radius})
+            "tip_radius": self.tip_radius, "dbemt_wind_rate": self.dbemt_wind_rate})
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -266,7 +278,7 @@ class BladeElementRotor:
     # ------------------------------------------------------------------ evaluation
     def evaluate(self, vx: Any, vy: Any, r_local: Any, theta: Any, azimuth: Any, states: Any = None, *,
                  rho: Any, skew: Any = 0.0, skew_azimuth: Any = 0.0, tip_radius: Any = None,
-                 tsr: Any = None, un_disk: Any = None) -> dict[str, Any]:
+                 tsr: Any = None, un_disk: Any = None, wind_rate: Any = None) -> dict[str, Any]:
         """Loads per unit length, state derivatives and diagnostics of every node (SX).
 
         Parameters
@@ -295,6 +307,11 @@ class BladeElementRotor:
         un_disk : SX or float, optional
             Disk-averaged relative wind along the shaft [m/s] for DBEMT_Mod 2's τ₁; default the
             mean of ``vx`` over all nodes.
+        wind_rate : pair of SX columns, optional
+            The rates of ``vx`` and ``vy`` [m/s²] caused by the wind changing along each node's
+            path (the wind's own change in time and its change across the node's motion). Used
+            when :attr:`dbemt_wind_rate` is False: that part of ``dv_s/dt`` is taken out of Øye's
+            rate term (:mod:`.dbemt`). None: no such rate is known, the whole rate stays in.
 
         Returns
         -------
@@ -309,6 +326,9 @@ class BladeElementRotor:
                                   ((vx, "vx"), (vy, "vy"), (r_local, "r_local"), (theta, "theta")))
         states = self._states(states)
         tip_radius = self.tip_radius if tip_radius is None else tip_radius
+        rate = None
+        if self.dbemt_mode and not self.dbemt_wind_rate and wind_rate is not None:
+            rate = tuple(self._column(v, n, name) for v, name in zip(wind_rate, ("wind_rate[0]", "wind_rate[1]")))
         a_qs, ap_qs = self._quasi_steady(vx, vy, r_local, theta, states)
         out: dict[str, Any] = {"axial_induction_qs": a_qs, "tangential_induction_qs": ap_qs,
                                "states_dot": ca.SX(0, 1), "tau1": ca.SX(0)}
@@ -320,7 +340,10 @@ class BladeElementRotor:
             ratio = r_local / tip_radius if self.dbemt_mode == 2 else \
                 np.tile(self.local_radius, self.n_blades).reshape(-1, 1) / self.bem.radius
             v_s = ca.horzcat(-a_qs * vx, ap_qs * vy)
-            out["states_dot"] = dbemt.derivatives(states, v_s, tau_1, ratio)
+            v_s_rate = None           # AeroDyn's v_s(t) = -a(φ(t)) Vx(t + Δt): the wind's rate of Vx, Vy only
+            if rate is not None:
+                v_s_rate = ca.horzcat(-a_qs * rate[0], ap_qs * rate[1])
+            out["states_dot"] = dbemt.derivatives(states, v_s, tau_1, ratio, wind_rate=v_s_rate)
             out["tau1"] = tau_1
             x = ca.reshape(states, 4, -1).T
             a_dyn = ca.fmin(ca.fmax(-x[:, 0] * vx / (vx**2 + _VX_EPS2), A_LIMITS[0]), A_LIMITS[1])
