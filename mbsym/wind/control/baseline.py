@@ -93,11 +93,17 @@ COMMANDS = {"BlPitchCom": "rad", "GenTqCom": "N m"}
 IPC_MEASUREMENTS = {**MEASUREMENTS, "RootMyc1": "N m", "RootMyc2": "N m", "RootMyc3": "N m", "Azimuth": "rad"}
 #: Commands with individual pitch control, in the order of ``u``.
 IPC_COMMANDS = {"BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m"}
-#: Measurements the floating feedback adds after the others (``floating_mode > 0``): the nacelle's pitching
-#: acceleration about the shaft's lateral axis (OpenFAST's ``NcIMURAys``, ServoDyn's record 83).
+#: Measurements the rotational floating feedback adds after the others (``floating_mode = 2``): the nacelle's
+#: pitching acceleration about the shaft's lateral axis (OpenFAST's ``NcIMURAys``, ServoDyn's record 83).
 FLOATING_MEASUREMENTS = {"NcIMURAys": "rad/s^2"}
-#: Internal signals of the floating feedback, after :data:`DIAGNOSTICS` (``floating_mode > 0``).
+#: Measurements the translational floating feedback adds after the others (``floating_mode = 1``): the tower
+#: top's fore-aft and side-side accelerations in the tower-top axes (ServoDyn's records 53, 54) and the nacelle
+#: yaw (record 37), which ROSCO turns into the nacelle's fore-aft acceleration ``ax cos(yaw) + ay sin(yaw)``.
+TRANSLATIONAL_MEASUREMENTS = {"YawBrTAxp": "m/s^2", "YawBrTAyp": "m/s^2", "NacYaw": "rad"}
+#: Internal signals of the floating feedback, after :data:`DIAGNOSTICS` (``floating_mode = 2``; with
+#: ``floating_mode = 1``: ``FA_AccF``, ``FA_vel``, ``Fl_PitCom``).
 FLOATING_DIAGNOSTICS = ("NacIMU_FA_AccF", "NacIMU_FA_vel", "Fl_PitCom")
+TRANSLATIONAL_DIAGNOSTICS = ("FA_AccF", "FA_vel", "Fl_PitCom")
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
@@ -202,11 +208,12 @@ class BaselineController:
         self.ipc = settings.ipc_mode > 0
         self.floating = settings.floating_mode > 0
         measured = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
-        self.measurements = self.measurement_names = measured + (tuple(FLOATING_MEASUREMENTS) if self.floating
-                                                                 else ())
+        translational = settings.floating_mode == 1
+        floating = tuple(TRANSLATIONAL_MEASUREMENTS if translational else FLOATING_MEASUREMENTS)
+        self.measurements = self.measurement_names = measured + (floating if self.floating else ())
         self.commands = self.command_names = tuple(IPC_COMMANDS if self.ipc else COMMANDS)
         self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ()) + \
-            (FLOATING_DIAGNOSTICS if self.floating else ())
+            ((TRANSLATIONAL_DIAGNOSTICS if translational else FLOATING_DIAGNOSTICS) if self.floating else ())
         states = self._layout()
         x = ca.SX.sym("xc", len(states.names))
         y = ca.SX.sym("y", len(self.measurements))
@@ -215,6 +222,10 @@ class BaselineController:
         xn = ca.vertcat(*[ca.vec(v) for v in order])
         self.state_names = tuple(states.names)
         self.state_units = tuple(state_unit(n) for n in self.state_names)
+        if translational:           # the filters carry m/s² and the integral m/s
+            self.state_units = tuple(u.replace("rad/s^2", "m/s^2").replace("rad/s", "m/s")
+                                     if n.startswith("floating_") else u
+                                     for n, u in zip(self.state_names, self.state_units))
         self.x0 = np.array(states.x0)
         self.x0.setflags(write=False)
         self.function = ca.Function("baseline_controller", [x, y], [xn, ca.vertcat(*u)], ["xc", "y"],
@@ -299,7 +310,7 @@ class BaselineController:
         pitch_f, p_states = lpf2(pitch, _split4(x["pitch_filter"]), 0.25 * s.speed_filter_corner, 0.7, dt, r)
         nxt["pitch_filter"] = ca.vertcat(*p_states)
         if self.floating:
-            acc_f = self._floating_filter(x, nxt, r, y[len(self.measurements) - 1])
+            acc_f = self._floating_filter(x, nxt, r, self._floating_signal(y))
 
         # --- 2. wind-speed estimate
         estimate, op, cp_op = self._estimator(x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
@@ -348,7 +359,7 @@ class BaselineController:
         else:
             min_pitch = ca.SX(s.fine_pitch)
         nxt["min_pitch"] = min_pitch
-        if self.floating:       # ROSCO's FloatingFeedback: −Kp × the integrated, filtered pitching acceleration
+        if self.floating:       # ROSCO's FloatingFeedback: −Kp × the integrated, filtered acceleration
             velocity, nxt["floating_integral"] = pi(acc_f, 0.0, 1.0, -100.0, 100.0, dt, x["floating_integral"],
                                                     0.0, r)
             fl_pitch = -velocity * interp1(s.floating_wind_speeds, s.floating_kp, "fl_kp")(est_f)
@@ -396,9 +407,19 @@ class BaselineController:
         nxt["actuator_filter"] = ca.vertcat(*st)
         return out
 
+    def _floating_signal(self, y):
+        """What the floating feedback filters: the nacelle's pitching acceleration [rad/s²] (``Fl_Mode 2``), or the
+        nacelle's fore-aft acceleration [m/s²] from the tower top's, turned by the yaw (``Fl_Mode 1``, ROSCO's
+        ``FA_Acc_Nac``)."""
+        n = len(self.measurements)
+        if self.settings.floating_mode == 1:
+            ax, ay, yaw = y[n - 3], y[n - 2], y[n - 1]
+            return ax * ca.cos(yaw) + ay * ca.sin(yaw)
+        return y[n - 1]
+
     def _floating_filter(self, x, nxt, r, acceleration):
-        """ROSCO's filtering of the nacelle pitching acceleration (``Fl_Mode 2``): zero at the first call, then
-        second-order low-pass, first-order high-pass and the tower-top notch filters."""
+        """ROSCO's filtering of the floating feedback's acceleration (``Fl_Mode 1`` and ``2`` alike): zero at the
+        first call, then second-order low-pass, first-order high-pass and the tower-top notch filters."""
         s, dt = self.settings, self.dt
         u = ca.if_else(r, 0.0, acceleration)
         u, st = lpf2(u, _split4(x["floating_lowpass"]), s.floating_filter_corner, s.floating_filter_damping, dt, r)

@@ -12,7 +12,9 @@ loads like ROSCO's: C generated from the CasADi graph (``CodeGenerator``) plus a
   ``DLL_DT``), 10 pitch actuator type (must be 0: positions), 28 pitch control (must be 1 with IPC),
   49 size of ``avcMSG``, 50 length of ``accINFILE``, 61 number of blades; the measurements
   20 ``GenSpeed`` [rad/s], 21 ``RotSpeed`` [rad/s], 4 ``BldPitch1`` [rad], 15 ``GenPwr`` [W],
-  27 ``Wind1VelX`` [m/s] and, with IPC, 30-32 ``RootMyc1..3`` [N m], 60 ``Azimuth`` [rad];
+  27 ``Wind1VelX`` [m/s] and, with IPC, 30-32 ``RootMyc1..3`` [N m], 60 ``Azimuth`` [rad]; with the
+  floating feedback 83 ``NcIMURAys`` [rad/s²] (Fl_Mode 2) or 53, 54 ``YawBrTAxp``, ``YawBrTAyp`` [m/s²]
+  and 37 ``NacYaw`` [rad] (Fl_Mode 1);
 - written: 42-44 pitch demands per blade [rad] (the collective demand on every blade without IPC),
   45 collective pitch demand (blade 1's with IPC), 47 generator torque demand [N m]; 35 = 1 (generator
   on), 36 = 0 (brake off), 41 = 0 (yaw torque), 46 = 0 (pitch rate), 48 = 0 (yaw rate), 55 = 56 = 0 (no

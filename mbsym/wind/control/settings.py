@@ -6,11 +6,11 @@ uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
 :meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
 table it names, for the wind-speed estimator) and refuses, naming file and line,
 the ROSCO features the baseline does not implement (yaw control, power
-reference, start-up/shut-down, translational floating feedback ``Fl_Mode 1``,
+reference, start-up/shut-down,
 tower damper, generator-speed notch filters, fixed-pitch torque control, the I&I
 estimator, ...); use :class:`~mbsym.wind.control.discon.DisconController` with the
-library for those. Modelled besides the land scheme: the rotational floating
-feedback ``Fl_Mode 2`` with its filters (:data:`FLOATING_MAP`) and the pitch actuator
+library for those. Modelled besides the land scheme: the floating feedback, translational
+``Fl_Mode 1`` and rotational ``Fl_Mode 2``, with its filters (:data:`FLOATING_MAP`) and the pitch actuator
 model ``PA_Mode`` 1 and 2 (:data:`ACTUATOR_MAP`).
 """
 
@@ -62,7 +62,7 @@ ACTUATOR_MAP = {"PA_Mode": "actuator_mode", "PA_CornerFreq": "actuator_corner", 
 #: Modes the baseline does not implement: key → the values it accepts.
 UNSUPPORTED_MODES = {
     "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
-    "Fl_Mode": (0, 2), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
+    "Fl_Mode": (0, 1, 2), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
     "VS_FBP": (0,), "VS_ControlMode": (1, 2), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
     "F_GenSpdNotch_N": (0,),
@@ -246,9 +246,9 @@ class BaselineSettings:
 
     def _floating_problems(self) -> list[str]:
         p = []
-        if self.floating_mode not in (0, 2):
-            p.append(f"floating_mode must be 0 (off) or 2 (rotational feedback, ROSCO's Fl_Mode 2); got "
-                     f"{self.floating_mode}")
+        if self.floating_mode not in (0, 1, 2):
+            p.append(f"floating_mode must be 0 (off), 1 (translational feedback) or 2 (rotational feedback), as "
+                     f"ROSCO's Fl_Mode; got {self.floating_mode}")
         if self.floating_mode:
             n = len(self.floating_kp)
             if n < 1 or len(self.floating_wind_speeds) != n:

@@ -38,11 +38,13 @@ ACTUATED = ("BlPitchCom", "GenTqCom")
 #: Further channels a blade-element plant measures (individual pitch control reads them): the blade-root
 #: out-of-plane moments [kN-m], the azimuth [deg] and the pitch of blades 2 and 3 [deg].
 BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2", "BldPitch3")
-#: Further channels a floating plant measures (ROSCO's floating feedback reads it): the nacelle's pitching
-#: acceleration [deg/s^2].
-FLOATING_MEASUREMENTS = ("NcIMURAys",)
+#: Further channels a floating plant measures (ROSCO's floating feedback reads them): the nacelle's pitching
+#: acceleration [deg/s^2] (Fl_Mode 2), the tower top's fore-aft and side-side accelerations [m/s^2] and the
+#: nacelle yaw [deg] (Fl_Mode 1).
+FLOATING_MEASUREMENTS = ("NcIMURAys", "YawBrTAxp", "YawBrTAyp", "NacYaw")
 #: Channel -> factor from its OpenFAST unit to SI.
-SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0,
+SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "YawBrTAxp": 1.0, "YawBrTAyp": 1.0,
+              "NacYaw": math.pi / 180.0,
               "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 

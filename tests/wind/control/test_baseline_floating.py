@@ -1,4 +1,4 @@
-"""The baseline controller's floating feedback (ROSCO ``Fl_Mode 2``) and pitch actuator model (``PA_Mode 2``).
+"""The baseline controller's floating feedback (ROSCO ``Fl_Mode 2`` and ``1``) and pitch actuator model (``PA_Mode 2``).
 
 References:
 
@@ -7,12 +7,16 @@ References:
   (s² + 2β_num ω s + ω²)/(s² + 2β_den ω s + ω²)), ``lfilter``, a forward-Euler sum for ROSCO's integrator
   and ``−Kp``; both in double precision, so 1e-12 rad absolute (rounding) is required;
 * the whole controller, open loop, against the ROSCO 2.10.6 library with the IEA 15 MW VolturnUS-S
-  ``DISCON.IN`` (TSR tracking, peak shaving, Fl_Mode 2, PA_Mode 2), same measurement sequence; ROSCO works
+  ``DISCON.IN`` (TSR tracking, peak shaving, Fl_Mode 2, PA_Mode 2; and the same file with Fl_Mode 1, the
+  translational feedback of the tower top's acceleration turned by the nacelle yaw), same measurement
+  sequence; ROSCO works
   on a float32 swap array, so the tolerances of test_baseline_vs_rosco.py apply (|Δpitch| < 1e-4 deg).
   Skips without the library.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -76,12 +80,79 @@ def test_floating_controller_matches_rosco_library(rosco_lib):
     assert np.max(np.abs(np.rad2deg(no_fl[:, 0] - rosco[:, 0]))) > 100 * PITCH_TOL_DEG
 
 
-def test_unsupported_floating_mode_is_refused(tmp_path):
-    from mbsym.exceptions import ControllerError
-
+def _translational(tmp_path) -> Path:
+    """The VolturnUS-S DISCON.IN with Fl_Mode 1 (its table path made absolute)."""
     text = need(DISCON).read_text().replace("2                   ! Fl_Mode", "1                   ! Fl_Mode")
     assert text != DISCON.read_text()
     table = DISCON.parent.parent / "IEA-15-240-RWT" / "Cp_Ct_Cq.IEA15MW.txt"
     (tmp_path / "DISCON.IN").write_text(text.replace('"../IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt"', f'"{table}"'))
-    with pytest.raises(ControllerError, match=r"line \d+, key 'Fl_Mode': Fl_Mode = 1 is not supported"):
+    return tmp_path / "DISCON.IN"
+
+
+def _translational_measurements(n: int) -> np.ndarray:
+    """As :func:`_measurements`, with the tower top's fore-aft and side-side accelerations [m/s²] (platform pitch
+    and tower periods) and a nacelle yaw of 8° (ROSCO turns the two into the nacelle's fore-aft one)."""
+    t = DT * np.arange(n)
+    base = _measurements(n)[:, :5]
+    ax = 0.05 * np.sin(2 * np.pi * t / 28.9) + 0.02 * np.sin(2 * np.pi * t / 2.0)
+    ay = 0.03 * np.sin(2 * np.pi * t / 9.0)
+    return np.column_stack([base, ax, ay, np.full(n, np.deg2rad(8.0))])
+
+
+def test_translational_feedback_is_rosco_filter_chain(tmp_path):
+    """Fl_Mode 1: the same chain on ``ax cos(yaw) + ay sin(yaw)`` (ROSCO's FA_Acc_Nac); rounding: 1e-12 of the
+    feedback's range (here 1.7 rad: the Fl_Mode 2 gain on an acceleration in m/s²)."""
+    from scipy.signal import bilinear, lfilter
+
+    ctrl = BaselineController.from_discon(_translational(tmp_path), dt=DT)
+    s = ctrl.settings
+    assert s.floating_mode == 1 and ctrl.measurements[-3:] == ("YawBrTAxp", "YawBrTAyp", "NacYaw")
+    assert ctrl.diagnostic_names[-3:] == ("FA_AccF", "FA_vel", "Fl_PitCom")
+    y = _translational_measurements(3000)
+    _, states = ctrl.run(y)
+    diag = np.asarray(ctrl.diagnostics.map(y.shape[0])(states[:-1].T, y.T)).T
+    fl = diag[:, ctrl.diagnostic_names.index("Fl_PitCom")]
+    fs = 1.0 / DT
+    u = y[:, -3] * np.cos(y[:, -1]) + y[:, -2] * np.sin(y[:, -1])
+    u[0] = 0.0
+    w, z = s.floating_filter_corner, s.floating_filter_damping
+    u = lfilter(*bilinear([w * w], [1.0, 2 * z * w, w * w], fs), u)
+    u = lfilter(*bilinear([1.0, 0.0], [1.0, s.floating_highpass_corner], fs), u)
+    for wn, bn, bd in zip(s.tower_notch_freqs, s.tower_notch_beta_num, s.tower_notch_beta_den):
+        u = lfilter(*bilinear([1.0, 2 * bn * wn, wn * wn], [1.0, 2 * bd * wn, wn * wn], fs), u)
+    expected = -DT * np.cumsum(u) * s.floating_kp[0]
+    assert np.ptp(expected) > 1e-3
+    assert np.max(np.abs(fl - expected)) < 1e-12 * max(1.0, np.ptp(expected))
+    units = dict(zip(ctrl.state_names, ctrl.state_units))
+    assert units["floating_integral"] == "m/s" and units["floating_lowpass[0]"] == "m/s^2"
+
+
+def test_translational_controller_matches_rosco_library(rosco_lib, tmp_path):
+    """Fl_Mode 1 against the library (records 53, 54 and 37 filled from the measurements), |Δpitch| < 1e-4°."""
+    discon = _translational(tmp_path)
+    y = _translational_measurements(4000)
+    ctrl = BaselineController.from_discon(discon, dt=DT)
+    ours, _ = ctrl.run(y)
+    rosco = np.empty_like(ours)
+    with DisconController(rosco_lib, discon, dt=DT) as lib:
+        for k in range(y.shape[0]):
+            u = lib.step(k * DT, dict(zip(ctrl.measurements, y[k])))
+            rosco[k] = u["BlPitchCom1"], u["GenTqCom"]
+    dp = np.rad2deg(ours[:, 0] - rosco[:, 0])
+    assert np.max(np.abs(dp)) < PITCH_TOL_DEG, np.max(np.abs(dp))
+    no_fl = BaselineController(ctrl.settings.replace(floating_mode=0)).run(y[:, :5])[0]
+    assert np.max(np.abs(np.rad2deg(no_fl[:, 0] - rosco[:, 0]))) > 100 * PITCH_TOL_DEG
+
+
+def test_unsupported_modes_are_refused(tmp_path):
+    from mbsym.exceptions import ControllerError, ParameterError
+
+    ctrl = BaselineController.from_discon(need(DISCON), dt=DT)
+    with pytest.raises(ParameterError, match="floating_mode must be 0"):
+        ctrl.settings.replace(floating_mode=3)
+    text = need(DISCON).read_text().replace("0                   ! TD_Mode", "1                   ! TD_Mode")
+    assert text != DISCON.read_text()
+    table = DISCON.parent.parent / "IEA-15-240-RWT" / "Cp_Ct_Cq.IEA15MW.txt"
+    (tmp_path / "DISCON.IN").write_text(text.replace('"../IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt"', f'"{table}"'))
+    with pytest.raises(ControllerError, match=r"line \d+, key 'TD_Mode': TD_Mode = 1 is not supported"):
         BaselineController.from_discon(tmp_path / "DISCON.IN", dt=DT)
