@@ -184,6 +184,12 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynam
     MoorDyn's discretization of the line's own dynamics: on ``fl_decay_a`` it differs from 50 segments
     by 0.1 % of the surge decay at half the cost (docs/offshore.md §6).
 
+    Raises
+    ------
+    OptionError
+        ``line_segments`` not a positive integer or None, or given other than the default with
+        ``line_dynamics=False`` (where it would do nothing).
+
     Warns
     -----
     ModelWarning
@@ -191,6 +197,14 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynam
         ``line_dynamics=False`` also its drag and inertia), internal damping, the seabed's
         stiffness ``kbot`` and damping ``cbot``.
     """
+    if not isinstance(line_dynamics, bool):
+        raise OptionError(f"line_dynamics must be True or False; got {line_dynamics!r}.")
+    if line_segments is not None and not (isinstance(line_segments, int) and line_segments >= 1):
+        raise OptionError(f"line_segments must be a positive integer or None (the deck's NumSegs); got "
+                          f"{line_segments!r}.")
+    if not line_dynamics and line_segments != 10:
+        raise OptionError(f"line_segments={line_segments!r} has no effect with line_dynamics=False (it sets the "
+                          "segments of the lines' drag and inertia): drop it, or keep line_dynamics=True.")
     if md.other_sections:
         raise UnsupportedFeatureError(f"{md.path}: sections {sorted(md.other_sections)} (rods, bodies, …) are not "
                                       "modelled by the quasi-static mooring.")

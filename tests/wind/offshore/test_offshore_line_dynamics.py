@@ -167,3 +167,9 @@ def test_moordyn_deck_gives_the_line_type():
         assert mooring_from_moordyn(md, water_density=RHO, gravity=9.81, line_segments=None).dynamics[0].segments == 50
     with pytest.warns(ModelWarning, match="line dynamics .* not modelled"):
         assert mooring_from_moordyn(md, water_density=RHO, gravity=9.81, line_dynamics=False).dynamics is None
+    from mbsym.exceptions import OptionError
+
+    with pytest.raises(OptionError, match="no effect with line_dynamics=False"):   # never silently ignored
+        mooring_from_moordyn(md, water_density=RHO, gravity=9.81, line_dynamics=False, line_segments=30)
+    with pytest.raises(OptionError, match="positive integer"):
+        mooring_from_moordyn(md, water_density=RHO, gravity=9.81, line_segments=0)
