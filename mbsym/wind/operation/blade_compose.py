@@ -218,7 +218,7 @@ class _AeroBuilder:
             self.blades.append((shapes, frame, kin))
             kin = {**kin, **aerodynamic_centres(shapes, frame, kin, qde, offsets)}
             beta = pitch[k] if pitch.numel() > 1 else pitch[0]
-            kin["x_ann"], kin["y_ann"] = annulus_axes(frame["R"], kin["tangent"], beta)
+            kin["x_ann"], kin["y_ann"] = annulus_axes(frame["R"], kin["tangent"], beta, rotor.curve_angle)
             for key in rows:
                 rows[key].append(kin[key])
         out = {key: ca.horzcat(*v) for key, v in rows.items()}
@@ -319,15 +319,19 @@ def aerodynamic_centres(shapes, frame: dict[str, Any], kin: dict[str, Any], qde:
     return {"r_ac": kin["r"] + arm, "v_ac": kin["v"] + _pair_cross(w, arm) + frame["R"] @ _pair_cross(bend_d, o)}
 
 
-def annulus_axes(R: Any, tangent: Any, pitch: Any) -> tuple[Any, Any]:
+def annulus_axes(R: Any, tangent: Any, pitch: Any, curve_angle: Any = None) -> tuple[Any, Any]:
     """AeroDyn's local normal and tangential axes of the nodes of one blade (``BEM_Mod = 1``).
 
     AeroDyn (AeroDyn.f90 ``Calculate_MeshOrientation_NoSweepPitchTwist``) starts from the blade root's
     axes without pitch ``i1, i2, i3`` (``i1`` downwind of the coned root, ``i3`` along it) and turns them
-    about ``i2`` by the y Euler angle θ₂ of the section (NWTC ``EulerExtract``: ``sin θ₂`` = the deflected
-    span direction's component along ``i1``); the live sweep of in-plane bending and the twist are left out.
-    So the normal is ``x = cos θ₂ i1 − sin θ₂ i3`` and the in-plane axis is the root's ``y = i2``, whatever
-    the node's in-plane deflection (``Vy`` against the rotation, ``Vx`` downwind).
+    about ``i2`` by the y Euler angle θ₂ of the node (NWTC ``EulerExtract``); the live sweep of in-plane
+    bending and the twist are left out. So the normal is ``x = cos θ₂ i1 − sin θ₂ i3`` and the in-plane axis
+    is the root's ``y = i2``, whatever the node's in-plane deflection (``Vy`` against the rotation, ``Vx``
+    downwind). The node's orientation is ElastoDyn's section ``S`` (relative to the unpitched root) carried
+    through the node's reference orientation ``EulerConstruct(0, BlCrvAng, −BlTwist)`` (``Init_u``), so
+    ``sin θ₂ = sin(BlCrvAng) S₁₁ + cos(BlCrvAng) S₃₁`` with ``S₃₁`` the deflected span direction's component
+    along ``i1`` and ``S₁₁`` the section's normal's, ``cos β`` to first order in the bending slopes (a prebent
+    blade's curve of −5° reduces its power by ~1.4 % at a given pitch: the IEA 15 MW).
 
     Parameters
     ----------
@@ -338,6 +342,8 @@ def annulus_axes(R: Any, tangent: Any, pitch: Any) -> tuple[Any, Any]:
         Unit deflected span directions, ground axes.
     pitch : SX
         Blade pitch β [rad].
+    curve_angle : array_like (N,), optional
+        AeroDyn's ``BlCrvAng`` of the nodes [rad] (None or zeros: a straight blade).
 
     Returns
     -------
@@ -348,6 +354,9 @@ def annulus_axes(R: Any, tangent: Any, pitch: Any) -> tuple[Any, Any]:
     c, s = ca.cos(pitch), ca.sin(pitch)
     i1, i2, i3 = c * R[:, 0] + s * R[:, 1], -s * R[:, 0] + c * R[:, 1], R[:, 2]
     sin_y = ca.mtimes(i1.T, tangent)
+    curve = np.zeros(n) if curve_angle is None else np.asarray(curve_angle, dtype=float).reshape(-1)
+    if np.any(curve != 0.0):
+        sin_y = ca.DM(np.sin(curve)).T * c + ca.DM(np.cos(curve)).T * sin_y
     cos_y = ca.sqrt(1.0 - sin_y**2)
     x = ca.repmat(i1, 1, n) * ca.repmat(cos_y, 3, 1) - ca.repmat(i3, 1, n) * ca.repmat(sin_y, 3, 1)
     return x, ca.repmat(i2, 1, n)

@@ -63,6 +63,33 @@ def test_annulus_axes_are_aerodyns(pitch_deg):
         np.testing.assert_allclose(np.asarray(y).ravel(), annulus[1], atol=1e-12)
 
 
+@pytest.mark.parametrize("pitch_deg", [0.0, 8.0, 20.0])
+def test_annulus_axes_of_a_prebent_blade_are_aerodyns(pitch_deg):
+    """With AeroDyn's curve angle (``BlCrvAng``, the IEA 15 MW's reaches −5.8°): the node's orientation is
+    ``EulerConstruct(0, BlCrvAng, −BlTwist)`` (``Init_u``) carried by the bent, pitched section; AeroDyn's annulus
+    is the unpitched root turned by that orientation's y Euler angle. Full matrices as above, against
+    :func:`annulus_axes` with ``curve_angle``. Tolerance 2e-3: ``annulus_axes`` takes the section normal's component
+    along ``i1`` as ``cos β``, exact for an unbent section and off by the bending slopes' squares (≤ 0.12 rad here)
+    times ``sin(BlCrvAng)``; for an unbent section it must be exact (1e-12)."""
+    import casadi as ca
+
+    rng = np.random.default_rng(5)
+    beta = np.deg2rad(pitch_deg)
+    for bent in (False, True):
+        for _ in range(20):
+            root = _dcm(2, rng.uniform(-np.pi, np.pi)) @ _dcm(1, rng.uniform(-0.1, 0.1)) @ _dcm(0, rng.uniform(-1, 1))
+            pitched = _dcm(2, -beta) @ root
+            bend = (_dcm(0, rng.uniform(-0.05, 0.05)) @ _dcm(1, rng.uniform(-0.12, 0.12))) if bent else np.eye(3)
+            section = bend @ pitched
+            curve, twist = rng.uniform(-0.1, 0.02), rng.uniform(-0.2, 0.2)
+            node = _dcm(2, -twist) @ _dcm(1, curve) @ section  # EulerConstruct(0, crv, −tw) · section (AeroDyn)
+            annulus = _dcm(1, _euler_extract_y(node @ root.T)) @ root
+            x, y = annulus_axes(ca.DM(pitched.T), ca.DM(section[2].reshape(3, 1)), beta, [curve])
+            tol = 2e-3 if bent else 1e-12
+            np.testing.assert_allclose(np.asarray(x).ravel(), annulus[0], atol=tol)
+            np.testing.assert_allclose(np.asarray(y).ravel(), annulus[1], atol=1e-12)
+
+
 @pytest.fixture(scope="module")
 def flex_model():
     from mbsym.wind.operation.deck import operating_deck

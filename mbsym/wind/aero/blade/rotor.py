@@ -230,6 +230,11 @@ class BladeElementRotor:
         return self.bem.curve_ac
 
     @property
+    def curve_angle(self) -> np.ndarray:
+        """BlCrvAng [rad]: the node's out-of-plane curve angle (AeroDyn tilts its annulus by it)."""
+        return self.bem.curve_angle
+
+    @property
     def sweep_ac(self) -> np.ndarray:
         """BlSwpAC [m]: in-plane offset of the aerodynamic centre, positive towards the trailing edge."""
         return self.bem.sweep_ac
