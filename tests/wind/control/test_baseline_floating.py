@@ -62,12 +62,13 @@ def test_floating_feedback_is_rosco_filter_chain():
     assert np.max(np.abs(fl - expected)) < 1e-12
 
 
-def test_floating_controller_matches_rosco_library(rosco_lib):
-    y = _measurements(4000)
-    ctrl = BaselineController.from_discon(need(DISCON), dt=DT)
+def _check_against_library(rosco_lib, discon: Path, y: np.ndarray) -> None:
+    """Our controller and the ROSCO library on the same measurements: |Δpitch| < PITCH_TOL_DEG; and the case
+    moves the pitch through the feedback (without it the command would differ by more than 100× that)."""
+    ctrl = BaselineController.from_discon(discon, dt=DT)
     ours, _ = ctrl.run(y)
     rosco = np.empty_like(ours)
-    with DisconController(rosco_lib, DISCON, dt=DT) as lib:
+    with DisconController(rosco_lib, discon, dt=DT) as lib:
         for k in range(y.shape[0]):
             u = lib.step(k * DT, dict(zip(ctrl.measurements, y[k])))
             rosco[k] = u["BlPitchCom1"], u["GenTqCom"]
@@ -75,9 +76,12 @@ def test_floating_controller_matches_rosco_library(rosco_lib):
     print(f"max |dpitch| {np.max(np.abs(dp)):.2e} deg, max |dtorque| {np.max(np.abs(ours[:, 1] - rosco[:, 1])):.2e} "
           "N m")
     assert np.max(np.abs(dp)) < PITCH_TOL_DEG, np.max(np.abs(dp))
-    # the case moves the pitch through the feedback (without it the command would differ by more than this)
     no_fl = BaselineController(ctrl.settings.replace(floating_mode=0)).run(y[:, :5])[0]
     assert np.max(np.abs(np.rad2deg(no_fl[:, 0] - rosco[:, 0]))) > 100 * PITCH_TOL_DEG
+
+
+def test_floating_controller_matches_rosco_library(rosco_lib):
+    _check_against_library(rosco_lib, need(DISCON), _measurements(4000))
 
 
 def _translational(tmp_path) -> Path:
@@ -129,19 +133,7 @@ def test_translational_feedback_is_rosco_filter_chain(tmp_path):
 
 def test_translational_controller_matches_rosco_library(rosco_lib, tmp_path):
     """Fl_Mode 1 against the library (records 53, 54 and 37 filled from the measurements), |Δpitch| < 1e-4°."""
-    discon = _translational(tmp_path)
-    y = _translational_measurements(4000)
-    ctrl = BaselineController.from_discon(discon, dt=DT)
-    ours, _ = ctrl.run(y)
-    rosco = np.empty_like(ours)
-    with DisconController(rosco_lib, discon, dt=DT) as lib:
-        for k in range(y.shape[0]):
-            u = lib.step(k * DT, dict(zip(ctrl.measurements, y[k])))
-            rosco[k] = u["BlPitchCom1"], u["GenTqCom"]
-    dp = np.rad2deg(ours[:, 0] - rosco[:, 0])
-    assert np.max(np.abs(dp)) < PITCH_TOL_DEG, np.max(np.abs(dp))
-    no_fl = BaselineController(ctrl.settings.replace(floating_mode=0)).run(y[:, :5])[0]
-    assert np.max(np.abs(np.rad2deg(no_fl[:, 0] - rosco[:, 0]))) > 100 * PITCH_TOL_DEG
+    _check_against_library(rosco_lib, _translational(tmp_path), _translational_measurements(4000))
 
 
 def test_unsupported_modes_are_refused(tmp_path):
