@@ -156,13 +156,30 @@ class FieldWindInputs:
 
         The field is known at its own time step only (linear in time and bilinear in space between samples), so
         its rate is taken at that resolution: a central difference over ``dt`` is continuous in time, where the
-        exact derivative of the interpolation jumps at every sample and grid line. It reaches ``dt / 2`` ahead
-        of the current time, within the step beyond the field's end that InflowWind accepts."""
-        h = float(self.field.dt)
-        step = 0.5 * h * velocities
-        ahead = self.velocity(points + step, {"WindTime": U["WindTime"] + 0.5 * h})
-        before = self.velocity(points - step, {"WindTime": U["WindTime"] - 0.5 * h})
-        return (ahead - before) / h
+        exact derivative of the interpolation jumps at every sample and grid line. Within ``dt / 2`` of the
+        field's first or last slice (a non-periodic field, at the point's Taylor-advected time) the difference
+        becomes one-sided, so it never reaches beyond the data."""
+        f = self.field
+        h, n = float(f.dt), points.size2()
+        from ..inflow.field import rotation_to_wind
+
+        along = ca.DM(rotation_to_wind(f.propagation_direction, f.upflow_angle)[0]).T if f.rotated else \
+            ca.DM([[1.0, 0.0, 0.0]])                                                 # wind direction (1 x 3)
+        ahead, behind = 0.5 * h * ca.DM.ones(1, n), 0.5 * h * ca.DM.ones(1, n)
+        if not f.periodic:
+            ref = ca.repmat(ca.DM([0.0, 0.0, float(f.reference_height)]), 1, n)
+            x = ca.mtimes(along, points - ref)                                         # wind-frame x [m]
+            tau = U["WindTime"] + (float(f.initial_x) - x) / float(f.mean_speed)       # the point's slice time [s]
+            speed = ca.fmax(1.0 - ca.mtimes(along, velocities) / float(f.mean_speed), 0.1)   # dτ/dt on the path
+            margin = 1e-6                                                                # [s]: rounding at the ends
+            ahead = ca.fmin(ahead, ca.fmax((float(f.total_time) - tau) / speed - margin, 0.0))
+            behind = ca.fmin(behind, ca.fmax(tau / speed - margin, 0.0))
+        # a time shift s of a point is a shift of -URef s along the wind (Taylor's frozen turbulence), so every
+        # point keeps the one field time of the External call
+        drift = velocities - float(f.mean_speed) * ca.repmat(along.T, 1, n)
+        w_ahead = self.velocity(points + drift * ca.repmat(ahead, 3, 1), U)
+        w_behind = self.velocity(points - drift * ca.repmat(behind, 3, 1), U)
+        return (w_ahead - w_behind) / ca.repmat(ca.fmax(ahead + behind, 1e-9), 3, 1)
 
     def signals(self, wind=None) -> dict[str, Any]:
         """Input signals of a simulation: the field's time is the simulation time. ``wind`` must be None or this

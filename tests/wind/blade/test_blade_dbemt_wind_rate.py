@@ -98,6 +98,13 @@ def test_field_path_rate_of_a_linear_field_is_its_derivative_along_the_path():
         want = field.velocity(time + 1.0, point + velocity) - field.velocity(time, point)
         got = np.asarray(f(point, velocity, time)).ravel()
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-4)
+    # within dt/2 of the field's first and last slices (the point's advected time 0.01 s from either end) the
+    # difference turns one-sided instead of reaching beyond the data: still the derivative, no domain error
+    point, velocity = np.array([0.0, 5.0, 90.0]), np.array([0.5, 8.0, -6.0])
+    lag = (field.initial_x - point[0]) / field.mean_speed
+    for time, step in ((0.01 - lag, 0.01), (field.total_time - 0.01 - lag, -0.01)):
+        want = (field.velocity(time + step, point + step * velocity) - field.velocity(time, point)) / step
+        np.testing.assert_allclose(np.asarray(f(point, velocity, time)).ravel(), want, rtol=0, atol=1e-3)
 
 
 def test_field_path_rate_integrates_to_the_change_along_the_path():
