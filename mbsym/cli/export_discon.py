@@ -22,9 +22,13 @@ simulate``).
 with ``NMPCTuning.estimated_wind()`` on the deck's turbine, one real-time iteration per 0.1 s) with its
 EKF (``--estimator ekf``, the default; 20 Hz) and the baseline controller of the deck as its fallback
 on a QP failure, all generated as C. The library's sample time is the controller sample time above.
-The EKF starts from the steady operation at ``--initial-wind`` (default 10 m/s). For a deck whose
-plant needs blade-element aerodynamics (full field, shear, blade DOFs) the controller's models are the
-deck's rotor-effective model with the DOFs they use (GenDOF, TwFADOF1, TwSSDOF1). ``--estimator mhe``
+The EKF starts (and restarts, should its wind estimate leave the plausible range) from the steady
+operation at the hub wind measured at its first sample (swap record 27), or at ``--initial-wind`` V
+m/s when given. For a deck whose plant needs blade-element aerodynamics (full field, shear, blade DOFs)
+the controller's models are the deck's rotor-effective model with the DOFs they use (GenDOF,
+TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsion where the deck has it).
+A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
+``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py). ``--estimator mhe``
 is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
 """
 
@@ -55,7 +59,8 @@ def add_parser(sub) -> None:
                    help="controller sample time [s] (default: the deck's DLL_DT/DT; built-in 0.01)")
     p.add_argument("--name", help="file name stem (default baseline_discon or nmpc_discon)")
     p.add_argument("--initial-wind", type=float, metavar="V",
-                   help="nmpc: wind [m/s] of the steady operation the EKF starts from (default 10)")
+                   help="nmpc: wind [m/s] of the steady operation the EKF starts from (default: the hub wind "
+                        "measured at the first sample, swap record 27)")
 
 
 def run(args) -> int:
@@ -96,6 +101,7 @@ def _run_nmpc(args) -> int:
     from ..exceptions import ControllerError, OptionError
     from ..wind.control.baseline import BaselineController
     from ..wind.mpc import (
+        EstimatorTuning,
         NMPCTuning,
         PredictionModel,
         SetPoints,
@@ -114,23 +120,35 @@ def _run_nmpc(args) -> int:
     wind0 = 10.0 if args.initial_wind is None else args.initial_wind
     if not (math.isfinite(wind0) and 3.0 <= wind0 <= 30.0):
         raise OptionError(f"--initial-wind must be a wind speed in [3, 30] m/s; got {wind0:g}.")
+    initial = "hub-wind" if args.initial_wind is None else "fixed"
     deck = operating_deck(args.deck) if args.deck is not None else builtin_deck()
     settings = deck.baseline_settings(discon_in=args.discon_input, dt=args.sample_time)
     baseline = BaselineController(settings)
     model = _controller_model(deck)
     observed = estimation_model(model)
-    estimator = TurbineEstimator(observed, "ekf", x0=_initial_estimate(model, observed, lambda t: np.full_like(
-        np.asarray(t, dtype=float), wind0)))
+    field = full_field_wind(deck)
+    estimator = TurbineEstimator(observed, "ekf", tuning=EstimatorTuning.full_field() if field else None,
+                                 x0=_initial_estimate(model, observed, lambda t: np.full_like(
+                                     np.asarray(t, dtype=float), wind0), settings))
     nmpc = TurbineNMPC(PredictionModel(model), SetPoints.from_settings(settings, model.rotor),
-                       tuning=NMPCTuning.estimated_wind())
+                       tuning=NMPCTuning.full_field() if field else NMPCTuning.estimated_wind())
+    if field:
+        print("mbsym export-discon: the deck's wind is a full field: the NMPC and EKF tunings for a rotor-averaged "
+              "wind (NMPCTuning.full_field, EstimatorTuning.full_field)")
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
-    out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon")
+    out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon",
+                             initial=initial)
     print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "
           f"DLL_InFile \"{out['input']}\", DLL_DT a divisor of {baseline.dt:g} s, PCMode 5, VSContrl 5")
     print(json.dumps(out))
     return 0
+
+
+def full_field_wind(deck) -> bool:
+    """Whether the deck's InflowWind is a full field (TurbSim, Bladed or HAWC boxes: WindType 3, 4, 5, 7)."""
+    return deck.inflow is not None and deck.inflow.wind_type in (3, 4, 5, 7)
 
 
 def _controller_model(deck):

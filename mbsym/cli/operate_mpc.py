@@ -82,10 +82,11 @@ class MpcOptions:
 
         prediction = PredictionModel(model)
         estimator = nmpc = baseline = None
+        settings = deck.baseline_settings()
         if self.estimator is not None:
             observed = estimation_model(model)
-            estimator = TurbineEstimator(observed, self.estimator, x0=_initial_estimate(model, observed, wind))
-        settings = deck.baseline_settings()
+            estimator = TurbineEstimator(observed, self.estimator,
+                                         x0=_initial_estimate(model, observed, wind, settings))
         if self.controller == "nmpc":
             tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()
             nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning,
@@ -96,15 +97,15 @@ class MpcOptions:
                            preview=self.preview, wind=wind)
 
 
-def _initial_estimate(model, prediction, wind):
+def _initial_estimate(model, prediction, wind, settings=None):
     """The estimator's prior: the plant's steady guess at the first wind sample (the run starts there)."""
     import numpy as np
 
-    from ..wind.operation.steady import steady_guess
+    from ..wind.mpc.estimator import steady_estimate
 
-    u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
-    x = dict(zip(model.dynamics().states, steady_guess(model, u0).state))
-    return np.array([x[s] for s in prediction.estimation_states] + [u0])
+    if prediction.plant is not model:
+        raise TypeError("the estimator's prediction model must be built on the plant (estimation_model(plant)).")
+    return steady_estimate(prediction, float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0]), settings=settings)
 
 
 def check_options(args: argparse.Namespace, controller: str) -> MpcOptions:

@@ -15,7 +15,7 @@ actuator type (must be 0), 49 size of ``avcMSG``, 50 length of ``accINFILE``, 61
 the measurements 20 ``GenSpeed`` [rad/s] (the estimator reads it in rpm), 53 ``YawBrTAxp`` [m/s²],
 4 ``BldPitch1`` [rad], 23 ``GenTq`` (measured generator torque) [N m], and for the baseline law
 (run at every sample, so its filters are current when it takes over) 21 ``RotSpeed`` [rad/s],
-15 ``GenPwr`` [W], 27 ``Wind1VelX`` [m/s]. Written: 42-45 the collective pitch demand [rad], 47 the
+15 ``GenPwr`` [W], 27 ``Wind1VelX`` [m/s] (also the EKF's start and restart, :mod:`.sample`). Written: 42-45 the collective pitch demand [rad], 47 the
 generator torque demand [N m]; 35 = 1, 36 = 0, 41 = 0, 46 = 0, 48 = 0, 55 = 56 = 0, 65 = 0.
 
 **Schedule** (:class:`~.sample.SampledLoop`, :class:`~.loop.TurbineLoop`): the library's sample time
@@ -64,7 +64,11 @@ NMPC_PART = r"""
 #define KE {ke}
 #define KN {kn}
 #define QP_ACCEPT {qp_accept!r}
+#define INIT_HUB_WIND {init_hub_wind}
+#define WIND_LO {wind_lo!r}
+#define WIND_HI {wind_hi!r}
 int nmpc_ekf(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_init(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_startup(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_rti(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 
@@ -101,6 +105,18 @@ static int all_finite(const double *v, int n)
     return 1;
 }}
 
+/* The estimator's start and restart: steady operation at the measured hub wind (record 27), or the fixed prior. */
+static void estimator_restart(const float *swap)
+{{
+    double hub = (double)swap[26];
+    memcpy(P, P0, sizeof P);
+    if (INIT_HUB_WIND && isfinite(hub)) {{
+        narg[0] = &hub; nres[0] = z;
+        if (nmpc_init(narg, nres, niw, nw, 0) == 0 && all_finite(z, NZ)) return;
+    }}
+    memcpy(z, Z0, sizeof z);
+}}
+
 /* One loop sample: the baseline law, the EKF every KE samples, the NMPC every KN samples, the demands. */
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
@@ -121,7 +137,8 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
                  "t = %g s", t);
         return -1;
     }}
-    if (k_loop > 0) {{ acc[0] += pitch; acc[1] += torque; ++n_acc; }}
+    if (k_loop == 0) estimator_restart(swap);
+    else {{ acc[0] += pitch; acc[1] += torque; ++n_acc; }}
     if (k_loop % KE == 0) {{
         if (n_acc > 0) {{ mean[0] = acc[0] / n_acc; mean[1] = acc[1] / n_acc; }}
         else {{ mean[0] = pitch; mean[1] = torque; }}
@@ -129,14 +146,16 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
         narg[0] = z; narg[1] = P; narg[2] = yv; narg[3] = mean; narg[4] = &flag;
         nres[0] = z_next; nres[1] = P_next;
         r = nmpc_ekf(narg, nres, niw, nw, 0);
-        if (r == 0 && all_finite(z_next, NZ) && all_finite(P_next, NZ * NZ)) {{
+        if (r == 0 && all_finite(z_next, NZ) && all_finite(P_next, NZ * NZ) && z_next[NZ - 1] >= WIND_LO
+            && z_next[NZ - 1] <= WIND_HI) {{
             memcpy(z, z_next, sizeof z); memcpy(P, P_next, sizeof P);
         }} else {{
-            memcpy(z, Z0, sizeof z); memcpy(P, P0, sizeof P);
+            estimator_restart(swap);
             have_plan = nmpc_on = 0;
             ++fallbacks;
-            snprintf(err, n_err, "the EKF estimate became non-finite at t = %g s: estimator restarted, baseline "
-                     "commands applied (%ld fallbacks so far)", t, fallbacks);
+            snprintf(err, n_err, "the EKF's estimate became non-finite or its wind left [%g, %g] m/s at t = %g s: "
+                     "estimator restarted, baseline commands applied (%ld fallbacks so far)", WIND_LO, WIND_HI, t,
+                     fallbacks);
             warn = 1;
         }}
         acc[0] = acc[1] = 0.0; n_acc = 0;
@@ -194,7 +213,7 @@ def _floats(values) -> str:
 
 
 def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, name: str = "nmpc_discon",
-                       compiler: str | None = None) -> dict:
+                       compiler: str | None = None, initial: str = "hub-wind") -> dict:
     """Compile the NMPC with its EKF (and the baseline as its fallback) into a ``DISCON`` library.
 
     Parameters
@@ -213,6 +232,9 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
         File name stem.
     compiler : str, optional, keyword-only
         C compiler command (default :func:`mbsym.codegen.compiler_command`).
+    initial : {"hub-wind", "fixed"}, keyword-only
+        How the EKF starts and restarts: steady operation at the measured hub wind (record 27; the
+        default) or the estimator's own prior (:mod:`.sample`).
 
     Returns
     -------
@@ -236,11 +258,11 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     if not math.isclose(baseline.dt, loop_dt, rel_tol=1e-12) or baseline.ipc:
         raise ControllerError(f"the fallback baseline must run at the loop sample time {loop_dt:g} s without IPC; "
                               f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
-    fns = sample_functions(nmpc, estimator, loop_dt)
+    fns = sample_functions(nmpc, estimator, loop_dt, initial=initial, settings=baseline.settings)
     cc, out = prepare_export(name, compiler, out_dir, "exporting the NMPC")
-    gen = (fns.ekf, fns.startup, fns.rti)
+    gen = (fns.ekf, fns.startup, fns.rti, fns.init)
     fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
-                                          repr(float(loop_dt))]).encode()).hexdigest()[:16]
+                                          repr(float(loop_dt)), initial]).encode()).hexdigest()[:16]
     law, _ = _write_sources(baseline, out / "src", name, fingerprint)
     cg = ca.CodeGenerator(f"{name}_nmpc.c", {"with_header": False, "with_export": False,
                                              "casadi_int": "long long int", "casadi_real": "double"})
@@ -252,7 +274,7 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     library = out / f"{name}.so"
     _compile(cc, [law, out / "src" / f"{name}_nmpc.c", wrapper], library)
     infile = out / f"{name}.IN"
-    infile.write_text(_input_text(nmpc, estimator, baseline, loop_dt, fingerprint))
+    infile.write_text(_input_text(nmpc, estimator, baseline, loop_dt, fingerprint, fns))
     return {"library": str(library.resolve()), "input": str(infile.resolve()), "controller": "nmpc",
             "sample_time_s": float(loop_dt)}
 
@@ -265,7 +287,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
     base = ca.Function(_LAW, [xs, ys], f(xs, ys), {"cse": True})        # as discon_export generates it
     measured = list(baseline.measurements)
     records = [MEASUREMENT_RECORDS[m][0] for m in measured]
-    gens = (fns.ekf, fns.startup, fns.rti)
+    gens = (fns.ekf, fns.startup, fns.rti, fns.init)
     common = dict(
         controller="nmpc", sample_time=float(fns.loop_dt), n_x=f.size1_in(0), n_y=len(measured), n_u=f.size1_out(1),
         fingerprint=fingerprint, ipc=0, law=_LAW, x0=_floats(baseline.x0),
@@ -276,6 +298,8 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
         + ", ".join(f"{r} {m}" for r, m in zip(records, measured)) + " (baseline fallback)",
         written="42-45 collective pitch, 47 torque")
     nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
+                init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
+                wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
                 n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
                 n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1))
@@ -284,7 +308,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
     return (HEAD + LAW + CHECK).format(**common) + NMPC_PART.format(**nmpc) + entry.format(**common)
 
 
-def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str) -> str:
+def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns) -> str:
     t, e = nmpc.tuning, estimator.tuning
     lines = [
         "! mbsym DISCON input file, written by mbsym export-discon (value  Key  ! comment)",
@@ -302,6 +326,11 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str) -> 
         + f", power_reference {t.power_reference}",
         "!   limits: " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in nmpc.prediction.plant.bounds().items()),
         f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}",
+        f"!   EKF model states: {', '.join(estimator.names)}",
+        "!   EKF start and restart: " + ("steady operation at the measured hub wind (record 27)"
+                                         if fns.initial == "hub-wind" else
+                                         f"fixed prior at {fns.z0[-1]:g} m/s")
+        + f"; restarted when its wind leaves [{fns.wind_range[0]:g}, {fns.wind_range[1]:g}] m/s",
         f"!   fallback: baseline controller from {baseline.settings.source or 'settings given in Python'}",
         "! measurements (swap records): " + ", ".join(f"{m} ({r})" for m, r in NMPC_RECORDS.items())
         + "; baseline: " + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in baseline.measurements),

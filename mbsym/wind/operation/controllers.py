@@ -25,7 +25,8 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "SI_FACTORS",
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "DISCON_MEASUREMENTS",
+           "SI_FACTORS",
            "measurement_names",
            "baseline_in_loop", "discon_in_loop", "held_commands"]
 
@@ -42,8 +43,13 @@ BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2"
 #: acceleration [deg/s^2] (Fl_Mode 2), the tower top's fore-aft and side-side accelerations [m/s^2] and the
 #: nacelle yaw [deg] (Fl_Mode 1).
 FLOATING_MEASUREMENTS = ("NcIMURAys", "YawBrTAxp", "YawBrTAyp", "NacYaw")
+#: Further channels a DISCON library receives from any plant that has them, as ServoDyn fills their records for
+#: every library: the measured generator torque [kN-m] (record 23) and the tower top's fore-aft acceleration
+#: [m/s^2] (53); the exported NMPC's estimator reads both.
+DISCON_MEASUREMENTS = ("GenTq", "YawBrTAxp")
 #: Channel -> factor from its OpenFAST unit to SI.
 SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "YawBrTAxp": 1.0, "YawBrTAyp": 1.0,
+              "GenTq": 1e3,
               "NacYaw": math.pi / 180.0,
               "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
@@ -51,9 +57,11 @@ SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "Y
 
 def measurement_names(model) -> tuple[str, ...]:
     """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, for a blade-element
-    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS`)."""
-    return MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
+    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS`, then
+    :data:`DISCON_MEASUREMENTS` not among them)."""
+    names = MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
         (FLOATING_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
+    return names + tuple(c for c in DISCON_MEASUREMENTS if c not in names)
 
 
 def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None,
@@ -111,7 +119,8 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon", model=
     :class:`DisconController` for every simulation (:meth:`DisconController.close` after). With a
     blade-element ``model`` the library also receives the blade-root moments (records 30-32), the azimuth
     (60) and every blade's pitch (4, 33, 34); with ``pitch='individual'`` its pitch demands per blade
-    (records 42-44) drive the blades.
+    (records 42-44) drive the blades. With a ``model`` it also receives :data:`DISCON_MEASUREMENTS` where the
+    model measures them (:func:`measurement_names`; records 23 and 53, as from ServoDyn).
     """
     if not isinstance(controller, DisconController):
         raise TypeError(f"controller must be a DisconController; got {type(controller).__name__}.")

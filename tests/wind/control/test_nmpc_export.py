@@ -41,8 +41,9 @@ def _wind(seconds):
     return kaimal_wind(14.0, 0.14, 3, duration=seconds + 1.0)          # region 3: pitch and torque both act
 
 
-def _controllers(wind, qp_solver="hpipm"):
-    """A fresh EKF and NMPC (no deadline: every step's own solution is applied), and the plant's start."""
+def _controllers(wind, qp_solver="hpipm", z0=None):
+    """A fresh EKF (prior ``z0``, default the steady operation at the first wind) and NMPC (no deadline: every
+    step's own solution is applied), and the plant's start."""
     from mbsym.wind.mpc import (
         NMPCTuning,
         TurbineEstimator,
@@ -55,7 +56,8 @@ def _controllers(wind, qp_solver="hpipm"):
     x0 = steady_guess(t.plant, float(wind(0.0))).state
     dyn = t.plant.dynamics()
     observed = estimation_model(t.plant)
-    z0 = [x0[dyn.states.index(s)] for s in observed.estimation_states] + [float(wind(0.0))]
+    if z0 is None:
+        z0 = [x0[dyn.states.index(s)] for s in observed.estimation_states] + [float(wind(0.0))]
     est = TurbineEstimator(observed, "ekf", x0=z0)
     nmpc = TurbineNMPC(t.prediction, t.setpoints, tuning=NMPCTuning.estimated_wind(), references=t.references,
                        qp_solver=qp_solver, deadline=math.inf)
@@ -88,7 +90,7 @@ def test_sample_functions_equal_the_python_nmpc_in_closed_loop():
     t = turbine()
     rows = _recorded_loop(T_RUN)
     est, nmpc, _ = _controllers(_wind(T_RUN))
-    sampled = SampledLoop(sample_functions(nmpc, est, t.deck.controller_dt))
+    sampled = SampledLoop(sample_functions(nmpc, est, t.deck.controller_dt, initial="fixed"))
     got = np.array([sampled.step(tt, y[0], y[6], math.radians(y[2]), y[5] * 1e3) for tt, y, _ in rows])
     ref = np.array([u for _, _, u in rows])
     assert len(rows) == round(T_RUN / 0.01)
@@ -128,8 +130,11 @@ def library(tmp_path_factory):
 @pytest.mark.slow
 def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
     # The library closed on the plant in mbsym's DISCON loop (ctypes, float32 swap array), 10 s; then the Python
-    # loop (TurbineLoop: hpipm RTI, numpy EKF) fed the same float32 measurements, sample by sample.
-    # Tolerance: module docstring. ~2 min with the export (60 s of gcc -O2 on 6.6 MB of generated C).
+    # loop (TurbineLoop: hpipm RTI, numpy EKF) fed the same float32 measurements, sample by sample, its EKF started
+    # where the library starts its own: the steady estimate table at the hub wind of the first step call (record
+    # 27), the Function the library generates. Tolerance: module docstring. ~2 min with the export (60 s of
+    # gcc -O2 on 6.6 MB of generated C).
+    from mbsym.wind.mpc.sample import sample_functions
     from mbsym.simulate.api import simulate
     from mbsym.simulate.controller import DiscreteController
     from mbsym.wind.control import DisconController
@@ -156,6 +161,9 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
                        dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
         assert not any("fallback" in m or "failed" in m for m in lib.messages), lib.messages
     # the library answers its initialization call (status 0, t = 0) with the baseline and starts at the next call
+    est0, nmpc0, _ = _controllers(wind)
+    start = sample_functions(nmpc0, est0, 0.01, settings=t.deck.baseline_settings()).init(rows[1][1][4])
+    est, nmpc, _ = _controllers(wind, z0=np.asarray(start, dtype=float).ravel())
     loop = TurbineLoop(t.plant, 0.01, nmpc=nmpc, estimator=est)
     xc = loop.controller().x0
     ref = []
@@ -236,3 +244,58 @@ def test_cli_contract_nmpc(tmp_path, capsys):
     assert set(out) == {"library", "input", "controller", "sample_time_s"}
     assert out["controller"] == "nmpc" and out["sample_time_s"] == 0.01
     assert out["library"].endswith(".so") and Path(out["input"]).read_text().startswith("! mbsym DISCON input")
+
+
+@pytest.mark.slow
+def test_implausible_estimate_restarts_the_ekf_from_the_hub_wind(library):
+    # A generator speed of 3000 rpm at the estimator sample of call 16 (the schedule starts at call 1; the EKF runs
+    # every 5th call, the NMPC every 10th) drives the wind estimate beyond 45 m/s: aviFAIL = 1 with the message,
+    # the baseline law's commands from there to the next NMPC sample (call 21), no exception; then the NMPC acts
+    # again from the restarted estimate, without further warnings (the SampledLoop mirror in
+    # tests/wind/control/test_estimator_drivetrain.py).
+    from mbsym.wind.control import BaselineController, DisconController
+    from mbsym.wind.mpc import LOOP_CHANNELS
+
+    t = turbine()
+    baseline = BaselineController(t.deck.baseline_settings())
+    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
+    xb, got, expected = baseline.x0, [], []
+    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
+        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
+        for k in range(31):
+            yk = y.copy()
+            if k == 16:
+                yk[0] = 3000.0
+            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
+            got.append(step(0.01 * k, y32))
+            xb, u = baseline.function(xb, y32[:5])
+            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
+            expected.append([u[0], u[-1]])
+            if k == 16:
+                assert any("wind left [1.5, 45] m/s at t = 0.16 s" in m and "1 fallbacks" in m
+                           for m in lib.messages), lib.messages
+                warned = len(lib.messages)
+        assert len(lib.messages) == warned
+    got, expected = np.array(got), np.array(expected, dtype=F32).astype(float)
+    for k in range(16, 21):
+        assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
+    assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
+
+
+def test_full_field_decks_get_the_rotor_averaged_tunings():
+    # export-discon picks NMPCTuning.full_field / EstimatorTuning.full_field for a full-field deck (their figures:
+    # benchmarks/nmpc_openfast.py); a uniform-wind deck and the built-in turbine keep the uniform-wind tunings.
+    from mbsym.cli.export_discon import full_field_wind
+    from mbsym.wind.mpc import EstimatorTuning, NMPCTuning
+    from mbsym.wind.operation.deck import builtin_deck, operating_deck
+
+    aero = Path(__file__).resolve().parents[3].parent / "shared" / "openfast" / "aero" / "openfast_inputs"
+    if not (aero / "ff14_flex").is_dir():
+        pytest.skip("needs ../shared/openfast/aero (the ff14_flex and step_10_14 decks)")
+    assert full_field_wind(operating_deck(aero / "ff14_flex" / "ff14_flex.fst"))
+    assert not full_field_wind(operating_deck(aero / "step_10_14" / "step_10_14.fst"))
+    assert not full_field_wind(builtin_deck())
+    t = NMPCTuning.full_field()
+    assert (t.speed_scale, t.tower_velocity_scale) == (10.0, 0.1)
+    assert t.pitch_rate_scale == NMPCTuning.estimated_wind().pitch_rate_scale
+    assert EstimatorTuning.full_field().wind_walk == 0.05 and EstimatorTuning().wind_walk == 0.25
