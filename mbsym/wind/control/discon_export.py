@@ -209,12 +209,47 @@ def _compile(cc, sources, library: Path) -> None:
             os.unlink(tmp)
 
 
+#: First line of every input file ``mbsym export-discon`` writes.
+EXPORT_HEADER = "! mbsym DISCON input file"
+#: The comment naming the ROSCO input file the compiled law's settings came from.
+SETTINGS_COMMENT = "! controller settings from: "
+
+
+def exported_settings(path: str | Path) -> tuple[bool, Path | None]:
+    """``(is_export, settings)``: whether ``path`` is an input file written by ``mbsym export-discon``, and
+    the ROSCO ``DISCON.IN`` its law was built from (None: settings given in Python, or not recorded).
+
+    An exported library's input file holds only what pairs it with the library; a deck whose ServoDyn
+    names it (``DLL_InFile``) still needs the turbine's controller settings (set-points, limits, the
+    actuators' rates) for mbsym: they are in the file recorded here.
+    """
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            head = [f.readline() for _ in range(3)]
+    except OSError:
+        return False, None
+    if not head[0].startswith(EXPORT_HEADER):
+        return False, None
+    for line in head[1:]:
+        if line.startswith(SETTINGS_COMMENT):
+            source = line[len(SETTINGS_COMMENT):].strip()
+            candidate = Path(source)
+            return True, (candidate if candidate.is_absolute() and candidate.suffix.upper() == ".IN" else None)
+    return True, None
+
+
+def _absolute(source: str) -> str:
+    """A settings file's absolute path (the input file may be read from another folder); other text as is."""
+    p = Path(source)
+    return str(p.resolve()) if p.is_file() else source
+
+
 def _input_text(ctrl: BaselineController, fingerprint: str) -> str:
     s = ctrl.settings
     source = s.source or "settings given in Python"
     lines = [
-        "! mbsym DISCON input file, written by mbsym export-discon (value  Key  ! comment)",
-        f"! controller settings from: {source}",
+        f"{EXPORT_HEADER}, written by mbsym export-discon (value  Key  ! comment)",
+        f"{SETTINGS_COMMENT}{_absolute(source)}",
         "! every setting of the law is compiled into the library; these values are checked against it",
         f"{'baseline':<24} Controller   ! controller kind",
         f"{float(ctrl.dt)!r:<24} SampleTime   ! controller sample time [s]; the communication interval must divide it",

@@ -310,8 +310,11 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
 
 def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns) -> str:
     t, e = nmpc.tuning, estimator.tuning
+    from ..control.discon_export import EXPORT_HEADER, SETTINGS_COMMENT, _absolute
+
     lines = [
-        "! mbsym DISCON input file, written by mbsym export-discon (value  Key  ! comment)",
+        f"{EXPORT_HEADER}, written by mbsym export-discon (value  Key  ! comment)",
+        f"{SETTINGS_COMMENT}{_absolute(baseline.settings.source or 'settings given in Python')}",
         "! the NMPC, its EKF and the fallback baseline are compiled into the library; these values are checked",
         f"{'nmpc':<24} Controller   ! controller kind",
         f"{float(loop_dt)!r:<24} SampleTime   ! library (loop) sample time [s]; the communication interval must "

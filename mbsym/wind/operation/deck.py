@@ -88,6 +88,12 @@ class OperatingDeck:
         The turbine's cut-out wind speed [m/s] (:mod:`.cut_out`); None when unknown (an OpenFAST deck states none).
     cut_out_source : str
         Where :attr:`cut_out_wind_speed` comes from, for messages.
+    exported_input : bool
+        Whether :attr:`discon_in` was written by ``mbsym export-discon`` (it pairs with an exported library
+        and holds no settings).
+    settings_in : Path or None
+        With :attr:`exported_input`: the ROSCO input file the exported law was built from (its comment),
+        the source of :meth:`baseline_settings`.
     """
 
     turbine: TurbineParameters
@@ -108,6 +114,8 @@ class OperatingDeck:
     radiation: str = "fit"
     cut_out_wind_speed: float | None = None
     cut_out_source: str = ""
+    exported_input: bool = False
+    settings_in: Path | None = None
 
     @property
     def floating(self) -> bool:
@@ -220,13 +228,14 @@ class OperatingDeck:
     def individual_pitch_control(self) -> bool:
         """Whether the deck's controller pitches the blades individually: ServoDyn ``Ptch_Cntrl = 1`` and ROSCO's
         ``IPC_ControlMode > 0`` in its DISCON.IN (with IPC off ROSCO commands every blade alike)."""
-        if self.servodyn is None or self.discon_in is None or not Path(self.discon_in).is_file():
+        source = self.settings_in if self.exported_input else self.discon_in
+        if self.servodyn is None or source is None or not Path(source).is_file():
             return False
         if int(getattr(self.servodyn, "individual_pitch", 0) or 0) != 1:
             return False
         from ..deck.discon_in import read_discon_in
 
-        value = read_discon_in(self.discon_in).values.get("IPC_ControlMode", 0)
+        value = read_discon_in(source).values.get("IPC_ControlMode", 0)
         try:
             return int(value) > 0
         except (TypeError, ValueError):
@@ -263,12 +272,21 @@ class OperatingDeck:
         return None if self.inflow is None else self.inflow.wind()
 
     def baseline_settings(self, *, discon_in: str | Path | None = None, dt: float | None = None):
-        """Baseline controller settings: ``discon_in``, else the deck's DISCON.IN, else the built-in NREL 5 MW."""
+        """Baseline controller settings: ``discon_in``, else the deck's DISCON.IN (for an exported library's input
+        file, the DISCON.IN recorded in it), else the built-in NREL 5 MW."""
         from ..control.settings import BaselineSettings
         from .nrel5mw import nrel5mw_baseline_settings
 
         dt = self.controller_dt if dt is None else dt
         source = discon_in if discon_in is not None else self.discon_in
+        if discon_in is None and self.exported_input:
+            if self.settings_in is None or not self.settings_in.is_file():
+                raise ControllerError(f"ServoDyn's DLL_InFile {self.discon_in} is the input file of a library exported "
+                                      "by mbsym; the ROSCO DISCON.IN it was built from "
+                                      + (f"({self.settings_in}) is missing" if self.settings_in is not None else
+                                         "is not recorded in it") + ". Pass --discon-input DISCON.IN (the turbine's "
+                                      "controller settings).")
+            source = self.settings_in
         if source is None:
             return nrel5mw_baseline_settings(dt)
         if not Path(source).is_file():
@@ -333,6 +351,7 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
     """
     from ..deck.aerodyn import read_aerodyn
     from ..deck.discon_in import read_discon_in
+    from ..control.discon_export import exported_settings
     from ..deck.inflowwind import deck_inflowwind
     from ..deck.openfast import read_openfast
     from ..deck.servodyn import deck_servodyn
@@ -350,8 +369,8 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
     dbemt = dbemt_settings(aerodyn)
     servodyn, glue_dt = deck_servodyn(path)
     inflow = deck_inflowwind(path)
-    discon_in = library = None
-    uses_library = False
+    discon_in = library = settings_in = None
+    uses_library = exported = False
     dt = glue_dt
     discon = None
     if servodyn is not None:
@@ -361,13 +380,16 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
             library = servodyn.library
         if servodyn.library_input_name not in ("", "unused"):
             discon_in = servodyn.library_input
-            if discon_in.is_file():
+            exported, settings_in = exported_settings(discon_in)
+            if exported:                      # an exported library's input: the settings are in its source
+                discon = read_discon_in(settings_in) if settings_in is not None and settings_in.is_file() else None
+            elif discon_in.is_file():
                 discon = read_discon_in(discon_in)
     actuators = ActuatorSettings.from_deck(servodyn, discon)
     return OperatingDeck(turbine=turbine, rotor_source=path, dofs=None, dynamic_inflow=dbemt is not None, dbemt=dbemt,
                          actuators=actuators, controller_dt=float(dt), servodyn=servodyn, inflow=inflow,
                          discon_in=discon_in, library=library, uses_library=uses_library, label=str(path),
-                         path=path, aerodyn=aerodyn)
+                         path=path, aerodyn=aerodyn, exported_input=exported, settings_in=settings_in)
 
 
 def _refuse_modules(turbine, path: Path) -> None:

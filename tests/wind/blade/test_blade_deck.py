@@ -90,6 +90,7 @@ def test_discon_library_receives_the_blade_plants_root_moments():
     with DisconController(lib, need(DECK / "DISCON.IN"), dt=0.00625) as handle:
         ctrl = discon_in_loop(handle, model=model)
         assert set(("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth")) <= set(ctrl.measurements)
+        assert set(("GenTq", "YawBrTAxp")) <= set(ctrl.measurements)        # records 23 and 53, as from ServoDyn
         ctrl.law(0.0, np.zeros(0), np.array([y[names.index(m)] for m in ctrl.measurements]))
         swap = handle.swap
         for k in range(3):

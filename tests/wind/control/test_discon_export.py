@@ -243,6 +243,40 @@ def test_cli_deck_configures_as_simulate_does(compiler, tmp_path, capsys):
     assert np.max(np.abs(lib - law) / np.maximum(np.abs(law), 1e-3)) < 2.0**-23    # float32 rounding only
 
 
+def test_deck_naming_an_exported_library_still_reads_its_settings(compiler, tmp_path, capsys):
+    # The docs' recipe: the two exported paths put into the deck's ServoDyn. mbsym must still read that deck (the
+    # library's input file holds no settings: the DISCON.IN it was built from is recorded in it), with the same
+    # baseline settings; an input file that records none is refused with the fix named.
+    from mbsym.wind.operation.deck import operating_deck
+
+    need(DECK.parent / "steady_14" / "steady_14.fst")
+    for name in ("deck", "steady_14"):
+        shutil.copytree(DECK.parent / name, tmp_path / name)
+        for p in (tmp_path / name).iterdir():
+            p.chmod(0o644)
+    fst = tmp_path / "steady_14" / "steady_14.fst"
+    code, out, err = _cli(["export-discon", str(fst), "--controller", "baseline", "--out", str(tmp_path / "lib")],
+                          capsys)
+    assert code == 0, err
+    result = json.loads(out.strip().splitlines()[-1])
+    before = operating_deck(fst).baseline_settings()
+    servodyn = tmp_path / "deck" / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
+    text = servodyn.read_text()
+    for key, value in (("DLL_FileName", result["library"]), ("DLL_InFile", result["input"])):
+        text, n = re.subn(rf"^\s*\S+(\s+{key}\b)", lambda m, v=value: f'"{v}"{m.group(1)}', text, count=1, flags=re.M)
+        assert n == 1
+    servodyn.write_text(text)
+    deck = operating_deck(fst)
+    assert deck.exported_input and deck.settings_in == (tmp_path / "deck" / "DISCON.IN").resolve()
+    after = deck.baseline_settings()
+    assert (after.dt, after.rated_power, after.gearbox_ratio) == (before.dt, before.rated_power, before.gearbox_ratio)
+    infile = result["input"]
+    lines = [line for line in open(infile).read().splitlines() if not line.startswith("! controller settings from")]
+    open(infile, "w").write("\n".join(lines) + "\n")
+    with pytest.raises(ControllerError, match="--discon-input"):
+        operating_deck(fst).baseline_settings()
+
+
 # ---------------------------------------------------------------------------------------------- closed loop
 def _loops(ctrl, out, tmax):
     """The NREL 5 MW rotor-effective plant (GenDOF, TwFADOF1) in a 10 -> 14 m/s step at 5 s, RK4 at 0.01 s,
