@@ -145,7 +145,8 @@ def _mbsym_run(fst: Path, seconds: float, out: Path, args: list[str]) -> float:
     return time.perf_counter() - c0
 
 
-def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | None, mbsym_plant: bool) -> None:
+def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | None, mbsym_plant: bool,
+        rosco_out: str | None = None) -> None:
     if not (SHARED / "tools" / "openfast" / "openfast").is_file():
         sys.exit(f"needs {SHARED / 'tools' / 'openfast' / 'openfast'}")
     work.mkdir(parents=True, exist_ok=True)
@@ -160,7 +161,9 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
     out, wall = _openfast(fst, seconds, lib["library"], lib["input"], bts)
     runs = {"OpenFAST + NMPC": {"file": str(out), "wall_s": wall}}
     ref_csv = SHARED / "openfast" / "aero" / f"{case}.csv"
-    if bts or not ref_csv.is_file():
+    if rosco_out is not None:                     # a ROSCO run of the same deck and wind made before
+        runs["OpenFAST + ROSCO"] = {"file": str(Path(rosco_out).resolve()), "wall_s": None}
+    elif bts or not ref_csv.is_file():
         if rosco is None:
             sys.exit("a ROSCO reference for this wind needs --rosco DIR (the wheel's rosco/ and rosco.libs/)")
         rfst = _copy_case(work / "rosco", case)
@@ -273,12 +276,13 @@ def main() -> None:
     p.add_argument("--bts", help="another TurbSim full field (.bts) for both runs")
     p.add_argument("--rosco", help="directory with the rosco wheel's rosco/ and rosco.libs/ (for --bts)")
     p.add_argument("--mbsym-plant", action="store_true", help="also close both controllers on mbsym's plant")
+    p.add_argument("--rosco-out", help="an earlier ROSCO run (.out) of the same deck and wind, instead of a new one")
     for name in ("plant", "report"):
         p = sub.add_parser(name)
         p.add_argument("--work", default="/tmp/mbsym_nmpc_openfast")
     args = parser.parse_args()
     if args.what == "run":
-        run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant)
+        run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant, args.rosco_out)
     elif args.what == "plant":
         plant(Path(args.work))
     else:

@@ -297,5 +297,5 @@ def test_full_field_decks_get_the_rotor_averaged_tunings():
     assert not full_field_wind(builtin_deck())
     t = NMPCTuning.full_field()
     assert (t.speed_scale, t.tower_velocity_scale) == (10.0, 0.1)
-    assert t.pitch_rate_scale == NMPCTuning.estimated_wind().pitch_rate_scale
+    assert t.pitch_rate_scale == math.radians(0.45) and t.power_reference == "steady"
     assert EstimatorTuning.full_field().wind_walk == 0.05 and EstimatorTuning().wind_walk == 0.25
