@@ -353,9 +353,10 @@ class _ClosedLoop:
             loop, hit = prepared(self.plant.owner, ("closed-loop substeps", id(step), m),
                                  lambda: PreparedLoop(step, m, on))
             rhs_f, _, rhs_hit = maybe_compile(dense_rhs(self.plant), compiled, with_hit=True)
-            disk_hit = disk_hit and rhs_hit
+            meas_f, _, meas_hit = maybe_compile(self.bc.measure, compiled, with_hit=True)   # once per sample too
+            disk_hit = disk_hit and rhs_hit and meas_hit
             rhs = BufferedFunction(rhs_f, self.p)
-            meas = BufferedFunction(self.bc.measure, self.p)
+            meas = BufferedFunction(meas_f, self.p)
             prep = time.perf_counter() - t0
             out = self._run_callable(loop, rhs, meas, times, m, monitor)
         if self.bc.held_samples > 1 or self.bc.held_order > 0:

@@ -343,7 +343,8 @@ def _runner(model, ctrl: dict, tmax: float, dt_out: float, compile: bool) -> Clo
                  "channels": dyn.outputs.serialize()}
     controller = {k: v for k, v in ctrl.items() if k not in ("law", "states")}
     names = {"states": tuple(dyn.states), "inputs": tuple(dyn.inputs), "parameters": tuple(dyn.parameters),
-             "measurements": tuple(MEASUREMENTS), "measurement_units": tuple(meas.output_units),
+             "measurements": tuple(meas.output_names), "law_measurements": tuple(MEASUREMENTS),
+             "measurement_units": tuple(meas.output_units),
              "channels": tuple(dyn.output_names), "channel_units": tuple(dyn.output_units),
              "state_units": tuple(dyn.state_units), "input_units": tuple(dyn.input_units),
              "actuates": tuple(ACTUATED), "controller_states": tuple(ctrl.get("states", ()))}

@@ -55,8 +55,9 @@ class ClosedLoopRunner:
     functions : dict of str
         Serialized ``rhs``, ``measurements``, ``channels`` and (baseline) ``law`` Functions.
     names : dict of tuple
-        ``states``, ``inputs``, ``parameters``, ``measurements``, ``measurement_units``,
-        ``channels``, ``channel_units``, controller ``state_names``, ``actuates``.
+        ``states``, ``inputs``, ``parameters``, ``measurements`` (the measured channels),
+        ``law_measurements`` (the baseline law's), ``measurement_units``, ``channels``, ``channel_units``,
+        controller ``state_names``, ``actuates``.
     controller : dict
         ``kind`` (baseline, discon, none), ``dt`` [s], ``x0`` (baseline state), DISCON ``library``,
         ``input`` and ``n_blades``.
@@ -118,7 +119,7 @@ class ClosedLoopRunner:
         c = self.controller
         law = None
         if c["kind"] == "baseline":
-            law = DiscreteController(f["law"], c["dt"], c["x0"], measurements=n["measurements"],
+            law = DiscreteController(f["law"], c["dt"], c["x0"], measurements=n["law_measurements"],
                                      actuates=n["actuates"], state_names=n["controller_states"], name="baseline")
         return {"measured": meas, "full": full, "law": law}
 
