@@ -90,18 +90,8 @@ def loop(seconds: float) -> None:
     shutil.rmtree(work, ignore_errors=True)
 
 
-def _set_value(path: Path, key: str, value: str) -> None:
-    import re
-
-    text = path.read_text()
-    text, n = re.subn(rf"^\s*\S+(\s+{key}\b)", lambda m: f"{value}{m.group(1)}", text, count=1, flags=re.M)
-    if n != 1:
-        sys.exit(f"{path}: key {key} not found")
-    path.write_text(text)
-
-
 def openfast(case: str, seconds: float, keep: str | None) -> None:
-    from discon_export_openfast import _read_csv, _read_out, _shared
+    from discon_export_openfast import _read_csv, _read_out, _set_value, _shared
 
     shared = _shared()
     aero = shared / "openfast" / "aero"

@@ -44,6 +44,8 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parent), str(HERE)]
+from discon_export_openfast import _read_csv, _read_out  # noqa: E402  (the benchmarks' OpenFAST readers)
+from discon_export_openfast import _set_value as _set  # noqa: E402
 SHARED = HERE.parent.parent / "shared"
 SERVODYN = "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
 #: Issue 21's targets without preview: measure -> (ratio bound, "le" or "ge").
@@ -51,33 +53,6 @@ TARGETS = {"DEL TwrBsMyt": (0.90, "le"), "speed RMS error": (1.0, "le"), "energy
            "pitch-rate RMS": (1.25, "le"), "DEL RootMyc1": (1.05, "le")}
 T_START = 60.0
 RATED_RPM = 12.1            # the deck's DISCON.IN: PC_RefSpd 122.91 rad/s / GBRatio 97
-
-
-def _set(path: Path, key: str, value: str) -> None:
-    import re
-
-    text = path.read_text()
-    text, n = re.subn(rf"^\s*\S+(\s+{key}\b)", lambda m: f"{value}{m.group(1)}", text, count=1, flags=re.M)
-    if n != 1:
-        sys.exit(f"{path}: key {key} not found")
-    path.write_text(text)
-
-
-def _read_out(path: Path) -> dict[str, np.ndarray]:
-    lines = path.read_text().splitlines()
-    start = next(i for i, line in enumerate(lines) if line.split()[:1] == ["Time"])
-    names = lines[start].split()
-    data = np.array([line.split() for line in lines[start + 2:] if line.strip()], dtype=float)
-    return {n: data[:, j] for j, n in enumerate(names)}
-
-
-def _read_csv(path: Path) -> dict[str, np.ndarray]:
-    import csv
-
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    data = np.array(rows[1:], dtype=float)
-    return {name.split("_[")[0]: data[:, j] for j, name in enumerate(rows[0])}
 
 
 def measures(c: dict[str, np.ndarray], seconds: float) -> dict[str, float]:

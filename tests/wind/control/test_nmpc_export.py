@@ -187,6 +187,33 @@ def test_library_is_self_contained(library):
     assert "nmpc" in text.split()[text.split().index("Controller") - 1]
 
 
+def _fault_run(library, k_fault: int, channel: int, value: float):
+    """31 calls of the library (0.01 s) on steady 14 m/s measurements, ``LOOP_CHANNELS[channel] = value`` at call
+    ``k_fault``; the library's commands, the baseline law's on the same float32 measurements, the messages just
+    after the fault and at the end."""
+    from mbsym.wind.control import BaselineController, DisconController
+    from mbsym.wind.mpc import LOOP_CHANNELS
+
+    baseline = BaselineController(turbine().deck.baseline_settings())
+    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
+    xb, got, expected, at_fault = baseline.x0, [], [], []
+    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
+        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
+        for k in range(31):
+            yk = y.copy()
+            if k == k_fault:
+                yk[channel] = value
+            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
+            got.append(step(0.01 * k, y32))
+            xb, u = baseline.function(xb, y32[:5])
+            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
+            expected.append([u[0], u[-1]])
+            if k == k_fault:
+                at_fault = list(lib.messages)
+        final = list(lib.messages)
+    return np.array(got), np.array(expected, dtype=F32).astype(float), at_fault, final
+
+
 @pytest.mark.slow
 def test_qp_failure_falls_back_to_the_baseline_and_recovers(library):
     # A measured torque of 60 kN m (above the 47.4 kN m limit; the torque rate bound, 40 kN m/s over 0.1 s, cannot
@@ -194,56 +221,12 @@ def test_qp_failure_falls_back_to_the_baseline_and_recovers(library):
     # makes the QP infeasible. Expected: aviFAIL = 1 with the message, the baseline law's commands there (its own
     # Function on the same float32 measurements: equal to float32 rounding), no exception; with sane measurements
     # again the NMPC starts over at the next NMPC sample, and its commands leave the baseline's.
-    from mbsym.wind.control import BaselineController, DisconController
-    from mbsym.wind.mpc import LOOP_CHANNELS
-
-    t = turbine()
-    baseline = BaselineController(t.deck.baseline_settings())
-    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
-    xb, got, expected = baseline.x0, [], []
-    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
-        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
-        for k in range(31):
-            yk = y.copy()
-            if k == 11:
-                yk[5] = 60.0
-            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
-            got.append(step(0.01 * k, y32))
-            xb, u = baseline.function(xb, y32[:5])
-            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
-            expected.append([u[0], u[-1]])
-            if k == 11:
-                assert any("QP failed at t = 0.11 s" in m and "1 fallbacks" in m for m in lib.messages), lib.messages
-                warned = len(lib.messages)
-        assert len(lib.messages) == warned                                      # recovered: no further warning
-    got, expected = np.array(got), np.array(expected, dtype=F32).astype(float)
+    got, expected, at_fault, final = _fault_run(library, 11, 5, 60.0)
+    assert any("QP failed at t = 0.11 s" in m and "1 fallbacks" in m for m in at_fault), at_fault
+    assert final == at_fault                                                    # recovered: no further warning
     for k in range(11, 21):                                                     # held until the next NMPC sample
         assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
     assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
-
-
-def test_cli_refuses_what_cannot_be_exported(tmp_path, capsys):
-    from mbsym.cli import main
-
-    for extra, expected in ((["--estimator", "mhe"], "mhe is not exportable yet: the MHE solves"),
-                            (["--initial-wind", "40"], "--initial-wind must be a wind speed in [3, 30] m/s")):
-        assert main(["export-discon", "--controller", "nmpc", *extra, "--out", str(tmp_path / "z")]) == 2
-        assert expected in capsys.readouterr().err and not (tmp_path / "z").exists()
-    assert main(["export-discon", "--controller", "baseline", "--initial-wind", "10", "--out", str(tmp_path)]) == 2
-    assert "--initial-wind is the NMPC's EKF prior" in capsys.readouterr().err
-
-
-@pytest.mark.slow
-def test_cli_contract_nmpc(tmp_path, capsys):
-    if compiler_command() is None:
-        pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
-    from mbsym.cli import main
-
-    assert main(["export-discon", "--controller", "nmpc", "--out", str(tmp_path)]) == 0
-    out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert set(out) == {"library", "input", "controller", "sample_time_s"}
-    assert out["controller"] == "nmpc" and out["sample_time_s"] == 0.01
-    assert out["library"].endswith(".so") and Path(out["input"]).read_text().startswith("! mbsym DISCON input")
 
 
 @pytest.mark.slow
@@ -253,34 +236,12 @@ def test_implausible_estimate_restarts_the_ekf_from_the_hub_wind(library):
     # the baseline law's commands from there to the next NMPC sample (call 21), no exception; then the NMPC acts
     # again from the restarted estimate, without further warnings (the SampledLoop mirror in
     # tests/wind/control/test_estimator_drivetrain.py).
-    from mbsym.wind.control import BaselineController, DisconController
-    from mbsym.wind.mpc import LOOP_CHANNELS
-
-    t = turbine()
-    baseline = BaselineController(t.deck.baseline_settings())
-    y = np.array([1173.7, 12.1, 8.0, 5000.0, 14.0, 43.0, 0.0])                  # LOOP_CHANNELS, loop units
-    xb, got, expected = baseline.x0, [], []
-    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
-        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
-        for k in range(31):
-            yk = y.copy()
-            if k == 16:
-                yk[0] = 3000.0
-            y32 = np.asarray(yk * np.asarray(LOOP_SI), dtype=F32).astype(float)
-            got.append(step(0.01 * k, y32))
-            xb, u = baseline.function(xb, y32[:5])
-            xb, u = np.asarray(xb).ravel(), np.asarray(u).ravel()
-            expected.append([u[0], u[-1]])
-            if k == 16:
-                assert any("wind left [1.5, 45] m/s at t = 0.16 s" in m and "1 fallbacks" in m
-                           for m in lib.messages), lib.messages
-                warned = len(lib.messages)
-        assert len(lib.messages) == warned
-    got, expected = np.array(got), np.array(expected, dtype=F32).astype(float)
+    got, expected, at_fault, final = _fault_run(library, 16, 0, 3000.0)
+    assert any("wind left [1.5, 45] m/s at t = 0.16 s" in m and "1 fallbacks" in m for m in at_fault), at_fault
+    assert final == at_fault
     for k in range(16, 21):
         assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
     assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
-
 
 def test_full_field_decks_get_the_rotor_averaged_tunings():
     # export-discon picks NMPCTuning.full_field / EstimatorTuning.full_field for a full-field deck (their figures:
