@@ -243,6 +243,31 @@ def test_implausible_estimate_restarts_the_ekf_from_the_hub_wind(library):
         assert np.allclose(got[k], expected[k], rtol=1e-6, atol=1e-8), (k, got[k], expected[k])
     assert np.max(np.abs(got[21:, 1] - expected[21:, 1])) > 10.0                 # N m: the NMPC acts again
 
+
+def test_cli_refuses_what_cannot_be_exported(tmp_path, capsys):
+    from mbsym.cli import main
+
+    for extra, expected in ((["--estimator", "mhe"], "mhe is not exportable yet: the MHE solves"),
+                            (["--initial-wind", "40"], "--initial-wind must be a wind speed in [3, 30] m/s")):
+        assert main(["export-discon", "--controller", "nmpc", *extra, "--out", str(tmp_path / "z")]) == 2
+        assert expected in capsys.readouterr().err and not (tmp_path / "z").exists()
+    assert main(["export-discon", "--controller", "baseline", "--initial-wind", "10", "--out", str(tmp_path)]) == 2
+    assert "--initial-wind is the NMPC's EKF prior" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_cli_contract_nmpc(tmp_path, capsys):
+    if compiler_command() is None:
+        pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
+    from mbsym.cli import main
+
+    assert main(["export-discon", "--controller", "nmpc", "--out", str(tmp_path)]) == 0
+    out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert set(out) == {"library", "input", "controller", "sample_time_s"}
+    assert out["controller"] == "nmpc" and out["sample_time_s"] == 0.01
+    assert out["library"].endswith(".so") and Path(out["input"]).read_text().startswith("! mbsym DISCON input")
+
+
 def test_full_field_decks_get_the_rotor_averaged_tunings():
     # export-discon picks NMPCTuning.full_field / EstimatorTuning.full_field for a full-field deck (their figures:
     # benchmarks/nmpc_openfast.py); a uniform-wind deck and the built-in turbine keep the uniform-wind tunings.
