@@ -9,20 +9,25 @@ structure and the rotor:
 * the quasi-static catenary mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX), with
   its lines' drag and inertia on their quasi-static shape for a MoorDyn deck (:mod:`.line_dynamics`);
 * the infinite-frequency added mass A∞, which the operating turbine adds to the platform block of
-  its symbolic mass matrix (so trims and linear models see it).
+  its symbolic mass matrix (so trims and linear models see it);
+* the sea: the first-order wave excitation ``B1WvsFxi … B1WvsMzi`` and the elevation ``Wave1Elev`` are
+  **inputs** of the model (:data:`SEA_INPUTS`; linear models get them as disturbance inputs), fed by a
+  simulation from the deck's waves (:meth:`FloatingPlatform.sea_tables`, HydroDyn's own time series:
+  :mod:`.excitation`); zero in still water.
 
 The operation layer (:mod:`mbsym.wind.operation.compose`) takes such an object as
 ``OperatingTurbine(..., platform=...)``: the loads go on the structure's platform inputs
 ``PtfmFx … PtfmMz`` (at the platform reference point, inertial axes), the radiation states join the
 state vector and the channels of :meth:`FloatingPlatform.channel_rows` (``HydroFxi … HydroMzi``,
-``FAIRTEN1..n``, ``Wave1Elev``) join the outputs. This module imports only :mod:`mbsym.wind.deck`
+``FAIRTEN1..n``, ``B1WvsFxi … B1WvsMzi``, ``Wave1Elev``) join the outputs. This module imports only :mod:`mbsym.wind.deck`
 and the offshore room; :func:`floating_platform` builds the object from a deck's HydroDyn, SeaState
 and MoorDyn/MAP++ files.
 
 Approximations (stated in docs/offshore.md): the platform's velocity and acceleration are the DOF
 rates ``q̇``, ``q̈`` of surge … yaw (exact in translation; the angular ones are first order in the
 angles, as in :class:`~.floating.FloatingStructure`); the lines are quasi-static, with MoorDyn's drag and
-inertia on that shape when the mooring has ``dynamics`` (:mod:`.line_dynamics`); still water (``Wave1Elev`` = 0, no excitation).
+inertia on that shape when the mooring has ``dynamics`` (:mod:`.line_dynamics`); the wave excitation at the
+undisplaced platform (HydroDyn's ``ExctnDisp = 0``).
 """
 
 from __future__ import annotations
@@ -37,12 +42,13 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import ModelWarning, UnsupportedFeatureError
+from .excitation import EXCITATION_CHANNELS
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -51,6 +57,8 @@ PLATFORM_INPUTS = ("PtfmFx", "PtfmFy", "PtfmFz", "PtfmMx", "PtfmMy", "PtfmMz")
 #: HydroDyn's total-load channels (with their OpenFAST units).
 HYDRO_CHANNELS = {"HydroFxi": "N", "HydroFyi": "N", "HydroFzi": "N", "HydroMxi": "N-m", "HydroMyi": "N-m",
                   "HydroMzi": "N-m"}
+#: The sea's inputs of a floating model: HydroDyn's first-order excitation [N, N m] and SeaState's elevation [m].
+SEA_INPUTS = (*EXCITATION_CHANNELS, "Wave1Elev")
 #: How :func:`floating_platform` models the radiation memory.
 RADIATION_MODELS = ("fit", "ss", "none")
 
@@ -81,6 +89,7 @@ class FloatingPlatform:
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS
+    sea_inputs = SEA_INPUTS
 
     @property
     def n_radiation(self) -> int:
@@ -100,11 +109,21 @@ class FloatingPlatform:
     def n_lines(self) -> int:
         return 0 if self.mooring is None else len(self.mooring.lines)
 
+    @property
+    def waves(self):
+        """The deck's sea (:class:`~.excitation.WaveExcitation`), None in still water."""
+        return self.hydro.waves
+
+    def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Simulation inputs ``name → (t, values)`` of :data:`SEA_INPUTS` over ``[0, t_end]`` [s]; {} in still water."""
+        return {} if self.waves is None else self.waves.tables(t_end)
+
     @cached_property
     def function(self) -> ca.Function:
-        """``(qp, vp, xr) → (load, hydro, xr_dot, tension)`` (SX, built once).
+        """``(qp, vp, xr, sea) → (load, hydro, xr_dot, tension, mass, sea_out)`` (SX, built once).
 
-        ``qp``, ``vp``: the platform DOFs [m, rad] and their rates; ``xr``: the radiation states.
+        ``qp``, ``vp``: the platform DOFs [m, rad] and their rates; ``xr``: the radiation states; ``sea``:
+        the values of :data:`SEA_INPUTS` (the excitation joins ``load`` and ``hydro``).
         ``load`` [N, N m]: everything but the added mass (hydrostatics, buoyancy, additional loads,
         radiation, mooring with its lines' drag); ``hydro``: HydroDyn's part of it (no mooring, no added
         mass); ``tension``: the fairlead tensions [N]; ``mass``: the mooring lines' mass and added mass on
@@ -113,7 +132,8 @@ class FloatingPlatform:
         """
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
         xr = ca.SX.sym("xr", self.n_radiation)
-        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp)
+        sea = ca.SX.sym("sea", len(SEA_INPUTS))
+        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp) + sea[:6]
         xr_dot = ca.SX(0, 1)
         if self.radiation is not None:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
@@ -123,29 +143,36 @@ class FloatingPlatform:
         if self.mooring is not None:
             static, drag, mass, tension = self.mooring.line_loads(qp, vp, steps=self.mooring_steps)
             load = load + static + drag
-        return ca.Function("platform_loads", [qp, vp, xr], [load, hydro, xr_dot, tension, mass],
-                           ["qp", "vp", "xr"], ["load", "hydro", "xr_dot", "tension", "mass"], {"cse": True})
+        return ca.Function("platform_loads", [qp, vp, xr, sea], [load, hydro, xr_dot, tension, mass, sea],
+                           ["qp", "vp", "xr", "sea"], ["load", "hydro", "xr_dot", "tension", "mass", "sea_out"],
+                           {"cse": True})
 
-    def loads(self, qp: Any, vp: Any, xr: Any) -> dict[str, Any]:
-        """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments."""
-        out = self.function(qp, vp, xr if self.n_radiation else ca.DM(0, 1))
+    def loads(self, qp: Any, vp: Any, xr: Any, sea: Any = None) -> dict[str, Any]:
+        """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments (``sea``
+        default 0: still water)."""
+        sea = ca.DM.zeros(len(SEA_INPUTS)) if sea is None else sea
+        out = self.function(qp, vp, xr if self.n_radiation else ca.DM(0, 1), sea)
         return dict(zip(self.function.name_out(), out))
 
     def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:
         """``(name, unit, expression)`` of the platform channels.
 
         ``HydroFxi … HydroMzi``: HydroDyn's total load at the reference point (with ``−A∞ a``, ``ap`` the
-        platform DOF accelerations); ``FAIRTEN<k>`` [N]; ``Wave1Elev`` [m] (0: still water).
+        platform DOF accelerations); ``FAIRTEN<k>`` [N]; ``B1WvsFxi … B1WvsMzi`` [N, N-m] and ``Wave1Elev`` [m]
+        (the sea inputs).
         """
         hydro = loads["hydro"] - ca.mtimes(ca.DM(self.added_mass), ap)
         rows = [(n, u, hydro[k]) for k, (n, u) in enumerate(HYDRO_CHANNELS.items())]
         rows += [(f"FAIRTEN{k + 1}", "N", loads["tension"][k]) for k in range(self.n_lines)]
-        rows.append(("Wave1Elev", "m", ca.DM(0.0)))
+        sea = loads["sea_out"]
+        rows += [(n, u, sea[k]) for k, (n, u) in enumerate(EXCITATION_CHANNELS.items())]
+        rows.append(("Wave1Elev", "m", sea[6]))
         return rows
 
     def __repr__(self) -> str:
+        sea = "still water" if self.waves is None else self.waves.waves.description
         return (f"FloatingPlatform(radiation states={self.n_radiation}, mooring lines={self.n_lines}, "
-                f"buoyancy={self.hydro.hydrostatics.buoyancy / 1e6:.2f} MN)")
+                f"buoyancy={self.hydro.hydrostatics.buoyancy / 1e6:.2f} MN, {sea})")
 
 
 def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | None:
@@ -166,7 +193,7 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
     ------
     UnsupportedFeatureError
         ``CompMooring`` 2 or 4 (FEAMooring, OrcaFlex), mooring without HydroDyn, and what
-        :func:`~.platform.platform_hydrodynamics` refuses (waves, Morison members, …).
+        :func:`~.platform.platform_hydrodynamics` refuses (Morison members, second-order forces, …).
     """
     from ...exceptions import ParameterError
     from ..deck.mapplusplus import read_map
@@ -190,7 +217,7 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
         if radiation != "none":          # the radiation memory is modelled here: no "left out" warning
             warnings.filterwarnings("ignore", message=r"RdtnMod", category=ModelWarning)
         hydro = platform_hydrodynamics(Path(files["hydrodyn"]), water_density=rho, gravity=g,
-                                       seastate=files.get("seastate"))
+                                       seastate=files.get("seastate"), water_depth=float(sim.water_depth))
     mooring = None
     if mooring_model == 3:
         mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=rho, gravity=g)

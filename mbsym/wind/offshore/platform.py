@@ -10,14 +10,18 @@ redimensionalized with the ``.fst``'s water density and gravity:
   radiation load proportional to the platform's acceleration: HydroDyn applies
   ``−A∞ a`` with ``a`` the reference point's translational and angular acceleration; it belongs
   in the mass matrix (:meth:`PlatformHydrodynamics.added_mass_load`);
-* the frequency-dependent A(ω), B(ω) and the excitation, for what comes next.
+* the frequency-dependent A(ω), B(ω) (for the radiation fit);
+* the sea, when SeaState has waves: the first-order excitation HydroDyn computes from the ``.3`` data
+  (:class:`~.excitation.WaveExcitation`, from :func:`~.waves.incident_waves`).
 
-**Modelled now**: still water, first-order potential flow, one rigid body. What the deck asks
-for beyond that is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it
-does not change still-water loads, named in a :class:`~mbsym.exceptions.ModelWarning`:
-radiation memory (``RdtnMod`` > 0: the convolution/state-space damping, not yet modelled —
-free decays would be less damped than OpenFAST's), second-order forces (zero in still water),
-a current (``CurrMod`` > 0: HydroDyn applies it to Morison members only, none here).
+**Modelled**: still water or first-order waves (``WaveMod`` 1, ``1P#``, 2, 3, 5; ``ExctnMod`` 1 at the
+undisplaced position), first-order potential flow, one rigid body. What the deck asks for beyond that
+is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
+named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
+:mod:`.operating` as states), second-order forces (refused with waves; zero in still water), a current
+(``CurrMod`` > 0: HydroDyn applies it to Morison members only, none here), SeaState's second-order
+elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
+first-order sea).
 """
 
 from __future__ import annotations
@@ -35,7 +39,9 @@ from ..deck.hydrodyn import HydroDynInput, read_hydrodyn
 from ..deck.seastate import SeaStateInput, read_seastate
 from ..deck.wamit import WamitHydrodynamics, read_wamit
 from ._casadi import _in, _out
+from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
+from .waves import incident_waves
 
 __all__ = ["PlatformHydrodynamics", "platform_hydrodynamics"]
 
@@ -54,6 +60,8 @@ class PlatformHydrodynamics:
         The dimensional WAMIT data (A(ω), B(ω), excitation).
     notes : tuple of str
         What the deck asks for that is not modelled (also issued as warnings).
+    waves : WaveExcitation or None
+        The sea's first-order excitation and elevation (None: still water).
     """
 
     hydrostatics: PlatformHydrostatics
@@ -61,6 +69,7 @@ class PlatformHydrodynamics:
     added_mass: np.ndarray
     wamit: WamitHydrodynamics
     notes: tuple[str, ...] = field(default=())
+    waves: WaveExcitation | None = None
 
     def load(self, q, qd):
         """Still-water load at the reference point, inertial axes [N, N m]: hydrostatics and
@@ -88,10 +97,27 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
         out.append("PtfmRefztRot /= 0 (a rotated WAMIT body frame)")
     if hd.has_morison_members:
         out.append(f"{len(hd.tables['members'])} Morison (strip-theory) members (NMembers > 0)")
-    if sea is not None and sea.wave_model != 0:
-        out.append(f"WaveMod = {sea.wave_model} ({sea.wave_model_name}): wave excitation is not modelled yet")
     if sea is not None and sea.msl_to_swl not in (0.0, "default"):
         out.append(f"MSL2SWL = {sea.msl_to_swl} (HydroDyn requires 0 with potential flow)")
+    if sea is not None and sea.wave_model != 0:
+        out += _refuse_waves(hd, sea)
+    return out
+
+
+def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
+    """What is not modelled of a deck with waves (the sea itself is checked by :func:`~.waves.incident_waves`)."""
+    out = []
+    if hd.excitation_model == 2:
+        out.append("ExctnMod = 2 (state-space wave excitation; use 1, HydroDyn's DFT, which mbsym reproduces)")
+    if hd.excitation_model and hd.excitation_displaced:
+        out.append(f"ExctnDisp = {hd.excitation_displaced} (excitation at the displaced platform; use 0)")
+    if hd.yaw_model or hd.reference_yaw:
+        out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
+                   "(a yawed reference frame; use 0 and 0)")
+    if hd.second_order:
+        out.append(f"second-order wave forces {hd.second_order} (mean and slow drift are not modelled; set them to 0)")
+    if sea.current_model and sea.wave_current_model:
+        out.append(f"WvCrntMod = {sea.wave_current_model} with a current (wave-current interaction; use 0)")
     return out
 
 
@@ -103,13 +129,19 @@ def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     if hd.radiation_model != 0:
         out.append(f"RdtnMod = {hd.radiation_model}: the radiation memory (wave-radiation damping) is not modelled "
                    "yet; only the infinite-frequency added mass acts, so free decays are less damped than HydroDyn's")
-    if hd.second_order:
+    if hd.second_order and (sea is None or sea.wave_model == 0):
         out.append(f"second-order wave forces {hd.second_order} are not modelled (they vanish in still water)")
+    if sea is not None and sea.wave_model != 0 and (sea.difference_qtf or sea.sum_qtf):
+        out.append("WvDiffQTF/WvSumQTF: SeaState adds the second-order elevation to its Wave1Elev output; mbsym's "
+                   "Wave1Elev is the first-order sea (the potential-flow loads use only that, as HydroDyn's)")
+    if sea is not None and sea.wave_model != 0 and hd.excitation_model == 0:
+        out.append("ExctnMod = 0: the waves exert no force on the platform (only Wave1Elev shows them)")
     return out
 
 
-def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, seastate=None) -> PlatformHydrodynamics:
-    """The still-water hydrodynamics of a HydroDyn deck (see the module docstring).
+def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, seastate=None,
+                           water_depth: float | None = None) -> PlatformHydrodynamics:
+    """The hydrodynamics of a HydroDyn deck, with its SeaState's waves (see the module docstring).
 
     Parameters
     ----------
@@ -119,7 +151,10 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         ρ [kg/m³] and g [m/s²] (the ``.fst``'s ``WtrDens``, ``Gravity``; SeaState's own
         ``WtrDens`` wins when it is not ``"default"``).
     seastate : str, Path or SeaStateInput, optional, keyword-only
-        The SeaState file: checked for still water.
+        The SeaState file: its waves (none without it).
+    water_depth : float, optional, keyword-only
+        [m] for the dispersion relation of waves (the ``.fst``'s ``WtrDpth``; SeaState's own wins when
+        it is not ``"default"``); needed only with waves and an elevation output point off the origin.
 
     Raises
     ------
@@ -162,4 +197,24 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     notes = _notes(hd, sea)
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=2)
-    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes))
+    waves = _waves(hd, sea, wamit, float(gravity), water_depth)
+    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves)
+
+
+def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
+           water_depth: float | None) -> WaveExcitation | None:
+    """The sea's excitation (zero force with ``ExctnMod = 0``), or None in still water."""
+    if sea is None or sea.wave_model == 0:
+        return None
+    depth = float(sea.water_depth) if sea.water_depth != "default" else water_depth
+    point = sea.elevation_points[0] if sea.elevation_points else (0.0, 0.0)
+    if depth is None:
+        if tuple(point) != (0.0, 0.0):
+            raise ParameterError(f"{sea.path}: the wave elevation point {tuple(point)} needs the water depth; give "
+                                 "water_depth (the .fst's WtrDpth).")
+        depth = math.inf
+    waves = incident_waves(sea, gravity=gravity, water_depth=depth)
+    excitation = wave_excitation(wamit, waves, elevation_point=tuple(point))
+    if hd.excitation_model == 0:
+        excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)
+    return excitation

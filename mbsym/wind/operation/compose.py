@@ -9,7 +9,8 @@ the new states and the rotor loads:
 ``RotThrust``   rotor thrust along the shaft (aero, or its lag state)
 ``RotTorq``     rotor torque about the shaft (aero, or its lag state)
 ``GeAz``        (GenDOF off) the azimuth state, turning at the parameter ``rotor_speed``
-``PtfmFx…Mz``   (with ``model.platform``) the water's and the mooring's loads on the platform
+``PtfmFx…Mz``   (with ``model.platform``) the water's and the mooring's loads on the platform, the sea's
+                excitation ``B1WvsFxi…Mzi`` and elevation ``Wave1Elev`` (inputs, after the others)
 ==============  ================================================================
 
 The blades turn to the actuator's angle **without the pitch rate and acceleration in the structure's
@@ -65,7 +66,8 @@ class Graph:
         self.states = tuple(eom.states) + tuple(self.extra_states()) + platform_states
         wired = tuple(self.wired_inputs()) + (tuple(self.platform.inputs) if self.platform is not None else ())
         self.passthrough = tuple(n for n in eom.inputs if n not in wired)
-        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough
+        sea = tuple(getattr(self.platform, "sea_inputs", ())) if self.platform is not None else ()
+        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough + sea
         extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
             extra_p.append("rotor_speed")
@@ -125,7 +127,8 @@ class Graph:
         qp = ca.vertcat(*[self.q[i] for i in self.platform_index])
         vp = ca.vertcat(*[self.qd[i] for i in self.platform_index])
         xr = ca.vertcat(*[self.X[n] for n in platform.state_names]) if platform.state_names else self.kind(0, 1)
-        self.platform_terms = platform.loads(qp, vp, xr)
+        sea = [self.U[n] for n in getattr(platform, "sea_inputs", ())]
+        self.platform_terms = platform.loads(qp, vp, xr, *([ca.vertcat(*sea)] if sea else []))
         load = self.platform_terms["load"]
         self.platform_loads = {n: load[k] for k, n in enumerate(platform.inputs)}
 

@@ -87,7 +87,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         Initial state; default ``model.initial_state(wind(0))``.
     commands : dict, optional, keyword-only
         Without a controller: ``BlPitchCom`` [rad], ``GenTqCom`` [N m] (numbers or functions of
-        time); default: hold the initial actuator states.
+        time); default: hold the initial actuator states. Also any other input by name, e.g. a floating
+        model's sea (``B1WvsFxi`` …, ``Wave1Elev``; default: the deck's waves, zero in still water).
     t_out : array, optional, keyword-only
         Output times [s].
     p : dict, optional, keyword-only
@@ -139,6 +140,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         x0 = model.initial_state(wind_at_start(model, wind))
     x0 = dyn.state_vector(x0)
     inputs.update(held_commands(model, x0) if commands is None else dict(commands))
+    if model.platform is not None:                  # the deck's sea (HydroDyn's excitation series), unless given
+        given = dict(commands or {})
+        inputs.update({n: v for n, v in model.platform.sea_tables(tmax).items() if n not in given})
     options: dict[str, Any] = {"t_out": t_out, "p": p, "compile": compile, "progress": progress}
     if controller is not None:
         if accuracy is not None:

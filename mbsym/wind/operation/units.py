@@ -22,7 +22,10 @@ STATE_UNITS = {"GenTq": "N m", "GeAz": "rad", "DBEMT_w": "m/s", "DBEMT_v": "m/s"
 #: Inputs by name -> unit: commands, the hub wind (structural inputs: :mod:`mbsym.wind.structure.units`).
 INPUT_UNITS = {"Wind1VelX": "m/s", "Wind1VelY": "m/s", "Wind1VelZ": "m/s", "BlPitchCom": "rad",
                "BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m",
-               "YawCom": "rad"}
+               "YawCom": "rad",
+               # the sea on a floating platform (mbsym.wind.offshore.operating.SEA_INPUTS)
+               "B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi": "N m", "B1WvsMyi": "N m",
+               "B1WvsMzi": "N m", "Wave1Elev": "m"}
 #: Unit of the radiation states of a floating platform: those of the fitted state-space realization
 #: (HydroDyn's ``.ss`` file), which the fit chooses (its ``C`` maps them to N and N m).
 RADIATION_UNIT = "fit"

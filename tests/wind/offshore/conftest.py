@@ -21,3 +21,14 @@ def _find_shared() -> Path:
 
 FLOATING = _find_shared() / "openfast" / "floating"
 SEMI = FLOATING / "IEA-15-240-RWT-UMaineSemi"
+
+
+def rosco_library():
+    """ROSCO 2.10.6's ``libdiscon.so`` from the cached wheel (``tests/wind/control/_rosco.py``), or None."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "control" / "_rosco.py"
+    spec = importlib.util.spec_from_file_location("mbsym_tests_rosco", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.rosco_library()

@@ -154,9 +154,9 @@ def test_deck_mean_hydrodyn_loads_of_the_decay():
 def test_unmodelled_settings_are_refused(tmp_path):
     from mbsym.wind.offshore import platform_hydrodynamics
 
-    sea = (CASE / "fl_decay_a_SeaState.dat").read_text().replace("           0     WaveMod", "           2     WaveMod")
+    sea = (CASE / "fl_decay_a_SeaState.dat").read_text().replace("           0     WaveMod", "           4     WaveMod")
     (tmp_path / "sea.dat").write_text(sea)
-    with pytest.raises(UnsupportedFeatureError, match=r"WaveMod = 2 \(JONSWAP"):
+    with pytest.raises(UnsupportedFeatureError, match=r"WaveMod = 4 \(user spectrum"):
         platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
                                seastate=tmp_path / "sea.dat")
     hd = (CASE / "fl_decay_a_HydroDyn.dat").read_text().replace("0           NMembers", "1           NMembers")

@@ -1,0 +1,300 @@
+"""First-order incident waves as OpenFAST's SeaState makes them: the elevation's discrete Fourier transform.
+
+SeaState (v5.0.0, ``Waves.f90``, ``UserWaves.f90``) describes a sea by the DFT ``C_k`` of the wave elevation
+at the origin on ``N`` (``NStepWave``) samples ``Δt`` (``WaveDT``) apart, ``k = 0 … N/2`` at ``ω_k = k Δω``;
+the elevation is the inverse transform, ``η(t_j) = (1/N) Σ C_k e^{iω_k t_j}`` over positive and negative
+``k`` (numpy's ``irfft``), periodic in ``N Δt``. This module builds the same ``C_k``:
+
+* **the grid**: ``N`` = the even number ≥ ``WaveTMax/WaveDT`` whose half is a product of the primes
+  2 … 23 (SeaState's ``PSF``), ``Δω = 2π/(N Δt)`` (for an external series ``2π/WaveTMax``, as SeaState);
+* **regular waves** (``WaveMod`` 1, ``1P#``): one component at ``k_p = round(N Δt / Tp)`` with amplitude
+  ``Hs/2``, its phase drawn (1) or given (``1P#``);
+* **irregular waves**: ``C_k = sqrt(N/2) W_k sqrt(π S(ω_k) / Δt)`` with ``S`` the one-sided JONSWAP /
+  Pierson–Moskowitz (IEC 61400-3) or white-noise spectrum, zero outside ``[WvLowCOff, WvHiCOff]``, and
+  ``W_k = sqrt(-2 ln U1) e^{2πi U2}`` (Box–Muller; ``sqrt 2`` for ``WaveNDAmp = False``) from uniform draws
+  in SeaState's order (``k = 0, 2, 3, … N/2 − 1``; ``W_1 = W_(N/2) = 0``) — with ``WaveSeed(2) = RANLUX``
+  from :class:`~.ranlux.RanLux`, so the realization is OpenFAST's; with an integer second seed SeaState
+  uses the compiler's generator, which no other program reproduces: the spectrum is the same, the phases
+  are numpy's (a :class:`~mbsym.exceptions.ModelWarning` says so);
+* **an external elevation series** (``WaveMod`` 5, ``<WvKinFile>.Elev``): its DFT, mean and Nyquist removed,
+  cut off as above.
+
+The elevation at another point ``(x, y)`` multiplies ``C_k`` by ``e^{-i κ_k (x cos β + y sin β)}`` (κ from
+the finite-depth dispersion relation ``ω² = g κ tanh κh``, β the wave heading).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...exceptions import ModelWarning, OpenFASTFormatError, UnsupportedFeatureError
+from .ranlux import RanLux
+
+__all__ = ["IncidentWaves", "incident_waves", "jonswap", "wave_steps", "wave_number", "read_elevation_series"]
+
+_PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23)
+#: SeaState's tolerance between WaveDT and an external series' time step [s] (UserWaves.f90).
+ELEVATION_DT_TOLERANCE = 0.001
+
+
+@dataclass(frozen=True, eq=False)
+class IncidentWaves:
+    """The first-order sea of a SeaState deck (module docstring).
+
+    Attributes
+    ----------
+    time_step : float
+        ``WaveDT`` [s].
+    spectrum : (N/2 + 1,) complex ndarray
+        ``C_k`` [m] (unnormalized DFT of the elevation at the origin).
+    frequency_step : float
+        ``Δω`` [rad/s].
+    direction : float
+        Wave heading β [rad] (propagation direction from the x axis, about z).
+    water_depth, gravity : float
+        [m], [m/s²] (for the dispersion relation).
+    description : str
+        What made it (for reports).
+    """
+
+    time_step: float
+    spectrum: np.ndarray
+    frequency_step: float
+    direction: float
+    water_depth: float
+    gravity: float
+    description: str = ""
+
+    @property
+    def n_steps(self) -> int:
+        """``N``: samples per period."""
+        return 2 * (len(self.spectrum) - 1)
+
+    @property
+    def period(self) -> float:
+        """``N Δt`` [s]: the sea repeats after it."""
+        return self.n_steps * self.time_step
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """``ω_k`` [rad/s]."""
+        return self.frequency_step * np.arange(len(self.spectrum))
+
+    def times(self) -> np.ndarray:
+        """``0, Δt, … N Δt`` [s] (the last sample repeats the first)."""
+        return self.time_step * np.arange(self.n_steps + 1)
+
+    def series(self, transform: np.ndarray) -> np.ndarray:
+        """The periodic series ``(N + 1,)`` (last = first) of the DFT ``transform`` (``C_k`` times a transfer)."""
+        x = np.fft.irfft(np.asarray(transform), n=self.n_steps)
+        return np.append(x, x[0])
+
+    def elevation(self, x: float = 0.0, y: float = 0.0) -> np.ndarray:
+        """η [m] at ``(x, y)`` [m] on :meth:`times`."""
+        if x == 0.0 and y == 0.0:
+            return self.series(self.spectrum)
+        kappa = np.array([wave_number(w, self.gravity, self.water_depth) for w in self.frequencies])
+        shift = np.exp(-1j * kappa * (x * math.cos(self.direction) + y * math.sin(self.direction)))
+        return self.series(self.spectrum * shift)
+
+    def significant_height(self) -> float:
+        """``4 σ(η)`` [m] of the realization."""
+        return 4.0 * float(np.std(self.elevation()[:-1]))
+
+
+def wave_steps(time_max: float, time_step: float) -> int:
+    """SeaState's ``NStepWave``: even, ≥ ``time_max / time_step``, half a product of the primes 2 … 23."""
+    n = math.ceil(time_max / time_step - 1e-9)
+    half = max((n + n % 2) // 2, 1)
+    while not _smooth(half):
+        half += 1
+    return 2 * half
+
+
+def _smooth(n: int) -> bool:
+    for p in _PRIMES:
+        while n % p == 0:
+            n //= p
+    return n == 1
+
+
+def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float) -> np.ndarray:
+    """One-sided JONSWAP spectrum [m²/(rad/s)] (IEC 61400-3 form, as SeaState; γ = 1: Pierson–Moskowitz).
+
+    Parameters
+    ----------
+    omega : array
+        ω [rad/s]; 0 gives 0.
+    hs, tp, gamma : float
+        Significant height [m], peak period [s], peak shape [-].
+    """
+    omega = np.asarray(omega, dtype=float)
+    out = np.zeros_like(omega)
+    f = omega[omega > 0] / (2 * np.pi)
+    fp4 = (1.0 / (tp * f)) ** 4
+    sigma = np.where(f * tp <= 1.0, 0.07, 0.09)
+    alpha = np.exp(-0.5 * ((f * tp - 1.0) / sigma) ** 2)
+    out[omega > 0] = (1 - 0.287 * math.log(gamma)) * 0.3125 * hs ** 2 * fp4 / f * np.exp(-1.25 * fp4) \
+        * gamma ** alpha / (2 * np.pi)
+    return out
+
+
+def wave_number(omega: float, gravity: float, depth: float) -> float:
+    """κ [rad/m] of ``ω² = g κ tanh(κ h)`` (Newton from the deep-water value; 0 at ω = 0)."""
+    if omega <= 0:
+        return 0.0
+    k = omega * omega / gravity
+    if not math.isfinite(depth):
+        return k
+    for _ in range(50):
+        th = math.tanh(k * depth)
+        f = gravity * k * th - omega * omega
+        df = gravity * th + gravity * k * depth * (1 - th * th)
+        step = f / df
+        k -= step
+        if abs(step) < 1e-14 * k:
+            break
+    return k
+
+
+def read_elevation_series(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Times [s] and elevations [m] of a SeaState ``.Elev`` file (two columns; leading text lines skipped)."""
+    path = Path(path)
+    if not path.is_file():
+        raise OpenFASTFormatError(f"wave-elevation file not found: tried '{path.absolute()}' (WvKinFile + '.Elev'). "
+                                  "Check WvKinFile in the SeaState file.")
+    rows, first = [], None
+    for number, line in enumerate(path.read_text(encoding="latin-1").splitlines(), start=1):
+        tokens = line.replace(",", " ").split()
+        try:
+            values = [float(t) for t in tokens]
+        except ValueError:
+            if rows:
+                raise OpenFASTFormatError(f"{path}:{number}: expected two numbers (time, elevation); got {line!r}.")
+            continue
+        if len(values) != 2:
+            raise OpenFASTFormatError(f"{path}:{number}: expected two columns (time s, elevation m); got {len(values)}.")
+        first = number if first is None else first
+        rows.append(values)
+    if len(rows) < 2:
+        raise OpenFASTFormatError(f"{path}: needs at least two rows of (time, elevation); found {len(rows)}.")
+    data = np.array(rows)
+    return data[:, 0], data[:, 1]
+
+
+def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves | None:
+    """The :class:`IncidentWaves` of a SeaState reading (:func:`mbsym.wind.deck.read_seastate`), None in still water.
+
+    Parameters
+    ----------
+    sea : SeaStateInput
+    gravity, water_depth : float, keyword-only
+        [m/s²], [m] (SeaState's ``WtrDpth`` + ``MSL2SWL``).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        Wave models 4 (user routine), 6 (external kinematics), directional spreading, constrained waves.
+    OpenFASTFormatError
+        An external series that does not cover ``WaveTMax`` or whose step is not ``WaveDT``.
+
+    Examples
+    --------
+    >>> waves = incident_waves(read_seastate("SeaState.dat"), gravity=9.80665, water_depth=200.0)  # doctest: +SKIP
+    >>> round(waves.significant_height(), 1)  # doctest: +SKIP
+    4.0
+    """
+    mod = int(sea.wave_model)
+    if mod == 0:
+        return None
+    where = f"{sea.path}"
+    if mod in (4, 6, 7):
+        raise UnsupportedFeatureError(f"{where}: WaveMod = {mod} ({sea.wave_model_name}) is not modelled; use 1, 1P#, 2, "
+                                      "3 or 5 (an external elevation series).")
+    if mod in (2, 3) and sea.direction_model:
+        raise UnsupportedFeatureError(f"{where}: WaveDirMod = {sea.direction_model} (directional spreading) is not "
+                                      "modelled; set WaveDirMod = 0 (long-crested waves).")
+    if sea.constrained_wave_model:
+        raise UnsupportedFeatureError(f"{where}: ConstWaveMod = {sea.constrained_wave_model} (constrained waves) is not "
+                                      "modelled; set ConstWaveMod = 0.")
+    dt, tmax = float(sea.wave_time_step), float(sea.wave_time_max)
+    if not (dt > 0 and tmax >= dt):
+        raise OpenFASTFormatError(f"{where}: WaveDT = {dt} s and WaveTMax = {tmax} s must satisfy 0 < WaveDT <= WaveTMax.")
+    n = wave_steps(tmax, dt)
+    common = dict(direction=float(sea.wave_direction), water_depth=float(water_depth), gravity=float(gravity))
+    if mod == 5:
+        return _external(sea, n, dt, tmax, common)
+    dw = 2 * np.pi / (n * dt)
+    omega = dw * np.arange(n // 2 + 1)
+    draws = _draws(sea, n // 2)
+    if mod in (1, 10):
+        s1 = np.zeros_like(omega)
+        kp = int(np.rint(2 * np.pi / (dw * float(sea.peak_period))))
+        if kp < n // 2 and (kp > 1 or kp == 0):
+            draws[kp] *= math.sqrt(2.0) / abs(draws[kp])
+            s1[kp] = 0.5 * (float(sea.wave_height) / 2) ** 2 / dw
+        what = f"regular waves H {sea.wave_height} m, T {2 * np.pi / (kp * dw) if kp else 0:.4g} s"
+    else:
+        band = (omega >= float(sea.low_cutoff)) & (omega <= float(sea.high_cutoff))
+        if mod == 2:
+            s1 = jonswap(omega, float(sea.wave_height), float(sea.peak_period), float(sea.peak_shape))
+        else:
+            s1 = np.full_like(omega, float(sea.wave_height) ** 2 / (16 * (float(sea.high_cutoff) - float(sea.low_cutoff))))
+        s1 = np.where(band, s1, 0.0)
+        what = (f"{'JONSWAP' if mod == 2 else 'white-noise'} sea Hs {sea.wave_height} m"
+                + (f", Tp {sea.peak_period} s, gamma {sea.peak_shape:.3g}" if mod == 2 else ""))
+    spectrum = math.sqrt(n // 2) * draws * np.sqrt(2 * np.pi * 0.5 * s1 / dt)
+    return IncidentWaves(dt, spectrum, dw, description=what, **common)
+
+
+def _draws(sea, half: int) -> np.ndarray:
+    """SeaState's ``WGNC_k`` (Box–Muller), k = 0 … N/2 (``W_1 = W_(N/2) = 0``)."""
+    phase = float(sea.wave_phase) if int(sea.wave_model) == 10 else None
+    seed1, seed2 = sea.seeds
+    if isinstance(seed2, str):
+        rng = RanLux(abs(int(seed1)))
+        uniform = (lambda: float(np.float32(rng.uniform())))       # SeaState draws in single precision
+    else:
+        warnings.warn(f"{sea.path}: WaveSeed(2) = {seed2} asks SeaState for the compiler's random generator, which "
+                      "no other program reproduces: mbsym draws the phases with numpy (same spectrum, another "
+                      "realization). Set WaveSeed(2) = RANLUX to get OpenFAST's sea.", ModelWarning, stacklevel=3)
+        gen = np.random.default_rng([abs(int(seed1)), abs(int(seed2))])
+        uniform = (lambda: float(gen.random()) or 0.5)
+    out = np.zeros(half + 1, dtype=complex)
+    for k in [0, *range(2, half)]:
+        u1 = 0.0
+        while u1 == 0.0:
+            u1 = uniform()
+        u2 = uniform()
+        c1 = math.sqrt(-2.0 * math.log(u1)) if sea.normal_amplitudes else math.sqrt(2.0)
+        c2 = phase if phase is not None else 2 * np.pi * u2
+        out[k] = c1 * complex(math.cos(c2), math.sin(c2))
+    return out
+
+
+def _external(sea, n: int, dt: float, tmax: float, common: dict) -> IncidentWaves:
+    path = sea.elevation_file
+    t, eta = read_elevation_series(path)
+    span = float(t[-1] - t[0])
+    file_dt = span / (len(t) - 1)
+    if tmax > span + 1e-9:
+        raise OpenFASTFormatError(f"{path}: the series spans {span:g} s; WaveTMax = {tmax:g} s in {sea.path} needs at "
+                                  "least that much. Shorten WaveTMax or extend the series.")
+    if abs(file_dt - dt) > ELEVATION_DT_TOLERANCE:
+        raise OpenFASTFormatError(f"{path}: its time step {file_dt:g} s differs from WaveDT = {dt:g} s in {sea.path} "
+                                  f"by more than {ELEVATION_DT_TOLERANCE} s (SeaState's check). Make them equal.")
+    samples = np.zeros(n)
+    m = min(len(eta), n)
+    samples[:m] = eta[:m]
+    spectrum = np.fft.rfft(samples)
+    spectrum[0] = 0.0
+    spectrum[-1] = 0.0
+    dw = 2 * np.pi / tmax                                   # SeaState's WaveDOmega for WaveMod 5
+    omega = dw * np.arange(len(spectrum))
+    spectrum = np.where((omega >= float(sea.low_cutoff)) & (omega <= float(sea.high_cutoff)), spectrum, 0.0)
+    return IncidentWaves(dt, spectrum, dw, description=f"elevation series {Path(path).name}", **common)

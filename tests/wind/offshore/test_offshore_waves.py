@@ -1,0 +1,200 @@
+"""First-order waves (issue 20, item 2): SeaState's sea and HydroDyn's excitation, against closed forms and OpenFAST.
+
+Independent references:
+- RANLUX: the first numbers for seed 1 published by OpenFAST's own unit test (``test_NWTC_RandomNumber.F90``);
+- the JONSWAP spectrum's zeroth moment ``Hs²/16`` (Pierson–Moskowitz exactly; JONSWAP within the IEC
+  normalization's accuracy, a few %);
+- a regular wave: ``η = Hs/2 cos(ωt + φ)`` and ``F = Hs/2 |X| cos(ωt + φ + arg X)`` with ``X`` the ``.3`` row;
+- OpenFAST v5.0.0 runs of the shared floating deck with JONSWAP and regular waves
+  (``tests/data/openfast_waves``, README there): ``Wave1Elev`` and ``B1Wvs*`` within 1e-3 of their range
+  (OpenFAST writes 4 significant digits: 5e-4 of the value).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mbsym.exceptions import ModelWarning, OpenFASTFormatError, UnsupportedFeatureError
+from mbsym.wind.offshore.ranlux import RanLux
+from mbsym.wind.offshore.waves import jonswap, wave_number, wave_steps
+
+from .conftest import FLOATING
+
+CASE = FLOATING / "cases" / "fl_decay_a"
+DATA = Path(__file__).resolve().parents[2] / "data" / "openfast_waves"
+needs_deck = pytest.mark.skipif(not CASE.is_dir(), reason=f"shared floating deck not found at {CASE}")
+RHO, G, DEPTH = 1025.0, 9.81, 200.0    # fl_decay_a.fst (gravity 9.81, water 1025 kg/m^3, 200 m)
+
+
+def test_ranlux_gives_openfasts_numbers():
+    rng = RanLux(1)
+    assert rng.uniform() == pytest.approx(0.94589489698410034, abs=1e-15)
+    assert rng.uniform() == pytest.approx(0.47347849607467651, abs=1e-15)
+    x = RanLux(561580799).uniforms(5000)          # past several skips (every 24 numbers at luxury 3)
+    assert 0 < x.min() and x.max() < 1 and abs(x.mean() - 0.5) < 0.02
+
+
+def test_wave_steps_are_seastates_fft_friendly_counts():
+    assert wave_steps(850.0, 0.25) == 3400                 # 1700 = 2^2 5^2 17
+    assert wave_steps(2018.0, 1.0) == 2024                 # 1009 is prime -> 1012 = 2^2 11 23
+    assert wave_steps(3.3, 1.0) == 4
+
+
+@pytest.mark.parametrize("gamma, tol", [(1.0, 2e-3), (3.3, 0.03)])
+def test_jonswap_holds_the_significant_height(gamma, tol):
+    omega = np.linspace(0.0, 20.0, 200001)
+    m0 = np.trapezoid(jonswap(omega, 4.0, 10.0, gamma), omega)
+    assert m0 == pytest.approx(4.0 ** 2 / 16, rel=tol)
+
+
+def test_wave_number_solves_the_dispersion_relation():
+    for omega in (0.1, 0.5, 2.0):
+        k = wave_number(omega, G, DEPTH)
+        assert G * k * math.tanh(k * DEPTH) == pytest.approx(omega ** 2, rel=1e-12)
+    assert wave_number(1.0, G, math.inf) == pytest.approx(1 / G)
+
+
+def _sea(tmp_path, **keys):
+    from mbsym.wind.deck.seastate import read_seastate
+
+    lines = (CASE / "fl_decay_a_SeaState.dat").read_text().splitlines()
+    for k, line in enumerate(lines):
+        tokens = line.split()
+        if len(tokens) > 1 and tokens[1] in keys:
+            lines[k] = f"{keys[tokens[1]]}   {tokens[1]}   -"
+    path = tmp_path / "sea.dat"
+    path.write_text("\n".join(lines) + "\n")
+    return read_seastate(path)
+
+
+def _wamit():
+    from mbsym.wind.deck.hydrodyn import read_hydrodyn
+    from mbsym.wind.deck.wamit import read_wamit
+
+    hd = read_hydrodyn(CASE / "fl_decay_a_HydroDyn.dat")
+    return read_wamit(hd.potential_files[0]).redimensionalize(RHO, G, hd.wamit_length[0])
+
+
+@needs_deck
+def test_regular_wave_and_its_force_are_closed_forms(tmp_path):
+    from mbsym.wind.offshore.excitation import excitation_transfer, wave_excitation
+    from mbsym.wind.offshore.waves import incident_waves
+
+    sea = _sea(tmp_path, WaveMod="1P30", WaveHs=3.0, WaveTp=12.0)
+    waves = incident_waves(sea, gravity=G, water_depth=DEPTH)
+    kp = round(waves.period / 12.0)
+    omega = kp * waves.frequency_step
+    t = waves.times()
+    assert waves.elevation() == pytest.approx(1.5 * np.cos(omega * t + math.radians(30)), abs=1e-12)
+    x = excitation_transfer(_wamit(), np.array([omega]), 0.0)[0]
+    forces = wave_excitation(_wamit(), waves).forces
+    for m in (0, 2, 4):
+        expected = 1.5 * abs(x[m]) * np.cos(omega * t + math.radians(30) + np.angle(x[m]))
+        assert forces[:, m] == pytest.approx(expected, abs=1e-9 * abs(x[m]))
+    assert np.abs(forces[:, [1, 3, 5]]).max() < 1e-6 * np.abs(forces).max()     # head seas: no sway, roll, yaw
+
+
+@needs_deck
+@pytest.mark.parametrize("case, keys", [
+    ("jonswap", {"WaveMod": 2, "WaveHs": 4.0, "WaveTp": 10.0}),
+    ("regular", {"WaveMod": 1, "WaveHs": 3.0, "WaveTp": 12.0}),
+])
+def test_sea_and_excitation_equal_openfasts(tmp_path, case, keys):
+    from mbsym.wind.offshore.excitation import wave_excitation
+    from mbsym.wind.offshore.waves import incident_waves
+
+    ref = np.loadtxt(DATA / f"{case}_excitation.csv", delimiter=",", skiprows=1)
+    waves = incident_waves(_sea(tmp_path, **keys), gravity=G, water_depth=DEPTH)
+    got = wave_excitation(_wamit(), waves).at(ref[:, 0])
+    for col, m in ((1, 6), (2, 0), (3, 2), (4, 4)):         # Wave1Elev, Fx, Fz, My
+        err = np.abs(got[:, m] - ref[:, col]).max() / np.ptp(ref[:, col])
+        assert err < 1e-3, (case, col, err)
+
+
+@needs_deck
+def test_an_external_elevation_series_gives_the_same_sea(tmp_path):
+    from mbsym.wind.offshore.excitation import wave_excitation
+    from mbsym.wind.offshore.waves import incident_waves
+
+    waves = incident_waves(_sea(tmp_path, WaveMod=2, WaveHs=4.0, WaveTp=10.0), gravity=G, water_depth=DEPTH)
+    t, eta = waves.times(), waves.elevation()
+    np.savetxt(tmp_path / "series.Elev", np.column_stack([t, eta]), header="time elevation", comments="")
+    external = incident_waves(_sea(tmp_path, WaveMod=5, WvKinFile='"series"'), gravity=G, water_depth=DEPTH)
+    assert external.elevation() == pytest.approx(eta, abs=1e-9)
+    a, b = wave_excitation(_wamit(), waves).forces, wave_excitation(_wamit(), external).forces
+    assert b == pytest.approx(a, abs=1e-9 * np.abs(a).max())
+    np.savetxt(tmp_path / "short.Elev", np.column_stack([t[:100], eta[:100]]))
+    with pytest.raises(OpenFASTFormatError, match="spans"):
+        incident_waves(_sea(tmp_path, WaveMod=5, WvKinFile='"short"'), gravity=G, water_depth=DEPTH)
+
+
+@needs_deck
+def test_unmodelled_wave_settings_are_refused_or_named(tmp_path):
+    from mbsym.wind.offshore import platform_hydrodynamics
+    from mbsym.wind.offshore.waves import incident_waves
+
+    with pytest.raises(UnsupportedFeatureError, match="WaveDirMod = 1"):
+        incident_waves(_sea(tmp_path, WaveMod=2, WaveDirMod=1), gravity=G, water_depth=DEPTH)
+    with pytest.warns(ModelWarning, match="compiler's random generator"):
+        incident_waves(_sea(tmp_path, WaveMod=2, **{"WaveSeed(2)": 7}), gravity=G, water_depth=DEPTH)
+    hd = (CASE / "fl_decay_a_HydroDyn.dat").read_text().replace("             1   ExctnMod", "             2   ExctnMod")
+    hd = hd.replace('"../../IEA-15-240-RWT-UMaineSemi/', f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/')
+    (tmp_path / "hd.dat").write_text(hd)
+    _sea(tmp_path, WaveMod=2)
+    with pytest.raises(UnsupportedFeatureError, match="ExctnMod = 2"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G, seastate=tmp_path / "sea.dat")
+    with pytest.warns(ModelWarning, match="second-order elevation"), warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "RdtnMod", ModelWarning)
+        ph = platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
+                                    seastate=tmp_path / "sea.dat", water_depth=DEPTH)
+    assert ph.waves is not None and ph.waves.waves.significant_height() == pytest.approx(1.1, rel=0.15)
+
+
+#: Measured when written (600 s, series after 100 s, mbsym's rotor-effective rung with the ROSCO library): R²
+#: surge 0.972, heave 1.000, pitch 0.971, TTDspFA 0.989, RotSpeed 0.988, BldPitch1 0.979; means: surge +0.1 %,
+#: heave −0.4 %, pitch −0.9 %, TTDspFA −2.3 % (the rotor-effective rung's thrust, as in still water), FAIRTEN1
+#: +0.07 %. Bounds: those figures with a margin for the library's and the machine's rounding.
+R2_BOUNDS = {"Wave1Elev": 0.9999, "PtfmSurge": 0.95, "PtfmHeave": 0.995, "PtfmPitch": 0.95, "TTDspFA": 0.97,
+             "RotSpeed": 0.97, "BldPitch1": 0.96}
+MEAN_BOUNDS = {"PtfmSurge": 0.01, "PtfmHeave": 0.02, "PtfmPitch": 0.02, "TTDspFA": 0.035, "RotSpeed": 0.005,
+               "FAIRTEN1": 0.01}
+
+
+@pytest.mark.slow
+def test_floating_turbine_in_irregular_waves_tracks_openfast(tmp_path):
+    from mbsym.cli import main
+    from mbsym.wind.analysis.compare import read_csv
+
+    from .conftest import rosco_library
+    from .test_offshore_blade import _deck
+
+    lib = rosco_library()
+    if lib is None:
+        pytest.skip("the rosco 2.10.6 wheel is not available (no registry access)")
+    fst = _deck(tmp_path)
+    sea = fst.parent / "fl_steady_13_SeaState.dat"
+    lines = sea.read_text().splitlines()
+    values = {"WaveMod": "2", "WaveHs": "4.0", "WaveTp": "10.0", "WvDiffQTF": "False", "WvSumQTF": "False"}
+    lines = [f"{values[l.split()[1]]}   {l.split()[1]}   -" if len(l.split()) > 1 and l.split()[1] in values else l
+             for l in lines]
+    sea.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "waves.csv"
+    assert main(["simulate", str(fst), "--aero", "rotor", "--discon", str(lib), "--tmax", "600", "--out", str(out)]) == 0
+    ours = read_csv(out)
+    ref = np.loadtxt(DATA / "fl_steady_13_jonswap.csv", delimiter=",", skiprows=1)
+    names = (DATA / "fl_steady_13_jonswap.csv").read_text().split("\n", 1)[0].split(",")
+    series = {n: (ref[:, names.index(n)], np.interp(ref[:, 0], np.asarray(ours.time), np.asarray(ours.channel(n))))
+              for n in {*R2_BOUNDS, *MEAN_BOUNDS}}
+    for name, bound in R2_BOUNDS.items():
+        want, got = series[name]
+        r2 = 1 - np.sum((got - want) ** 2) / np.sum((want - want.mean()) ** 2)
+        assert r2 > bound, (name, r2)
+    for name, bound in MEAN_BOUNDS.items():
+        want, got = series[name]
+        assert abs(got.mean() / want.mean() - 1) < bound, (name, got.mean(), want.mean())
