@@ -6,7 +6,9 @@ Contract (kept for acceptance checks)::
                    [--compare OPENFAST.csv] [--method M] [--rtol R] [--atol A]
                    [--accuracy EPS] [--list-methods] [--stats] [--compile]
 
-No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.deck.nrel5mw`) with its
+A floating deck without AeroDyn (``CompHydro``/``CompMooring`` on, e.g. a free decay in still water or in
+waves) runs as the structure with its water, sea and mooring (:func:`mbsym.wind.offshore.floating_structure`;
+rotor parked). No deck: the built-in NREL 5 MW onshore turbine (:func:`mbsym.wind.deck.nrel5mw`) with its
 structural DOFs this template models, released from a tower-top displacement of
 0.5 m fore-aft with the rotor at the deck's 10 rpm, yaw held by the NREL 5 MW
 ServoDyn yaw spring and damper (ElastoDyn alone leaves the yaw free). ``--tmax`` defaults to the
@@ -173,9 +175,16 @@ def _model(deck, *, structure_only: bool = False):
         dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
         return model, "NREL 5 MW onshore (built-in, rigid blades), tower top released from 0.5 m fore-aft"
-    from ..wind.deck.checks import check_modules
+    from ..wind.deck.checks import FLOATING_MODELLED, MODELLED, check_modules
 
     turbine = read_openfast(deck)
+    sim = turbine.simulation
+    if not structure_only and (sim.hydrodynamics_model or sim.mooring_model):
+        # a floating deck without aerodynamics: the structure with the water, the sea and the mooring
+        from ..wind.offshore.floating import floating_structure
+
+        check_modules(turbine, modelled={**MODELLED, **FLOATING_MODELLED})
+        return floating_structure(turbine), f"{deck} (floating: HydroDyn, SeaState, mooring; rotor parked)"
     check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)
 
@@ -187,6 +196,8 @@ def _simulate(model, tmax, t_out, step, options, printer):
     kw = dict(options)
     if "method" in kw and METHODS[kw["method"]].kind == "fixed-step":
         kw["dt"] = step                 # an explicit fixed-step method: --dt (or the deck's DT) is its step
+    if hasattr(model, "sea_tables"):    # a floating structure: its Dynamics, fed the deck's sea
+        return simulate(model.dynamics(), tmax, t_out=t_out, progress=printer, inputs=model.sea_tables(tmax), **kw)
     return simulate(model, tmax, t_out=t_out, progress=printer, **kw)
 
 

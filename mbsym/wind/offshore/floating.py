@@ -1,44 +1,43 @@
-"""A first floating structure: mbsym's ElastoDyn model with the water and the mooring on its platform.
+"""The floating structure: mbsym's ElastoDyn model with the water, the sea and the mooring on its platform.
 
-Not the operating turbine (no aerodynamics, no controller): the structural model of a deck
-(:class:`~mbsym.wind.structure.turbine.TurbineModel`, whose platform force and moment inputs
-``PtfmFx … PtfmMz`` act at the platform reference point in inertial axes) with
+Not the operating turbine (no aerodynamics, no controller: a parked rotor, as OpenFAST runs a deck with
+``CompAero = 0`` and ``CompServo = 0``): the structural model of a deck
+(:class:`~mbsym.wind.structure.turbine.TurbineModel`, whose platform force and moment inputs ``PtfmFx … PtfmMz``
+act at the platform reference point in inertial axes) with the loads of a
+:class:`~.operating.FloatingPlatform` on them — hydrostatics and buoyancy, HydroDyn's additional loads, the
+radiation memory as states, the quasi-static mooring with its lines' drag and inertia, the sea's excitation
+(inputs ``B1WvsFxi … B1WvsMzi``, ``Wave1Elev``) — and A∞ (with the lines' mass) in the platform block of the
+mass matrix. :meth:`FloatingStructure.dynamics` is an :class:`mbsym.Dynamics` (``mbsym simulate`` runs it for a
+floating deck without AeroDyn; :func:`mbsym.simulate` with :meth:`FloatingStructure.sea_tables` as inputs);
+:meth:`FloatingStructure.simulate` integrates with fixed-step RK4 in one CasADi ``mapaccum``.
 
-* hydrostatics, buoyancy and HydroDyn's additional loads (:class:`~.platform.PlatformHydrodynamics`),
-* the quasi-static mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX),
-* the radiation memory as states (:class:`~.radiation.RadiationStateSpace`),
-* A∞ added to the platform block of the mass matrix.
-
-Approximations of this first layer (stated, to be removed when it joins the operating turbine):
-the platform's translational and angular velocity and acceleration are taken as the DOF rates
-(``q̇``, ``q̈`` of surge…yaw), exact at zero rotation and first order in the angles; the lines
+Approximations (those of :mod:`.operating`): the platform's translational and angular velocity and acceleration
+are the DOF rates (``q̇``, ``q̈`` of surge … yaw), exact at zero rotation and first order in the angles; the lines
 are quasi-static, with their drag and inertia on that shape when the mooring has ``dynamics``
-(:mod:`.line_dynamics`: the fairlead's exact velocity, the lines' mass added to the platform block
-of the mass matrix). :meth:`FloatingStructure.simulate` integrates with fixed-step
-RK4 in one CasADi ``mapaccum``.
+(:mod:`.line_dynamics`); the excitation at the undisplaced platform.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
 
+from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError
 from .mooring import MooringSystem
+from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUTS, FloatingPlatform
 from .platform import PlatformHydrodynamics
 from .radiation import RadiationStateSpace
 
-__all__ = ["FloatingStructure"]
-
-_PLATFORM = ("Sg", "Sw", "Hv", "R", "P", "Y")
-_INPUTS = ("PtfmFx", "PtfmFy", "PtfmFz", "PtfmMx", "PtfmMy", "PtfmMz")
+__all__ = ["FloatingStructure", "floating_structure"]
 
 
 @dataclass(frozen=True, eq=False)
 class FloatingStructure:
-    """Structure + water + mooring as one first-order system ``ẋ = f(x)``, ``x = [q, q̇, x_rad]``.
+    """Structure + water + sea + mooring as one first-order system ``ẋ = f(x, u, p)``, ``x = [q, q̇, x_rad]``.
 
     Parameters
     ----------
@@ -49,53 +48,111 @@ class FloatingStructure:
     radiation : RadiationStateSpace or None
     """
 
-    model: object
+    model: Any
     hydro: PlatformHydrodynamics
     mooring: MooringSystem | None = None
     radiation: RadiationStateSpace | None = None
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         eom = self.model.eom
-        missing = [c for c in _PLATFORM if c not in eom.coordinates] + [u for u in _INPUTS if u not in eom.inputs]
+        missing = [c for c in PLATFORM_COORDINATES if c not in eom.coordinates] + \
+            [u for u in PLATFORM_INPUTS if u not in eom.inputs]
         if missing:
             raise ModelDefinitionError(f"the structural model lacks {missing}: enable all six platform DOFs "
                                        "(PtfmSgDOF … PtfmYDOF) in the deck or in TurbineModel(dofs=…).")
+
+    # ------------------------------------------------------------------ what the CLI and simulate use
+    @property
+    def platform(self) -> FloatingPlatform:
+        """The platform's loads (:class:`~.operating.FloatingPlatform`, built once)."""
+        if "platform" not in self._cache:
+            self._cache["platform"] = FloatingPlatform(self.hydro, self.mooring, self.radiation)
+        return self._cache["platform"]
+
+    @property
+    def turbine(self):
+        return self.model.turbine
+
+    @property
+    def dofs(self) -> dict[str, bool]:
+        return self.model.dofs
+
+    @property
+    def eom(self):
+        return self.model.eom
 
     @property
     def n_radiation(self) -> int:
         return 0 if self.radiation is None else self.radiation.n_states
 
-    def rhs(self) -> ca.Function:
-        """``x → ẋ`` (SX), the deck's parameter values bound, other structural inputs zero."""
-        eom = self.model.eom
+    def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """The deck's sea as input tables over ``[0, t_end]`` [s] ({} in still water)."""
+        return self.platform.sea_tables(t_end)
+
+    def output_function(self):
+        """The channels (``names``, ``units``, ``function`` of the Dynamics' ``(x, u, p)``)."""
+        from ..structure.channels import Channels
+
+        dyn = self.dynamics()
+        return Channels(dyn.outputs, tuple(dyn.output_names), tuple(dyn.output_units))
+
+    # ------------------------------------------------------------------ the graph
+    def dynamics(self) -> Dynamics:
+        """The floating structure as an :class:`mbsym.Dynamics` (built once).
+
+        States: the structure's ``[q; q̇]``, then ``Rdtn1 …``. Inputs: the structure's inputs other than the
+        platform loads, then :data:`~.operating.SEA_INPUTS`. Outputs: ElastoDyn's channels (with the
+        accelerations of this mass matrix), ``HydroFxi … HydroMzi``, ``FAIRTEN<k>``, ``B1Wvs…``, ``Wave1Elev``.
+        """
+        if "dynamics" not in self._cache:
+            self._cache["dynamics"] = self._build()
+        return self._cache["dynamics"]
+
+    def _build(self) -> Dynamics:
+        from ..operation.units import input_units
+        from ..structure.channels import channel_function
+
+        eom, platform = self.model.eom, self.platform
         n, nr = eom.n_q, self.n_radiation
-        index = [eom.coordinates.index(c) for c in _PLATFORM]
+        index = [eom.coordinates.index(c) for c in PLATFORM_COORDINATES]
+        other = [u for u in eom.inputs if u not in PLATFORM_INPUTS]
         x = ca.SX.sym("x", 2 * n + nr)
+        u = ca.SX.sym("u", len(other) + len(SEA_INPUTS))
+        p = ca.SX.sym("p", eom.n_p)
         q, qd, xr = x[:n], x[n:2 * n], x[2 * n:]
         qp, vp = ca.vertcat(*[q[i] for i in index]), ca.vertcat(*[qd[i] for i in index])
-        load = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp)
-        line_mass = ca.SX.zeros(6, 6)
-        if self.mooring is not None:
-            static, drag, line_mass, _ = self.mooring.line_loads(qp, vp)
-            load = load + static + drag
-        if self.radiation is not None:
-            load = load + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
-        u = [0.0] * eom.n_u
-        for k, name in enumerate(_INPUTS):
-            u[eom.inputs.index(name)] = load[k]
-        u = ca.vertcat(*u)
-        p = ca.DM(eom.parameter_vector())
-        f_m = eom.functions.mass_matrix
+        loads = platform.loads(qp, vp, xr if nr else ca.DM(0, 1), u[len(other):])
+        values = {name: u[k] for k, name in enumerate(other)}
+        values.update({name: loads["load"][k] for k, name in enumerate(PLATFORM_INPUTS)})
+        us = ca.vertcat(*[values[name] for name in eom.inputs])
         select = np.zeros((6, n))
         select[range(6), index] = 1.0
         S = ca.DM(select)
-        M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, u, p)) + ca.mtimes([S.T, ca.DM(self.hydro.added_mass) + line_mass, S])
-        qdd = ca.solve(M, eom.functions.forcing(q, qd, u, p))
-        parts = [qd, qdd]
-        if self.radiation is not None:
-            parts.append(ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr)
-                         + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), vp))
-        return ca.Function("floating_rhs", [x], [ca.vertcat(*parts)], ["x"], ["xd"])
+        f_m = eom.functions.mass_matrix
+        M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, us, p)) \
+            + ca.mtimes([S.T, ca.DM(platform.added_mass) + loads["mass"], S])
+        qdd = ca.solve(M, eom.functions.forcing(q, qd, us, p))
+        xd = ca.vertcat(qd, qdd, loads["xr_dot"]) if nr else ca.vertcat(qd, qdd)
+        f_y, names, units = channel_function(self.model)
+        rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] for i in index]))
+        y = ca.vertcat(f_y(q, qd, qdd, us, p), *[r[2] for r in rows])
+        names, units = names + tuple(r[0] for r in rows), units + tuple(r[1] for r in rows)
+        opts = {"cse": True}
+        rhs = ca.Function("floating_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
+        outputs = ca.Function("floating_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"], opts)
+        inputs = tuple(other) + SEA_INPUTS
+        return Dynamics(rhs, states=tuple(eom.states) + platform.state_names, inputs=inputs,
+                        parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
+                        output_names=names, output_units=units, x0=self.initial_state(),
+                        name="floating_structure", input_units=input_units(inputs))
+
+    def rhs(self) -> ca.Function:
+        """``x → ẋ`` (SX), the deck's parameter values bound, other inputs zero (still water)."""
+        dyn = self.dynamics()
+        x = ca.SX.sym("x", dyn.n_x)
+        xd = dyn.rhs(x, ca.DM.zeros(dyn.n_u), ca.DM(self.model.eom.parameter_vector()))
+        return ca.Function("floating_rhs_x", [x], [xd], ["x"], ["xd"])
 
     def initial_state(self) -> np.ndarray:
         """The deck's initial q and q̇ (``TurbineModel.default_state``), radiation states 0."""
@@ -103,7 +160,7 @@ class FloatingStructure:
         return np.concatenate([x0, np.zeros(self.n_radiation)])
 
     def simulate(self, t_end: float, dt: float, x0=None) -> tuple[np.ndarray, np.ndarray]:
-        """Fixed-step RK4 from ``x0`` (default :meth:`initial_state`): times [s] and states (columns)."""
+        """Fixed-step RK4 in still water from ``x0`` (default :meth:`initial_state`): times [s] and states (columns)."""
         f = self.rhs()
         x = ca.SX.sym("x", f.size1_in(0))
         k1 = f(x)
@@ -115,3 +172,29 @@ class FloatingStructure:
         start = self.initial_state() if x0 is None else np.asarray(x0, dtype=float)
         states = np.array(step.mapaccum("floating_sim", steps)(start))
         return dt * np.arange(1, steps + 1), states
+
+
+def floating_structure(turbine, *, radiation: str = "fit") -> FloatingStructure:
+    """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files).
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        A floating deck (:func:`mbsym.wind.read_openfast`) with all six platform DOFs.
+    radiation : {"fit", "ss", "none"}, keyword-only
+        As :func:`~.operating.floating_platform`.
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        What :func:`~.operating.floating_platform` refuses, or a deck without HydroDyn and mooring.
+    """
+    from ...exceptions import UnsupportedFeatureError
+    from ..structure.turbine import TurbineModel
+    from .operating import floating_platform
+
+    platform = floating_platform(turbine, radiation=radiation)
+    if platform is None:
+        raise UnsupportedFeatureError(f"{turbine.source_files.get('fst', 'the deck')}: CompHydro and CompMooring are "
+                                      "0; a floating structure needs HydroDyn (and usually a mooring).")
+    return FloatingStructure(TurbineModel(turbine), platform.hydro, platform.mooring, platform.radiation)

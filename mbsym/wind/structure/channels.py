@@ -27,7 +27,7 @@ from ...bodies.flexible import FlexibleBody
 from ...kinematics import elastodyn_rotation
 from .dofs import blade1_azimuth, blade_dof
 
-__all__ = ["Channels", "output_function", "channel_units"]
+__all__ = ["Channels", "output_function", "channel_function", "channel_units"]
 
 _TRANSLATIONS = {"Sg", "Sw", "Hv", "TFA1", "TSS1", "TFA2", "TSS2"}
 _RPM = 30.0 / np.pi
@@ -58,6 +58,20 @@ def channel_units(name: str) -> str:
 def output_function(model) -> Channels:
     """Output channels of a TurbineModel as a CasADi Function of (x, u, p)."""
     eom = model.eom
+    f_y, names, units = channel_function(model)
+    x = ca.MX.sym("x", eom.n_x)
+    u = ca.MX.sym("u", eom.n_u)
+    p = ca.MX.sym("p", eom.n_p)
+    n = eom.n_q
+    xd = eom.functions.rhs(x, u, p)
+    f = ca.Function("outputs", [x, u, p], [f_y(x[:n], x[n:], xd[n:], u, p)], ["x", "u", "p"], ["y"])
+    return Channels(f, names, units)
+
+
+def channel_function(model) -> tuple[ca.Function, tuple[str, ...], tuple[str, ...]]:
+    """The channels as an SX Function of ``(q, qd, qdd, u, p)`` (accelerations given: a model that adds to the
+    structure's mass matrix, e.g. a floating platform's A∞, passes its own), with their names and units."""
+    eom = model.eom
     d = eom.symbolic
     q, qd, qdd = d.q, d.qd, d.qdd
     val = {n: q[i] for i, n in enumerate(eom.coordinates)}
@@ -75,14 +89,7 @@ def output_function(model) -> Channels:
     rows += _blade_rows(model, val, d)
     names, units, exprs = zip(*rows)
     y = ca.vertcat(*exprs)
-    f_y = ca.Function("outputs_sx", [q, qd, qdd, d.u, d.p], [y])
-    x = ca.MX.sym("x", eom.n_x)
-    u = ca.MX.sym("u", eom.n_u)
-    p = ca.MX.sym("p", eom.n_p)
-    n = eom.n_q
-    xd = eom.functions.rhs(x, u, p)
-    f = ca.Function("outputs", [x, u, p], [f_y(x[:n], x[n:], xd[n:], u, p)], ["x", "u", "p"], ["y"])
-    return Channels(f, tuple(names), tuple(units))
+    return ca.Function("outputs_sx", [q, qd, qdd, d.u, d.p], [y]), tuple(names), tuple(units)
 
 
 def _input(d, name: str):
