@@ -198,3 +198,24 @@ def test_floating_turbine_in_irregular_waves_tracks_openfast(tmp_path):
     for name, bound in MEAN_BOUNDS.items():
         want, got = series[name]
         assert abs(got.mean() / want.mean() - 1) < bound, (name, got.mean(), want.mean())
+
+
+@needs_deck
+def test_cli_runs_the_floating_decay_deck_as_written(tmp_path, capsys):
+    """``mbsym simulate fl_decay_a.fst`` (HydroDyn, SeaState, MoorDyn; no AeroDyn) as written, first 30 s against
+    OpenFAST's shared run. Measured when written over 60 s: ε surge 0.22 %, heave 0.26 %, pitch 0.21 % (TTDspFA
+    3.2 %: the tower's 0.5 Hz ringing in the first seconds). Bound: the issue's 2 % on the platform."""
+    from mbsym.cli import main
+    from mbsym.wind.analysis.compare import read_csv
+
+    out = tmp_path / "decay.csv"
+    assert main(["simulate", str(CASE / "fl_decay_a.fst"), "--tmax", "30", "--out", str(out)]) == 0
+    ours = read_csv(out)
+    ref = read_csv(FLOATING / "fl_decay_a.csv")
+    t = np.asarray(ours.time)
+    keep = np.asarray(ref.time) <= 30.0 + 1e-9
+    for name in ("PtfmSurge", "PtfmHeave", "PtfmPitch"):
+        want = np.asarray(ref.channel(name))[keep]
+        got = np.interp(np.asarray(ref.time)[keep], t, np.asarray(ours.channel(name)))
+        assert np.sqrt(np.mean((got - want) ** 2)) / np.ptp(want) < 0.02, name
+    assert "B1WvsFxi" in ours.names and np.all(np.asarray(ours.channel("Wave1Elev")) == 0.0)   # still water
