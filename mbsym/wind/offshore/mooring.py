@@ -12,8 +12,9 @@ tensions ``√(H² + V²)`` (MoorDyn's ``FAIRTEN<n>``).
 
 Two solvers of the catenary equations: ``"rootfinder"`` (CasADi's Newton ``rootfinder``,
 converged to 1e-6 m; MX graphs) and ``"newton"`` (a fixed number of smooth Newton steps
-written out in SX, usable inside any SX graph; the default 30 steps converge the deck's lines
-to machine precision from MAP++'s starting point). Line dynamics (MoorDyn's lumped masses,
+written out in SX, usable inside any SX graph; by default as many as the lines need to converge to
+1e-12 from MAP++'s starting point over a wide envelope of fairlead excursions, found once per system:
+:func:`newton_steps`, 10 for the VolturnUS-S). Line dynamics (MoorDyn's lumped masses,
 drag, seabed stiffness) are not modelled; with ``dynamics`` (one
 :class:`~.line_dynamics.LineHydrodynamics` per line) :meth:`MooringSystem.line_loads` adds the
 lines' drag and inertia on their quasi-static shape (:mod:`.line_dynamics`). See docs/offshore.md.
@@ -35,18 +36,76 @@ from .line_dynamics import LineHydrodynamics, fairlead_terms
 __all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map"]
 
 
-def _newton(line: CatenaryLine, l, h, steps: int):
-    """(H, V) after ``steps`` Newton steps from MAP++'s initial guess (SX; smooth in l, h)."""
+#: The fairlead excursions over which :func:`newton_steps` checks convergence, as fractions of the fairlead's
+#: height above its anchor: horizontal span ±25 %, height ±10 % (VolturnUS-S: ±46 m and ±19 m, 2.8 times its
+#: mean surge at rated wind); points where the line would be near-taut (tension over 20 times the
+#: undisplaced one) are left out.
+NEWTON_ENVELOPE = (0.25, 0.10)
+#: Relative accuracy of (H, V) that :func:`newton_steps` asks for over the envelope.
+NEWTON_TOLERANCE = 1e-12
+
+
+def _step(line: CatenaryLine) -> ca.Function:
+    """One smooth Newton step ``(HV, lh) → HV`` on the span equations (SX; H kept positive)."""
     x, p = ca.SX.sym("HV", 2), ca.SX.sym("lh", 2)
     lm, hm = line.spans(x[0], x[1])
     r = ca.vertcat(lm - p[0], hm - p[1])
     dx = -ca.solve(ca.jacobian(r, x), r)
     tiny = 1e-6 * line.weight * line.length
-    step = ca.Function("catenary_step", [x, p], [ca.vertcat(ca.fmax(x[0] + dx[0], tiny), x[1] + dx[1])])
+    return ca.Function("catenary_step", [x, p], [ca.vertcat(ca.fmax(x[0] + dx[0], tiny), x[1] + dx[1])])
+
+
+def _newton(line: CatenaryLine, l, h, steps: int):
+    """(H, V) after ``steps`` Newton steps from MAP++'s initial guess (SX; smooth in l, h)."""
+    step = _step(line)
     HV = ca.vertcat(*line.initial_guess(l, h))
     for _ in range(steps):
         HV = step(HV, ca.vertcat(l, h))
     return HV[0], HV[1]
+
+
+def newton_steps(line: CatenaryLine, span: float, height: float, *, margin: int = 1, limit: int = 60) -> int:
+    """The fixed number of Newton steps (from MAP++'s guess) that converges ``line`` over :data:`NEWTON_ENVELOPE`.
+
+    Parameters
+    ----------
+    line : CatenaryLine
+    span, height : float
+        The undisplaced fairlead's horizontal distance from and height above the anchor [m].
+    margin : int, keyword-only
+        Steps added to the worst case found (each squares the error).
+    limit : int, keyword-only
+        More steps than this mean the line does not converge from MAP++'s guess: an error.
+
+    Returns
+    -------
+    int
+        The most steps any grid point (19 spans × 7 heights) needed to reach :data:`NEWTON_TOLERANCE`, plus ``margin``.
+    """
+    dl, dh = np.meshgrid(np.linspace(-1.0, 1.0, 19) * NEWTON_ENVELOPE[0] * height,
+                         np.linspace(-1.0, 1.0, 7) * NEWTON_ENVELOPE[1] * height)
+    lh = np.vstack([span + dl.ravel(), height + dh.ravel()])
+    lh = np.hstack([[[span], [height]], lh])                       # the undisplaced point first
+    step = _step(line).map(lh.shape[1])
+    sym = ca.SX.sym("lh", 2)
+    start = ca.Function("guess", [sym], [ca.vertcat(*line.initial_guess(sym[0], sym[1]))])
+    guess = np.array(start.map(lh.shape[1])(lh), dtype=float)
+    exact = guess
+    for _ in range(limit):
+        exact = np.array(step(exact, lh), dtype=float)
+    size = np.hypot(*exact)
+    keep = np.all(np.isfinite(exact), axis=0) & (size <= 20 * size[0])
+    hv, done = guess, np.zeros(lh.shape[1], dtype=int) - 1
+    for n in range(limit + 1):
+        ok = np.all(np.abs(hv - exact) <= NEWTON_TOLERANCE * np.abs(exact).max(axis=0), axis=0)
+        done[(done < 0) & ok] = n
+        if np.all(done[keep] >= 0):
+            return int(done[keep].max()) + int(margin)
+        hv = np.array(step(hv, lh), dtype=float)
+    k = int(np.flatnonzero(keep & (done < 0))[0])
+    raise UnsupportedFeatureError(f"the catenary line (L = {line.length} m) does not converge in {limit} Newton steps "
+                                  f"at span {lh[0, k]:.1f} m, height {lh[1, k]:.1f} m; check its length, weight and "
+                                  "stiffness in the mooring file.")
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,12 +153,25 @@ class MooringSystem:
             fair_h.append(ca.vertcat(H, V))
         return ca.vertcat(force, moment), ca.vertcat(*tension), ca.horzcat(*fair_h)
 
+    def newton_steps(self) -> int:
+        """The fixed Newton steps of this system's catenaries (:func:`newton_steps` over every line; computed once)."""
+        cached = self.__dict__.get("_newton_steps")
+        if cached is None:
+            cached = max(newton_steps(line, float(np.hypot(*(self.anchors[k][:2] - self.fairleads[k][:2]))),
+                                      float(self.fairleads[k][2] - self.anchors[k][2]))
+                         for k, line in enumerate(self.lines))
+            object.__setattr__(self, "_newton_steps", cached)
+        return cached
+
+    def _steps(self, steps: int | None) -> int:
+        return self.newton_steps() if steps is None else int(steps)
+
     def with_dynamics(self, dynamics, water_density: float) -> "MooringSystem":
         """The same lines with drag and inertia (:meth:`line_loads`), or quasi-static again with None."""
         return MooringSystem(self.lines, self.anchors, self.fairleads,
                              None if dynamics is None else tuple(dynamics), float(water_density))
 
-    def line_loads(self, q, qd, *, steps: int = 30):
+    def line_loads(self, q, qd, *, steps: int | None = None):
         """Static load, the lines' drag and their mass on the platform DOFs (SX expressions).
 
         Parameters
@@ -120,6 +192,7 @@ class MooringSystem:
             Fairlead tensions [N], as :meth:`tensions`.
         """
         R = euler_zyx(q[3:6])
+        steps = self._steps(steps)
         static, drag, mass, tension = ca.SX.zeros(6), ca.SX.zeros(6), ca.SX.zeros(6, 6), []
         for k, line in enumerate(self.lines):
             arm = ca.mtimes(R, ca.DM(self.fairleads[k]))
@@ -140,15 +213,16 @@ class MooringSystem:
             mass += ca.mtimes([J.T, mr, J])
         return static, drag, mass, ca.vertcat(*tension)
 
-    def function(self, *, method: str = "newton", steps: int = 30) -> ca.Function:
-        """``q → (load [N, N m] (6), tensions [N] (n), HV (2 × n))`` as one CasADi Function."""
+    def function(self, *, method: str = "newton", steps: int | None = None) -> ca.Function:
+        """``q → (load [N, N m] (6), tensions [N] (n), HV (2 × n))`` as one CasADi Function (``steps``: Newton
+        steps, default :meth:`newton_steps`)."""
         if method not in ("newton", "rootfinder"):
             raise OptionError(f"method must be 'newton' or 'rootfinder'; got {method!r}.")
         q = (ca.SX if method == "newton" else ca.MX).sym("q", 6)
-        load, tension, hv = self._expressions(q, method, steps)
+        load, tension, hv = self._expressions(q, method, self._steps(steps) if method == "newton" else 0)
         return ca.Function("mooring", [q], [load, tension, hv], ["q"], ["load", "tension", "HV"])
 
-    def load(self, q, *, method: str = "newton", steps: int = 30):
+    def load(self, q, *, method: str = "newton", steps: int | None = None):
         """Mooring force and moment about the reference point, inertial axes [N, N m].
 
         ``q`` as numbers (numpy back) or a CasADi SX/MX vector (an expression back; with
@@ -156,15 +230,15 @@ class MooringSystem:
         """
         x = _in(q, 6, "q")
         if _symbolic(q) and method == "newton":
-            return self._expressions(x, "newton", steps)[0]
+            return self._expressions(x, "newton", self._steps(steps))[0]
         out = self.function(method=method, steps=steps)(x)[0]
         return out if _symbolic(q) else np.array(out, dtype=float).ravel()
 
-    def tensions(self, q, *, method: str = "newton", steps: int = 30) -> np.ndarray:
+    def tensions(self, q, *, method: str = "newton", steps: int | None = None) -> np.ndarray:
         """Fairlead tensions √(H² + V²) [N] of every line at platform position ``q`` (numbers)."""
         return np.array(self.function(method=method, steps=steps)(_in(q, 6, "q"))[1], dtype=float).ravel()
 
-    def stiffness(self, q=np.zeros(6), *, method: str = "newton", steps: int = 30) -> np.ndarray:
+    def stiffness(self, q=np.zeros(6), *, method: str = "newton", steps: int | None = None) -> np.ndarray:
         """The 6×6 mooring stiffness −∂load/∂q about ``q`` [N/m, N/rad, N m/m, N m/rad] (exact derivatives)."""
         f = self.function(method=method, steps=steps)
         sym = (ca.SX if method == "newton" else ca.MX).sym("q", 6)

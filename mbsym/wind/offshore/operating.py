@@ -73,8 +73,9 @@ class FloatingPlatform:
     mooring : MooringSystem or None
     radiation : RadiationStateSpace or None
         None: no radiation memory (only A∞ acts; decays are less damped than HydroDyn's).
-    mooring_steps : int
-        Newton steps of the catenary solution in SX (30 converge to 1e-8 relative, docs/offshore.md §3).
+    mooring_steps : int or None
+        Newton steps of the catenary solution in SX; None (default): as many as the lines need over a wide
+        envelope (:meth:`~.mooring.MooringSystem.newton_steps`: 10 for the VolturnUS-S, converged to 1e-12).
 
     Examples
     --------
@@ -85,7 +86,7 @@ class FloatingPlatform:
     hydro: PlatformHydrodynamics
     mooring: MooringSystem | None = None
     radiation: RadiationStateSpace | None = None
-    mooring_steps: int = 30
+    mooring_steps: int | None = None
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS

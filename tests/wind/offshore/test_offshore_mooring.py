@@ -134,3 +134,22 @@ def test_map_deck_repeats_the_line():
     assert tensions == pytest.approx(np.full(3, tensions[0]), rel=1e-9)      # three identical lines, 120 deg apart
     load = system.load(np.zeros(6))
     assert np.abs(load[[0, 1, 3, 4, 5]]).max() < 1e-6 * abs(load[2])        # symmetric: only a downward pull
+
+
+@needs_deck
+def test_default_newton_steps_converge_over_the_envelope(moordyn_system):
+    """The fixed Newton steps found at build time (``newton_steps``: 10 for these lines, from 30 before) give the
+    converged catenary (60 steps) to 1e-10 of the load anywhere in the envelope, and fewer steps do not."""
+    from mbsym.wind.offshore.mooring import NEWTON_ENVELOPE
+
+    steps = moordyn_system.newton_steps()
+    assert 3 <= steps <= 20
+    reach = NEWTON_ENVELOPE[0] * 186.0 * 0.9                 # inside the envelope (fairlead 186 m above the anchors)
+    rng = np.random.default_rng(3)
+    for _ in range(6):
+        q = np.concatenate([rng.uniform(-reach, reach, 2), rng.uniform(-10.0, 10.0, 1), np.radians(rng.uniform(-5, 5, 3))])
+        exact = moordyn_system.load(q, steps=60)
+        assert np.abs(moordyn_system.load(q) - exact).max() <= 1e-10 * np.abs(exact).max()
+    q = np.array([reach, 0.0, 0.0, 0.0, 0.0, 0.0])
+    exact = moordyn_system.load(q, steps=60)
+    assert np.abs(moordyn_system.load(q, steps=steps - 5) - exact).max() > 1e-8 * np.abs(exact).max()
