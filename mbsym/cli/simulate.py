@@ -183,7 +183,7 @@ def _model(deck, *, structure_only: bool = False):
         # a floating deck without aerodynamics: the structure with the water, the sea and the mooring
         from ..wind.offshore.floating import floating_structure
 
-        check_modules(turbine, modelled={**MODELLED, **FLOATING_MODELLED})
+        check_modules(turbine, modelled={k: v | FLOATING_MODELLED.get(k, set()) for k, v in MODELLED.items()})
         return floating_structure(turbine), f"{deck} (floating: HydroDyn, SeaState, mooring; rotor parked)"
     check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)

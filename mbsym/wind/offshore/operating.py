@@ -207,12 +207,19 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
     if not hydro_on and not mooring_model:
         return None
     where = files.get("fst", "the deck")
+    names = {1: "MAP++", 2: "FEAMooring", 3: "MoorDyn", 4: "OrcaFlex"}
+    mooring_label = f"CompMooring = {mooring_model} ({names.get(mooring_model, 'unknown module')})"
     if not hydro_on:
-        raise UnsupportedFeatureError(f"{where}: CompMooring = {mooring_model} without HydroDyn (CompHydro = 0): a "
-                                      "floating platform needs the water's buoyancy; set CompHydro = 1.")
+        raise UnsupportedFeatureError(f"{where}: {mooring_label} without HydroDyn (CompHydro = 0): a floating "
+                                      "platform needs the water's buoyancy; set CompHydro = 1.")
     if mooring_model not in (0, 1, 3):
-        raise UnsupportedFeatureError(f"{where}: CompMooring = {mooring_model} is not modelled (only 1, MAP++, and 3, "
-                                      "MoorDyn, as quasi-static catenaries). Use one of those or 0.")
+        raise UnsupportedFeatureError(f"{where}: {mooring_label} is not modelled (only 1, MAP++, and 3, MoorDyn, as "
+                                      "quasi-static catenaries). Use one of those or 0.")
+    for key, name, label in (("hydrodyn", "HydroFile", "CompHydro = 1 (HydroDyn)"),
+                             ("mooring", "MooringFile", mooring_label)):
+        if key not in files and (key == "hydrodyn" or mooring_model):
+            raise UnsupportedFeatureError(f"{where}: {label} needs its input file, but {name} names none that exists; "
+                                          f"give the file in {name} or set the switch to 0.")
     rho, g = float(sim.water_density), float(sim.gravity)
     with warnings.catch_warnings():
         if radiation != "none":          # the radiation memory is modelled here: no "left out" warning
