@@ -28,7 +28,7 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError
 from .mooring import MooringSystem
-from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUTS, FloatingPlatform
+from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, SEA_INPUTS, FloatingPlatform
 from .platform import PlatformHydrodynamics
 from .radiation import RadiationStateSpace
 
@@ -110,8 +110,8 @@ class FloatingStructure:
         return self._cache["dynamics"]
 
     def _build(self) -> Dynamics:
-        from ..operation.units import input_units
         from ..structure.channels import channel_function
+        from ..structure.units import structural_input_unit
 
         eom, platform = self.model.eom, self.platform
         n, nr = eom.n_q, self.n_radiation
@@ -145,7 +145,8 @@ class FloatingStructure:
         return Dynamics(rhs, states=tuple(eom.states) + platform.state_names, inputs=inputs,
                         parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
                         output_names=names, output_units=units, x0=self.initial_state(),
-                        name="floating_structure", input_units=input_units(inputs))
+                        name="floating_structure",
+                        input_units=[structural_input_unit(n) for n in other] + [SEA_INPUT_UNITS[n] for n in SEA_INPUTS])
 
     def rhs(self) -> ca.Function:
         """``x → ẋ`` (SX), the deck's parameter values bound, other inputs zero (still water)."""

@@ -48,7 +48,7 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -59,6 +59,9 @@ HYDRO_CHANNELS = {"HydroFxi": "N", "HydroFyi": "N", "HydroFzi": "N", "HydroMxi":
                   "HydroMzi": "N-m"}
 #: The sea's inputs of a floating model: HydroDyn's first-order excitation [N, N m] and SeaState's elevation [m].
 SEA_INPUTS = (*EXCITATION_CHANNELS, "Wave1Elev")
+#: Their units as inputs (mbsym's input convention: "N m" for moments).
+SEA_INPUT_UNITS = {"B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi": "N m", "B1WvsMyi": "N m",
+                   "B1WvsMzi": "N m", "Wave1Elev": "m"}
 #: How :func:`floating_platform` models the radiation memory.
 RADIATION_MODELS = ("fit", "ss", "none")
 

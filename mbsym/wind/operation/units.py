@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
+from ..offshore.operating import SEA_INPUT_UNITS
 from ..structure.units import structural_input_unit
 
 __all__ = ["STATE_UNITS", "INPUT_UNITS", "state_units", "input_units", "RADIATION_UNIT"]
@@ -19,13 +20,11 @@ __all__ = ["STATE_UNITS", "INPUT_UNITS", "state_units", "input_units", "RADIATIO
 #: States the composition adds, by name -> unit.
 STATE_UNITS = {"GenTq": "N m", "GeAz": "rad", "DBEMT_w": "m/s", "DBEMT_v": "m/s", "RotThrustLag": "N",
                "RotTorqLag": "N m"}
-#: Inputs by name -> unit: commands, the hub wind (structural inputs: :mod:`mbsym.wind.structure.units`).
+#: Inputs by name -> unit: commands, the hub wind, a floating platform's sea (structural inputs:
+#: :mod:`mbsym.wind.structure.units`).
 INPUT_UNITS = {"Wind1VelX": "m/s", "Wind1VelY": "m/s", "Wind1VelZ": "m/s", "BlPitchCom": "rad",
                "BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m",
-               "YawCom": "rad",
-               # the sea on a floating platform (mbsym.wind.offshore.operating.SEA_INPUTS)
-               "B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi": "N m", "B1WvsMyi": "N m",
-               "B1WvsMzi": "N m", "Wave1Elev": "m"}
+               "YawCom": "rad", **SEA_INPUT_UNITS}
 #: Unit of the radiation states of a floating platform: those of the fitted state-space realization
 #: (HydroDyn's ``.ss`` file), which the fit chooses (its ``C`` maps them to N and N m).
 RADIATION_UNIT = "fit"
