@@ -28,7 +28,8 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError
 from .mooring import MooringSystem
-from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, SEA_INPUTS, FloatingPlatform
+from .operating import (PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, SEA_INPUTS, FloatingPlatform,
+                        platform_dofs)
 from .platform import PlatformHydrodynamics
 from .radiation import RadiationStateSpace
 
@@ -42,7 +43,7 @@ class FloatingStructure:
     Parameters
     ----------
     model : TurbineModel
-        With all six platform DOFs enabled.
+        With its platform DOFs (a disabled one is held at its initial value, as ElastoDyn holds it).
     hydro : PlatformHydrodynamics
     mooring : MooringSystem or None
     radiation : RadiationStateSpace or None
@@ -56,11 +57,10 @@ class FloatingStructure:
 
     def __post_init__(self) -> None:
         eom = self.model.eom
-        missing = [c for c in PLATFORM_COORDINATES if c not in eom.coordinates] + \
-            [u for u in PLATFORM_INPUTS if u not in eom.inputs]
-        if missing:
-            raise ModelDefinitionError(f"the structural model lacks {missing}: enable all six platform DOFs "
-                                       "(PtfmSgDOF … PtfmYDOF) in the deck or in TurbineModel(dofs=…).")
+        missing = [u for u in PLATFORM_INPUTS if u not in eom.inputs]
+        if missing or not any(c in eom.coordinates for c in PLATFORM_COORDINATES):
+            raise ModelDefinitionError(f"the structural model lacks {missing or 'every platform DOF'}: enable the "
+                                       "platform DOFs (PtfmSgDOF … PtfmYDOF) in the deck or in TurbineModel(dofs=…).")
 
     # ------------------------------------------------------------------ what the CLI and simulate use
     @property
@@ -115,19 +115,18 @@ class FloatingStructure:
 
         eom, platform = self.model.eom, self.platform
         n, nr = eom.n_q, self.n_radiation
-        index = [eom.coordinates.index(c) for c in PLATFORM_COORDINATES]
+        index, fixed, select = platform_dofs(eom.coordinates, self.model.turbine)
         other = [u for u in eom.inputs if u not in PLATFORM_INPUTS]
         x = ca.SX.sym("x", 2 * n + nr)
         u = ca.SX.sym("u", len(other) + len(SEA_INPUTS))
         p = ca.SX.sym("p", eom.n_p)
         q, qd, xr = x[:n], x[n:2 * n], x[2 * n:]
-        qp, vp = ca.vertcat(*[q[i] for i in index]), ca.vertcat(*[qd[i] for i in index])
+        qp = ca.vertcat(*[q[i] if i is not None else fixed[k] for k, i in enumerate(index)])
+        vp = ca.vertcat(*[qd[i] if i is not None else 0.0 for i in index])
         loads = platform.loads(qp, vp, xr if nr else ca.DM(0, 1), u[len(other):])
         values = {name: u[k] for k, name in enumerate(other)}
         values.update({name: loads["load"][k] for k, name in enumerate(PLATFORM_INPUTS)})
         us = ca.vertcat(*[values[name] for name in eom.inputs])
-        select = np.zeros((6, n))
-        select[range(6), index] = 1.0
         S = ca.DM(select)
         f_m = eom.functions.mass_matrix
         M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, us, p)) \
@@ -135,7 +134,7 @@ class FloatingStructure:
         qdd = ca.solve(M, eom.functions.forcing(q, qd, us, p))
         xd = ca.vertcat(qd, qdd, loads["xr_dot"]) if nr else ca.vertcat(qd, qdd)
         f_y, names, units = channel_function(self.model)
-        rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] for i in index]))
+        rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index]))
         y = ca.vertcat(f_y(q, qd, qdd, us, p), *[r[2] for r in rows])
         names, units = names + tuple(r[0] for r in rows), units + tuple(r[1] for r in rows)
         opts = {"cse": True}

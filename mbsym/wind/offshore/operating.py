@@ -48,7 +48,7 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "platform_dofs"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -64,6 +64,42 @@ SEA_INPUT_UNITS = {"B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi"
                    "B1WvsMzi": "N m", "Wave1Elev": "m"}
 #: How :func:`floating_platform` models the radiation memory.
 RADIATION_MODELS = ("fit", "ss", "none")
+
+
+def platform_dofs(coordinates, turbine) -> tuple[list[int | None], list[float], np.ndarray]:
+    """Where the platform's six DOFs are among a structure's ``coordinates``, and what the disabled ones hold.
+
+    ElastoDyn holds a disabled platform DOF at its initial value (``PtfmSurge`` … ``PtfmYaw``); the water and
+    the mooring see the platform there, and their loads act on the enabled DOFs only.
+
+    Returns
+    -------
+    index : list
+        Per DOF (surge … yaw) its position in ``coordinates``, or None when disabled.
+    fixed : list of float
+        Per DOF the value a disabled one keeps [m, rad] (the deck's initial condition).
+    select : (6, len(coordinates)) ndarray
+        ``select[k, index[k]] = 1`` for the enabled DOFs: ``selectᵀ A select`` puts a 6×6 platform matrix on them.
+
+    Raises
+    ------
+    ModelDefinitionError
+        No platform DOF enabled.
+    """
+    from ...exceptions import ModelDefinitionError
+
+    index = [coordinates.index(c) if c in coordinates else None for c in PLATFORM_COORDINATES]
+    if all(i is None for i in index):
+        raise ModelDefinitionError("a floating platform needs at least one platform DOF (PtfmSgDOF … PtfmYDOF) "
+                                   "enabled; enable them in the deck or in dofs=…, or leave platform=None.")
+    ic = turbine.initial_conditions
+    fixed = [float(v) for v in (ic.platform_surge, ic.platform_sway, ic.platform_heave, ic.platform_roll,
+                                ic.platform_pitch, ic.platform_yaw)]
+    select = np.zeros((6, len(coordinates)))
+    for k, i in enumerate(index):
+        if i is not None:
+            select[k, i] = 1.0
+    return index, fixed, select
 
 
 @dataclass(frozen=True, eq=False)

@@ -93,7 +93,7 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
 
 def _floating_rows(g) -> list[tuple[str, str, Any]]:
     """The platform's channels and the nacelle's pitching acceleration ``NcIMURAys`` [deg/s^2]."""
-    ap = ca.vertcat(*[g.qdd[i] for i in g.platform_index])
+    ap = ca.vertcat(*[g.qdd[i] if i is not None else 0.0 for i in g.platform_index])
     rows = list(g.platform.channel_rows(g.platform_terms, ap))
     yb = g.kinematics_with_accelerations("yaw_bearing")
     rows.append(("NcIMURAys", "deg/s^2", 180.0 / math.pi * ca.dot(yb["wd"], yb["R"][:, 1])))

@@ -122,10 +122,12 @@ class Graph:
         self.platform_loads: dict[str, Any] = {}
         if platform is None:
             return
-        coords = self.eom.coordinates
-        self.platform_index = [coords.index(c) for c in platform.coordinates]
-        qp = ca.vertcat(*[self.q[i] for i in self.platform_index])
-        vp = ca.vertcat(*[self.qd[i] for i in self.platform_index])
+        from ..offshore.operating import platform_dofs
+
+        index, fixed, self.platform_select = platform_dofs(self.eom.coordinates, self.model.turbine)
+        self.platform_index = index            # None for a disabled DOF (held at its initial value, as ElastoDyn)
+        qp = ca.vertcat(*[self.q[i] if i is not None else fixed[k] for k, i in enumerate(index)])
+        vp = ca.vertcat(*[self.qd[i] if i is not None else 0.0 for i in index])
         xr = ca.vertcat(*[self.X[n] for n in platform.state_names]) if platform.state_names else self.kind(0, 1)
         sea = [self.U[n] for n in getattr(platform, "sea_inputs", ())]
         self.platform_terms = platform.loads(qp, vp, xr, *([ca.vertcat(*sea)] if sea else []))
@@ -225,8 +227,7 @@ class Graph:
         mass = f.mass_matrix
         M = mass(self.q, self.u_s, self.p_s) if mass.n_in() == 3 else mass(self.q, self.p_s)
         if self.platform is not None:                  # A∞ on the platform DOFs (symbolic mass matrix)
-            select = np.zeros((6, self.eom.n_q))
-            select[range(6), self.platform_index] = 1.0
+            select = self.platform_select
             M = M + ca.sparsify(ca.DM(select.T @ self.platform.added_mass @ select))
             lines = self.platform_terms.get("mass")        # mooring lines' mass on the platform DOFs (if any)
             if lines is not None and not (isinstance(lines, (ca.SX, ca.MX, ca.DM)) and lines.is_zero()):
@@ -383,12 +384,11 @@ def check_structure(model) -> None:
         raise ModelDefinitionError(f"the structure lacks the inputs {missing} the operating turbine drives.")
     platform = getattr(model, "platform", None)
     if platform is not None:
-        missing = [n for n in platform.coordinates if n not in eom.coordinates] + \
-            [n for n in platform.inputs if n not in eom.inputs]
-        if missing:
-            raise ModelDefinitionError(f"a floating platform needs all six platform DOFs and their load inputs; the "
-                                       f"structure lacks {missing}. Enable PtfmSgDOF … PtfmYDOF (dofs=…) or leave "
-                                       "platform=None.")
+        missing = [n for n in platform.inputs if n not in eom.inputs]
+        if missing or not any(n in eom.coordinates for n in platform.coordinates):
+            raise ModelDefinitionError(f"a floating platform needs at least one platform DOF and the platform's load "
+                                       f"inputs; the structure lacks {missing or 'every platform DOF'}. Enable "
+                                       "PtfmSgDOF … PtfmYDOF (dofs=…) or leave platform=None.")
     clash = sorted(set(eom.parameters) & (set(ACTUATOR_PARAMETERS) | set(_AERO_NAMES)))
     if clash:
         raise ModelDefinitionError(f"structural parameters {clash} clash with the operating turbine's parameters of "

@@ -134,7 +134,7 @@ def test_fl_steady_13_trim_matches_openfast_means(floating):
 
 
 def test_a_platform_needs_the_platform_dofs():
-    """Bad input: a platform on a structure without the six platform DOFs, or an object that is no platform."""
+    """Bad input: a platform on a structure without any platform DOF, or an object that is no platform."""
     from mbsym.exceptions import ModelDefinitionError
     from mbsym.wind.deck.openfast import read_openfast
     from mbsym.wind.operation import OPERATING_DOFS, OperatingTurbine
@@ -147,7 +147,7 @@ def test_a_platform_needs_the_platform_dofs():
     with pytest.raises(TypeError, match="FloatingPlatform"):
         OperatingTurbine.nrel5mw(platform=object())
     model = OperatingTurbine.nrel5mw(dofs=OPERATING_DOFS, platform=platform)
-    with pytest.raises(ModelDefinitionError, match=r"lacks \['Sg', 'Sw', 'Hv', 'R', 'P', 'Y'.*PtfmSgDOF"):
+    with pytest.raises(ModelDefinitionError, match=r"at least one platform DOF.*PtfmSgDOF"):
         model.dynamics()
 
 
