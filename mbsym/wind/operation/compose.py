@@ -50,7 +50,7 @@ __all__ = ["compose", "check_structure", "Graph", "WIRED_INPUTS"]
 
 #: Structural inputs driven by the composition (the others stay inputs of the Dynamics).
 WIRED_INPUTS = ("BlPitch", "BlPitch_d", "BlPitch_dd", "GenTq", "RotTorq", "RotThrust", "GeAz", "GeAz_d", "GeAz_dd",
-                "RotMomY", "RotMomZ")
+                "RotMomY", "RotMomZ", "RotFrcY", "RotFrcZ")
 
 
 class Graph:
@@ -176,9 +176,9 @@ class Graph:
             self.inflow_steady = ca.vertcat(self.aero["thrust"], self.aero["torque"])
         else:
             self.thrust, self.torque = self.aero["thrust"], self.aero["torque"]
-        self.loads = {"thrust": self.thrust, "torque": self.torque, **self._disk_moments(shaft)}
+        self.loads = {"thrust": self.thrust, "torque": self.torque, **self._disk_moments(shaft, hub)}
 
-    def _disk_moments(self, shaft) -> dict[str, Any]:
+    def _disk_moments(self, shaft, hub) -> dict[str, Any]:
         """Aerodynamic moment of the rotor disk turning across the shaft (tilt and yaw rates), ``RotMomY/Z``.
 
         A rotation rate ``ω⊥`` of the shaft across its axis moves a blade element at radius ``r`` and
@@ -194,16 +194,27 @@ class Graph:
         c1, c2, c3 = shaft["R"][:, 0], shaft["R"][:, 1], shaft["R"][:, 2]
         thrust = self.thrust if self.model.dynamic_inflow is not None or not self.model.inflow_lag \
             else self.aero["thrust"]
+        torque = self.torque if self.model.dynamic_inflow is not None or not self.model.inflow_lag \
+            else self.aero["torque"]
         dT_dU = ca.jacobian(thrust, self.u)[:, self.inputs.index("Wind1VelX")] / c1[0]
         r2 = 0.5 * (float(self.model.rotor.radius) ** 2 + float(self.model.turbine.hub_radius) ** 2)
         k = 0.5 * r2 * dT_dU
         w = shaft["w"]
-        return {"RotMomY": -k * ca.dot(w, c2), "RotMomZ": -k * ca.dot(w, c3)}
+        # the hub moving across the shaft at v⊥ moves each element along its rotation at v⊥ cos ψ: the
+        # tangential forces change by (∂F_t/∂V_t) v⊥ cos ψ and add up to −c v⊥ in the rotor plane, with
+        # c = −½ Σ ∂F_t/∂V_t = −½ (∂Q/∂Ω) / ⟨r²⟩ (∂Q/∂Ω = Σ r² ∂F_t/∂V_t; inflow frozen)
+        dQ_dW = ca.jacobian(torque, self.x)[:, self.states.index("GeAz_d")] if "GeAz_d" in self.states else \
+            ca.jacobian(torque, self.p)[:, self.parameters.index("rotor_speed")]
+        c = -0.5 * dQ_dW / r2
+        v = hub["v"]
+        return {"RotMomY": -k * ca.dot(w, c2), "RotMomZ": -k * ca.dot(w, c3),
+                "RotFrcY": -c * ca.dot(v, c2), "RotFrcZ": -c * ca.dot(v, c3)}
 
     def structural_inputs(self, *, thrust: Any, torque: Any, **loads: Any) -> Any:
         """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
         values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0, "RotMomZ": 0.0,
+                  "RotFrcY": 0.0, "RotFrcZ": 0.0,
                   **self.platform_loads, **loads}
         for n in self.model.pitch_names:
             values.update({n: X[n], f"{n}_d": 0.0, f"{n}_dd": 0.0})         # ElastoDyn: quasi-static pitch

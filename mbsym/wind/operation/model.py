@@ -122,12 +122,14 @@ class OperatingTurbine:
         ``LSShftFxa``, ``LSShftFys``, ``LSShftFzs``, ``YawBrFxp`` … ``YawBrMzp`` and, with the blade-element
         rotor, ``RootFxc<k>`` … ``RootFzc<k>``, ``RootFxb<k>``, ``RootFyb<k>``. The right-hand side is unchanged;
         the output Function grows (benchmarks/README.md, "Load channels"). Default False.
-    disk_moments : bool, optional, keyword-only
+    disk_moments : bool or None, optional, keyword-only
         Rotor-effective model only: the aerodynamic moment of the rotor disk against its tilt and yaw
-        rates (``RotMomY``, ``RotMomZ`` on the hub; :meth:`.compose.Graph._disk_moments`), which the
-        blade-element rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 %
-        to 7.2 % (blade-element rotor: 7.3 %). Default False for now (docs/identification.md);
-        ``mbsym identify`` switches it on.
+        rates and its in-plane force against the hub's velocity across the shaft (``RotMomY``, ``RotMomZ``,
+        ``RotFrcY``, ``RotFrcZ`` on the hub; :meth:`.compose.Graph._disk_moments`), which the blade-element
+        rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 % to 7.2 %
+        (blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
+        and sway move the rotor across its shaft: docs/offshore.md §7c), off on land for now
+        (docs/identification.md); ``mbsym identify`` switches it on.
     platform : FloatingPlatform, optional, keyword-only
         The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
         structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
@@ -158,7 +160,7 @@ class OperatingTurbine:
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
-                 load_channels: bool = False, disk_moments: bool = False, platform=None,
+                 load_channels: bool = False, disk_moments: bool | None = None, platform=None,
                  name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
@@ -203,8 +205,10 @@ class OperatingTurbine:
         self.saturation_width = saturation_width
         if not isinstance(load_channels, bool):
             raise TypeError(f"load_channels must be True or False; got {load_channels!r}.")
+        if disk_moments is None:                # default: on for a floating rotor-effective turbine (docs/offshore.md §7c)
+            disk_moments = platform is not None and not blade
         if not isinstance(disk_moments, bool):
-            raise TypeError(f"disk_moments must be True or False; got {disk_moments!r}.")
+            raise TypeError(f"disk_moments must be True, False or None; got {disk_moments!r}.")
         if disk_moments and blade:
             raise ParameterError("disk_moments belongs to the rotor-effective model: a blade-element rotor's loads "
                                  "already give the disk's moments (leave disk_moments False).")

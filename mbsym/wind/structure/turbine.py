@@ -136,9 +136,9 @@ class TurbineModel:
         ``LSShftFys``, ``LSShftFzs``), and along and about the tower-top axes between the tower and
         the nacelle (minus ``YawBrFxp..YawBrFzp`` [N], ``YawBrMxp..YawBrMzp`` [N m]). Default False.
     hub_moments : bool, optional, keyword-only
-        Inputs ``RotMomY``, ``RotMomZ`` [N m]: a moment on the rotor about the shaft frame's second
-        and third axes (across the shaft), e.g. the aerodynamic moment of a rotor-effective model.
-        Default False.
+        Inputs ``RotMomY``, ``RotMomZ`` [N m] and ``RotFrcY``, ``RotFrcZ`` [N]: a moment on the rotor about
+        the shaft frame's second and third axes (across the shaft) and a force along them (in the rotor
+        plane), e.g. the aerodynamic damping of a rotor-effective model. Default False.
 
     Raises
     ------
@@ -594,10 +594,12 @@ class TurbineModel:
             sys.add_torque(shaft, [tq_gen, 0.0, 0.0], frame=shaft)      # its reaction on the nacelle
             sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
         thrust = sys.inputs("RotThrust")
-        sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
-        if self.hub_moments:                                            # rotor moments across the shaft
-            my, mz = sys.inputs("RotMomY RotMomZ")
+        if self.hub_moments:                                            # rotor moments and forces across the shaft
+            my, mz, fy, fz = sys.inputs("RotMomY RotMomZ RotFrcY RotFrcZ")
             sys.add_torque(hub, [0.0, my, mz], frame=shaft)
+            sys.add_force(hub, [thrust, fy, fz], frame=shaft)
+        else:
+            sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
         if self.blade_loads:
             self._blade_load_inputs()
         if any(self.dofs.get(f) for f in _PLATFORM):

@@ -14,6 +14,7 @@ __all__ = ["STRUCTURAL_INPUT_UNITS", "structural_input_unit"]
 
 #: Structural inputs by name -> unit.
 STRUCTURAL_INPUT_UNITS = {"GenTq": "N m", "RotTorq": "N m", "RotThrust": "N", "RotMomY": "N m", "RotMomZ": "N m",
+                          "RotFrcY": "N", "RotFrcZ": "N",
                           "PtfmFx": "N", "PtfmFy": "N", "PtfmFz": "N", "PtfmMx": "N m", "PtfmMy": "N m",
                           "PtfmMz": "N m"}
 
