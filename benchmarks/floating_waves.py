@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -31,30 +30,26 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+from discon_export_openfast import _read_csv, _read_out, _set_value  # noqa: E402  (the OpenFAST deck helpers)
 RECORDED = HERE.parent / "tests" / "data" / "openfast_waves" / "fl_steady_13_jonswap.csv"
 CHANNELS = ("Wave1Elev", "PtfmSurge", "PtfmHeave", "PtfmPitch", "PtfmRoll", "PtfmYaw", "TTDspFA", "RotSpeed",
             "BldPitch1", "GenPwr", "FAIRTEN1", "FAIRTEN2")
 AERO_EDITS = (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "False"), ("UA_Mod", "0"))
 
 
-def _shared() -> Path:
-    for parent in HERE.parents:
-        if (parent / "shared" / "openfast" / "floating").is_dir():
-            return parent / "shared"
-    sys.exit("benchmarks/floating_waves.py: ../shared/openfast/floating not found")
-
-
-def _set(path: Path, key: str, value: str) -> None:
-    text = path.read_text()
-    text, n = re.subn(rf"^\s*\S+(\s+{re.escape(key)}\s)", lambda m: f"{value}{m.group(1)}", text, count=1, flags=re.M)
-    if n != 1:
-        sys.exit(f"{path}: key {key} not found")
-    path.write_text(text)
+def _floating() -> Path:
+    """The shared floating decks (``../shared/openfast/floating``)."""
+    found = [parent / "shared" / "openfast" / "floating" for parent in HERE.parents
+             if (parent / "shared" / "openfast" / "floating").is_dir()]
+    if not found:
+        sys.exit("benchmarks/floating_waves.py: ../shared/openfast/floating not found")
+    return found[0]
 
 
 def deck(work: Path, hs: float, tp: float, tmax: float, rosco: Path) -> Path:
     """The edited copy of the shared decks in ``work``; the case's .fst."""
-    floating = _shared() / "openfast" / "floating"
+    floating = _floating()
     for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
         if not (work / name).exists():
             shutil.copytree(floating / name, work / name)
@@ -64,30 +59,16 @@ def deck(work: Path, hs: float, tp: float, tmax: float, rosco: Path) -> Path:
             (work / name).symlink_to((rosco / name).resolve())
     aerodyn = work / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_AeroDyn15.dat"
     for key, value in AERO_EDITS:
-        _set(aerodyn, key, value)
+        _set_value(aerodyn, key, value)
     case = work / "cases" / "fl_steady_13"
     sea = case / "fl_steady_13_SeaState.dat"
     for key, value in (("WaveMod", "2"), ("WaveHs", f"{hs}"), ("WaveTp", f"{tp}"), ("WvDiffQTF", "False"),
                        ("WvSumQTF", "False")):
-        _set(sea, key, value)
+        _set_value(sea, key, value)
     fst = case / "fl_steady_13.fst"
-    _set(fst, "TMax", f"{tmax}")
-    _set(fst, "OutFileFmt", "1")
+    _set_value(fst, "TMax", f"{tmax}")
+    _set_value(fst, "OutFileFmt", "1")
     return fst
-
-
-def _read_out(path: Path) -> dict[str, np.ndarray]:
-    lines = path.read_text().splitlines()
-    start = next(i for i, line in enumerate(lines) if line.split()[:1] == ["Time"])
-    names = lines[start].split()
-    data = np.array([line.split() for line in lines[start + 2:] if line.strip()], dtype=float)
-    return {n: data[:, j] for j, n in enumerate(names)}
-
-
-def _read_csv(path: Path) -> dict[str, np.ndarray]:
-    names = [h.split("_[")[0] for h in path.read_text().split("\n", 1)[0].strip().split(",")]
-    data = np.loadtxt(path, delimiter=",", skiprows=1)
-    return {n: data[:, j] for j, n in enumerate(names)}
 
 
 def compare(ref: dict[str, np.ndarray], ours: dict[str, np.ndarray], settle: float = 100.0) -> None:
@@ -125,7 +106,7 @@ def main() -> None:
     work = args.keep or Path(tempfile.mkdtemp(prefix="mbsym_waves_"))
     work.mkdir(parents=True, exist_ok=True)
     fst = deck(work, args.hs, args.tp, args.tmax, args.rosco)
-    exe = _shared() / "tools" / "openfast" / "openfast"
+    exe = _floating().parents[1] / "tools" / "openfast" / "openfast"
     ref, of_wall = None, None
     if exe.is_file() and not args.no_openfast:
         t0 = time.perf_counter()
