@@ -179,7 +179,8 @@ class Graph:
         self.loads = {"thrust": self.thrust, "torque": self.torque, **self._disk_moments(shaft, hub)}
 
     def _disk_moments(self, shaft, hub) -> dict[str, Any]:
-        """Aerodynamic moment of the rotor disk turning across the shaft (tilt and yaw rates), ``RotMomY/Z``.
+        """Aerodynamic moment of the rotor disk turning across the shaft (tilt and yaw rates), ``RotMomY/Z``, and
+        its in-plane force against the hub moving across the shaft, ``RotFrcY/Z`` (comment below).
 
         A rotation rate ``ω⊥`` of the shaft across its axis moves a blade element at radius ``r`` and
         azimuth ``ψ`` along the shaft at ``ω⊥ r cos ψ``: its load changes by ``(∂F/∂u) ω⊥ r cos ψ`` (the
