@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...exceptions import UnsupportedFeatureError
-from .waves import IncidentWaves
+from .waves import IncidentWaves, grid_elevation
 
 __all__ = ["WaveExcitation", "wave_excitation", "excitation_transfer", "EXCITATION_CHANNELS", "catmull_rom"]
 
@@ -126,7 +126,7 @@ class WaveExcitation:
 
 
 def wave_excitation(wamit, waves: IncidentWaves, *, reference_yaw: float = 0.0,
-                    elevation_point: tuple[float, float] = (0.0, 0.0)) -> WaveExcitation:
+                    elevation_point: tuple[float, float] = (0.0, 0.0), sea=None) -> WaveExcitation:
     """The :class:`WaveExcitation` of ``waves`` on a platform with the WAMIT data ``wamit``.
 
     Parameters
@@ -137,7 +137,11 @@ def wave_excitation(wamit, waves: IncidentWaves, *, reference_yaw: float = 0.0,
         HydroDyn's ``PtfmRefY`` [rad] (the heading seen by the platform is β − PtfmRefY).
     elevation_point : (float, float), keyword-only
         Where ``Wave1Elev`` is taken [m].
+    sea : SeaStateInput, optional, keyword-only
+        Its surface grid, to read ``Wave1Elev`` off it as SeaState does (:func:`~.waves.grid_elevation`); without
+        it the exact elevation at the point.
     """
     transfer = excitation_transfer(wamit, waves.frequencies, waves.direction - reference_yaw)
     forces = np.column_stack([waves.series(transfer[:, m] * waves.spectrum) for m in range(6)])
-    return WaveExcitation(waves, forces, waves.elevation(*elevation_point))
+    elevation = waves.elevation(*elevation_point) if sea is None else grid_elevation(waves, sea, *elevation_point)
+    return WaveExcitation(waves, forces, elevation)

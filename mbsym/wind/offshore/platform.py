@@ -214,7 +214,7 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
                                  "water_depth (the .fst's WtrDpth).")
         depth = math.inf
     waves = incident_waves(sea, gravity=gravity, water_depth=depth)
-    excitation = wave_excitation(wamit, waves, elevation_point=tuple(point))
+    excitation = wave_excitation(wamit, waves, elevation_point=tuple(point), sea=sea)
     if hd.excitation_model == 0:
         excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)
     return excitation

@@ -35,7 +35,8 @@ import numpy as np
 from ...exceptions import ModelWarning, OpenFASTFormatError, UnsupportedFeatureError
 from .ranlux import RanLux
 
-__all__ = ["IncidentWaves", "incident_waves", "jonswap", "wave_steps", "wave_number", "read_elevation_series"]
+__all__ = ["IncidentWaves", "incident_waves", "jonswap", "wave_steps", "wave_number", "read_elevation_series",
+           "grid_elevation"]
 
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23)
 #: SeaState's tolerance between WaveDT and an external series' time step [s] (UserWaves.f90).
@@ -105,6 +106,49 @@ class IncidentWaves:
     def significant_height(self) -> float:
         """``4 σ(η)`` [m] of the realization."""
         return 4.0 * float(np.std(self.elevation()[:-1]))
+
+
+def grid_elevation(waves: IncidentWaves, sea, x: float, y: float) -> np.ndarray:
+    """η [m] at ``(x, y)`` as SeaState outputs it (``WaveElevxi``/``WaveElevyi``), on ``waves.times()``.
+
+    SeaState evaluates the sea on its surface grid (``X_HalfWidth``, ``NX``, ``Y_HalfWidth``, ``NY``: nodes
+    ``n dX``, ``n = −NX+1 … NX−1``, ``dX = X_HalfWidth/(NX−1)``) and interpolates between nodes with the NWTC
+    ``GridInterp`` (cubic where four nodes surround the point, quadratic or linear at the edges); a point off the
+    grid is clamped to its edge (SeaState warns). At a node this is :meth:`IncidentWaves.elevation` there.
+    """
+    wx = _grid_weights(x, float(sea.x_half_width), int(sea.nx))
+    wy = _grid_weights(y, float(sea.y_half_width), int(sea.ny))
+    out = np.zeros(waves.n_steps + 1)
+    for xi, a in wx:
+        for yj, b in wy:
+            if a * b != 0.0:
+                out += a * b * waves.elevation(xi, yj)
+    return out
+
+
+def _grid_weights(p_in: float, half_width: float, n_half: int) -> list[tuple[float, float]]:
+    """(node coordinate, weight) of the NWTC GridInterp along one non-periodic grid axis (``SetIndex``, ``GetN1D``)."""
+    n = 2 * n_half - 1
+    delta = half_width / (n_half - 1)
+    p = min(max((p_in + half_width) / delta, 0.0), n - 1.0)
+    if math.isclose(p, n - 1.0, rel_tol=0.0, abs_tol=1e-9):
+        u, index = 1.0, [n - 3, n - 2, n - 1, n]
+    else:
+        u, index = p - math.floor(p), [math.floor(p) + k for k in (-1, 0, 1, 2)]
+    if index[0] < 0:
+        index[0] = 0
+        support = 0 if index[3] > n - 1 else 1
+        index[3] = min(index[3], n - 1)
+    elif index[3] > n - 1:
+        support, index[3] = 2, n - 1
+    else:
+        support = 3
+    u2, u3 = u * u, u * u * u
+    weights = {3: (-0.5 * u3 + u2 - 0.5 * u, 1.5 * u3 - 2.5 * u2 + 1.0, -1.5 * u3 + 2.0 * u2 + 0.5 * u, 0.5 * u3 - 0.5 * u2),
+               1: (0.0, 0.5 * u2 - 1.5 * u + 1.0, -u2 + 2.0 * u, 0.5 * u2 - 0.5 * u),
+               2: (0.5 * u2 - 0.5 * u, -u2 + 1.0, 0.5 * u2 + 0.5 * u, 0.0),
+               0: (0.0, 1.0 - u, u, 0.0)}[support]
+    return [((i - (n_half - 1)) * delta, w) for i, w in zip(index, weights)]
 
 
 def wave_steps(time_max: float, time_step: float) -> int:

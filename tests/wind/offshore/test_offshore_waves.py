@@ -117,6 +117,24 @@ def test_sea_and_excitation_equal_openfasts(tmp_path, case, keys):
 
 
 @needs_deck
+def test_oblique_waves_and_an_elevation_point_off_the_grid_equal_openfasts(tmp_path):
+    """WaveDir 25° exercises the .3 headings (all six forces and moments non-zero) and an elevation point at
+    (50 m, 20 m) SeaState's clamping to its ±5 m surface grid (OpenFAST reports the corner's elevation)."""
+    from mbsym.wind.offshore.excitation import wave_excitation
+    from mbsym.wind.offshore.waves import incident_waves
+
+    ref = np.loadtxt(DATA / "heading25_excitation.csv", delimiter=",", skiprows=1)
+    sea = _sea(tmp_path, WaveMod=2, WaveHs=4.0, WaveTp=10.0, WaveDir=25.0, WaveElevxi=50.0, WaveElevyi=20.0)
+    waves = incident_waves(sea, gravity=G, water_depth=DEPTH)
+    got = wave_excitation(_wamit(), waves, elevation_point=sea.elevation_points[0], sea=sea).at(ref[:, 0])
+    for col, m in ((1, 6), (2, 0), (3, 1), (4, 2), (5, 3), (6, 4), (7, 5)):
+        err = np.abs(got[:, m] - ref[:, col]).max() / np.ptp(ref[:, col])
+        assert err < 1e-3, (col, err)
+    exact = wave_excitation(_wamit(), waves, elevation_point=(50.0, 20.0)).at(ref[:, 0])[:, 6]
+    assert np.abs(exact - ref[:, 1]).max() > 0.1 * np.ptp(ref[:, 1])     # the point itself is elsewhere
+
+
+@needs_deck
 def test_an_external_elevation_series_gives_the_same_sea(tmp_path):
     from mbsym.wind.offshore.excitation import wave_excitation
     from mbsym.wind.offshore.waves import incident_waves
