@@ -51,7 +51,7 @@ def catmull_rom(series: np.ndarray, step: float, t: np.ndarray) -> np.ndarray:
     return sum(w * s[(i + j) % n] for w, j in zip(weights, (-1, 0, 1, 2)))
 
 
-def excitation_transfer(wamit, omega: np.ndarray, heading: float) -> np.ndarray:
+def excitation_transfer(wamit, omega: np.ndarray, heading) -> np.ndarray:
     """``X(ω, β)`` (len(ω) × 6, complex) [N/m, N m/m] read as HydroDyn reads the ``.3`` data (module docstring).
 
     Parameters
@@ -60,11 +60,22 @@ def excitation_transfer(wamit, omega: np.ndarray, heading: float) -> np.ndarray:
         With its excitation (``read_wamit(..., excitation=True)``).
     omega : array
         Frequencies [rad/s].
-    heading : float
-        Wave heading relative to the platform [rad].
+    heading : float or array
+        Wave heading relative to the platform [rad]: one, or one per frequency (a spread sea).
     """
     if wamit.excitation is None:
         raise UnsupportedFeatureError("the WAMIT data have no excitation (.3 file); waves need it. Provide the .3 file.")
+    w = np.asarray(omega, dtype=float)
+    beta = np.broadcast_to(np.asarray(heading, dtype=float), w.shape)
+    out = np.zeros((len(w), 6), dtype=complex)
+    for value in np.unique(beta):
+        at = beta == value
+        out[at] = _transfer_at(wamit, w[at], float(value))
+    return out
+
+
+def _transfer_at(wamit, w: np.ndarray, heading: float) -> np.ndarray:
+    """``X`` at frequencies ``w`` for one heading [rad]."""
     freq = np.asarray(wamit.excitation_frequencies, dtype=float)
     heads = np.degrees(np.asarray(wamit.headings, dtype=float))
     order = np.argsort(heads)
@@ -83,7 +94,6 @@ def excitation_transfer(wamit, omega: np.ndarray, heading: float) -> np.ndarray:
         j = min(max(int(np.searchsorted(heads, beta, side="right")) - 1, 0), len(heads) - 2)
         f = (beta - heads[j]) / (heads[j + 1] - heads[j])
         at_heading = (1 - f) * data[:, j, :] + f * data[:, j + 1, :]
-    w = np.asarray(omega, dtype=float)
     return np.stack([np.interp(w, freq, at_heading[:, m].real) + 1j * np.interp(w, freq, at_heading[:, m].imag)
                      for m in range(at_heading.shape[1])], axis=1)
 
@@ -141,7 +151,7 @@ def wave_excitation(wamit, waves: IncidentWaves, *, reference_yaw: float = 0.0,
         Its surface grid, to read ``Wave1Elev`` off it as SeaState does (:func:`~.waves.grid_elevation`); without
         it the exact elevation at the point.
     """
-    transfer = excitation_transfer(wamit, waves.frequencies, waves.direction - reference_yaw)
+    transfer = excitation_transfer(wamit, waves.frequencies, waves.headings() - reference_yaw)
     forces = np.column_stack([waves.series(transfer[:, m] * waves.spectrum) for m in range(6)])
     elevation = waves.elevation(*elevation_point) if sea is None else grid_elevation(waves, sea, *elevation_point)
     return WaveExcitation(waves, forces, elevation)

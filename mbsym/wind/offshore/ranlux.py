@@ -79,20 +79,26 @@ class RanLux:
         self.j24 = j - 1 if j > 0 else _N - 1
         return x
 
-    def uniform(self) -> float:
-        """The next number in (0, 1) (one call of OpenFAST's ``RanLux`` with one element)."""
+    def call(self, n: int) -> np.ndarray:
+        """``n`` numbers in (0, 1) from one call of OpenFAST's ``RanLux`` with an array of ``n`` (its F90 form
+        takes the small-number refinement ``2^-24 s_j`` once per call, before the first step)."""
         refine = _TWO_M24 * self.seeds[self.j24]
-        x = self._step()
-        self.in24 += 1
-        if self.in24 == _N:
-            self.in24 = 0
-            for _ in range(self.skip):
-                self._step()
-        if x < _TWO_M12:
-            x += refine
-        if x == 0.0:
-            x = _TWO_M24 * _TWO_M24
-        return x
+        out = np.empty(int(n))
+        for k in range(int(n)):
+            x = self._step()
+            self.in24 += 1
+            if self.in24 == _N:
+                self.in24 = 0
+                for _ in range(self.skip):
+                    self._step()
+            if x < _TWO_M12:
+                x += refine
+            out[k] = x if x != 0.0 else _TWO_M24 * _TWO_M24
+        return out
+
+    def uniform(self) -> float:
+        """The next number in (0, 1) (one call with one element)."""
+        return float(self.call(1)[0])
 
     def uniforms(self, n: int) -> np.ndarray:
         """``n`` numbers, one :meth:`uniform` call each."""

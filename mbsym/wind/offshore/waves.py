@@ -61,6 +61,8 @@ class IncidentWaves:
         [m], [m/s²] (for the dispersion relation).
     description : str
         What made it (for reports).
+    directions : (N/2 + 1,) ndarray or None
+        A heading per component [rad] for a spread sea (:mod:`.spreading`), None: ``direction`` for all.
     """
 
     time_step: float
@@ -70,6 +72,7 @@ class IncidentWaves:
     water_depth: float
     gravity: float
     description: str = ""
+    directions: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -100,8 +103,15 @@ class IncidentWaves:
         if x == 0.0 and y == 0.0:
             return self.series(self.spectrum)
         kappa = np.array([wave_number(w, self.gravity, self.water_depth) for w in self.frequencies])
-        shift = np.exp(-1j * kappa * (x * math.cos(self.direction) + y * math.sin(self.direction)))
+        beta = self.headings()
+        shift = np.exp(-1j * kappa * (x * np.cos(beta) + y * np.sin(beta)))
         return self.series(self.spectrum * shift)
+
+    def headings(self) -> np.ndarray:
+        """Each component's heading [rad]."""
+        if self.directions is None:
+            return np.full(len(self.spectrum), self.direction)
+        return np.asarray(self.directions, dtype=float)
 
     def significant_height(self) -> float:
         """``4 σ(η)`` [m] of the realization."""
@@ -260,9 +270,6 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     if mod in (4, 6, 7):
         raise UnsupportedFeatureError(f"{where}: WaveMod = {mod} ({sea.wave_model_name}) is not modelled; use 1, 1P#, 2, "
                                       "3 or 5 (an external elevation series).")
-    if mod in (2, 3) and sea.direction_model:
-        raise UnsupportedFeatureError(f"{where}: WaveDirMod = {sea.direction_model} (directional spreading) is not "
-                                      "modelled; set WaveDirMod = 0 (long-crested waves).")
     if sea.constrained_wave_model:
         raise UnsupportedFeatureError(f"{where}: ConstWaveMod = {sea.constrained_wave_model} (constrained waves) is not "
                                       "modelled; set ConstWaveMod = 0.")
@@ -275,7 +282,8 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
         return _external(sea, n, dt, tmax, common)
     dw = 2 * np.pi / (n * dt)
     omega = dw * np.arange(n // 2 + 1)
-    draws = _draws(sea, n // 2)
+    uniforms = _generator(sea)
+    draws = _draws(sea, n // 2, uniforms)
     if mod in (1, 10):
         s1 = np.zeros_like(omega)
         kp = int(np.rint(2 * np.pi / (dw * float(sea.peak_period))))
@@ -293,22 +301,33 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
         what = (f"{'JONSWAP' if mod == 2 else 'white-noise'} sea Hs {sea.wave_height} m"
                 + (f", Tp {sea.peak_period} s, gamma {sea.peak_shape:.3g}" if mod == 2 else ""))
     spectrum = math.sqrt(n // 2) * draws * np.sqrt(2 * np.pi * 0.5 * s1 / dt)
-    return IncidentWaves(dt, spectrum, dw, description=what, **common)
+    directions = None
+    if mod in (2, 3) and sea.direction_model and int(sea.n_directions) > 1:
+        from .spreading import spread_headings
+
+        directions = spread_headings(sea, n // 2, uniforms)
+        what += f", spread over {len(set(directions.round(9)))} headings (cos-2s, s = {sea.direction_spread:g})"
+    return IncidentWaves(dt, spectrum, dw, description=what, directions=directions, **common)
 
 
-def _draws(sea, half: int) -> np.ndarray:
-    """SeaState's ``WGNC_k`` (Box–Muller), k = 0 … N/2 (``W_1 = W_(N/2) = 0``)."""
-    phase = float(sea.wave_phase) if int(sea.wave_model) == 10 else None
+def _generator(sea):
+    """``uniforms(n)``: ``n`` uniform numbers as one call of SeaState's generator (RANLUX, in single precision), or
+    numpy's for an integer ``WaveSeed(2)`` (the compiler's generator is not reproducible: a warning says so)."""
     seed1, seed2 = sea.seeds
     if isinstance(seed2, str):
         rng = RanLux(abs(int(seed1)))
-        uniform = (lambda: float(np.float32(rng.uniform())))       # SeaState draws in single precision
-    else:
-        warnings.warn(f"{sea.path}: WaveSeed(2) = {seed2} asks SeaState for the compiler's random generator, which "
-                      "no other program reproduces: mbsym draws the phases with numpy (same spectrum, another "
-                      "realization). Set WaveSeed(2) = RANLUX to get OpenFAST's sea.", ModelWarning, stacklevel=3)
-        gen = np.random.default_rng([abs(int(seed1)), abs(int(seed2))])
-        uniform = (lambda: float(gen.random()) or 0.5)
+        return (lambda n: rng.call(n).astype(np.float32).astype(float))
+    warnings.warn(f"{sea.path}: WaveSeed(2) = {seed2} asks SeaState for the compiler's random generator, which "
+                  "no other program reproduces: mbsym draws the phases with numpy (same spectrum, another "
+                  "realization). Set WaveSeed(2) = RANLUX to get OpenFAST's sea.", ModelWarning, stacklevel=4)
+    gen = np.random.default_rng([abs(int(seed1)), abs(int(seed2))])
+    return (lambda n: np.where((x := gen.random(n)) == 0.0, 0.5, x))
+
+
+def _draws(sea, half: int, uniforms) -> np.ndarray:
+    """SeaState's ``WGNC_k`` (Box–Muller), k = 0 … N/2 (``W_1 = W_(N/2) = 0``)."""
+    phase = float(sea.wave_phase) if int(sea.wave_model) == 10 else None
+    uniform = (lambda: float(uniforms(1)[0]))
     out = np.zeros(half + 1, dtype=complex)
     for k in [0, *range(2, half)]:
         u1 = 0.0
