@@ -17,7 +17,8 @@ the elevation is the inverse transform, ``η(t_j) = (1/N) Σ C_k e^{iω_k t_j}``
   uses the compiler's generator, which no other program reproduces: the spectrum is the same, the phases
   are numpy's (a :class:`~mbsym.exceptions.ModelWarning` says so);
 * **an external elevation series** (``WaveMod`` 5, ``<WvKinFile>.Elev``): its DFT, mean and Nyquist removed,
-  cut off as above.
+  cut off as above;
+* **directional spreading** (``WaveDirMod`` 1): a heading per component (:mod:`.spreading`).
 
 The elevation at another point ``(x, y)`` multiplies ``C_k`` by ``e^{-i κ_k (x cos β + y sin β)}`` (κ from
 the finite-depth dispersion relation ``ω² = g κ tanh κh``, β the wave heading).
@@ -253,7 +254,7 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     Raises
     ------
     UnsupportedFeatureError
-        Wave models 4 (user routine), 6 (external kinematics), directional spreading, constrained waves.
+        Wave models 4 (user routine), 6 (external kinematics), 7 (wave components), constrained waves.
     OpenFASTFormatError
         An external series that does not cover ``WaveTMax`` or whose step is not ``WaveDT``.
 
