@@ -33,7 +33,7 @@ import numpy as np
 from ...exceptions import OpenFASTFormatError
 
 __all__ = ["WamitData", "WamitHydrodynamics", "read_wamit", "read_wamit_hst", "read_wamit_1", "read_wamit_3",
-           "scale_matrix", "RadiationFit", "read_wamit_ss"]
+           "scale_matrix", "RadiationFit", "read_wamit_ss", "ExcitationFit", "read_wamit_ssexctn"]
 
 
 def scale_matrix(n: int, base: float, length: float, power: int) -> np.ndarray:
@@ -257,6 +257,72 @@ class RadiationFit:
     path: str
 
 
+def _ss_rows(p: Path) -> list[tuple[int, list[float]]]:
+    """(line number, numbers) of an SS_Fitting file after its title; text after ``%`` is a comment."""
+    rows: list[tuple[int, list[float]]] = []
+    for number, text in enumerate(p.read_text(encoding="latin-1").splitlines(), start=1):
+        tokens = text.split("%")[0].split()
+        if number == 1 or not tokens:
+            continue
+        try:
+            rows.append((number, [float(t.replace("D", "E").replace("d", "e")) for t in tokens]))
+        except ValueError:
+            raise OpenFASTFormatError(f"{p}, line {number}: expected numbers, got {text.strip()[:60]!r}. "
+                                      "Regenerate the file with SS_Fitting.") from None
+    return rows
+
+
+@dataclass(frozen=True, eq=False)
+class ExcitationFit:
+    """A state-space fit of the wave excitation (SS_Fitting's ``.ssexctn``): ẋ = A x + B η(t + Tc), F = C x [SI].
+
+    ``heading`` [deg] the wave heading it was fitted for, ``delay`` Tc [s] (the elevation it is driven by is
+    ``delay`` ahead), dimensional as written (HydroDyn uses them as they are, ``SS_Excitation.f90``).
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    heading: float
+    delay: float
+    states_per_dof: tuple[int, ...]
+    path: str
+
+
+def read_wamit_ssexctn(path) -> ExcitationFit:
+    """Read a wave-excitation state-space file (``root.ssexctn``) as HydroDyn does (``SS_Excitation.f90``): a
+    title, the wave heading [deg], the time offset Tc [s], the number of states n, the states per DOF (6), then
+    n rows of A (n values), n rows of B (1), 6 rows of C (n).
+
+    Raises
+    ------
+    OpenFASTFormatError
+        Missing file, a short or malformed row, counts that do not add up (file and line).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise OpenFASTFormatError(f"wave-excitation state-space file not found: tried '{p.absolute()}'. It is "
+                                  "PotFile + '.ssexctn' (ExctnMod = 2).")
+    rows = _ss_rows(p)
+    if len(rows) < 4 or len(rows[3][1]) != 6:
+        raise OpenFASTFormatError(f"{p}: expected the heading, Tc, the number of states and the 6 states per DOF on "
+                                  "lines 2-5.")
+    n, per_dof = int(rows[2][1][0]), rows[3][1]
+    if sum(per_dof) != n:
+        raise OpenFASTFormatError(f"{p}, line {rows[2][0]}: {n} states, but the states per DOF {per_dof} add up to "
+                                  f"{sum(per_dof):g}.")
+    body, widths = rows[4:], [n] * n + [1] * n + [n] * 6
+    if len(body) != len(widths):
+        raise OpenFASTFormatError(f"{p}: expected {len(widths)} matrix rows after line {rows[3][0]} (A: {n}, B: {n}, "
+                                  f"C: 6), got {len(body)}.")
+    for (number, row), width in zip(body, widths):
+        if len(row) != width:
+            raise OpenFASTFormatError(f"{p}, line {number}: expected {width} numbers, got {len(row)}.")
+    data = [row for _, row in body]
+    return ExcitationFit(np.array(data[:n]), np.array(data[n:2 * n]).ravel(), np.array(data[2 * n:]),
+                         float(rows[0][1][0]), float(rows[1][1][0]), tuple(int(k) for k in per_dof), str(p))
+
+
 def read_wamit_ss(path) -> RadiationFit:
     """Read a radiation state-space file (``root.ss``) as HydroDyn does (``SS_Radiation.f90``):
     a title, the enabled DOFs (6 flags), the number of states n, the states per DOF (6), then n
@@ -271,18 +337,7 @@ def read_wamit_ss(path) -> RadiationFit:
     if not p.is_file():
         raise OpenFASTFormatError(f"radiation state-space file not found: tried '{p.absolute()}'. It is "
                                   "PotFile + '.ss' (RdtnMod = 2).")
-    rows: list[tuple[int, list[float]]] = []
-    for number, text in enumerate(p.read_text(encoding="latin-1").splitlines(), start=1):
-        if number == 1:
-            continue
-        tokens = text.split("%")[0].split()
-        if not tokens:
-            continue
-        try:
-            rows.append((number, [float(t.replace("D", "E").replace("d", "e")) for t in tokens]))
-        except ValueError:
-            raise OpenFASTFormatError(f"{p}, line {number}: expected numbers, got {text.strip()[:60]!r}. "
-                                      "Regenerate the file with SS_Fitting.") from None
+    rows = _ss_rows(p)
     if len(rows) < 3:
         raise OpenFASTFormatError(f"{p}: expected the enabled DOFs, the number of states and the states per DOF "
                                   "on lines 2-4.")

@@ -28,8 +28,7 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError
 from .mooring import MooringSystem
-from .operating import (PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, SEA_INPUTS, FloatingPlatform,
-                        platform_dofs)
+from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, FloatingPlatform, platform_dofs
 from .platform import PlatformHydrodynamics
 from .radiation import RadiationStateSpace
 
@@ -84,7 +83,8 @@ class FloatingStructure:
 
     @property
     def n_radiation(self) -> int:
-        return 0 if self.radiation is None else self.radiation.n_states
+        """The platform's own states: radiation and (``ExctnMod = 2``) excitation."""
+        return len(self.platform.state_names)
 
     def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """The deck's sea as input tables over ``[0, t_end]`` [s] ({} in still water)."""
@@ -118,7 +118,8 @@ class FloatingStructure:
         index, fixed, select = platform_dofs(eom.coordinates, self.model.turbine)
         other = [u for u in eom.inputs if u not in PLATFORM_INPUTS]
         x = ca.SX.sym("x", 2 * n + nr)
-        u = ca.SX.sym("u", len(other) + len(SEA_INPUTS))
+        sea_inputs = platform.sea_inputs
+        u = ca.SX.sym("u", len(other) + len(sea_inputs))
         p = ca.SX.sym("p", eom.n_p)
         q, qd, xr = x[:n], x[n:2 * n], x[2 * n:]
         qp = ca.vertcat(*[q[i] if i is not None else fixed[k] for k, i in enumerate(index)])
@@ -140,12 +141,12 @@ class FloatingStructure:
         opts = {"cse": True}
         rhs = ca.Function("floating_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
         outputs = ca.Function("floating_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"], opts)
-        inputs = tuple(other) + SEA_INPUTS
+        inputs = tuple(other) + sea_inputs
         return Dynamics(rhs, states=tuple(eom.states) + platform.state_names, inputs=inputs,
                         parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
                         output_names=names, output_units=units, x0=self.initial_state(),
                         name="floating_structure",
-                        input_units=[structural_input_unit(n) for n in other] + [SEA_INPUT_UNITS[n] for n in SEA_INPUTS])
+                        input_units=[structural_input_unit(n) for n in other] + [SEA_INPUT_UNITS[n] for n in sea_inputs])
 
     def rhs(self) -> ca.Function:
         """``x → ẋ`` (SX), the deck's parameter values bound, other inputs zero (still water)."""

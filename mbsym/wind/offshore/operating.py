@@ -48,7 +48,7 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "platform_dofs"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "ELEVATION_AHEAD", "platform_dofs"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -61,7 +61,9 @@ HYDRO_CHANNELS = {"HydroFxi": "N", "HydroFyi": "N", "HydroFzi": "N", "HydroMxi":
 SEA_INPUTS = (*EXCITATION_CHANNELS, "Wave1Elev")
 #: Their units as inputs (mbsym's input convention: "N m" for moments).
 SEA_INPUT_UNITS = {"B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi": "N m", "B1WvsMyi": "N m",
-                   "B1WvsMzi": "N m", "Wave1Elev": "m"}
+                   "B1WvsMzi": "N m", "Wave1Elev": "m", "WaveElevAhead": "m"}
+#: The input of HydroDyn's state-space excitation (``ExctnMod = 2``): the elevation at the platform ``Tc`` ahead [m].
+ELEVATION_AHEAD = "WaveElevAhead"
 #: How :func:`floating_platform` models the radiation memory.
 RADIATION_MODELS = ("fit", "ss", "none")
 
@@ -129,16 +131,31 @@ class FloatingPlatform:
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS
-    sea_inputs = SEA_INPUTS
 
     @property
     def n_radiation(self) -> int:
         return 0 if self.radiation is None else self.radiation.n_states
 
     @property
+    def excitation_fit(self):
+        """HydroDyn's state-space excitation (``ExctnMod = 2``: :class:`~mbsym.wind.deck.wamit.ExcitationFit`) or None."""
+        return getattr(self.hydro, "excitation_fit", None)
+
+    @property
+    def n_excitation(self) -> int:
+        return 0 if self.excitation_fit is None else len(self.excitation_fit.B)
+
+    @property
+    def sea_inputs(self) -> tuple[str, ...]:
+        """:data:`SEA_INPUTS`, and with the state-space excitation the elevation ``Tc`` ahead (:data:`ELEVATION_AHEAD`)."""
+        return SEA_INPUTS + ((ELEVATION_AHEAD,) if self.excitation_fit is not None else ())
+
+    @property
     def state_names(self) -> tuple[str, ...]:
-        """The radiation states ``Rdtn1 … RdtnN`` [N s, N m s: the fit's internal units]."""
-        return tuple(f"Rdtn{k + 1}" for k in range(self.n_radiation))
+        """The radiation states ``Rdtn1 … RdtnN`` [N s, N m s: the fit's internal units], then the state-space
+        excitation's ``Exctn1 …`` (``ExctnMod = 2``)."""
+        return tuple(f"Rdtn{k + 1}" for k in range(self.n_radiation)) + \
+            tuple(f"Exctn{k + 1}" for k in range(self.n_excitation))
 
     @property
     def added_mass(self) -> np.ndarray:
@@ -155,8 +172,19 @@ class FloatingPlatform:
         return self.hydro.waves
 
     def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """Simulation inputs ``name → (t, values)`` of :data:`SEA_INPUTS` over ``[0, t_end]`` [s]; {} in still water."""
-        return {} if self.waves is None else self.waves.tables(t_end)
+        """Simulation inputs ``name → (t, values)`` of :attr:`sea_inputs` over ``[0, t_end]`` [s]; {} in still water.
+
+        With the state-space excitation the elevation at the origin ``Tc`` ahead, read linearly between the
+        ``WaveDT`` samples as HydroDyn's ``SS_Excitation`` reads it (its forces come from the states)."""
+        if self.waves is None:
+            return {}
+        tables = self.waves.tables(t_end)
+        fit = self.excitation_fit
+        if fit is not None:
+            t = tables["Wave1Elev"][0]
+            sea = self.waves.waves
+            tables[ELEVATION_AHEAD] = (t, np.interp((t + fit.delay) % sea.period, sea.times(), sea.elevation()))
+        return tables
 
     @cached_property
     def function(self) -> ca.Function:
@@ -171,27 +199,36 @@ class FloatingPlatform:
         turbine adds to its mass matrix with A∞.
         """
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
-        xr = ca.SX.sym("xr", self.n_radiation)
-        sea = ca.SX.sym("sea", len(SEA_INPUTS))
-        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp) + sea[:6]
+        nr = self.n_radiation
+        xr = ca.SX.sym("xr", nr + self.n_excitation)
+        sea = sea_in = ca.SX.sym("sea", len(self.sea_inputs))
+        excitation = sea[:6]
         xr_dot = ca.SX(0, 1)
+        if self.excitation_fit is not None:            # HydroDyn's SS_Excitation: ẋ = A x + B η(t + Tc), F = C x
+            fit, xe = self.excitation_fit, xr[nr:]
+            excitation = excitation + ca.mtimes(ca.DM(fit.C), xe)
+            xe_dot = ca.mtimes(ca.DM(fit.A), xe) + ca.DM(fit.B) * sea[len(SEA_INPUTS)]
+        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp) + excitation
         if self.radiation is not None:
-            hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr)
-            xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr)
+            hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr[:nr])
+            xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr[:nr])
                       + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), vp))
+        if self.excitation_fit is not None:
+            xr_dot = ca.vertcat(xr_dot, xe_dot)
+        sea = ca.vertcat(excitation, sea[6:])                  # the channels B1Wvs*: HydroDyn's total excitation
         load, tension, mass = hydro, ca.SX(0, 1), ca.SX.zeros(6, 6)
         if self.mooring is not None:
             static, drag, mass, tension = self.mooring.line_loads(qp, vp, steps=self.mooring_steps)
             load = load + static + drag
-        return ca.Function("platform_loads", [qp, vp, xr, sea], [load, hydro, xr_dot, tension, mass, sea],
+        return ca.Function("platform_loads", [qp, vp, xr, sea_in], [load, hydro, xr_dot, tension, mass, sea],
                            ["qp", "vp", "xr", "sea"], ["load", "hydro", "xr_dot", "tension", "mass", "sea_out"],
                            {"cse": True})
 
     def loads(self, qp: Any, vp: Any, xr: Any, sea: Any = None) -> dict[str, Any]:
         """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments (``sea``
         default 0: still water)."""
-        sea = ca.DM.zeros(len(SEA_INPUTS)) if sea is None else sea
-        out = self.function(qp, vp, xr if self.n_radiation else ca.DM(0, 1), sea)
+        sea = ca.DM.zeros(len(self.sea_inputs)) if sea is None else sea
+        out = self.function(qp, vp, xr if self.state_names else ca.DM(0, 1), sea)
         return dict(zip(self.function.name_out(), out))
 
     def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:

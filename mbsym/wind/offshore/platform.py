@@ -37,7 +37,7 @@ import numpy as np
 from ...exceptions import ModelWarning, ParameterError, UnsupportedFeatureError
 from ..deck.hydrodyn import HydroDynInput, read_hydrodyn
 from ..deck.seastate import SeaStateInput, read_seastate
-from ..deck.wamit import WamitHydrodynamics, read_wamit
+from ..deck.wamit import ExcitationFit, WamitHydrodynamics, read_wamit, read_wamit_ssexctn
 from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
@@ -70,6 +70,7 @@ class PlatformHydrodynamics:
     wamit: WamitHydrodynamics
     notes: tuple[str, ...] = field(default=())
     waves: WaveExcitation | None = None
+    excitation_fit: ExcitationFit | None = None
 
     def load(self, q, qd):
         """Still-water load at the reference point, inertial axes [N, N m]: hydrostatics and
@@ -107,8 +108,8 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
 def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
     """What is not modelled of a deck with waves (the sea itself is checked by :func:`~.waves.incident_waves`)."""
     out = []
-    if hd.excitation_model == 2:
-        out.append("ExctnMod = 2 (state-space wave excitation; use 1, HydroDyn's DFT, which mbsym reproduces)")
+    if hd.excitation_model == 2 and sea.direction_model and int(sea.n_directions) > 1:
+        out.append("ExctnMod = 2 with directional spreading (the .ssexctn fit is for one heading; use ExctnMod 1)")
     if hd.excitation_model and hd.excitation_displaced:
         out.append(f"ExctnDisp = {hd.excitation_displaced} (excitation at the displaced platform; use 0)")
     if hd.yaw_model or hd.reference_yaw:
@@ -198,7 +199,18 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=2)
     waves = _waves(hd, sea, wamit, float(gravity), water_depth)
-    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves)
+    fit = _excitation_fit(hd, sea) if waves is not None and hd.excitation_model == 2 else None
+    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves, fit)
+
+
+def _excitation_fit(hd: HydroDynInput, sea: SeaStateInput) -> ExcitationFit:
+    """The deck's ``.ssexctn`` (``ExctnMod = 2``), checked against the sea's heading (the fit is for one)."""
+    fit = read_wamit_ssexctn(f"{hd.potential_files[0]}.ssexctn")
+    if not math.isclose(fit.heading, math.degrees(float(sea.wave_direction)), abs_tol=1e-6):
+        raise UnsupportedFeatureError(f"{fit.path}: the state-space excitation was fitted for waves from "
+                                      f"{fit.heading:g} deg; SeaState's WaveDir is {math.degrees(sea.wave_direction):g} "
+                                      "deg (HydroDyn needs them equal). Refit it or use ExctnMod = 1.")
+    return fit
 
 
 def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
@@ -215,6 +227,6 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
         depth = math.inf
     waves = incident_waves(sea, gravity=gravity, water_depth=depth)
     excitation = wave_excitation(wamit, waves, elevation_point=tuple(point), sea=sea)
-    if hd.excitation_model == 0:
+    if hd.excitation_model != 1:          # 0: no excitation; 2: HydroDyn's state space makes it (operating.py)
         excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)
     return excitation

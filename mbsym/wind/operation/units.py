@@ -31,7 +31,7 @@ RADIATION_UNIT = "fit"
 
 _ANGLE = re.compile(r"^(BlPitch\d?|GeAz)(_d|_dd)?$")
 _WAKE = re.compile(r"^B\d+N\d+_vind1?_[xy]$")
-_RADIATION = re.compile(r"^Rdtn\d+$")
+_RADIATION = re.compile(r"^(Rdtn|Exctn)\d+$")
 _RATE_SUFFIX = {None: "", "_d": "/s", "_dd": "/s^2"}
 
 

@@ -72,6 +72,19 @@ def _sea(tmp_path, **keys):
     return read_seastate(path)
 
 
+def _hydrodyn(tmp_path, **keys):
+    """The decay case's HydroDyn file with ``keys`` changed, as ``tmp_path/hd.dat`` (WAMIT files found)."""
+    lines = (CASE / "fl_decay_a_HydroDyn.dat").read_text().splitlines()
+    for k, line in enumerate(lines):
+        tokens = line.split()
+        if len(tokens) > 1 and tokens[1] in keys:
+            lines[k] = f"{keys[tokens[1]]}   {tokens[1]}   -"
+    text = "\n".join(lines) + "\n"
+    (tmp_path / "hd.dat").write_text(text.replace('"../../IEA-15-240-RWT-UMaineSemi/',
+                                                  f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/'))
+    return tmp_path / "hd.dat"
+
+
 def _wamit():
     from mbsym.wind.deck.hydrodyn import read_hydrodyn
     from mbsym.wind.deck.wamit import read_wamit
@@ -159,6 +172,42 @@ def test_a_spread_sea_equals_openfasts(tmp_path):
 
 
 @needs_deck
+def test_state_space_excitation_equals_openfasts(tmp_path):
+    """``ExctnMod = 2``: the deck's ``.ssexctn`` (38 states driven by the elevation Tc = 12 s ahead) in the
+    platform's graph, integrated by RK4 at 0.025 s from the sea's tables, gives OpenFAST's excitation (measured
+    1.8e-4 of the range; the whole floating structure from the CLI gives the same)."""
+    import casadi as ca
+
+    from mbsym.wind.offshore import platform_hydrodynamics
+    from mbsym.wind.offshore.operating import ELEVATION_AHEAD, FloatingPlatform
+
+    ref = np.loadtxt(DATA / "ssexctn_excitation.csv", delimiter=",", skiprows=1)
+    _hydrodyn(tmp_path, ExctnMod=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        hydro = platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G, water_depth=DEPTH,
+                                       seastate=_sea(tmp_path, WaveMod=2, WaveHs=4.0, WaveTp=10.0).path)
+    platform = FloatingPlatform(hydro)
+    assert platform.n_excitation == 38 and platform.sea_inputs[-1] == ELEVATION_AHEAD
+    tables = platform.sea_tables(30.0)
+    names = platform.sea_inputs
+    sea = (lambda t: np.array([np.interp(t, *tables[n]) if n in tables else 0.0 for n in names]))
+    zero = ca.DM.zeros(6)
+    f = (lambda t, x: np.array(platform.loads(zero, zero, x, sea(t))["xr_dot"]).ravel())
+    dt, x, rows = 0.025, np.zeros(platform.n_excitation), []
+    for k in range(int(round(30.0 / dt)) + 1):
+        t = k * dt
+        rows.append(np.array(platform.loads(zero, zero, x, sea(t))["sea_out"]).ravel()[:6])
+        k1 = f(t, x)
+        k2 = f(t + dt / 2, x + dt / 2 * k1)
+        k3 = f(t + dt / 2, x + dt / 2 * k2)
+        x = x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + f(t + dt, x + dt * k3))
+    got = np.array(rows)[::4]                                  # OpenFAST's 0.1 s samples
+    for col, m in ((1, 0), (2, 2), (3, 4)):
+        assert np.abs(got[:, m] - ref[:, col]).max() < 1e-3 * np.ptp(ref[:, col]), col
+
+
+@needs_deck
 def test_an_external_elevation_series_gives_the_same_sea(tmp_path):
     from mbsym.wind.offshore.excitation import wave_excitation
     from mbsym.wind.offshore.waves import incident_waves
@@ -184,13 +233,17 @@ def test_unmodelled_wave_settings_are_refused_or_named(tmp_path):
         incident_waves(_sea(tmp_path, WaveMod=2, ConstWaveMod=1), gravity=G, water_depth=DEPTH)
     with pytest.warns(ModelWarning, match="compiler's random generator"):
         incident_waves(_sea(tmp_path, WaveMod=2, **{"WaveSeed(2)": 7}), gravity=G, water_depth=DEPTH)
-    hd = (CASE / "fl_decay_a_HydroDyn.dat").read_text().replace("             1   ExctnMod", "             2   ExctnMod")
-    hd = hd.replace('"../../IEA-15-240-RWT-UMaineSemi/', f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/')
-    (tmp_path / "hd.dat").write_text(hd)
+    _hydrodyn(tmp_path, ExctnDisp=1)
     _sea(tmp_path, WaveMod=2)
-    with pytest.raises(UnsupportedFeatureError, match="ExctnMod = 2"), warnings.catch_warnings():
+    with pytest.raises(UnsupportedFeatureError, match="ExctnDisp = 1"), warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G, seastate=tmp_path / "sea.dat")
+    _hydrodyn(tmp_path, ExctnMod=2)
+    _sea(tmp_path, WaveMod=2, WaveDir=25.0)
+    with pytest.raises(UnsupportedFeatureError, match="fitted for waves from 0 deg"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G, seastate=tmp_path / "sea.dat")
+    _sea(tmp_path, WaveMod=2)
     with pytest.warns(ModelWarning, match="second-order elevation"), warnings.catch_warnings():
         warnings.filterwarnings("ignore", "RdtnMod", ModelWarning)
         ph = platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
