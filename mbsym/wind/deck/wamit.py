@@ -257,8 +257,10 @@ class RadiationFit:
     path: str
 
 
-def _ss_rows(p: Path) -> list[tuple[int, list[float]]]:
+def _ss_rows(p: Path, what: str) -> list[tuple[int, list[float]]]:
     """(line number, numbers) of an SS_Fitting file after its title; text after ``%`` is a comment."""
+    if not p.is_file():
+        raise OpenFASTFormatError(f"{what} file not found: tried '{p.absolute()}'.")
     rows: list[tuple[int, list[float]]] = []
     for number, text in enumerate(p.read_text(encoding="latin-1").splitlines(), start=1):
         tokens = text.split("%")[0].split()
@@ -270,6 +272,18 @@ def _ss_rows(p: Path) -> list[tuple[int, list[float]]]:
             raise OpenFASTFormatError(f"{p}, line {number}: expected numbers, got {text.strip()[:60]!r}. "
                                       "Regenerate the file with SS_Fitting.") from None
     return rows
+
+
+def _ss_matrices(p: Path, body: list[tuple[int, list[float]]], widths: list[int], after: int) -> list[list[float]]:
+    """The rows of A, B, C (``widths`` numbers each) after line ``after``, checked."""
+    n = widths[0]
+    if len(body) != len(widths):
+        raise OpenFASTFormatError(f"{p}: expected {len(widths)} matrix rows after line {after} (A: {n}, B: {n}, C: 6), "
+                                  f"got {len(body)}.")
+    for (number, row), width in zip(body, widths):
+        if len(row) != width:
+            raise OpenFASTFormatError(f"{p}, line {number}: expected {width} numbers, got {len(row)}.")
+    return [row for _, row in body]
 
 
 @dataclass(frozen=True, eq=False)
@@ -292,18 +306,9 @@ class ExcitationFit:
 def read_wamit_ssexctn(path) -> ExcitationFit:
     """Read a wave-excitation state-space file (``root.ssexctn``) as HydroDyn does (``SS_Excitation.f90``): a
     title, the wave heading [deg], the time offset Tc [s], the number of states n, the states per DOF (6), then
-    n rows of A (n values), n rows of B (1), 6 rows of C (n).
-
-    Raises
-    ------
-    OpenFASTFormatError
-        Missing file, a short or malformed row, counts that do not add up (file and line).
-    """
+    n rows of A (n values), n rows of B (1), 6 rows of C (n). Errors as :func:`read_wamit_ss`."""
     p = Path(path)
-    if not p.is_file():
-        raise OpenFASTFormatError(f"wave-excitation state-space file not found: tried '{p.absolute()}'. It is "
-                                  "PotFile + '.ssexctn' (ExctnMod = 2).")
-    rows = _ss_rows(p)
+    rows = _ss_rows(p, "wave-excitation state-space (PotFile + '.ssexctn', ExctnMod = 2)")
     if len(rows) < 4 or len(rows[3][1]) != 6:
         raise OpenFASTFormatError(f"{p}: expected the heading, Tc, the number of states and the 6 states per DOF on "
                                   "lines 2-5.")
@@ -311,14 +316,7 @@ def read_wamit_ssexctn(path) -> ExcitationFit:
     if sum(per_dof) != n:
         raise OpenFASTFormatError(f"{p}, line {rows[2][0]}: {n} states, but the states per DOF {per_dof} add up to "
                                   f"{sum(per_dof):g}.")
-    body, widths = rows[4:], [n] * n + [1] * n + [n] * 6
-    if len(body) != len(widths):
-        raise OpenFASTFormatError(f"{p}: expected {len(widths)} matrix rows after line {rows[3][0]} (A: {n}, B: {n}, "
-                                  f"C: 6), got {len(body)}.")
-    for (number, row), width in zip(body, widths):
-        if len(row) != width:
-            raise OpenFASTFormatError(f"{p}, line {number}: expected {width} numbers, got {len(row)}.")
-    data = [row for _, row in body]
+    data = _ss_matrices(p, rows[4:], [n] * n + [1] * n + [n] * 6, rows[3][0])
     return ExcitationFit(np.array(data[:n]), np.array(data[n:2 * n]).ravel(), np.array(data[2 * n:]),
                          float(rows[0][1][0]), float(rows[1][1][0]), tuple(int(k) for k in per_dof), str(p))
 
@@ -334,10 +332,7 @@ def read_wamit_ss(path) -> RadiationFit:
         Missing file, a short or malformed row, counts that do not add up (file and line).
     """
     p = Path(path)
-    if not p.is_file():
-        raise OpenFASTFormatError(f"radiation state-space file not found: tried '{p.absolute()}'. It is "
-                                  "PotFile + '.ss' (RdtnMod = 2).")
-    rows = _ss_rows(p)
+    rows = _ss_rows(p, "radiation state-space (PotFile + '.ss', RdtnMod = 2)")
     if len(rows) < 3:
         raise OpenFASTFormatError(f"{p}: expected the enabled DOFs, the number of states and the states per DOF "
                                   "on lines 2-4.")
@@ -346,14 +341,6 @@ def read_wamit_ss(path) -> RadiationFit:
     if len(enabled) != 6 or len(per_dof) != 6 or sum(per_dof) != n:
         raise OpenFASTFormatError(f"{p}, line {count_line}: {n} states, but the states per DOF {per_dof} add up to "
                                   f"{sum(per_dof):g} (6 flags and 6 counts expected).")
-    body = rows[3:]
-    widths = [n] * n + [6] * n + [n] * 6
-    if len(body) != len(widths):
-        raise OpenFASTFormatError(f"{p}: expected {len(widths)} matrix rows after line {rows[2][0]} (A: {n}, B: {n}, "
-                                  f"C: 6), got {len(body)}.")
-    for (number, row), width in zip(body, widths):
-        if len(row) != width:
-            raise OpenFASTFormatError(f"{p}, line {number}: expected {width} numbers, got {len(row)}.")
-    data = [row for _, row in body]
+    data = _ss_matrices(p, rows[3:], [n] * n + [6] * n + [n] * 6, rows[2][0])
     return RadiationFit(np.array(data[:n]), np.array(data[n:2 * n]), np.array(data[2 * n:]),
                         tuple(int(e) for e in enabled), tuple(int(k) for k in per_dof), str(p))

@@ -59,27 +59,27 @@ def test_wave_number_solves_the_dispersion_relation():
     assert wave_number(1.0, G, math.inf) == pytest.approx(1 / G)
 
 
-def _sea(tmp_path, **keys):
-    from mbsym.wind.deck.seastate import read_seastate
-
-    lines = (CASE / "fl_decay_a_SeaState.dat").read_text().splitlines()
+def _edited(source: Path, keys: dict) -> str:
+    """``source``'s text with the values of ``keys`` (by their key names) replaced."""
+    lines = source.read_text().splitlines()
     for k, line in enumerate(lines):
         tokens = line.split()
         if len(tokens) > 1 and tokens[1] in keys:
             lines[k] = f"{keys[tokens[1]]}   {tokens[1]}   -"
+    return "\n".join(lines) + "\n"
+
+
+def _sea(tmp_path, **keys):
+    from mbsym.wind.deck.seastate import read_seastate
+
     path = tmp_path / "sea.dat"
-    path.write_text("\n".join(lines) + "\n")
+    path.write_text(_edited(CASE / "fl_decay_a_SeaState.dat", keys))
     return read_seastate(path)
 
 
 def _hydrodyn(tmp_path, **keys):
     """The decay case's HydroDyn file with ``keys`` changed, as ``tmp_path/hd.dat`` (WAMIT files found)."""
-    lines = (CASE / "fl_decay_a_HydroDyn.dat").read_text().splitlines()
-    for k, line in enumerate(lines):
-        tokens = line.split()
-        if len(tokens) > 1 and tokens[1] in keys:
-            lines[k] = f"{keys[tokens[1]]}   {tokens[1]}   -"
-    text = "\n".join(lines) + "\n"
+    text = _edited(CASE / "fl_decay_a_HydroDyn.dat", keys)
     (tmp_path / "hd.dat").write_text(text.replace('"../../IEA-15-240-RWT-UMaineSemi/',
                                                   f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/'))
     return tmp_path / "hd.dat"
