@@ -25,7 +25,7 @@ from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .line_dynamics import LineHydrodynamics
 from .modes import PlatformModes, natural_periods, periods_with_frequency_dependent_added_mass
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
-from .operating import FloatingPlatform, floating_platform
+from .operating import FloatingPlatform, deck_radiation, floating_platform
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace, radiation_reference
 from .radiation_fit import fit_radiation, vector_fit
@@ -34,4 +34,4 @@ __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
            "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
            "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit", "FloatingPlatform",
-           "floating_platform"]
+           "floating_platform", "deck_radiation"]

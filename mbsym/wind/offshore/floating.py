@@ -175,15 +175,15 @@ class FloatingStructure:
         return dt * np.arange(1, steps + 1), states
 
 
-def floating_structure(turbine, *, radiation: str = "fit") -> FloatingStructure:
+def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStructure:
     """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files).
 
     Parameters
     ----------
     turbine : TurbineParameters
         A floating deck (:func:`mbsym.wind.read_openfast`) with all six platform DOFs.
-    radiation : {"fit", "ss", "none"}, keyword-only
-        As :func:`~.operating.floating_platform`.
+    radiation : {"fit", "ss", "none"} or None, keyword-only
+        As :func:`~.operating.floating_platform` (None: the deck's ``RdtnMod``).
 
     Raises
     ------

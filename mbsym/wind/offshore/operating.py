@@ -48,7 +48,7 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "ELEVATION_AHEAD", "platform_dofs"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "ELEVATION_AHEAD", "platform_dofs", "deck_radiation"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -252,7 +252,7 @@ class FloatingPlatform:
                 f"buoyancy={self.hydro.hydrostatics.buoyancy / 1e6:.2f} MN, {sea})")
 
 
-def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | None:
+def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatform | None:
     """The :class:`FloatingPlatform` of a deck's HydroDyn, SeaState and mooring files, or None without them.
 
     Parameters
@@ -260,11 +260,12 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
     turbine : TurbineParameters
         A deck read by :func:`mbsym.wind.read_openfast` (``CompHydro``, ``CompMooring``, the files in
         ``source_files``, ``WtrDens``, ``WtrDpth``, ``Gravity``).
-    radiation : {"fit", "ss", "none"}, keyword-only
+    radiation : {"fit", "ss", "none"} or None, keyword-only
         The radiation memory: mbsym's own fit of the ``.1`` data (:func:`~.radiation_fit.fit_radiation`,
         2 % per entry up to 4 rad/s, a few seconds), the deck's ``.ss`` file (9–24 % off, not passive:
         docs/offshore.md §4), or none (a :class:`~mbsym.exceptions.ModelWarning` says so when the deck
-        asks for radiation).
+        asks for radiation). None (default): what HydroDyn's ``RdtnMod`` asks for (:func:`deck_radiation`:
+        0 none, 1 the convolution of the ``.1`` data, modelled by the fit, 2 the deck's ``.ss``).
 
     Raises
     ------
@@ -276,8 +277,9 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
     from ..deck.mapplusplus import read_map
     from ..deck.moordyn import read_moordyn
 
-    if radiation not in RADIATION_MODELS:
-        raise ParameterError(f"radiation must be one of {list(RADIATION_MODELS)}; got {radiation!r}.")
+    if radiation is not None and radiation not in RADIATION_MODELS:
+        raise ParameterError(f"radiation must be one of {list(RADIATION_MODELS)} or None (the deck's RdtnMod); "
+                             f"got {radiation!r}.")
     sim, files = turbine.simulation, turbine.source_files
     hydro_on, mooring_model = int(sim.hydrodynamics_model or 0), int(sim.mooring_model or 0)
     if not hydro_on and not mooring_model:
@@ -297,6 +299,8 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
             raise UnsupportedFeatureError(f"{where}: {label} needs its input file, but {name} names none that exists; "
                                           f"give the file in {name} or set the switch to 0.")
     rho, g = float(sim.water_density), float(sim.gravity)
+    if radiation is None:
+        radiation = deck_radiation(files["hydrodyn"])
     with warnings.catch_warnings():
         if radiation != "none":          # the radiation memory is modelled here: no "left out" warning
             warnings.filterwarnings("ignore", message=r"RdtnMod", category=ModelWarning)
@@ -309,6 +313,18 @@ def floating_platform(turbine, *, radiation: str = "fit") -> FloatingPlatform | 
         mooring = mooring_from_map(read_map(Path(files["mooring"])), water_density=rho, gravity=g,
                                    water_depth=float(sim.water_depth))
     return FloatingPlatform(hydro, mooring, _radiation(hydro, radiation, files["hydrodyn"]))
+
+
+def deck_radiation(hydrodyn_file) -> str:
+    """The radiation model a HydroDyn file asks for: ``RdtnMod`` 0 → ``"none"``, 1 → ``"fit"``, 2 → ``"ss"``.
+
+    ``RdtnMod = 1`` (HydroDyn's convolution of the ``.1`` data's retardation kernel) is modelled by mbsym's
+    state-space fit of the same data (:func:`~.radiation_fit.fit_radiation`; a convolution has no states
+    to linearize); ``RdtnMod = 2`` is HydroDyn's own state-space block from the deck's ``.ss`` file.
+    """
+    from ..deck.hydrodyn import read_hydrodyn
+
+    return {0: "none", 1: "fit", 2: "ss"}[int(read_hydrodyn(Path(hydrodyn_file)).radiation_model)]
 
 
 def _radiation(hydro: PlatformHydrodynamics, model: str, hydrodyn_file) -> RadiationStateSpace | None:

@@ -82,8 +82,9 @@ class OperatingDeck:
         The ``.fst`` (None for the built-in turbine).
     aerodyn : AeroDynInput or None
         The deck's AeroDyn input (None for the built-in turbine), audited by :meth:`model`.
-    radiation : {"fit", "ss", "none"}
-        The radiation memory of a floating deck (:func:`mbsym.wind.offshore.floating_platform`).
+    radiation : {"fit", "ss", "none"} or None
+        The radiation memory of a floating deck (:func:`mbsym.wind.offshore.floating_platform`); None: what
+        its HydroDyn ``RdtnMod`` asks for (0 none, 1 mbsym's fit of the convolution's data, 2 the ``.ss``).
     cut_out_wind_speed : float or None
         The turbine's cut-out wind speed [m/s] (:mod:`.cut_out`); None when unknown (an OpenFAST deck states none).
     cut_out_source : str
@@ -111,7 +112,7 @@ class OperatingDeck:
     label: str
     path: Path | None = None
     aerodyn: object | None = None
-    radiation: str = "fit"
+    radiation: str | None = None
     cut_out_wind_speed: float | None = None
     cut_out_source: str = ""
     exported_input: bool = False

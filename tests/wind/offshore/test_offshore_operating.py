@@ -151,6 +151,36 @@ def test_a_platform_needs_the_platform_dofs():
         model.dynamics()
 
 
+@pytest.mark.parametrize("rdtn_mod, model, states", [(0, "none", 0), (2, "ss", None)])
+def test_the_radiation_memory_is_the_one_hydrodyn_asks_for(tmp_path, rdtn_mod, model, states):
+    """HydroDyn's RdtnMod is modelled, not ignored: 0 gives no radiation states (and no warning: nothing is left
+    out), 2 the deck's own state-space block (its order, read from the .ss header; 1, the convolution, is
+    modelled by mbsym's fit, checked in test_offshore_hydrostatics)."""
+    from mbsym.exceptions import ModelWarning
+    from mbsym.wind.deck.openfast import read_openfast
+    from mbsym.wind.offshore import deck_radiation, floating_platform
+
+    _need()
+    source = CASE.parent / "fl_steady_13_HydroDyn.dat"
+    lines = source.read_text().splitlines()
+    row = next(k for k, line in enumerate(lines) if line.split()[1:2] == ["RdtnMod"])
+    lines[row] = f"{rdtn_mod}   RdtnMod   - radiation memory"
+    path = tmp_path / "hd.dat"
+    path.write_text("\n".join(lines).replace('"../../IEA-15-240-RWT-UMaineSemi/',
+                                             f'"{CASE.parent}/../../IEA-15-240-RWT-UMaineSemi/') + "\n")
+    assert deck_radiation(path) == model
+    turbine = read_openfast(CASE)
+    turbine.source_files["hydrodyn"] = path
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        platform = floating_platform(turbine)
+    assert not [w for w in seen if issubclass(w.category, ModelWarning) and "RdtnMod" in str(w.message)]
+    if states is None:                 # the .ss header's third line: the number of radiation states
+        ss = FLOATING / "IEA-15-240-RWT-UMaineSemi" / "HydroData" / "IEA-15-240-RWT-UMaineSemi.ss"
+        states = int(ss.read_text().splitlines()[2].split()[0])
+    assert platform.n_radiation == states
+
+
 @pytest.mark.slow
 def test_fl_steady_13_closed_loop_600s():
     """600 s with the deck's controller settings in our baseline (TSR tracking, peak shaving, floating feedback
