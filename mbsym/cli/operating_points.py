@@ -13,7 +13,9 @@ peak-shaving schedule on the estimated wind, as the controller settles.
 
 Prints a table (one row per wind speed, OpenFAST channel names and units) and the timing;
 ``--json`` adds one JSON object on the last line: ``{"wind_speed", "RotSpeed" [rpm],
-"BldPitch1" [deg], "GenPwr" [kW], "RtAeroFxh" [N], "TTDspFA" [m], "region", "success"}``.
+"BldPitch1" [deg], "GenPwr" [kW], "RtAeroFxh" [N], "TTDspFA" [m], "region", "success"}``; a floating
+deck (HydroDyn and a mooring) adds the platform's mean offsets ``"PtfmSurge"`` [m], ``"PtfmHeave"`` [m],
+``"PtfmPitch"`` [deg] and the fairlead tensions ``"FAIRTEN1"`` … [N] to the table, the JSON and the plot.
 A point that cannot be trimmed is reported (``null`` in the JSON, its reason on stderr) and the
 exit status is 1; bad input exits with status 2 and a one-line message. ``--plot`` is written
 only when every point succeeded, atomically (a temporary file renamed into place).
@@ -41,7 +43,8 @@ def add_parser(sub) -> None:
                    help="hub-height wind speeds [m/s]: START:STOP:STEP (STOP included when on the grid) or a comma "
                         "list, e.g. 4:25:1 or 8,11.4,16")
     p.add_argument("--json", action="store_true", help="print the results as one JSON object on the last line")
-    p.add_argument("--plot", metavar="FILE.png", help="write rotor speed, pitch, power, thrust, TTDspFA vs wind speed")
+    p.add_argument("--plot", metavar="FILE.png", help="write rotor speed, pitch, power, thrust, TTDspFA (floating: "
+                                                           "surge, heave, pitch) vs wind speed")
     p.add_argument("--discon-input", metavar="DISCON.IN", help="ROSCO controller input file instead of the deck's "
                                                                "(ServoDyn DLL_InFile)")
 

@@ -26,10 +26,12 @@ from ..operation.steady_control import SteadyControl
 from ..operation.trim import TRIM_TOLERANCE, Trimmer, TrimPoint
 
 __all__ = ["OperatingPoints", "operating_points", "turbine_and_control", "parse_wind_speeds", "JSON_CHANNELS",
-           "MAX_WIND_SPEEDS"]
+           "PLATFORM_CHANNELS", "MAX_WIND_SPEEDS"]
 
 #: Channels of the ``--json`` object, with their OpenFAST units.
 JSON_CHANNELS = {"RotSpeed": "rpm", "BldPitch1": "deg", "GenPwr": "kW", "RtAeroFxh": "N", "TTDspFA": "m"}
+#: A floating turbine's mean offsets and fairlead tensions (added to the table, the JSON and the plot when present).
+PLATFORM_CHANNELS = {"PtfmSurge": "m", "PtfmHeave": "m", "PtfmPitch": "deg"}
 #: Largest number of wind speeds one call accepts.
 MAX_WIND_SPEEDS = 10000
 
@@ -89,8 +91,23 @@ class OperatingPoints:
     def units(self) -> Mapping[str, str]:
         return self.points[0].units if self.points else {}
 
-    def to_dict(self, channels: Sequence[str] = tuple(JSON_CHANNELS)) -> dict:
-        """``{"wind_speed": [...], <channel>: [...], "region": [...], "success": [...]}`` (failed: None)."""
+    @property
+    def floating(self) -> bool:
+        """Whether the turbine stands on a floating platform (its points have platform offsets)."""
+        return self.trimmer is not None and getattr(self.trimmer.model, "platform", None) is not None
+
+    def platform_channels(self) -> tuple[str, ...]:
+        """:data:`PLATFORM_CHANNELS` and the fairlead tensions ``FAIRTEN<k>`` of a floating turbine, else ()."""
+        if not self.floating or not self.points:
+            return ()
+        lines = tuple(n for n in self.units() if n.startswith("FAIRTEN"))
+        return tuple(PLATFORM_CHANNELS) + lines
+
+    def to_dict(self, channels: Sequence[str] | None = None) -> dict:
+        """``{"wind_speed": [...], <channel>: [...], "region": [...], "success": [...]}`` (failed: None); the
+        channels default to :data:`JSON_CHANNELS` and, floating, :meth:`platform_channels`."""
+        if channels is None:
+            channels = tuple(JSON_CHANNELS) + self.platform_channels()
         out: dict = {"wind_speed": [float(p.wind_speed) for p in self.points]}
         for name in channels:
             out[name] = [None if not p.success or not math.isfinite(p[name]) else float(p[name]) for p in self.points]
@@ -98,10 +115,13 @@ class OperatingPoints:
         out["success"] = [bool(p.success) for p in self.points]
         return out
 
-    def table(self, channels: Sequence[str] = ("RotSpeed", "BldPitch1", "GenTq", "GenPwr", "RtAeroFxh", "TTDspFA",
-                                               "RtTSR", "RtAeroCp")) -> str:
+    def table(self, channels: Sequence[str] | None = None) -> str:
         """A plain-text table: wind speed, region ("PS": peak-shaving minimum pitch active), the channels
-        (with units), the controller's wind estimate Û."""
+        (with units; default the rotor's and, floating, :meth:`platform_channels`), the controller's wind
+        estimate Û."""
+        if channels is None:
+            channels = ("RotSpeed", "BldPitch1", "GenTq", "GenPwr", "RtAeroFxh", "TTDspFA", "RtTSR", "RtAeroCp") \
+                + self.platform_channels()
         units = self.units()
         head = ["U [m/s]", "region"] + [f"{c} [{units.get(c, '')}]" for c in channels] + ["Û [m/s]"]
         rows = []

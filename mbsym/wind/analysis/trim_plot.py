@@ -16,7 +16,8 @@ PLOT_CHANNELS = (("RotSpeed", "RotSpeed [rpm]", 1.0), ("BldPitch1", "BldPitch1 [
 
 def plot_operating_points(points, path, *, reference: Mapping[str, Sequence[float]] | None = None,
                           reference_label: str = "OpenFAST", title: str | None = None) -> None:
-    """Write the figure of :data:`PLOT_CHANNELS` over wind speed to ``path`` (format from its suffix).
+    """Write the figure of :data:`PLOT_CHANNELS` (and a floating turbine's platform offsets) over wind speed
+    to ``path`` (format from its suffix).
 
     Parameters
     ----------
@@ -33,9 +34,12 @@ def plot_operating_points(points, path, *, reference: Mapping[str, Sequence[floa
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(len(PLOT_CHANNELS), 1, figsize=(7, 10), sharex=True)
+    units = points.units()
+    channels = PLOT_CHANNELS + tuple((n, f"{n} [{units.get(n, '')}]", 1.0) for n in points.platform_channels()
+                                     if not n.startswith("FAIRTEN"))
+    fig, axes = plt.subplots(len(channels), 1, figsize=(7, 10 * len(channels) / len(PLOT_CHANNELS)), sharex=True)
     u = points.wind_speed
-    for ax, (name, label, scale) in zip(axes, PLOT_CHANNELS):
+    for ax, (name, label, scale) in zip(axes, channels):
         ax.plot(u, points.channel(name) * scale, "-", lw=1.5, color="C0", label="mbsym trim")
         if reference is not None and name in reference:
             ax.plot(np.asarray(reference["wind_speed"], dtype=float), np.asarray(reference[name], dtype=float) * scale,
