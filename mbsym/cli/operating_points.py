@@ -105,7 +105,7 @@ def run(args) -> int:
     if args.discon_input is not None and not Path(args.discon_input).is_file():
         raise ParameterError(f"--discon-input '{args.discon_input}' not found; give a ROSCO DISCON.IN")
     t0 = time.perf_counter()
-    model, control, label = turbine_and_control(args.deck, discon_in=args.discon_input)
+    model, control, label = turbine_and_control(args.deck, discon_in=args.discon_input, aero="rotor")
     model.dynamics()
     t_model = time.perf_counter() - t0
     print(f"mbsym operating-points: {label}")

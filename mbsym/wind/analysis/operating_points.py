@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator, Mapping, Sequence
 
 import numpy as np
 
-from ...exceptions import ControllerError, WindInputError
+from ...exceptions import ControllerError, ModelWarning, WindInputError
 from ..operation.steady_control import SteadyControl
 from ..operation.trim import TRIM_TOLERANCE, Trimmer, TrimPoint
 
@@ -286,6 +287,11 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         control = SteadyControl.nrel5mw() if discon_in is None else SteadyControl.from_discon(Path(discon_in))
         return deck.model(), control, deck.label
     deck = operating_deck(fst)
+    if aero == "rotor" and deck.default_aero() == "blade":
+        warnings.warn(f"{fst}: operating points on the rotor-effective rung (uniform hub-height wind along the shaft, "
+                      "no aerodynamic load on blade or yaw DOFs); the deck's wind or DOFs ask for the blade-element "
+                      "rung in time simulation (`mbsym simulate`), whose trim is not supported.", ModelWarning,
+                      stacklevel=2)
     source = Path(discon_in) if discon_in is not None else deck.discon_in
     if source is None:
         raise ControllerError(f"{fst}: the deck names no controller input file (ServoDyn DLL_InFile); operating "

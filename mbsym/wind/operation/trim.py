@@ -46,7 +46,7 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-from ...exceptions import ModelDefinitionError, ParameterError
+from ...exceptions import ModelDefinitionError, ParameterError, UnsupportedFeatureError
 from .steady_control import Regime, SteadyControl
 from .trim_guess import predicted_order, rotor_guess
 
@@ -178,6 +178,12 @@ class Trimmer:
 
         if not isinstance(model, OperatingTurbine):
             raise TypeError(f"model must be an OperatingTurbine; got {type(model).__name__}.")
+        if getattr(model, "aero", "rotor") == "blade":
+            raise UnsupportedFeatureError(
+                "trimming the blade-element rung (aero='blade') is not supported: its guesses and regimes read the "
+                "rotor-effective surfaces. Trim the same deck with aero='rotor' (OperatingTurbine.from_openfast(fst, "
+                "aero='rotor'); `mbsym operating-points` and `mbsym linearize --wind` do), or start a blade-element "
+                "simulation from that trim.")
         control = SteadyControl.nrel5mw() if control is None else control
         if not isinstance(control, SteadyControl):
             raise TypeError(f"control must be a SteadyControl (SteadyControl.from_discon(...), .nrel5mw()); got "

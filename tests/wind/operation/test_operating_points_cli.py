@@ -125,3 +125,24 @@ def test_parse_wind_speeds_grid():
     assert parse_wind_speeds("3:4:0.3") == pytest.approx([3.0, 3.3, 3.6, 3.9])
     assert parse_wind_speeds("12") == [12.0]
     assert np.all(np.diff(parse_wind_speeds("0.5:24.5:0.5")) > 0)
+
+
+def test_flexible_sheared_deck_trims_on_the_rotor_rung_and_says_so(capsys):
+    """A deck whose wind and DOFs ask for the blade-element rung (shear, flexible blades) used to end in an
+    AttributeError traceback: its operating points are now the rotor-effective rung's, with a warning naming why;
+    the blade-element rung's trim is refused by name (it has no rotor-effective surfaces to guess from). Check
+    against the shared OpenFAST run of the same deck at 14 m/s (steady part): rated speed and power."""
+    from mbsym.exceptions import UnsupportedFeatureError
+    from mbsym.wind.operation import OperatingTurbine
+    from mbsym.wind.operation.trim import Trimmer
+
+    fst = need(INPUTS / "ss14_shear_flex" / "ss14_shear_flex.fst")
+    assert main(["operating-points", str(fst), "--wind", "14", "--json"]) == 0
+    out = capsys.readouterr()
+    assert "warning" in out.err and "rotor-effective rung" in out.err     # the CLI prints ModelWarnings
+    d = json.loads(out.out.strip().splitlines()[-1])
+    assert d["success"] == [True] and d["RotSpeed"][0] == pytest.approx(12.1, rel=1e-3)
+    assert d["GenPwr"][0] == pytest.approx(5000.0, rel=1e-6)
+    blade = OperatingTurbine.from_openfast(fst, aero="blade")
+    with pytest.raises(UnsupportedFeatureError, match="aero='rotor'"):
+        Trimmer(blade)
