@@ -49,7 +49,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from openfast_linear_inflow import read_lin  # noqa: E402
+from openfast_linear_inflow import _set, read_lin  # noqa: E402
 
 TABLE = HERE.parent / "tests" / "data" / "openfast_floating_linear" / "modes.json"
 WINDS = (5.0, 8.0, 10.0, 12.0, 13.0, 15.0, 18.0, 22.0)
@@ -64,15 +64,6 @@ def _shared() -> Path:
         if (root / "openfast" / "floating").is_dir():
             return root / "openfast" / "floating"
     raise SystemExit("shared/openfast/floating not found beside the repository")
-
-
-def _set(text: str, key: str, value: str) -> str:
-    """Replace the value in front of ``key`` (OpenFAST's ``value  key  - comment`` layout)."""
-    pattern = re.compile(rf"^(\s*)(\S+)(\s+{re.escape(key)}(?=\s))", re.M)
-    new, n = pattern.subn(lambda m: f"{m.group(1)}{value}{m.group(3)}", text, count=1)
-    if n != 1:
-        raise SystemExit(f"key {key} not found")
-    return new
 
 
 def _edit(path: Path, keys: dict[str, str]) -> None:
