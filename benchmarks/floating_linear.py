@@ -57,6 +57,9 @@ LABELS = {"Sg": "platform surge", "Hv": "platform heave", "P": "platform pitch",
 #: Weights of the coordinates when labelling a mode: pitch [rad] ~ 100 x the translations [m].
 _WEIGHT = {"Sg": 1.0, "Hv": 1.0, "P": 100.0, "TFA1": 1.0}
 _DISABLED = ("TwSSDOF1", "PtfmSwDOF", "PtfmRDOF", "PtfmYDOF")
+#: Case-name suffixes of the one-key variants (tests/data/openfast_floating_linear/README.md) and what they change.
+VARIANTS = {"_nobq": "HydroDyn AddBQuad = 0", "_qs": "AeroDyn DBEMT_Mod = 0 (quasi-steady BEM)",
+            "_g3": "TrimGain = 3e3"}
 
 
 def _shared() -> Path:
@@ -202,8 +205,8 @@ def write_table(root: Path, path: Path = TABLE) -> dict:
     for case in sorted((root / "cases").glob("oflin_*")):
         files = sorted(case.glob("*.lin"), key=lambda p: int(p.suffixes[-2][1:]))
         if files:
-            variant = "AddBQuad = 0" if case.name.endswith("_nobq") else "as the deck"
-            cases.append({"case": case.name, "hydrodyn": variant, **lin_modes(files)})
+            variant = next((v for k, v in VARIANTS.items() if case.name.endswith(k)), "as the deck")
+            cases.append({"case": case.name, "variant": variant, **lin_modes(files)})
     table = {"source": "OpenFAST v5.0.0 linearizations of the shared floating IEA 15 MW deck in the 2021 set-up; see "
                        "README.md here and benchmarks/floating_linear.py",
              "units": {"freq_hz": "Hz", "damping_ratio": "-", "rotor_speed_rpm": "rpm"}, "cases": cases}
@@ -241,7 +244,7 @@ def mbsym_modes(fst: Path, winds, inflow: str = "frozen") -> dict[float, dict]:
 def compare(table: dict, fst: Path) -> tuple[str, dict]:
     """The comparison table (markdown) and its numbers: mbsym (frozen inflow, the deck's .ss radiation and
     mbsym's fit of the .1 data) against OpenFAST v5 (same deck) and the 2021 files."""
-    of = {round(c["wind_speed"], 1): c for c in table["cases"] if c["hydrodyn"] == "as the deck"}
+    of = {round(c["wind_speed"], 1): c for c in table["cases"] if c["variant"] == "as the deck"}
     winds = sorted(of)
     ss = mbsym_modes(fst, winds)
     fit_fst = fst.parent.parent / "mbsym_fit" / fst.name
