@@ -58,8 +58,9 @@ LABELS = {"Sg": "platform surge", "Hv": "platform heave", "P": "platform pitch",
 _WEIGHT = {"Sg": 1.0, "Hv": 1.0, "P": 100.0, "TFA1": 1.0}
 _DISABLED = ("TwSSDOF1", "PtfmSwDOF", "PtfmRDOF", "PtfmYDOF")
 #: Case-name suffixes of the one-key variants (tests/data/openfast_floating_linear/README.md) and what they change.
-VARIANTS = {"_nobq": "HydroDyn AddBQuad = 0", "_qs": "AeroDyn DBEMT_Mod = 0 (quasi-steady BEM)",
-            "_g3": "TrimGain = 3e3"}
+VARIANTS = {"_nobq": "HydroDyn AddBQuad = 0", "_qsflat": "DBEMT_Mod = 0 and blades without prebend or sweep",
+            "_qs": "AeroDyn DBEMT_Mod = 0 (quasi-steady BEM)", "_g3": "TrimGain = 3e3",
+            "_flat": "blades without prebend or sweep (AeroDyn BlCrvAC, BlSwpAC, BlCrvAng = 0)"}
 
 
 def _shared() -> Path:
