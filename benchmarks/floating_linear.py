@@ -17,12 +17,15 @@ aerodynamics (what the rotor-effective model has) — and, for every wind speed,
 case with steady wind ``U`` at 150 m, linearization on (``CalcSteady``, ``TrimCase = 2`` generator torque,
 ``TrimGain = 3e4`` N m s/rad, ``TrimTol = 1e-3``, ``NLinTimes = 12``, ``LinOutputs = 0``, ``TMax = 300`` s), AeroDyn
 ``DBEMT_Mod = -1`` (frozen wake), ServoDyn without the library (``PCMode = 0`` with ``PitNeut`` the trim pitch;
-``VSContrl = 1`` with the trim torque constant from 90 % of the trim speed) and the initial conditions of mbsym's
+``VSContrl = 1`` with the trim torque constant from 50 % of the trim speed) and the initial conditions of mbsym's
 trim at ``U`` (the deck's controller settings: platform offsets, tower-top deflection, rotor speed, pitch).
 The platform's slow surge never makes every output periodic to ``TrimTol`` within a revolution, so OpenFAST
 linearizes at ``TMax`` (its forced linearization: one azimuth, the rotor speed within 0.1 % of the target); starting
 from mbsym's trim, the platform is within 0.1 % of OpenFAST's own equilibrium by then (``modes`` records the
-operating point of every case, beside mbsym's). The torque, not the pitch, is trimmed: a pitch trim acts as a fast pitch controller and destabilizes the
+operating point of every case, beside mbsym's). The constant torque must hold over ServoDyn's finite-difference step on the generator speed, 0.1 rad/s
+(``ServoDyn.f90``, its ``HSS_Spd`` variable): with region 3 starting at 90 % of the speed, the lower step fell into
+region 2 and the Jacobian carried a spurious generator-torque slope (−0.092 1/s on the rotor speed at 8 m/s, as
+much as the aerodynamics'). The torque, not the pitch, is trimmed: a pitch trim acts as a fast pitch controller and destabilizes the
 platform-pitch mode (the classic floating "negative damping"; tried: 13 m/s drifted to 8.5 deg of platform pitch).
 
 ``modes`` averages each case's A over its azimuths (no rotating-frame states: nothing for MBC3 to do), drops the
@@ -58,9 +61,7 @@ LABELS = {"Sg": "platform surge", "Hv": "platform heave", "P": "platform pitch",
 _WEIGHT = {"Sg": 1.0, "Hv": 1.0, "P": 100.0, "TFA1": 1.0}
 _DISABLED = ("TwSSDOF1", "PtfmSwDOF", "PtfmRDOF", "PtfmYDOF")
 #: Case-name suffixes of the one-key variants (tests/data/openfast_floating_linear/README.md) and what they change.
-VARIANTS = {"_nobq": "HydroDyn AddBQuad = 0", "_qsflat": "DBEMT_Mod = 0 and blades without prebend or sweep",
-            "_qs": "AeroDyn DBEMT_Mod = 0 (quasi-steady BEM)", "_g3": "TrimGain = 3e3",
-            "_flat": "blades without prebend or sweep (AeroDyn BlCrvAC, BlSwpAC, BlCrvAng = 0)"}
+VARIANTS = {"_nobq": "HydroDyn AddBQuad = 0", "_noaero": "CompAero = 0 (no aerodynamic loads)"}
 
 
 def _shared() -> Path:
@@ -142,8 +143,8 @@ def make_decks(root: Path, winds, *, quadratic_drag: bool = True) -> list[Path]:
             "PtfmHeave": f"{x['Hv']:.6f}", "PtfmPitch": f"{np.degrees(x['P']):.6f}",
             **{f"BlPitch({b})": f"{pitch:.6f}" for b in (1, 2, 3)}})
         _edit(case / "fl_steady_13_SrvD.dat", {
-            "PCMode": "0", "VSContrl": "1", "VS_RtGnSp": f"{0.9 * rpm:.6f}", "VS_RtTq": f"{torque:.6f}",
-            "VS_Rgn2K": f"{0.5 * torque / (0.9 * rpm) ** 2:.6f}", "VS_SlPc": "2.",
+            "PCMode": "0", "VSContrl": "1", "VS_RtGnSp": f"{0.5 * rpm:.6f}", "VS_RtTq": f"{torque:.6f}",
+            "VS_Rgn2K": f"{0.5 * torque / (0.5 * rpm) ** 2:.6f}", "VS_SlPc": "2.",
             **{f"PitNeut({b})": f"{pitch:.6f}" for b in (1, 2, 3)}})
         cases.append(case)
         print(f"{case}: pitch {pitch:.3f} deg, {rpm:.3f} rpm, torque {torque / 1e6:.3f} MN m", flush=True)
