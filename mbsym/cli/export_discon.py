@@ -130,8 +130,9 @@ def _run_nmpc(args) -> int:
     estimator = TurbineEstimator(observed, "ekf", tuning=EstimatorTuning.full_field() if field else None,
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
-    nmpc = TurbineNMPC(PredictionModel(model), SetPoints.from_settings(settings, model.rotor),
-                       tuning=NMPCTuning.full_field() if field else NMPCTuning.estimated_wind())
+    setpoints = SetPoints.from_settings(settings, model.rotor)
+    tuning = NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
+    nmpc = TurbineNMPC(PredictionModel(model), setpoints, tuning=tuning.for_turbine(setpoints))
     if field:
         print("mbsym export-discon: the deck's wind is a full field: the NMPC and EKF tunings for a rotor-averaged "
               "wind (NMPCTuning.full_field, EstimatorTuning.full_field)")

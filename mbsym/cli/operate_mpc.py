@@ -7,12 +7,17 @@ Contract (kept for acceptance checks)::
 
 * ``--controller nmpc``: the turbine NMPC (:class:`mbsym.wind.mpc.TurbineNMPC`: real-time
   iterations, 0.1 s, 40 stages) on the prediction model chosen with the fidelity ladder (GenDOF +
-  TwFADOF1 + the dynamic inflow + the actuators as rates), running against the full plant.
+  TwFADOF1 + the dynamic inflow + the actuators as rates; a floating deck adds the platform's surge
+  and pitch and a cost on the platform's pitch rate, :meth:`~mbsym.wind.mpc.NMPCTuning.floating`),
+  running against the full plant. The cost scales are carried to the deck's turbine in proportion
+  to its rated speed, power and torque (:meth:`~mbsym.wind.mpc.NMPCTuning.for_turbine`).
 * ``--preview S``: an ideal lidar: the NMPC knows the true hub wind for the next S seconds (held
   after that) and, without ``--estimator``, the plant's true state (ideal state feedback).
 * ``--estimator ekf|mhe``: the state and rotor-effective wind estimated at 20 Hz from generator speed,
   tower-top acceleration, pitch and torque (on the prediction model with the first side-side tower
-  mode added, :func:`mbsym.wind.mpc.estimation_model`); the NMPC uses the estimate (and the estimated wind when
+  mode added, :func:`mbsym.wind.mpc.estimation_model`; on a floating deck also the nacelle IMU's
+  rotational acceleration and the platform's pitch and surge, with the waves' loads estimated); the NMPC
+  uses the estimate (and the estimated wind when
   there is no preview). With ``--controller baseline`` the baseline keeps its own measurements and
   the estimates are only reported.
 * ``--deadline S``: the NMPC's wall time per step (default its sample time, 0.1 s; ``inf``: none).
@@ -88,9 +93,13 @@ class MpcOptions:
             estimator = TurbineEstimator(observed, self.estimator,
                                          x0=_initial_estimate(model, observed, wind, settings))
         if self.controller == "nmpc":
-            tuning = NMPCTuning() if self.preview is not None else NMPCTuning.estimated_wind()
-            nmpc = TurbineNMPC(prediction, SetPoints.from_settings(settings, model.rotor), tuning=tuning,
-                               deadline=self.deadline)
+            floating = any(s.startswith("Ptfm") for s in prediction.dofs)
+            if self.preview is not None:
+                tuning = NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
+            else:
+                tuning = NMPCTuning.floating() if floating else NMPCTuning.estimated_wind()
+            setpoints = SetPoints.from_settings(settings, model.rotor)
+            nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints), deadline=self.deadline)
         else:
             baseline = BaselineController(settings)
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,

@@ -17,19 +17,19 @@ The closed-loop fidelity ladder that chose the prediction model is
 :func:`mbsym.wind.analysis.prediction_ladder.prediction_ladder`. See docs/turbine_nmpc.md.
 """
 
-from .estimator import (ESTIMATOR_DOFS, ESTIMATOR_MEASUREMENTS, ESTIMATORS, EstimatorTuning, TurbineEstimator,
-                        estimation_model)
+from .estimator import (ESTIMATOR_DOFS, ESTIMATOR_MEASUREMENTS, ESTIMATORS, FLOATING_MEASUREMENTS, EstimatorTuning,
+                        TurbineEstimator, estimation_model, estimator_measurements)
 from .loop import LOOP_CHANNELS, SensorNoise, TurbineLoop
 from .nmpc import TRACKED, NMPCTuning, TurbineNMPC
-from .prediction import CONTROL_INPUTS, ESTIMATION_INPUTS, PREDICTION_DOFS, PredictionModel
+from .prediction import CONTROL_INPUTS, ESTIMATION_INPUTS, FLOATING_PREDICTION_DOFS, PREDICTION_DOFS, PredictionModel
 from .setpoints import REFERENCE_CHANNELS, ReferenceTable, SetPoints, reference_state, reference_table
 from .discon_nmpc import export_nmpc_discon
 from .sample import SampledLoop, SampleFunctions, sample_functions
 from .simulation import ESTIMATED_CHANNELS, measurement_dynamics, simulate_with_loop
 
-__all__ = ["PredictionModel", "PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS", "SetPoints", "ReferenceTable",
+__all__ = ["PredictionModel", "PREDICTION_DOFS", "FLOATING_PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS", "SetPoints", "ReferenceTable",
            "reference_table", "reference_state", "REFERENCE_CHANNELS", "NMPCTuning", "TurbineNMPC", "TRACKED",
            "TurbineEstimator", "EstimatorTuning", "ESTIMATORS", "ESTIMATOR_MEASUREMENTS", "ESTIMATOR_DOFS",
-           "estimation_model", "TurbineLoop",
+           "FLOATING_MEASUREMENTS", "estimator_measurements", "estimation_model", "TurbineLoop",
            "SensorNoise", "LOOP_CHANNELS", "simulate_with_loop", "measurement_dynamics", "ESTIMATED_CHANNELS",
            "sample_functions", "SampleFunctions", "SampledLoop", "export_nmpc_discon"]

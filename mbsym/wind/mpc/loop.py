@@ -143,11 +143,11 @@ class TurbineLoop:
             if unseen:
                 raise SimulationOptionError(f"the estimator does not estimate the NMPC's states {unseen}; give it a "
                                             "prediction model with the NMPC's DOFs (estimation_model(plant)).")
-        self.measurements = LOOP_CHANNELS + self._state_names
         self._law_time: list[float] = []
         self._base_fn = None
         self._xb0 = np.zeros(0)
         self._base_units: tuple[str, ...] = ()
+        extra: tuple[str, ...] = ()
         if baseline is not None:
             from ..operation.controllers import baseline_in_loop
 
@@ -155,6 +155,13 @@ class TurbineLoop:
             self._base_fn, self._xb0 = dc.law, dc.x0
             self._base_names = dc.state_names
             self._base_units = dc.state_units
+            extra = tuple(n for n in dc.measurements if n not in LOOP_CHANNELS)   # e.g. floating feedback's
+        if estimator is not None:                             # e.g. a floating estimator's nacelle IMU
+            extra += tuple(n for n in estimator.measurements[2:] if n not in LOOP_CHANNELS + extra)
+        self.measurements = LOOP_CHANNELS + extra + self._state_names
+        self._est_rows = [self.measurements.index(n) for n in estimator.measurements[2:]] if estimator else []
+        if baseline is not None:
+            self._base_rows = [self.measurements.index(n) for n in dc.measurements]
         self._n_b = self._xb0.size
         self._n_e = len(estimator.names) if estimator is not None else 0
         self.controller_times: list[float] = []
@@ -211,13 +218,13 @@ class TurbineLoop:
                 self._n_acc += 1
             if k % self._ke == 0:
                 mean = self._acc / self._n_acc if self._n_acc else np.array([pitch, torque])
-                z = self.estimator.step(y[0], y[6], mean[0], mean[1])
+                z = self.estimator.step(y[0], y[6], mean[0], mean[1], *y[self._est_rows])
                 self.estimates.append((t, z.copy()))
                 self._acc[:] = 0.0
                 self._n_acc = 0
         if self.baseline is not None:
             c0 = time.perf_counter()
-            xb_next, u = self._base_fn(xb, y_true[:5])
+            xb_next, u = self._base_fn(xb, y_true[self._base_rows])
             xb, u = np.asarray(xb_next).ravel(), np.asarray(u).ravel()
             self._law_time.append(time.perf_counter() - c0)
         else:
@@ -244,7 +251,7 @@ class TurbineLoop:
     def _nmpc_state(self, y, pitch: float, torque: float) -> np.ndarray:
         if self.estimator is not None:
             return self.estimator.control_state(pitch, torque, self.prediction.states)
-        values = dict(zip(self._state_names, y[len(LOOP_CHANNELS):]))
+        values = dict(zip(self._state_names, y[len(self.measurements) - len(self._state_names):]))
         values["GenTq"] = torque
         values["BlPitch"] = pitch
         return np.array([values[s] for s in self.prediction.states])

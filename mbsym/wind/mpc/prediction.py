@@ -17,9 +17,17 @@ from the **same CasADi graph** (nothing is derived again):
     rate limits are simple bounds on the inputs. The stiff actuator poles (50 rad/s, 0.01 s)
     leave the prediction model, so RK4 at 0.1 s steps is stable and accurate.
 
-``estimation`` — inputs ``Wind1VelX``, ``BlPitchMeas`` [rad], ``GenTqMeas`` [N m]
+``estimation`` — inputs ``Wind1VelX``, ``BlPitchMeas`` [rad], ``GenTqMeas`` [N m] (and, floating, the
+    waves' loads on the platform DOFs, :attr:`PredictionModel.wave_inputs`, which an estimator
+    estimates as it estimates the wind)
     The measured pitch and torque drive the structure and rotor (actuators at rest at the
     measured values): what a wind-speed estimator knows. States: the structure's and the inflow's.
+
+**A floating plant** (``OperatingTurbine(..., platform=...)``): the default DOFs add the platform's
+surge and pitch (:data:`FLOATING_PREDICTION_DOFS`), with the platform as a controller holds it
+(``FloatingPlatform.for_prediction``: hydrostatics, A∞, HydroDyn's additional loads and the
+quasi-static mooring, no radiation states, no line drag); the sea's inputs are zero in both forms
+(the waves are a disturbance the estimator sees through the measurements).
 
 The rotor azimuth ``GeAz`` is dropped from both: the rotor's loads are azimuth-averaged and its
 inertia axisymmetric, so no right-hand side depends on it (checked at construction).
@@ -36,10 +44,12 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError, ParameterError
 
-__all__ = ["PredictionModel", "PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS"]
+__all__ = ["PredictionModel", "PREDICTION_DOFS", "FLOATING_PREDICTION_DOFS", "CONTROL_INPUTS", "ESTIMATION_INPUTS"]
 
 #: ElastoDyn DOFs of the default prediction model (the fidelity ladder's choice, docs/turbine_nmpc.md).
 PREDICTION_DOFS = ("GenDOF", "TwFADOF1")
+#: The default for a floating plant: the platform's surge and pitch too (docs/turbine_nmpc.md, "Floating").
+FLOATING_PREDICTION_DOFS = ("GenDOF", "TwFADOF1", "PtfmSgDOF", "PtfmPDOF")
 #: Inputs of :attr:`PredictionModel.control`.
 CONTROL_INPUTS = ("Wind1VelX", "BlPitchRate", "GenTqRate")
 #: Inputs of :attr:`PredictionModel.estimation`.
@@ -59,7 +69,7 @@ class PredictionModel:
         The turbine controlled (its structure data, rotor, actuators and inflow model are used).
     dofs : sequence of str, optional, keyword-only
         ElastoDyn DOF flags of the prediction model (must include ``GenDOF``); default
-        :data:`PREDICTION_DOFS`.
+        :data:`PREDICTION_DOFS`, for a floating plant :data:`FLOATING_PREDICTION_DOFS`.
     dynamic_inflow : bool, optional, keyword-only
         Keep the plant's dynamic inflow (default: as the plant).
     p : dict, optional, keyword-only
@@ -80,12 +90,15 @@ class PredictionModel:
         DOFs without ``GenDOF``; a right-hand side that depends on the azimuth.
     """
 
-    def __init__(self, plant, *, dofs: Sequence[str] = PREDICTION_DOFS, dynamic_inflow: bool | None = None,
+    def __init__(self, plant, *, dofs: Sequence[str] | None = None, dynamic_inflow: bool | None = None,
                  p: Mapping[str, float] | None = None) -> None:
         from ..operation.model import OperatingTurbine
 
         if not isinstance(plant, OperatingTurbine):
             raise TypeError(f"plant must be an OperatingTurbine; got {type(plant).__name__}.")
+        platform = plant.platform
+        if dofs is None:
+            dofs = PREDICTION_DOFS if platform is None else FLOATING_PREDICTION_DOFS
         dofs = tuple(dofs)
         if "GenDOF" not in dofs:
             raise ModelDefinitionError(f"the prediction model needs GenDOF (the rotor speed is what it controls); "
@@ -96,9 +109,14 @@ class PredictionModel:
                                  "with it or pass dynamic_inflow=False.")
         self.plant = plant
         self.dofs = dofs
+        if platform is not None and not any(d.startswith("Ptfm") for d in dofs):
+            platform = None                              # a platform held still: no water, no mooring
+        elif platform is not None and hasattr(platform, "for_prediction"):
+            platform = platform.for_prediction()
         self.turbine = OperatingTurbine(plant.turbine, plant.rotor, dofs=dofs, actuators=plant.actuators,
                                         dynamic_inflow=plant.dynamic_inflow if keep_inflow else False,
-                                        saturation_width=plant.saturation_width, name="prediction")
+                                        saturation_width=plant.saturation_width, platform=platform,
+                                        disk_moments=plant.structure.hub_moments, name="prediction")
         full = self.turbine.dynamics()
         self.full = full
         self._p = dict(p or {})
@@ -117,9 +135,9 @@ class PredictionModel:
         self._demand_limits = (b["BlPitchCom"], b["GenTqCom"])
 
     # ------------------------------------------------------------------ forms
-    def _symbols(self, full: Dynamics, n_z: int):
+    def _symbols(self, full: Dynamics, n_z: int, n_u: int = 3):
         S = ca.SX if full.rhs.is_a("SXFunction") and full.outputs.is_a("SXFunction") else ca.MX
-        z, u, p = S.sym("x", n_z), S.sym("u", 3), S.sym("p", full.n_p)
+        z, u, p = S.sym("x", n_z), S.sym("u", n_u), S.sym("p", full.n_p)
         P = {n: p[i] for i, n in enumerate(full.parameters)}
         return S, z, u, p, P
 
@@ -129,22 +147,33 @@ class PredictionModel:
         rb, rt = u[1], u[2]
         x = ca.vertcat(*[0.0 if s == "GeAz" else rb if s == "BlPitch_d" else Z[s] for s in full.states])
         demand = ca.vertcat(u[0], Z["BlPitch"] + 2.0 * P["pitch_damping"] / P["pitch_frequency"] * rb,
-                            Z["GenTq"] + P["torque_time_constant"] * rt)
+                            Z["GenTq"] + P["torque_time_constant"] * rt, ca.DM.zeros(full.n_u - 3))
         xd = full.rhs(x, demand, p)
         rows = [rb if s == "BlPitch" else rt if s == "GenTq" else xd[full.states.index(s)] for s in self.states]
         return self._dynamics(full, S, z, u, p, ca.vertcat(*rows), full.outputs(x, demand, p), self.states,
                               CONTROL_INPUTS, "prediction_control")
 
+    @property
+    def wave_inputs(self) -> tuple[str, ...]:
+        """The sea's loads on the model's platform DOFs (``B1WvsFxi`` for surge, ``B1WvsMyi`` for pitch, …),
+        inputs of the estimation form after :data:`ESTIMATION_INPUTS`; () on land."""
+        pairs = (("Sg", "B1WvsFxi"), ("Sw", "B1WvsFyi"), ("Hv", "B1WvsFzi"), ("R", "B1WvsMxi"), ("P", "B1WvsMyi"),
+                 ("Y", "B1WvsMzi"))
+        inputs = self.full.inputs
+        return tuple(load for dof, load in pairs if dof in self.estimation_states and load in inputs)
+
     def _estimation_form(self, full: Dynamics) -> Dynamics:
-        S, z, u, p, P = self._symbols(full, len(self.estimation_states))
+        waves = self.wave_inputs
+        S, z, u, p, P = self._symbols(full, len(self.estimation_states), 3 + len(waves))
         Z = {n: z[i] for i, n in enumerate(self.estimation_states)}
         Z.update(BlPitch=u[1], GenTq=u[2], BlPitch_d=0.0, GeAz=0.0)
         x = ca.vertcat(*[Z[s] for s in full.states])
-        demand = ca.vertcat(u[0], u[1], u[2])                 # actuators at rest at the measured values
+        given = {name: u[3 + k] for k, name in enumerate(waves)}
+        demand = ca.vertcat(u[0], u[1], u[2], *[given.get(n, 0.0) for n in full.inputs[3:]])   # actuators at rest
         xd = full.rhs(x, demand, p)
         rows = [xd[full.states.index(s)] for s in self.estimation_states]
         return self._dynamics(full, S, z, u, p, ca.vertcat(*rows), full.outputs(x, demand, p),
-                              self.estimation_states, ESTIMATION_INPUTS, "prediction_estimation")
+                              self.estimation_states, ESTIMATION_INPUTS + waves, "prediction_estimation")
 
     def _dynamics(self, full, S, z, u, p, rhs, y, states, inputs, name) -> Dynamics:
         opts = {"cse": True} if S is ca.SX else {}
@@ -153,9 +182,10 @@ class PredictionModel:
         defaults = {**dict(full.defaults), **self._p}
         x0 = [full.x0[full.states.index(s)] for s in states]
         state_units = dict(zip(full.states, full.state_units))
+        units = {**dict(zip(full.inputs, full.input_units)), **INPUT_UNITS}
         return Dynamics(f, states=states, inputs=inputs, parameters=full.parameters, defaults=defaults, outputs=h,
                         output_names=full.output_names, output_units=full.output_units, x0=x0, name=name,
-                        state_units=[state_units.get(s, "") for s in states], input_units=[INPUT_UNITS.get(n, "") for n in inputs])
+                        state_units=[state_units.get(s, "") for s in states], input_units=[units.get(n, "") for n in inputs])
 
     def _check_azimuth(self, full: Dynamics) -> None:
         """The right-hand side must not depend on the azimuth (it is dropped)."""
@@ -164,7 +194,7 @@ class PredictionModel:
         rng = np.random.default_rng(0)
         x = full.x0.copy()
         x[full.states.index("GeAz_d")] = 1.2
-        u = np.array([12.0, 0.05, 4e4])
+        u = np.concatenate([[12.0, 0.05, 4e4], np.zeros(full.n_u - 3)])
         a, b = x.copy(), x.copy()
         a[full.states.index("GeAz")], b[full.states.index("GeAz")] = 0.0, float(rng.uniform(0.5, 5.5))
         fa, fb = full.rhs_value(a, u), full.rhs_value(b, u)

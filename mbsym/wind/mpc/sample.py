@@ -159,6 +159,8 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         Another solver or estimator kind, sample times that are not multiples, an estimator that
         does not estimate the NMPC's states, an OCP with slacks or collocation variables, or an
         unknown ``initial``.
+    UnsupportedFeatureError
+        An estimator with more measurements than :data:`~.estimator.ESTIMATOR_MEASUREMENTS` (floating).
     """
     from .estimator import TurbineEstimator
     from .nmpc import TurbineNMPC
@@ -167,6 +169,15 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         raise TypeError(f"nmpc must be a TurbineNMPC; got {type(nmpc).__name__}.")
     if not isinstance(estimator, TurbineEstimator):
         raise TypeError(f"estimator must be a TurbineEstimator; got {type(estimator).__name__}.")
+    from .estimator import ESTIMATOR_MEASUREMENTS
+
+    if isinstance(estimator, TurbineEstimator) and tuple(estimator.measurements) != ESTIMATOR_MEASUREMENTS:
+        from ...exceptions import UnsupportedFeatureError
+
+        raise UnsupportedFeatureError(f"the sampled loop (the exported NMPC) reads {list(ESTIMATOR_MEASUREMENTS)}; this "
+                                      f"estimator measures {list(estimator.measurements)} (a floating platform's "
+                                      "estimator). Run the floating NMPC in mbsym (mbsym simulate DECK --controller "
+                                      "nmpc) or give the NMPC a land prediction model.")
     if estimator.kind != "ekf":
         raise ControlDefinitionError(f"only the EKF has a fixed-work sample; the estimator is {estimator.kind!r} "
                                      "(the MHE solves an NLP per sample: not exportable yet).")

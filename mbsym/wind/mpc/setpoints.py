@@ -123,7 +123,8 @@ def _balance(prediction, fixed: str, unknown: str):
         return cache[key]
     dyn = prediction.control
     states = dyn.states
-    free = [s for s in ("TFA1", "TFA2", "TSS1", "TSS2", "DrTr", "DBEMT_w", "DBEMT_v") if s in states]
+    free = [s for s in ("Sg", "Sw", "Hv", "R", "P", "Y", "TFA1", "TFA2", "TSS1", "TSS2", "DrTr", "DBEMT_w", "DBEMT_v")
+            if s in states]
     S = ca.SX if dyn.rhs.is_a("SXFunction") else ca.MX
     z = S.sym("z", len(free) + 1)
     par = S.sym("par", 3 + dyn.n_x + dyn.n_p)
@@ -152,7 +153,7 @@ def reference_state(prediction, setpoints: SetPoints, wind: float, *, p=None, gu
     """The steady state of the prediction model's control form on the speed schedule at a wind [m/s].
 
     Region 2 (and 2.5): fine pitch, the torque balancing the rotor; if that power exceeds the
-    rated power, region 3: the rated torque, the pitch balancing. The tower, drivetrain and inflow
+    rated power, region 3: the rated torque, the pitch balancing. The platform, tower, drivetrain and inflow
     states are solved for rest (Newton's method with the exact Jacobian).
 
     Raises

@@ -93,6 +93,8 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
     meas = measurement_dynamics(model, loop.measurements)
     inputs: dict[str, Any] = {"Wind1VelX": wind, **held_commands(model, x0)}
+    if model.platform is not None:                  # the deck's sea (HydroDyn's excitation series), as simulate_turbine
+        inputs.update(model.platform.sea_tables(tmax))
     if compile is None:
         compile = _compile_pays_off(tmax / loop.dt)
     res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=loop.controller(), method="rk4", dt=loop.dt,
@@ -150,9 +152,10 @@ def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list
     Z = np.asarray(res.y)[:, cols]
     pitch, torque = X[:, dyn.states.index("BlPitch")], X[:, dyn.states.index("GenTq")]
     m = est.prediction.estimation
-    U = np.column_stack([Z[:, -1], pitch, torque])
+    n = m.n_x
+    U = np.column_stack([Z[:, -1], pitch, torque, Z[:, n:-1]])          # wind, measured actuators, wave loads
     f = m.outputs.map(Z.shape[0])
-    Y = np.asarray(f(Z[:, :-1].T, U.T, est.p_vector)).T
+    Y = np.asarray(f(Z[:, :n].T, U.T, est.p_vector)).T
     chosen = [c for c in ESTIMATED_CHANNELS if c in m.output_names]
     idx = [m.output_names.index(c) for c in chosen]
     return Y[:, idx], [f"{c}_est" for c in chosen], [m.output_units[i] for i in idx]

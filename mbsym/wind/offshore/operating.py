@@ -246,6 +246,22 @@ class FloatingPlatform:
         rows.append(("Wave1Elev", "m", sea[6]))
         return rows
 
+    def for_prediction(self) -> "FloatingPlatform":
+        """This platform as a controller's or estimator's model holds it: no states of its own.
+
+        Kept: hydrostatics and buoyancy, A∞, HydroDyn's additional loads (``AddF0``, ``AddCLin``,
+        ``AddBLin``, ``AddBQuad``) and the quasi-static catenaries. Left out: the radiation memory
+        (169 states for the VolturnUS-S; at the platform's surge and pitch periods, 30–140 s, its
+        damping is small against the rotor's), the lines' drag and inertia (40 % of the step) and the
+        sea (its inputs stay, to be given as zero or as an estimate). The platform's stiffness and
+        inertia are exactly the plant's, so its natural periods are, to the radiation's share.
+        """
+        from dataclasses import replace
+
+        mooring = None if self.mooring is None else self.mooring.with_dynamics(None, self.mooring.water_density)
+        hydro = replace(self.hydro, waves=None, excitation_fit=None)
+        return FloatingPlatform(hydro, mooring, None, self.mooring_steps)
+
     def __repr__(self) -> str:
         sea = "still water" if self.waves is None else self.waves.waves.description
         return (f"FloatingPlatform(radiation states={self.n_radiation}, mooring lines={self.n_lines}, "

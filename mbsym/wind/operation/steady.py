@@ -109,9 +109,9 @@ def _static_tower(model, x: np.ndarray, wind: float, p: np.ndarray, iterations: 
         return x
     u = dyn.input_vector({"Wind1VelX": wind, "BlPitchCom": x[dyn.states.index("BlPitch")],
                           "GenTqCom": x[dyn.states.index("GenTq")]})
-    X = ca.SX.sym("x", dyn.n_x)
+    X = (ca.SX if dyn.rhs.is_a("SXFunction") else ca.MX).sym("x", dyn.n_x)   # a floating plant's rhs is MX
     acc = dyn.rhs(X, u, p)[[n_q + i for i in idx]]
-    f = ca.Function("tower_balance", [X], [acc, ca.jacobian(acc, X[idx])])
+    f = ca.Function("tower_balance", [X], [acc, ca.jacobian(acc, X)[:, idx]])
     x = x.copy()
     for _ in range(iterations):
         x = _equilibrium_inflow(model, x, wind, p)

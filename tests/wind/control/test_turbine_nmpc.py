@@ -156,3 +156,25 @@ def test_bad_tuning_and_loop_options_are_typed_errors():
         nmpc.step(np.zeros(len(t.prediction.states)), np.full(3, 12.0))
     with pytest.raises(ControlDefinitionError, match="NaN"):
         nmpc.step(np.zeros(len(t.prediction.states)), float("nan"))
+
+
+def test_tuning_for_another_turbine_scales_with_its_rated_values():
+    """The cost scales are given for the NREL 5 MW (1173.7 rpm, 5 MW, 43.09 kN m at the generator): on the NREL
+    5 MW ``for_turbine`` is the identity; on the IEA 15 MW (7.56 rpm direct drive, 15 MW) the speed scale becomes
+    the same fraction of its rated speed (20 rpm of 1173.7 → 0.129 rpm of 7.56), the power scale three times the
+    5 MW's, the torque scales the same fraction of its rated torque; angles, velocities and the horizon stay."""
+    from mbsym.wind.mpc import NMPCTuning, SetPoints
+
+    nrel = SetPoints(1173.7 * math.pi / 30, 670 * math.pi / 30, 5.0e6, 0.944, 7.5, 0.48, 63.0, 97.0, 0.0)
+    tuning = NMPCTuning.estimated_wind()
+    assert tuning.for_turbine(nrel) == tuning
+    iea = SetPoints(7.56 * math.pi / 30, 5.0 * math.pi / 30, 15.0e6, 0.9655, 9.0, 0.49, 120.97, 1.0, 0.0)
+    scaled = tuning.for_turbine(iea)
+    assert scaled.speed_scale / 7.56 == pytest.approx(tuning.speed_scale / 1173.7, rel=1e-12)
+    assert scaled.power_scale == pytest.approx(3.0 * tuning.power_scale, rel=1e-12)
+    ratio = iea.rated_torque / 43093.55
+    assert scaled.torque_scale == pytest.approx(ratio * tuning.torque_scale, rel=1e-12)
+    assert scaled.torque_rate_scale == pytest.approx(ratio * tuning.torque_rate_scale, rel=1e-12)
+    assert (scaled.pitch_rate_scale, scaled.tower_velocity_scale, scaled.horizon) == \
+        (tuning.pitch_rate_scale, tuning.tower_velocity_scale, tuning.horizon)
+    assert math.isinf(NMPCTuning().platform_pitch_rate_scale) and NMPCTuning.floating().platform_pitch_rate_scale == 5e-4

@@ -232,3 +232,90 @@ def test_translational_floating_feedback_damps_the_platform_like_the_rotational(
         std[name] = float(np.std(y["PtfmPitch"][np.asarray(result.t) > 20.0]))
     assert abs(std["translational"] / std["rotational"] - 1.0) < 0.2, std
     assert std["translational"] < 0.3 * std["off"], std
+
+
+# ---------------------------------------------------------------- the NMPC's prediction model (item 5)
+def test_the_prediction_model_holds_the_platform_where_the_plant_trims(floating):
+    """The NMPC's prediction model of a floating plant (surge, pitch, tower, rotor, inflow; the platform without
+    radiation states or line drag, :meth:`FloatingPlatform.for_prediction`) balances at the plant's trim: its
+    steady reference at 13 m/s puts surge and pitch where the plant's trim does. What differs is only what the
+    statics do not see (the radiation memory, the lines' drag) and the DOFs it leaves out (heave, sway, roll,
+    yaw); measured 0.005 % (surge) and 0.01 % (pitch); bound 0.5 %."""
+    from mbsym.wind.mpc import FLOATING_PREDICTION_DOFS, PredictionModel, SetPoints, reference_state
+    from mbsym.wind.operation import SteadyControl, trim
+
+    deck, model = floating
+    prediction = PredictionModel(model)
+    assert prediction.dofs == FLOATING_PREDICTION_DOFS
+    assert prediction.turbine.platform.n_radiation == 0 and prediction.turbine.platform.mooring.dynamics is None
+    assert prediction.wave_inputs == ("B1WvsFxi", "B1WvsMyi")
+    point = trim(model, 13.0, SteadyControl.from_baseline(deck.baseline_settings()))
+    x = reference_state(prediction, SetPoints.from_settings(deck.baseline_settings(), model.rotor), 13.0)
+    states = prediction.control.states
+    assert abs(x[states.index("Sg")] / point["PtfmSurge"] - 1.0) < 0.005
+    assert abs(np.degrees(x[states.index("P")]) / point["PtfmPitch"] - 1.0) < 0.005
+
+
+def test_the_prediction_model_has_the_plants_platform_modes(floating):
+    """Open loop (pitch and torque held) about the 13 m/s trim, the prediction model's surge and pitch modes against
+    the plant's (six platform DOFs, side-side tower, the lines' mass and drag): frequencies measured 1.3 % and
+    1.2 % high, damping ratios 0.047 against 0.047 and 0.269 against 0.264 (the pitch mode's is the rotor's
+    aerodynamic damping). Bounds: 2.5 % in frequency, 0.01 in damping ratio. Without the platform in the model
+    (the land NMPC's) there is no such mode at all, which is what made that NMPC pump the platform
+    (benchmarks/floating_nmpc.py)."""
+    import casadi as ca
+
+    from mbsym.wind.analysis.trim_linear import linearize_dynamics
+    from mbsym.wind.mpc import PredictionModel, SetPoints, reference_state
+    from mbsym.wind.operation import SteadyControl, trim
+
+    deck, model = floating
+    point = trim(model, 13.0, SteadyControl.from_baseline(deck.baseline_settings()))
+    dyn = model.dynamics()
+    A = np.asarray(linearize_dynamics(dyn, point.state, point.inputs)["A"])
+    plant = _modes(A, dyn.states)
+    prediction = PredictionModel(model)
+    f = prediction.control
+    x0 = reference_state(prediction, SetPoints.from_settings(deck.baseline_settings(), model.rotor), 13.0)
+    X = (ca.SX if f.rhs.is_a("SXFunction") else ca.MX).sym("x", f.n_x)
+    jac = ca.Function("prediction_jacobian", [X], [ca.jacobian(f.rhs(X, ca.DM([13.0, 0.0, 0.0]), f.parameter_vector()), X)])
+    ours = _modes(np.asarray(jac(x0)), f.states)
+    surge = min(m for m in ours if 0.005 < m[0] < 0.02 and m[1] < 0.5)
+    pitch = next(m for m in ours if 0.02 < m[0] < 0.05)
+    for fo, zo in (surge, pitch):                    # the plant's mode nearest in frequency and damping
+        fp, zp = min(plant, key=lambda m: abs(m[0] / fo - 1.0) + abs(m[1] - zo))
+        assert abs(fo / fp - 1.0) < 0.025 and abs(zo - zp) < 0.01, ((fo, zo), plant)
+
+
+def _modes(A: np.ndarray, states) -> list[tuple[float, float]]:
+    """(frequency [Hz], damping ratio) of the oscillatory modes of A without the azimuth and the actuators."""
+    keep = [i for i, s in enumerate(states) if s not in ("GeAz", "BlPitch", "BlPitch_d", "GenTq")]
+    ev = np.linalg.eigvals(A[np.ix_(keep, keep)])
+    return sorted((abs(e) / (2 * np.pi), -e.real / abs(e)) for e in ev if e.imag > 1e-9)
+
+
+def test_the_floating_estimator_measures_the_nacelle_imu_and_the_platform(floating):
+    """One tower-top accelerometer cannot tell surge from pitch from tower bending (the EKF's surge velocity came
+    out anti-correlated with the plant's in waves): a floating estimator also reads the nacelle IMU's rotational
+    acceleration and the platform's pitch and surge, and estimates the waves' surge force and pitch moment as it
+    estimates the wind; the exported (sampled) loop, which reads two channels, refuses it by name."""
+    from mbsym.exceptions import UnsupportedFeatureError
+    from mbsym.wind.control import BaselineController
+    from mbsym.wind.mpc import (ESTIMATOR_MEASUREMENTS, FLOATING_MEASUREMENTS, NMPCTuning, PredictionModel,
+                                SetPoints, TurbineEstimator, TurbineLoop, TurbineNMPC, estimation_model,
+                                sample_functions)
+
+    deck, model = floating
+    observed = estimation_model(model)
+    assert {"PtfmSgDOF", "PtfmPDOF"} <= set(observed.dofs)
+    estimator = TurbineEstimator(observed, "ekf", compile=False)
+    assert estimator.measurements == ESTIMATOR_MEASUREMENTS + FLOATING_MEASUREMENTS
+    assert estimator.names[-3:] == ("B1WvsFxi", "B1WvsMyi", "Wind1VelX")
+    loop = TurbineLoop(model, deck.controller_dt, baseline=BaselineController(deck.baseline_settings()),
+                       estimator=estimator)
+    assert set(FLOATING_MEASUREMENTS) <= set(loop.measurements)      # read off the plant for the estimator
+    setpoints = SetPoints.from_settings(deck.baseline_settings(), model.rotor)
+    nmpc = TurbineNMPC(PredictionModel(model), setpoints, tuning=NMPCTuning.floating().for_turbine(setpoints),
+                       compile=False)
+    with pytest.raises(UnsupportedFeatureError, match="NcIMURAys"):
+        sample_functions(nmpc, estimator, deck.controller_dt)
