@@ -8,6 +8,8 @@ the rotor-effective model holds; the same edit as ``floating_waves.py``), in a K
 
 ``baseline``        mbsym's ROSCO law with the deck's DISCON.IN (``Fl_Mode 2``: nacelle pitching feedback); it
                     equals the ROSCO 2.10.6 library to 1e-4 deg on this deck (docs/offshore.md §7).
+``rosco``           the ROSCO 2.10.6 library itself (``libdiscon.so`` of the wheel, in the tests' cache
+                    ``~/.cache/mbsym/rosco/2.10.6``) with the same DISCON.IN, called every sample.
 ``nmpc``            the product path (``mbsym simulate DECK --controller nmpc``): prediction model with the
                     platform's surge and pitch, EKF with the nacelle IMU and the platform's pitch and surge,
                     :meth:`NMPCTuning.floating` carried to the turbine.
@@ -39,7 +41,7 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 from floating_waves import deck  # noqa: E402  (the shared deck with the sea and the aerodynamic edits)
 
-CONTROLLERS = ("baseline", "nmpc", "nmpc-land", "nmpc-ideal")
+CONTROLLERS = ("baseline", "rosco", "nmpc", "nmpc-land", "nmpc-ideal")
 CHANNELS = ("Wind1VelX", "Wave1Elev", "PtfmSurge", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "TwrBsMyt",
             "FAIRTEN1")
 
@@ -105,11 +107,31 @@ def run(kind: str, fst: Path, args) -> tuple[dict[str, np.ndarray], float]:
     d = operating_deck(fst)
     model = d.model(aero="rotor")
     wind = parse_wind_spec(f"kaimal:{args.wind:g}:{args.ti:g}:{args.seed}", duration=args.tmax)
+    if kind == "rosco":
+        return _rosco(d, model, wind, args), time.perf_counter() - t0
     loop = loop_for(kind, model, d, wind)
     res = simulate_with_loop(model, wind, args.tmax, loop, x0=_initial_state(model, d, wind))
     names, y = list(res.output_names), np.asarray(res.y)
     out = {"Time": np.asarray(res.t)} | {n: y[:, names.index(n)] for n in CHANNELS}
     return out, time.perf_counter() - t0
+
+
+def _rosco(d, model, wind, args) -> dict[str, np.ndarray]:
+    """The ROSCO library in the loop of the same plant (``mbsym simulate DECK --controller discon``)."""
+    from mbsym.cli.operate import _initial_state
+    from mbsym.wind.control.discon import DisconController
+    from mbsym.wind.operation.controllers import discon_in_loop
+    from mbsym.wind.operation.simulation import simulate_turbine
+
+    library, infile = d.discon_paths()
+    handle = DisconController(library, infile, dt=d.controller_dt, n_blades=d.turbine.number_of_blades)
+    try:
+        res = simulate_turbine(model, wind, args.tmax, controller=discon_in_loop(handle, model=model),
+                               x0=_initial_state(model, d, wind))
+    finally:
+        handle.close()
+    names, y = list(res.output_names), np.asarray(res.y)
+    return {"Time": np.asarray(res.t)} | {n: y[:, names.index(n)] for n in CHANNELS}
 
 
 def metrics(s: dict[str, np.ndarray], settle: float, rated_rpm: float) -> dict[str, float]:
