@@ -150,9 +150,9 @@ def run_ours(name: str, solver: str, steps: int | None = None) -> dict:
 
 
 # ------------------------------------------------------------------ acados (worker)
-def run_acados(name: str, steps: int | None = None) -> dict:
-    """The same discrete OCP in acados SQP-RTI (runs inside a Python that has an acados interface)."""
-    import casadi as ca
+def acados_classes():
+    """``(AcadosModel, AcadosOcp, AcadosOcpSolver)`` of an installed acados Python interface (the package
+    ``comma-deps-acados``: a symlinked ``ACADOS_SOURCE_DIR`` layout and its libraries preloaded)."""
     import acados
     root = Path(tempfile.mkdtemp(prefix="acados_root_"))
     (root / "interfaces" / "acados_template").mkdir(parents=True)
@@ -164,11 +164,16 @@ def run_acados(name: str, steps: int | None = None) -> dict:
     for lib in ("libblasfeo.so", "libhpipm.so", "libqpOASES_e.so.3.1"):     # libacados finds them loaded
         ctypes.CDLL(str(Path(acados.DIR) / "lib" / lib), mode=ctypes.RTLD_GLOBAL)
     from acados.acados_template import AcadosModel, AcadosOcp, AcadosOcpSolver
+    return AcadosModel, AcadosOcp, AcadosOcpSolver
 
-    dyn, ocp_desc, x0, n_steps, preview, wind = case(name)
-    n_steps = steps or n_steps
-    t0 = time.perf_counter()
-    tr = ocp_desc.transcribe()
+
+def acados_solver(tr, dyn, x_aug: np.ndarray, name: str, *, discrete: bool = False):
+    """acados SQP-RTI (Gauss–Newton, partial-condensing HPIPM) of a transcribed OCP ``tr`` of ``dyn``: our
+    residuals as ``NONLINEAR_LS``, our constraints as ``BGH``; the dynamics our stage map (``DISCRETE``, always
+    with rate controls) or acados' own RK4 with forward sensitivities and the same sub-steps."""
+    import casadi as ca
+    AcadosModel, AcadosOcp, AcadosOcpSolver = acados_classes()
+    root = Path(os.environ["ACADOS_SOURCE_DIR"])
     P = tr.problem
     x, u = ca.SX.sym("x", P.n_x), ca.SX.sym("u", P.n_u)
     d, p = ca.SX.sym("d", P.n_d), ca.SX.sym("p", P.n_p)
@@ -182,7 +187,7 @@ def run_acados(name: str, steps: int | None = None) -> dict:
     oc.model = m
     oc.dims.N = P.N
     oc.solver_options.tf = P.N * tr.dt
-    if tr.rate_controls or tr.discretization.method != "rk4":
+    if discrete or tr.rate_controls or tr.discretization.method != "rk4":
         m.disc_dyn_expr = f                            # our stage map as it is (augmented states)
         oc.solver_options.integrator_type = "DISCRETE"
     else:                                              # acados' own RK4 with forward sensitivities
@@ -207,10 +212,22 @@ def run_acados(name: str, steps: int | None = None) -> dict:
     if c.numel():
         m.con_h_expr = c
         oc.constraints.lh, oc.constraints.uh = P.lbc, P.ubc
-    oc.constraints.x0 = tr.augmented_state(x0, [x0[4], TORQUE_RATED] if name == "rotor_tower" else [0.0])
+    oc.constraints.x0 = x_aug
     oc.parameter_values = np.zeros(P.n_d + P.n_p)
     oc.code_export_directory = str(root / "c_generated")
-    solver = AcadosOcpSolver(oc, json_file=str(root / "ocp.json"), verbose=False)
+    return AcadosOcpSolver(oc, json_file=str(root / "ocp.json"), verbose=False)
+
+
+def run_acados(name: str, steps: int | None = None) -> dict:
+    """The same discrete OCP in acados SQP-RTI (runs inside a Python that has an acados interface)."""
+    dyn, ocp_desc, x0, n_steps, preview, wind = case(name)
+    n_steps = steps or n_steps
+    t0 = time.perf_counter()
+    tr = ocp_desc.transcribe()
+    P = tr.problem
+    nc = tr.n_controls
+    solver = acados_solver(tr, dyn, tr.augmented_state(x0, [x0[4], TORQUE_RATED] if name == "rotor_tower"
+                                                        else [0.0]), name)
     build = time.perf_counter() - t0
     pv = dyn.parameter_vector()
     u_prev = np.array([x0[4], TORQUE_RATED]) if name == "rotor_tower" else np.zeros(1)
