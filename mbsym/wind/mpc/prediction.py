@@ -26,8 +26,9 @@ from the **same CasADi graph** (nothing is derived again):
 **A floating plant** (``OperatingTurbine(..., platform=...)``): the default DOFs add the platform's
 surge and pitch (:data:`FLOATING_PREDICTION_DOFS`), with the platform as a controller holds it
 (``FloatingPlatform.for_prediction``: hydrostatics, A∞, HydroDyn's additional loads and the
-quasi-static mooring, no radiation states, no line drag); the sea's inputs are zero in both forms
-(the waves are a disturbance the estimator sees through the measurements).
+quasi-static mooring, no radiation states, no line drag); the sea's inputs are zero in the control
+form (the waves are a disturbance it does not preview), and the estimation form takes the waves' loads
+on its platform DOFs as inputs for an estimator to estimate.
 
 The rotor azimuth ``GeAz`` is dropped from both: the rotor's loads are azimuth-averaged and its
 inertia axisymmetric, so no right-hand side depends on it (checked at construction).
@@ -71,7 +72,8 @@ class PredictionModel:
         ElastoDyn DOF flags of the prediction model (must include ``GenDOF``); default
         :data:`PREDICTION_DOFS`, for a floating plant :data:`FLOATING_PREDICTION_DOFS`.
     dynamic_inflow : bool, optional, keyword-only
-        Keep the plant's dynamic inflow (default: as the plant).
+        Keep the plant's dynamic inflow (default: as the plant). The rotor disk's across-shaft terms
+        (``disk_moments``) are the plant's.
     p : dict, optional, keyword-only
         Parameter values by name (those the reduced model has; e.g. the plant's own values).
 
