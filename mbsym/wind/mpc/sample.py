@@ -162,18 +162,15 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     UnsupportedFeatureError
         An estimator with more measurements than :data:`~.estimator.ESTIMATOR_MEASUREMENTS` (floating).
     """
-    from .estimator import TurbineEstimator
+    from ...exceptions import UnsupportedFeatureError
+    from .estimator import ESTIMATOR_MEASUREMENTS, TurbineEstimator
     from .nmpc import TurbineNMPC
 
     if not isinstance(nmpc, TurbineNMPC):
         raise TypeError(f"nmpc must be a TurbineNMPC; got {type(nmpc).__name__}.")
     if not isinstance(estimator, TurbineEstimator):
         raise TypeError(f"estimator must be a TurbineEstimator; got {type(estimator).__name__}.")
-    from .estimator import ESTIMATOR_MEASUREMENTS
-
-    if isinstance(estimator, TurbineEstimator) and tuple(estimator.measurements) != ESTIMATOR_MEASUREMENTS:
-        from ...exceptions import UnsupportedFeatureError
-
+    if tuple(estimator.measurements) != ESTIMATOR_MEASUREMENTS:
         raise UnsupportedFeatureError(f"the sampled loop (the exported NMPC) reads {list(ESTIMATOR_MEASUREMENTS)}; this "
                                       f"estimator measures {list(estimator.measurements)} (a floating platform's "
                                       "estimator). Run the floating NMPC in mbsym (mbsym simulate DECK --controller "
