@@ -4,6 +4,7 @@ Contract (kept for acceptance checks)::
 
     mbsym export-discon [DECK] --controller baseline|nmpc [--estimator ekf|mhe] --out DIR
                         [--discon-input DISCON.IN] [--sample-time S] [--name NAME] [--initial-wind V]
+                        [--preview auto|lidar|none]
 
 writes the library ``DIR/NAME.so`` and its input file ``DIR/NAME.IN`` (with the C sources in
 ``DIR/src``) and prints one JSON object on its last line: ``{"library": "<path>.so", "input":
@@ -30,6 +31,11 @@ TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsio
 A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
 ``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py). ``--estimator mhe``
 is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
+
+``--preview`` (nmpc): ``lidar`` reads the deck's single-point lidar (InflowWind ``SensorType = 1``) from
+OpenFAST's extended swap records and previews the wind over the NMPC's horizon
+(:mod:`mbsym.wind.mpc.lidar_preview`; OpenFAST v5 always fills those records: its ServoDyn hard-codes
+``EXavrSWAP = True``). ``auto`` (the default) does so when the deck has a lidar, ``none`` never.
 """
 
 from __future__ import annotations
@@ -61,6 +67,9 @@ def add_parser(sub) -> None:
     p.add_argument("--initial-wind", type=float, metavar="V",
                    help="nmpc: wind [m/s] of the steady operation the EKF starts from (default: the hub wind "
                         "measured at the first sample, swap record 27)")
+    p.add_argument("--preview", choices=("auto", "lidar", "none"), default="auto",
+                   help="nmpc: preview the wind from the deck's single-point lidar (InflowWind SensorType 1); "
+                        "auto (default): when the deck has one")
 
 
 def run(args) -> int:
@@ -139,12 +148,31 @@ def _run_nmpc(args) -> int:
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
+    preview = _preview(args, deck)
     out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon",
-                             initial=initial)
+                             initial=initial, preview=preview)
     print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "
           f"DLL_InFile \"{out['input']}\", DLL_DT a divisor of {baseline.dt:g} s, PCMode 5, VSContrl 5")
     print(json.dumps(out))
     return 0
+
+
+def _preview(args, deck):
+    """The lidar preview's settings (``--preview``), or None."""
+    from ..exceptions import OptionError
+    from ..wind.mpc.lidar_preview import PreviewSettings
+
+    choice = getattr(args, "preview", "auto")
+    lidar = getattr(deck.inflow, "lidar", None) if deck.inflow is not None else None
+    if choice == "none" or (choice == "auto" and lidar is None):
+        return None
+    if lidar is None:
+        raise OptionError("--preview lidar: the deck's InflowWind has no single-point lidar (SensorType = 1, "
+                          "NumBeam, FocalDistanceX/Y/Z). Add one, or use --preview none.")
+    settings = PreviewSettings.for_lidar(lidar)
+    print(f"mbsym export-discon: lidar preview: {lidar.n_beams} beams {settings.distance:g} m upstream, every NMPC "
+          f"sample (moving average {settings.window:g} s)")
+    return settings
 
 
 def full_field_wind(deck) -> bool:

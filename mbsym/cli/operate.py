@@ -366,8 +366,35 @@ def _controller(kind, args, deck):
     if deck.path is None and args.discon_input is None:
         print(f"wrote the built-in NREL 5 MW controller input (ROSCO 2.10.6 settings) to {infile} and "
               f"{infile.parent / 'Cp_Ct_Cq.txt'}; the library reads them", flush=True)
-    handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades)
+    handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades,
+                              lidar=deck_lidar(deck))
     return discon_in_loop(handle), handle
+
+
+def deck_lidar(deck):
+    """The deck's single-point lidar as a DISCON caller's measurement (``t -> (speeds, positions)``), or None.
+
+    The lidar sits at the hub's initial position (ElastoDyn: ``OverHang`` along the tilted shaft from the yaw
+    axis, at the hub height, turned by the initial nacelle yaw); with ``ConsiderHubMotion = 1`` a
+    :class:`~mbsym.exceptions.ModelWarning` says that the hub's displacement is not added.
+    """
+    import math
+    import warnings
+
+    from ..exceptions import ModelWarning
+    from ..wind.inflow.lidar import lidar_measurements
+
+    lidar = getattr(deck.inflow, "lidar", None) if deck.inflow is not None else None
+    if lidar is None:
+        return None
+    t = deck.turbine
+    x, yaw = t.overhang * math.cos(t.shaft_tilt), t.initial_conditions.nacelle_yaw
+    hub = (x * math.cos(yaw), x * math.sin(yaw), t.hub_height)
+    if lidar.hub_motion:
+        warnings.warn(f"{deck.inflow.path}: ConsiderHubMotion = 1: mbsym measures the lidar from the hub's initial "
+                      "position (the hub's displacement, well under a metre, against focal distances of "
+                      f"{lidar.upstream_distance:g} m, is not added).", ModelWarning, stacklevel=2)
+    return lidar_measurements(lidar, deck.inflow.field(), hub)
 
 
 def output_folder(args) -> Path:

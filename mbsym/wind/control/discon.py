@@ -53,6 +53,7 @@ from typing import Mapping
 import numpy as np
 
 from ...exceptions import ControllerError, ParameterError
+from ..inflow.lidar import lidar_records
 from .swap import (COLLECTIVE_PITCH_RECORD, COMMAND_RECORDS, CONSTANT_RECORDS, MEASUREMENT_RECORDS, SWAP_SIZE,
                    fill_constants)
 
@@ -195,6 +196,10 @@ class DisconController:
         Load a private copy so instances do not share state (default; see above).
     quiet : bool, optional
         Capture the library's console output at the initialization and final calls.
+    lidar : callable, optional
+        ``t -> (speeds, positions)``: a single-point lidar's measurement at each call
+        (:func:`mbsym.wind.inflow.lidar_measurements`), written to the extended records 2001… as
+        OpenFAST's ServoDyn writes them (:func:`mbsym.wind.inflow.lidar_records`).
 
     Attributes
     ----------
@@ -223,8 +228,13 @@ class DisconController:
 
     def __init__(self, library, input_file, *, dt: float, n_blades: int = 3, individual_pitch: bool = True,
                  constants: Mapping[str, float] | None = None, torque_table=None, procedure: str = "DISCON",
-                 run_name: str = "mbsym.SrvD", private_copy: bool = True, quiet: bool = True) -> None:
+                 run_name: str = "mbsym.SrvD", private_copy: bool = True, quiet: bool = True,
+                 lidar=None) -> None:
         self._handle = None
+        if lidar is not None and not callable(lidar):
+            raise ParameterError(f"lidar must be a callable t -> (speeds, positions) (mbsym.wind.inflow."
+                                 f"lidar_measurements); got {type(lidar).__name__}.")
+        self.lidar = lidar
         path = Path(library)
         if not path.is_file():
             raise ControllerError(f"DISCON library not found: tried '{path.absolute()}'. Check the path (ServoDyn's "
@@ -308,6 +318,9 @@ class DisconController:
         if handle.finished:
             raise ControllerError(f"the DISCON controller {self.library.name} has been finished; create a new one.")
         self._write(handle.swap, float(t), measurements)
+        if self.lidar is not None:
+            for record, value in lidar_records(*self.lidar(float(t))).items():
+                handle.swap[record - 1] = value
         first = not handle.started
         handle.swap[0] = 0.0 if first else 1.0
         with _captured_stdout(self.quiet and first) as text:

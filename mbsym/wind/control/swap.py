@@ -24,8 +24,10 @@ demand 47, yaw rate demand 48, generator contactor 35, brake flag 36, and the
 override flags 55, 56 (which must stay 0).
 
 The extended interface of OpenFAST ≥ 3.5 (records 1001-1018: platform motions,
-read by ROSCO when ``Ext_Interface = 1``) is left at zero: the array is allocated
-with :data:`SWAP_SIZE` records so such a library never reads past its end.
+read by ROSCO when ``Ext_Interface = 1``) is left at zero, except for a single-point
+lidar's records 2001… when the caller has one (:func:`mbsym.wind.inflow.lidar_records`);
+the array is allocated with :data:`SWAP_SIZE` records so such a library never reads
+past its end.
 """
 
 from __future__ import annotations

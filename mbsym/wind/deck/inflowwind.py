@@ -3,12 +3,13 @@
 Supported: ``WindType = 1`` (steady: ``HWindSpeed``, ``RefHt``, ``PLexp``), ``WindType = 2``
 (uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``) and ``WindType = 3`` (TurbSim
 binary full field ``FileName_BTS``), with ``PropagationDir`` and ``VFlowAng``; the other types
-(Bladed 4 and 7, HAWC 5, user 6) and lidar sensors (``SensorType`` other than 0) raise with the file,
-line and key. The files named by ``Filename_Uni`` and ``FileName_BTS`` are resolved relative to the
+(Bladed 4 and 7, HAWC 5, user 6) and the continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise
+with the file, line and key; the single-point lidar (``SensorType = 1``) is read into
+:attr:`InflowWindSettings.lidar` (:class:`~mbsym.wind.inflow.PointLidar`). The files named by ``Filename_Uni`` and ``FileName_BTS`` are resolved relative to the
 InflowWind file, as InflowWind does (absolute paths are used as they are). ``VelInterpCubic = True``
 is read but refused when the spatial field is requested (:meth:`InflowWindSettings.field`: mbsym
 interpolates linearly in time). Keys not used here (output points ``WindV*List``, the Bladed and
-HAWC sections, lidar details, ``OutList``) are kept, as text, in ``extra``.
+HAWC sections, the unused lidar keys, ``OutList``) are kept, as text, in ``extra``.
 
 :meth:`InflowWindSettings.wind` gives the hub-height wind signal (types 1 and 2, as before);
 :meth:`InflowWindSettings.field` the spatial description (:class:`~mbsym.wind.inflow.UniformFieldWind`
@@ -47,7 +48,19 @@ _KEYS = (
     _k("RefLength", "uniform_reference_length", default=None),
     _k("FileName_BTS", "full_field_file_name", "str", default=""),
     _k("SensorType", "lidar_sensor_type", "int",
-       check=(lambda v: v == 0, "must be 0 (no lidar): mbsym does not model InflowWind's lidar sensors"), default=0),
+       check=(lambda v: v in (0, 1), "must be 0 (no lidar) or 1 (single-point beams): mbsym does not model "
+              "InflowWind's continuous-wave (2) or pulsed (3) lidars"), default=0),
+)
+#: The single-point lidar's keys (read when ``SensorType = 1``; ``NumPulseGate``, ``PulseSpacing``,
+#: ``URefLid`` and ``LidRadialVel`` are not used by that sensor in InflowWind, so not read).
+_LIDAR_KEYS = (
+    _k("NumBeam", "n_beams", "int", check=(lambda v: 1 <= v <= 5, "must be 1 to 5 beams for SensorType = 1")),
+    _k("FocalDistanceX", "x", "floats"),
+    _k("FocalDistanceY", "y", "floats"),
+    _k("FocalDistanceZ", "z", "floats"),
+    _k("RotorApexOffsetPos", "apex", "floats"),
+    _k("MeasurementInterval", "interval", check=(lambda v: v > 0, "must be a time > 0 [s]")),
+    _k("ConsiderHubMotion", "hub_motion", "int", check=(lambda v: v in (0, 1), "must be 0 or 1")),
 )
 #: InflowWind key → :class:`InflowWindSettings` attribute (angles deg → rad).
 INFLOWWIND_KEYS = {k.key: k.attr for k in _KEYS}
@@ -74,7 +87,9 @@ class InflowWindSettings:
     full_field_file : Path or None
         ``FileName_BTS`` resolved against the InflowWind file's directory (type 3); None if absent.
     lidar_sensor_type : int
-        ``SensorType`` (always 0: lidar is refused).
+        ``SensorType`` (0 none, 1 single-point beams; 2 and 3 are refused).
+    lidar : PointLidar or None
+        The single-point lidar of ``SensorType = 1`` (:class:`~mbsym.wind.inflow.PointLidar`).
     path : str
         The InflowWind file.
     extra : dict
@@ -96,6 +111,7 @@ class InflowWindSettings:
     full_field_file: Path | None
     lidar_sensor_type: int
     path: str
+    lidar: object = None
     extra: dict = field(default_factory=dict, compare=False)
     lines: dict = field(default_factory=dict, compare=False)
 
@@ -232,9 +248,28 @@ def read_inflowwind(path) -> InflowWindSettings:
         deck.raise_problems()
     uniform = _resolve_wind_file(p, values["uniform_file_name"])
     full = _resolve_wind_file(p, values["full_field_file_name"])
-    lines = {k.key: deck.line_of(k.key) for k in _KEYS if k.key.lower() in deck.entries}
+    lidar = _read_lidar(deck) if values["lidar_sensor_type"] == 1 else None
+    keys = _KEYS + (_LIDAR_KEYS if lidar is not None else ())
+    lines = {k.key: deck.line_of(k.key) for k in keys if k.key.lower() in deck.entries}
     return InflowWindSettings(**values, uniform_file=uniform, full_field_file=full, path=str(p), extra=deck.extra(),
-                              lines=lines)
+                              lines=lines, lidar=lidar)
+
+
+def _read_lidar(deck: _Deck):
+    """The single-point lidar of ``SensorType = 1`` (file, line and key in every error)."""
+    from ..inflow import PointLidar
+
+    v = _read_keys(deck, _LIDAR_KEYS)
+    deck.raise_problems()
+    n = v["n_beams"]
+    for key, attr, size in (("FocalDistanceX", "x", n), ("FocalDistanceY", "y", n), ("FocalDistanceZ", "z", n),
+                            ("RotorApexOffsetPos", "apex", 3)):
+        if len(v[attr]) < size:
+            deck.problem(deck.line_of(key), key, f"needs {size} values (NumBeam = {n}); got {len(v[attr])}. "
+                         "Give one value per beam.")
+    deck.raise_problems()
+    focal = np.column_stack([np.asarray(v[a][:n], dtype=float) for a in ("x", "y", "z")])
+    return PointLidar(focal, np.asarray(v["apex"][:3], dtype=float), v["interval"], bool(v["hub_motion"]))
 
 
 def deck_inflowwind(fst) -> InflowWindSettings | None:

@@ -12,7 +12,8 @@
   :class:`FullFieldWind` (TurbSim ``.bts`` grids, :func:`read_turbsim_bts`; a CasADi External through
   :meth:`FullFieldWind.casadi_function`) and :class:`UniformFieldWind` (steady and uniform-file wind,
   :func:`uniform_velocity_expr` in CasADi);
-- :mod:`.rotor`: :func:`rotor_effective_wind`, disk averages and linear shears of a field (docs/inflow.md).
+- :mod:`.rotor`: :func:`rotor_effective_wind`, disk averages and linear shears of a field (docs/inflow.md);
+- :mod:`.lidar`: :class:`PointLidar`, InflowWind's single-point lidar (speeds at focal points upstream).
 
 Example
 -------
@@ -33,6 +34,7 @@ from .spec import WIND_SPEC_FORMS, parse_wind_spec
 from .uniform import COLUMN_NAMES, POWER_LAW_MIN_HEIGHT, UniformFieldWind, uniform_velocity_expr
 from .rotor import DEFAULT_REFERENCE, disk_points, rotor_effective_wind
 from .turbsim import TURBSIM_FILE_IDS, read_turbsim_bts, write_turbsim_bts
+from .lidar import LIDAR_RECORD_START, PointLidar, lidar_records
 
 __all__ = [
     "WindSignal", "SteadyWind", "StepWind", "RampWind", "ExtremeOperatingGust", "TabulatedWind", "iec_gust_speed",
@@ -42,4 +44,5 @@ __all__ = [
     "FullFieldWind", "rotation_to_wind", "GRID_TOLERANCE", "read_turbsim_bts", "write_turbsim_bts", "TURBSIM_FILE_IDS",
     "UniformFieldWind", "uniform_velocity_expr", "COLUMN_NAMES", "POWER_LAW_MIN_HEIGHT",
     "rotor_effective_wind", "disk_points", "DEFAULT_REFERENCE",
+    "PointLidar", "LIDAR_RECORD_START", "lidar_records",
 ]

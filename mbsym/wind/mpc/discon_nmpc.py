@@ -33,6 +33,12 @@ QP's constraints by more than :data:`~.sample.QP_ACCEPT` relative): the baseline
 are applied until the next NMPC sample, which starts again with the start-up iterations; each
 failure is counted and reported through ``aviFAIL = 1`` and ``avcMSG``; the host is never stopped.
 
+**Lidar preview** (``preview``, :mod:`.lidar_preview`): at every NMPC sample the library reads a
+single-point lidar from OpenFAST's extended records (129 the array size, 2001 sensor type 1, 2002
+the beams, 2005… their speeds; InflowWind ``SensorType = 1``: OpenFAST v5's ServoDyn always fills them)
+and gives the NMPC the stage winds of :class:`~.lidar_preview.LidarPreview`. Without those records
+it says so once (``aviFAIL = 1``) and holds the estimate over the horizon.
+
 **Input file**: ``Controller`` (``nmpc``), ``SampleTime`` [s] and ``Fingerprint``, checked as for
 the baseline export; the horizon, sample times, cost scales and limits compiled into the library
 are listed in it as comments (changing them means exporting again).
@@ -50,6 +56,7 @@ import numpy as np
 from ...exceptions import ControllerError
 from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
 from ..control.swap import MEASUREMENT_RECORDS
+from .lidar_preview import preview_c
 from .sample import QP_ACCEPT, sample_functions
 
 __all__ = ["NMPC_PART", "NMPC_RECORDS", "export_nmpc_discon"]
@@ -86,6 +93,7 @@ static casadi_int niw[{n_iw}];
 static double nw[{n_w_work}];
 
 static double clip(double v, double lo, double hi) {{ return v < lo ? lo : (v > hi ? hi : v); }}
+{preview}
 
 static void nmpc_start(void)
 {{
@@ -96,6 +104,9 @@ static void nmpc_start(void)
     k_loop = n_acc = fallbacks = 0;
     have_plan = nmpc_on = 0;
     init_call = 1;
+#if PV_ON
+    pv_reset();
+#endif
 }}
 
 static int all_finite(const double *v, int n)
@@ -121,7 +132,7 @@ static void estimator_restart(const float *swap)
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
     double yv[2], mean[2], flag, pitch, torque, el, since;
-    int r, warn = 0;
+    int r, warn = 0, note = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
     if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
         init_call = 0;
@@ -160,13 +171,31 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
         }}
         acc[0] = acc[1] = 0.0; n_acc = 0;
     }}
+#if PV_ON
+    if (k_loop % KN == 0) {{                /* the lidar's sample and the stage winds (after the EKF) */
+        if (pv_push(swap, (double)k_loop * SAMPLE_TIME) && !pv_missing) {{
+            pv_missing = 1;
+            note = 1;
+            snprintf(err, n_err, "no single-point lidar of %d beams in the extended swap records (2001: 1, 2002: %d; "
+                     "InflowWind SensorType = 1 and NumBeam) at t = %g s: the NMPC holds the estimated "
+                     "wind over its horizon", PV_NB, PV_NB, t);
+        }}
+        pv_horizon((double)k_loop * SAMPLE_TIME, z[NZ - 1]);
+    }}
+#endif
     if (k_loop % KN == 0 && !warn) {{
         nres[0] = plan_next; nres[1] = rates; nres[2] = &viol;
         if (have_plan) {{
             narg[0] = plan; narg[1] = z; narg[2] = &pitch; narg[3] = &torque;
+#if PV_ON
+            narg[4] = windv;
+#endif
             r = nmpc_rti(narg, nres, niw, nw, 0);
         }} else {{
             narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
+#if PV_ON
+            narg[3] = windv;
+#endif
             r = nmpc_startup(narg, nres, niw, nw, 0);
         }}
         if (r == 0 && all_finite(plan_next, NW) && all_finite(rates, 2) && viol <= QP_ACCEPT) {{
@@ -192,7 +221,7 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
         cmd[1] = clip(ramp0[1] + rate[1] * (el + LEAD[1]), LIMITS[2], LIMITS[3]);
     }} else {{ cmd[0] = held[0]; cmd[1] = held[N_U - 1]; }}
     ++k_loop;
-    return warn;
+    return warn || note;
 }}
 
 static void nmpc_write(float *swap)
@@ -213,7 +242,7 @@ def _floats(values) -> str:
 
 
 def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, name: str = "nmpc_discon",
-                       compiler: str | None = None, initial: str = "hub-wind") -> dict:
+                       compiler: str | None = None, initial: str = "hub-wind", preview=None) -> dict:
     """Compile the NMPC with its EKF (and the baseline as its fallback) into a ``DISCON`` library.
 
     Parameters
@@ -235,6 +264,9 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     initial : {"hub-wind", "fixed"}, keyword-only
         How the EKF starts and restarts: steady operation at the measured hub wind (record 27; the
         default) or the estimator's own prior (:mod:`.sample`).
+    preview : PreviewSettings, optional, keyword-only
+        Read a single-point lidar from the extended swap records and give the NMPC its preview
+        (:mod:`.lidar_preview`; default None: the estimated wind held over the horizon).
 
     Returns
     -------
@@ -258,11 +290,11 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     if not math.isclose(baseline.dt, loop_dt, rel_tol=1e-12) or baseline.ipc:
         raise ControllerError(f"the fallback baseline must run at the loop sample time {loop_dt:g} s without IPC; "
                               f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
-    fns = sample_functions(nmpc, estimator, loop_dt, initial=initial, settings=baseline.settings)
+    fns = sample_functions(nmpc, estimator, loop_dt, initial=initial, settings=baseline.settings, preview=preview)
     cc, out = prepare_export(name, compiler, out_dir, "exporting the NMPC")
     gen = (fns.ekf, fns.startup, fns.rti, fns.init)
     fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
-                                          repr(float(loop_dt)), initial]).encode()).hexdigest()[:16]
+                                          repr(float(loop_dt)), initial, repr(preview)]).encode()).hexdigest()[:16]
     law, _ = _write_sources(baseline, out / "src", name, fingerprint)
     cg = ca.CodeGenerator(f"{name}_nmpc.c", {"with_header": False, "with_export": False,
                                              "casadi_int": "long long int", "casadi_real": "double"})
@@ -302,7 +334,8 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
                 wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
                 n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
-                n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1))
+                n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1),
+                preview=preview_c(fns.preview, fns.nmpc_dt, fns.horizon))
     entry = ENTRY.replace("{start}", "nmpc_start();").replace("{sample}", "nmpc_sample").replace("{write}",
                                                                                                  "nmpc_write")
     return (HEAD + LAW + CHECK).format(**common) + NMPC_PART.format(**nmpc) + entry.format(**common)
@@ -335,6 +368,10 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
                                          f"fixed prior at {fns.z0[-1]:g} m/s")
         + f"; restarted when its wind leaves [{fns.wind_range[0]:g}, {fns.wind_range[1]:g}] m/s",
         f"!   fallback: baseline controller from {baseline.settings.source or 'settings given in Python'}",
+        "!   preview: " + ("none (the estimated wind held over the horizon)" if fns.preview is None else
+                           f"single-point lidar, {fns.preview.n_beams} beams {fns.preview.distance:g} m upstream "
+                           f"(records 2001-{2004 + 4 * fns.preview.n_beams}), moving average {fns.preview.window:g} s, "
+                           f"advection filter {fns.preview.advection_time:g} s"),
         "! measurements (swap records): " + ", ".join(f"{m} ({r})" for m, r in NMPC_RECORDS.items())
         + "; baseline: " + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in baseline.measurements),
     ]

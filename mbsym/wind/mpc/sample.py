@@ -56,6 +56,7 @@ import numpy as np
 
 from ...exceptions import ControlDefinitionError
 from .estimator import control_values
+from .lidar_preview import LidarPreview, PreviewSettings
 
 __all__ = ["QP_ACCEPT", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
            "sample_functions"]
@@ -84,6 +85,13 @@ class SampleFunctions:
         How the estimator starts and restarts (module docstring).
     wind_range : tuple of float
         Winds [m/s] beyond which an estimate restarts the estimator.
+    preview : PreviewSettings or None
+        With a lidar preview (:mod:`.lidar_preview`), ``rti`` and ``startup`` take the stage winds
+        ``wind`` (N + 1) [m/s] as their last input.
+    nmpc_dt : float
+        NMPC sample time [s].
+    horizon : int
+        NMPC stages N.
     n_w : int
         Length of the plan ``w``.
     loop_dt : float
@@ -110,6 +118,9 @@ class SampleFunctions:
     init: ca.Function
     initial: str
     wind_range: tuple
+    preview: object = None
+    nmpc_dt: float = 0.0
+    horizon: int = 0
 
     def restart(self, hub_wind: float | None) -> np.ndarray:
         """The estimate the estimator (re)starts from at the measured hub wind [m/s] (``initial="hub-wind"``)."""
@@ -136,7 +147,7 @@ def _multiple(period: float, base: float, what: str) -> int:
 
 
 def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-wind",
-                     settings=None) -> SampleFunctions:
+                     settings=None, preview=None) -> SampleFunctions:
     """The fixed-work Functions of ``nmpc`` with ``estimator`` (module docstring).
 
     Parameters
@@ -152,6 +163,9 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         How the estimator starts and restarts (module docstring; default ``"hub-wind"``).
     settings : BaselineSettings, optional, keyword-only
         The controller's targets for the steady estimates of ``init`` (default the built-in NREL 5 MW's).
+    preview : PreviewSettings, optional, keyword-only
+        A lidar preview (:mod:`.lidar_preview`): the stage winds become an input of ``rti`` and
+        ``startup`` (default None: the estimated wind held over the horizon).
 
     Raises
     ------
@@ -192,8 +206,13 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     pred = nmpc.prediction
     grid = np.asarray(nmpc.references.winds, dtype=float)
     init = _init_function(estimator, grid, settings)
-    return SampleFunctions(ekf=_ekf_function(estimator), rti=_rti_function(nmpc, estimator, startup=False),
-                           startup=_rti_function(nmpc, estimator, startup=True), z0=np.array(f.x, dtype=float),
+    if preview is not None and not isinstance(preview, PreviewSettings):
+        raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
+    on = preview is not None
+    return SampleFunctions(ekf=_ekf_function(estimator), rti=_rti_function(nmpc, estimator, startup=False, preview=on),
+                           startup=_rti_function(nmpc, estimator, startup=True, preview=on),
+                           preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
+                           z0=np.array(f.x, dtype=float),
                            P0=np.array(f.P, dtype=float), n_w=nmpc.nmpc.transcription.problem.layout.n_w,
                            loop_dt=float(loop_dt), ke=ke, kn=kn, lead=tuple(float(v) for v in pred._lead),
                            limits=tuple(tuple(float(v) for v in b) for b in pred._demand_limits), init=init,
@@ -248,8 +267,9 @@ def _solve_small(S: ca.MX, B: ca.MX) -> ca.MX:
     return solve(S, B)
 
 
-def _rti_function(nmpc, estimator, *, startup: bool) -> ca.Function:
-    """``(w, z, pitch, torque) -> (w, rates, violation)`` (``startup``: ``(z, pitch, torque) -> ...``)."""
+def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False) -> ca.Function:
+    """``(w, z, pitch, torque) -> (w, rates, violation)`` (``startup``: ``(z, pitch, torque) -> ...``; with
+    ``preview`` a last input ``wind``, the stage winds)."""
     from ...control.nlp import split_w
     from ...control.qp import conic, preparation_function
 
@@ -268,7 +288,13 @@ def _rti_function(nmpc, estimator, *, startup: bool) -> ca.Function:
     z, pitch, torque = ca.MX.sym("z", len(estimator.names)), ca.MX.sym("pitch"), ca.MX.sym("torque")
     x0 = ca.vertcat(*control_values(estimator.names, z, pitch, torque, tr.dynamics.states,
                                     estimator.rigid_speed_weight))
-    D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
+    if preview:
+        wind = ca.MX.sym("wind", P.N + 1)
+        ws = ca.MX.sym("ws")
+        column = ca.Function("stage_column", [ws], [_stage_column(nmpc, ws)])
+        D = column.map(P.N + 1)(wind.T)
+    else:
+        D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
 
     def gn_step(w):
         H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
@@ -293,6 +319,8 @@ def _rti_function(nmpc, estimator, *, startup: bool) -> ca.Function:
         w_in = ca.MX.sym("w", L.n_w)
         w, viol = gn_step(w_in)
         ins, names = [w_in, z, pitch, torque], ["w", "z", "pitch", "torque"]
+    if preview:
+        ins, names = ins + [wind], names + ["wind"]
     X, U, xN = split_w(P, w)
     rates = ca.fmin(ca.fmax(U[:nc, 0], ca.DM(P.lbu[:nc])), ca.DM(P.ubu[:nc]))
     Xs = ca.horzcat(X[:, 1:], xN, xN) if P.N > 1 else ca.horzcat(xN, xN)
@@ -355,13 +383,17 @@ class SampledLoop:
         self._anchor = None
         self.rti_walls: list[float] = []
         self.restarts: list[float] = []
+        self.preview = None if functions.preview is None else LidarPreview(
+            functions.preview, functions.nmpc_dt, functions.horizon, functions.wind_range)
+        self.stage_winds: np.ndarray | None = None
 
     def step(self, t: float, gen_speed_rpm: float, accel: float, pitch: float, torque: float,
-             hub_wind: float | None = None) -> tuple[float, float] | None:
+             hub_wind: float | None = None, lidar=None) -> tuple[float, float] | None:
         """Pitch [rad] and torque [N m] demands at loop sample ``t`` [s] from the measurements.
 
         ``hub_wind`` [m/s]: the measured hub wind, read where the estimator starts or restarts
-        (``initial="hub-wind"``). ``None`` where the library applies its baseline's commands: from
+        (``initial="hub-wind"``). ``lidar``: the beams' speeds [m/s] (with a preview; None: no
+        measurement this sample). ``None`` where the library applies its baseline's commands: from
         a restart of the estimator (:attr:`restarts`) to the next NMPC sample.
         """
         import time
@@ -384,9 +416,16 @@ class SampledLoop:
                 self.w = self._anchor = None
                 self.restarts.append(t)
                 restarted = True
+        extra = []
+        if self.preview is not None and k % f.kn == 0:     # the library's clock: k loop samples from 0
+            if lidar is not None:
+                self.preview.push(k * f.loop_dt, lidar)
+            self.stage_winds = self.preview.horizon(k * f.loop_dt, float(self.z[-1]))
+            extra = [self.stage_winds]
         if k % f.kn == 0 and not restarted:
             c0 = time.perf_counter()
-            out = f.startup(self.z, pitch, torque) if self.w is None else f.rti(self.w, self.z, pitch, torque)
+            out = f.startup(self.z, pitch, torque, *extra) if self.w is None else \
+                f.rti(self.w, self.z, pitch, torque, *extra)
             self.rti_walls.append(time.perf_counter() - c0)
             w, rates, viol = (np.asarray(v).ravel() for v in out)
             if not (np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT):
