@@ -150,7 +150,7 @@ def run_operation(args: argparse.Namespace) -> int:
                                                  (mpc.estimator or "").upper()) if x)
             print(f"mbsym simulate: preparing the {parts} (models, reference table, solvers): about 3 s, more when "
                   "solver libraries compile (said below)", file=sys.stderr, flush=True)
-        loop = mpc.loop(deck, model, wind) if mpc.active else None
+        loop = mpc.loop(deck, model, wind, lidar=run_lidar(args, deck)) if mpc.active else None
         if loop is not None:                 # the solvers' libraries compile in the background: say so, wait
             from ..codegen_async import wait_for_compilations
 
@@ -367,34 +367,26 @@ def _controller(kind, args, deck):
         print(f"wrote the built-in NREL 5 MW controller input (ROSCO 2.10.6 settings) to {infile} and "
               f"{infile.parent / 'Cp_Ct_Cq.txt'}; the library reads them", flush=True)
     handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades,
-                              lidar=deck_lidar(deck))
+                              lidar=run_lidar(args, deck))
     return discon_in_loop(handle), handle
 
 
-def deck_lidar(deck):
-    """The deck's single-point lidar as a DISCON caller's measurement (``t -> (speeds, positions)``), or None.
 
-    The lidar sits at the hub's initial position (ElastoDyn: ``OverHang`` along the tilted shaft from the yaw
-    axis, at the hub height, turned by the initial nacelle yaw); with ``ConsiderHubMotion = 1`` a
-    :class:`~mbsym.exceptions.ModelWarning` says that the hub's displacement is not added.
-    """
-    import math
+def run_lidar(args, deck):
+    """The deck's lidar measurement for this run (None without one); with ``--wind`` the plant's wind is not the
+    deck's, so its lidar would measure another wind: left out with a :class:`~mbsym.exceptions.ModelWarning`."""
     import warnings
 
     from ..exceptions import ModelWarning
-    from ..wind.inflow.lidar import lidar_measurements
 
-    lidar = getattr(deck.inflow, "lidar", None) if deck.inflow is not None else None
-    if lidar is None:
+    if deck.inflow is None or getattr(deck.inflow, "lidar", None) is None:
         return None
-    t = deck.turbine
-    x, yaw = t.overhang * math.cos(t.shaft_tilt), t.initial_conditions.nacelle_yaw
-    hub = (x * math.cos(yaw), x * math.sin(yaw), t.hub_height)
-    if lidar.hub_motion:
-        warnings.warn(f"{deck.inflow.path}: ConsiderHubMotion = 1: mbsym measures the lidar from the hub's initial "
-                      "position (the hub's displacement, well under a metre, against focal distances of "
-                      f"{lidar.upstream_distance:g} m, is not added).", ModelWarning, stacklevel=2)
-    return lidar_measurements(lidar, deck.inflow.field(), hub)
+    if getattr(args, "wind", None) is not None:
+        warnings.warn(f"{deck.inflow.path}: the lidar (SensorType = 1) measures the deck's wind; this run's wind is "
+                      f"--wind {args.wind}, so the controller gets no lidar records. Drop --wind to use it.",
+                      ModelWarning, stacklevel=2)
+        return None
+    return deck.lidar_measurement()
 
 
 def output_folder(args) -> Path:

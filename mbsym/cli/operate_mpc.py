@@ -25,7 +25,9 @@ Contract (kept for acceptance checks)::
   misses are counted (``--stats``: ``controller_deadline_s``, ``controller_deadline_misses``) and a
   one-line warning at the end says how many.
 * ``--controller nmpc`` with neither ``--preview`` nor ``--estimator`` uses the EKF (a turbine
-  has no lidar by default).
+  has no lidar by default). A deck with an InflowWind single-point lidar (``SensorType = 1``) gives
+  the NMPC without ``--preview`` the lidar's preview (:mod:`mbsym.wind.mpc.lidar_preview`), as the
+  exported library (``mbsym export-discon``) does in OpenFAST.
 * With an estimator the CSV adds ``<channel>_est`` (same units) for the channels of
   :data:`mbsym.wind.mpc.simulation.ESTIMATED_CHANNELS` (``Wind1VelX``, ``RtVAvgxh``,
   ``RotSpeed``, ``GenSpeed``, ``TTDspFA``, ...). ``--stats`` adds ``controller_step_median_s``,
@@ -76,10 +78,12 @@ class MpcOptions:
         """Whether the run needs the Python loop (NMPC or an estimator)."""
         return self.controller == "nmpc" or self.estimator is not None
 
-    def loop(self, deck, model, wind):
-        """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model``."""
+    def loop(self, deck, model, wind, lidar=None):
+        """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model`` (``lidar``: the deck's
+        lidar measurement, :meth:`OperatingDeck.lidar_measurement`, previewing for the NMPC)."""
         from ..wind.control.baseline import BaselineController
         from ..wind.mpc.estimator import TurbineEstimator, estimation_model
+        from ..wind.mpc.lidar_preview import PreviewSettings
         from ..wind.mpc.loop import TurbineLoop
         from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
@@ -102,8 +106,10 @@ class MpcOptions:
             nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints), deadline=self.deadline)
         else:
             baseline = BaselineController(settings)
+        lidar = lidar if nmpc is not None and self.preview is None and estimator is not None else None
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,
-                           preview=self.preview, wind=wind)
+                           preview=self.preview, wind=wind, lidar=lidar,
+                           lidar_preview=None if lidar is None else PreviewSettings.for_lidar(deck.inflow.lidar))
 
 
 def _initial_estimate(model, prediction, wind, settings=None):

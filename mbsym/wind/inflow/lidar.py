@@ -13,10 +13,14 @@ in mbsym and in OpenFAST:
   line-of-sight projection: the ideal point sensor of InflowWind), evaluated in the full field as
   any point (with the field's Taylor advection: a point ``d`` upstream sees the field ``d / URef``
   seconds ahead);
-- a new measurement at every time that is a whole multiple of ``MeasurementInterval``; between
-  them the last one is held (InflowWind compares ``t`` with the multiple exactly; here within
-  1e-9 s, so a time step that does not divide the interval gives the same measurement times up to
-  rounding).
+- a new measurement where ``t`` is a whole multiple of ``MeasurementInterval`` exactly as InflowWind
+  tests it in double precision (``MeasurementInterval * INT(t / MeasurementInterval) == t``); between
+  them the last one is held. With a time step that is not a binary fraction some multiples fail the
+  test and are skipped (0.00625 s steps, 0.1 s interval: the measurement due at 18.2 s comes at 18.3 s,
+  in OpenFAST v5.0.0's output and here alike).
+
+A uniform wind (InflowWind ``WindType`` 1, 2) is not advected (the same instant everywhere), so a
+lidar there reads the rotor's wind of now: no preview, as in OpenFAST.
 
 What such a preview can and cannot see: a few points against the rotor's swept area, so the
 rotor-effective wind it predicts is correlated, not equal. A TurbSim field is frozen (no wind
@@ -105,10 +109,9 @@ class PointLidar:
             base = base + np.asarray(hub_displacement, dtype=float).reshape(3)
         return base + self.focal
 
-    def measurement_time(self, t: float) -> float:
-        """The time of the measurement held at ``t`` [s]: the last whole multiple of the interval."""
-        k = math.floor(t / self.interval + 1e-9 / self.interval)
-        return k * self.interval
+    def measures_at(self, t: float) -> bool:
+        """Whether InflowWind takes a new measurement at time ``t`` [s] (module docstring)."""
+        return self.interval * int(t / self.interval) == t
 
     def measure(self, wind, t: float, hub_position, hub_displacement=None) -> np.ndarray:
         """Speeds ``|v|`` [m/s] at the focal points at time ``t`` [s] in ``wind`` (anything with
@@ -152,9 +155,9 @@ def lidar_measurements(lidar: PointLidar, wind, hub_position):
     held: dict[str, object] = {}
 
     def measure(t: float) -> tuple[np.ndarray, np.ndarray]:
-        tm = lidar.measurement_time(float(t))
-        if held.get("t") != tm:
-            held["t"], held["v"] = tm, lidar.measure(wind, tm, hub)
+        t = float(t)
+        if "v" not in held or lidar.measures_at(t):
+            held["v"] = lidar.measure(wind, t, hub)
         return held["v"], positions
 
     return measure

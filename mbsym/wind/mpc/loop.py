@@ -10,7 +10,8 @@ their own rates:
 * the **NMPC** (:class:`~.nmpc.TurbineNMPC`, every ``nmpc.dt``) gets the state — the plant's own
   state picked by name (*ideal* state feedback) or the estimate completed with the measured pitch
   and torque — and the wind over its horizon: an ideal **preview** of the true wind for
-  ``preview`` seconds (a perfect lidar; held after that), or the estimated wind held constant;
+  ``preview`` seconds (a perfect lidar; held after that), the estimated wind with a real lidar's
+  changes added (``lidar``, :mod:`.lidar_preview`), or the estimated wind held constant;
   its pitch and torque rates are applied until its next sample as **ramps** of the demands with
   the actuators' lead (:meth:`~.prediction.PredictionModel.commands`), so the plant's actuators
   move as the prediction model assumed;
@@ -100,6 +101,12 @@ class TurbineLoop:
     noise : SensorNoise, optional, keyword-only
         Noise on the measurements of the estimator and the NMPC's measured pitch and torque
         (default none). The baseline controller reads the plant's channels as they are.
+    lidar : callable, optional, keyword-only
+        ``t -> (speeds, positions)``: a lidar's measurement (:func:`mbsym.wind.inflow.lidar_measurements`)
+        for a realistic preview (:class:`~.lidar_preview.LidarPreview`, as the exported library runs
+        it); needs ``lidar_preview`` and an estimator, excludes ``preview``.
+    lidar_preview : PreviewSettings, optional, keyword-only
+        How the lidar's measurements become the stage winds.
 
     Raises
     ------
@@ -110,9 +117,15 @@ class TurbineLoop:
 
     def __init__(self, plant, sample_time: float, *, nmpc=None, baseline=None, estimator=None,
                  preview: float | None = None, wind: Callable | None = None,
-                 noise: SensorNoise | None = None) -> None:
+                 noise: SensorNoise | None = None, lidar: Callable | None = None, lidar_preview=None) -> None:
         if (nmpc is None) == (baseline is None):
             raise SimulationOptionError("give exactly one of nmpc= and baseline= to the loop.")
+        if (lidar is None) != (lidar_preview is None):
+            raise SimulationOptionError("a lidar preview needs both lidar= (the measurement) and lidar_preview= "
+                                        "(PreviewSettings).")
+        if lidar is not None and (nmpc is None or estimator is None or preview is not None):
+            raise SimulationOptionError("a lidar preview is for an NMPC with an estimator (the preview adds the "
+                                        "lidar's changes to the estimated wind), without an ideal preview.")
         if preview is not None:
             if not (isinstance(preview, (int, float)) and math.isfinite(preview) and preview >= 0):
                 raise SimulationOptionError(f"preview must be a finite number of seconds >= 0; got {preview!r}.")
@@ -129,6 +142,14 @@ class TurbineLoop:
         self.plant, self.dt = plant, float(sample_time)
         self.nmpc, self.baseline, self.estimator = nmpc, baseline, estimator
         self.preview, self.wind = (None if preview is None else float(preview)), wind
+        self.lidar = lidar
+        self._lidar_preview = None
+        if lidar is not None:
+            from .lidar_preview import LidarPreview
+
+            lo = 0.5 * float(nmpc.references.winds[0])
+            hi = 1.5 * float(nmpc.references.winds[-1])
+            self._lidar_preview = LidarPreview(lidar_preview, nmpc.dt, nmpc.horizon, (lo, hi))
         self._kn = _multiple(nmpc.dt, self.dt, "NMPC") if nmpc is not None else 0
         self._ke = _multiple(estimator.dt, self.dt, "estimator") if estimator is not None else 0
         self.prediction = nmpc.prediction if nmpc is not None else (estimator.prediction if estimator else None)
@@ -258,6 +279,9 @@ class TurbineLoop:
 
     def _horizon_wind(self, t: float) -> np.ndarray:
         n = self.nmpc.horizon
+        if self._lidar_preview is not None:
+            self._lidar_preview.push(t, self.lidar(t)[0])
+            return self._lidar_preview.horizon(t, float(self.estimator.wind))
         if self.preview is None:
             return np.full(n + 1, self.estimator.wind)
         lead = np.minimum(np.arange(n + 1) * self.nmpc.dt, self.preview)

@@ -272,6 +272,33 @@ class OperatingDeck:
         """The deck's hub-height wind (InflowWind), or None without InflowWind."""
         return None if self.inflow is None else self.inflow.wind()
 
+    def lidar_measurement(self):
+        """The InflowWind single-point lidar as ``t -> (speeds, positions)``
+        (:func:`~mbsym.wind.inflow.lidar_measurements`), or None without one.
+
+        The lidar sits at the hub's initial position (ElastoDyn: ``OverHang`` along the tilted shaft
+        from the yaw axis, at the hub height, turned by the initial nacelle yaw); with
+        ``ConsiderHubMotion = 1`` a :class:`~mbsym.exceptions.ModelWarning` says that the hub's
+        displacement is not added.
+        """
+        import math
+        import warnings
+
+        from ...exceptions import ModelWarning
+        from ..inflow.lidar import lidar_measurements
+
+        lidar = getattr(self.inflow, "lidar", None) if self.inflow is not None else None
+        if lidar is None:
+            return None
+        t = self.turbine
+        x, yaw = t.overhang * math.cos(t.shaft_tilt), t.initial_conditions.nacelle_yaw
+        hub = (x * math.cos(yaw), x * math.sin(yaw), t.hub_height)
+        if lidar.hub_motion:
+            warnings.warn(f"{self.inflow.path}: ConsiderHubMotion = 1: mbsym measures the lidar from the hub's "
+                          "initial position (the hub's displacement, well under a metre, against focal distances "
+                          f"of {lidar.upstream_distance:g} m, is not added).", ModelWarning, stacklevel=2)
+        return lidar_measurements(lidar, self.inflow.field(), hub)
+
     def baseline_settings(self, *, discon_in: str | Path | None = None, dt: float | None = None):
         """Baseline controller settings: ``discon_in``, else the deck's DISCON.IN (for an exported library's input
         file, the DISCON.IN recorded in it), else the built-in NREL 5 MW."""
