@@ -112,14 +112,14 @@ def run_generated(steps: int) -> dict:
     rti, startup = (c.function for c in compiled)
     build = time.perf_counter() - t0
     states = nmpc.prediction.control.states
-    plan: list = [None]
+    plan: list = [None, None]
 
     def solve(k, x, u):
         values = dict(zip(states, x)) | {"Wind1VelX": u}
         z = np.array([values.get(n, 0.0) for n in estimator.names])      # the estimate = the plant's state
         pitch, torque = values["BlPitch"], values["GenTq"]
-        out = startup(z, pitch, torque) if plan[0] is None else rti(plan[0], z, pitch, torque)
-        plan[0] = np.asarray(out[0], dtype=float)
+        out = startup(z, pitch, torque) if plan[0] is None else rti(plan[0], z, pitch, torque, plan[1])
+        plan[0], plan[1] = np.asarray(out[0], dtype=float), np.asarray(out[3], dtype=float)
         return out[1]
 
     return {**_loop(solve, nmpc, x0, wind, steps), "build_s": build}

@@ -1,7 +1,8 @@
 """Export the turbine NMPC with its EKF as a self-contained Bladed-style ``DISCON`` library.
 
 :func:`export_nmpc_discon` generates C for the fixed-work Functions of :mod:`.sample` (the EKF
-sample, the first sample's start-up iterations and one real-time iteration with CasADi's ``qrqp``)
+sample, the first sample's start-up iterations and one real-time iteration with CasADi's ``qrqp``, warm-started
+from the previous sample's multipliers)
 and for the baseline controller's law (the fallback), and compiles them with a hand-written
 wrapper (:mod:`mbsym.wind.control._discon_c`'s parts and :data:`NMPC_PART`) into one shared
 library linked against ``libm`` only: no Python, numpy or CasADi at run time, fixed (static) memory.
@@ -68,6 +69,7 @@ NMPC_PART = r"""
 /* ---- the NMPC with its EKF (generated: nmpc_ekf, nmpc_startup, nmpc_rti) ---- */
 #define NZ {n_z}
 #define NW {n_w}
+#define NLAM {n_lam}
 #define KE {ke}
 #define KN {kn}
 #define QP_ACCEPT {qp_accept!r}
@@ -84,6 +86,7 @@ static const double P0[NZ * NZ] = {{{p0}}};
 static const double LEAD[2] = {{{lead}}};
 static const double LIMITS[4] = {{{limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
+static double lam[NLAM], lam_next[NLAM];
 static double acc[2], ramp0[2], rate[2], cmd[2];
 static long k_loop, k_a, n_acc, fallbacks;
 static int have_plan, nmpc_on, init_call;
@@ -184,11 +187,13 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
     }}
 #endif
     if (k_loop % KN == 0 && !warn) {{
-        nres[0] = plan_next; nres[1] = rates; nres[2] = &viol;
+        nres[0] = plan_next; nres[1] = rates; nres[2] = &viol; nres[3] = lam_next;
         if (have_plan) {{
             narg[0] = plan; narg[1] = z; narg[2] = &pitch; narg[3] = &torque;
 #if PV_ON
-            narg[4] = windv;
+            narg[4] = windv; narg[5] = lam;
+#else
+            narg[4] = lam;
 #endif
             r = nmpc_rti(narg, nres, niw, nw, 0);
         }} else {{
@@ -206,6 +211,7 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
             }} else {{ ramp0[0] = pitch; ramp0[1] = torque; }}
             k_a = k_loop; rate[0] = rates[0]; rate[1] = rates[1];
             memcpy(plan, plan_next, sizeof plan);
+            memcpy(lam, lam_next, sizeof lam);
             have_plan = nmpc_on = 1;
         }} else {{
             have_plan = nmpc_on = 0;
@@ -329,7 +335,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
         measured=", ".join(f"{r} {m}" for m, r in NMPC_RECORDS.items()) + " (NMPC, EKF); "
         + ", ".join(f"{r} {m}" for r, m in zip(records, measured)) + " (baseline fallback)",
         written="42-45 collective pitch, 47 torque")
-    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
+    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, n_lam=fns.n_lam, ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
                 init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
                 wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),

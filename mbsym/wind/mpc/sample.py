@@ -8,23 +8,27 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
   the time update over the last estimator interval with the mean measured pitch and torque ``u``
   (skipped when ``predict`` is 0, the first sample), then the measurement update with ``y`` =
   (``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²]);
-- ``rti(w, z, pitch, torque) -> (w, rates, violation)``: one real-time iteration of
+- ``rti(w, z, pitch, torque, lam) -> (w, rates, violation, lam)``: one real-time iteration of
   :class:`mbsym.control.NMPC`: the NMPC state from the estimate and the measured pitch [rad] and
   torque [N m] (:meth:`~.estimator.TurbineEstimator.control_state`), the stage parameters of the
   estimated wind held over the horizon (its references from the steady reference table, as
   :meth:`~.nmpc.TurbineNMPC.step` sets them), the Gauss–Newton QP at the shifted plan ``w``
   (:func:`mbsym.control.qp.preparation_function`), one QP solve by CasADi's ``qrqp`` (an
-  active-set solver whose C CasADi generates; at most 200 iterations), the full step, the rates to
-  apply (the plan's first controls, clipped to their bounds) and the plan shifted one stage: the
-  next sample's warm start. ``violation`` is the QP solution's largest bound or constraint
+  active-set solver whose C CasADi generates; at most 200 iterations) started from the multipliers
+  ``lam`` (bounds, then constraints) of the previous sample's QP shifted one stage, the full step,
+  the rates to apply (the plan's first controls, clipped to their bounds) and the plan and
+  multipliers shifted one stage: the next sample's warm start. The multipliers' guess makes qrqp
+  start from the previous active set: 1.4 against 7.8 ms median per QP on the NREL 5 MW OCP
+  (CasADi's virtual machine, same solutions; benchmarks/nmpc_acados.py measures the generated
+  step). ``violation`` is the QP solution's largest bound or constraint
   violation divided by ``1 + ‖Δw‖∞`` (:class:`mbsym.control.qp.QPCall`'s acceptance test:
   accepted up to 1e-6);
 - ``init(wind) -> z``: the estimate of steady operation at the hub wind [m/s] (the estimator's
   states at the plant's steady guess, tabulated every :data:`INIT_STEP` m/s over the NMPC's
   reference winds and interpolated linearly, the wind clipped to that range): the estimator's
   start and restart;
-- ``startup(z, pitch, torque) -> (w, rates, violation)``: the first sample: from the initial guess
-  (every stage at the NMPC state, zero rates) :data:`STARTUP_ITERATIONS` full Gauss–Newton steps
+- ``startup(z, pitch, torque) -> (w, rates, violation, lam)``: the first sample: from the initial guess
+  (every stage at the NMPC state, zero rates, zero multipliers) :data:`STARTUP_ITERATIONS` full Gauss–Newton steps
   (the Python NMPC converges a line-search SQP instead: on the NREL 5 MW at 12 m/s the full steps
   reach its solution to 1e-12 relative in 3 iterations, measured), then the same ending as ``rti``.
 
@@ -90,6 +94,8 @@ class SampleFunctions:
         ``wind`` (N + 1) [m/s] as their last input.
     nmpc_dt : float
         NMPC sample time [s].
+    n_lam : int
+        Length of the multipliers ``lam`` (the QP's bounds, then its constraints).
     horizon : int
         NMPC stages N.
     n_w : int
@@ -121,6 +127,7 @@ class SampleFunctions:
     preview: object = None
     nmpc_dt: float = 0.0
     horizon: int = 0
+    n_lam: int = 0
 
     def restart(self, hub_wind: float | None) -> np.ndarray:
         """The estimate the estimator (re)starts from at the measured hub wind [m/s] (``initial="hub-wind"``)."""
@@ -209,7 +216,8 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     if preview is not None and not isinstance(preview, PreviewSettings):
         raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
     on = preview is not None
-    return SampleFunctions(ekf=_ekf_function(estimator), rti=_rti_function(nmpc, estimator, startup=False, preview=on),
+    rti = _rti_function(nmpc, estimator, startup=False, preview=on)
+    return SampleFunctions(ekf=_ekf_function(estimator), rti=rti, n_lam=rti.size1_in("lam"),
                            startup=_rti_function(nmpc, estimator, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
                            z0=np.array(f.x, dtype=float),
@@ -296,38 +304,55 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False) -> c
     else:
         D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
 
-    def gn_step(w):
+    n_a = prep.sparsity_out(2).size1()
+
+    def gn_step(w, lam):
         H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
         fixed = x0 - w[L.x_index(0)]
         lbdw = ca.vertcat(fixed, lbdw[P.n_x:])
         ubdw = ca.vertcat(fixed, ubdw[P.n_x:])
-        dw = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw)["x"]
+        sol = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw, lam_x0=lam[:L.n_w], lam_a0=lam[L.n_w:])
+        dw = sol["x"]
         Ad = ca.mtimes(A, dw)
         viol = ca.mmax(ca.vertcat(0, lbdw - dw, dw - ubdw, lba - Ad, Ad - uba)) / (1 + ca.norm_inf(dw))
-        return w + dw, viol
+        return w + dw, viol, ca.vertcat(sol["lam_x"], sol["lam_a"])
 
     if startup:
         u0 = np.clip(np.zeros(nc), P.lbu[:nc], P.ubu[:nc])
         w = ca.vertcat(ca.repmat(ca.vertcat(x0, u0), P.N, 1), x0)
+        lam = ca.MX(L.n_w + n_a, 1)
         worst = ca.MX(0)
         for _ in range(STARTUP_ITERATIONS):
-            w, viol = gn_step(w)
+            w, viol, lam = gn_step(w, lam)
             worst = ca.fmax(worst, viol)
         viol = worst
         ins, names = [z, pitch, torque], ["z", "pitch", "torque"]
     else:
         w_in = ca.MX.sym("w", L.n_w)
-        w, viol = gn_step(w_in)
+        lam_in = ca.MX.sym("lam", L.n_w + n_a)
+        w, viol, lam = gn_step(w_in, lam_in)
         ins, names = [w_in, z, pitch, torque], ["w", "z", "pitch", "torque"]
     if preview:
         ins, names = ins + [wind], names + ["wind"]
+    if not startup:
+        ins, names = ins + [lam_in], names + ["lam"]
     X, U, xN = split_w(P, w)
     rates = ca.fmin(ca.fmax(U[:nc, 0], ca.DM(P.lbu[:nc])), ca.DM(P.ubu[:nc]))
     Xs = ca.horzcat(X[:, 1:], xN, xN) if P.N > 1 else ca.horzcat(xN, xN)
     Us = ca.horzcat(U[:, 1:], U[:, -1:]) if P.N > 1 else U
     shifted = ca.vertcat(ca.vec(ca.vertcat(Xs[:, : P.N], Us)), Xs[:, P.N])
+    lam_next = ca.vertcat(_shift_stages(lam[:L.n_w], P.N, P.n_x + P.n_u),
+                          _shift_stages(lam[L.n_w:], P.N, P.n_x + P.n_c))
     name = "nmpc_startup" if startup else "nmpc_rti"
-    return ca.Function(name, ins, [shifted, rates, viol], names, ["w_next", "rates", "violation"])
+    return ca.Function(name, ins, [shifted, rates, viol, lam_next], names, ["w_next", "rates", "violation", "lam_next"])
+
+
+def _shift_stages(v: ca.MX, n_stages: int, block: int) -> ca.MX:
+    """``v`` = N blocks of ``block`` then a terminal part, moved one stage earlier (the last block repeated, the
+    terminal part kept): the shifted plan's multipliers, the next QP's active-set guess."""
+    if n_stages < 2:
+        return v
+    return ca.vertcat(v[block:n_stages * block], v[(n_stages - 1) * block:n_stages * block], v[n_stages * block:])
 
 
 def _stage_column(nmpc, wind: ca.MX) -> ca.MX:
@@ -379,6 +404,7 @@ class SampledLoop:
         self.k = 0
         self.z, self.P = functions.z0.copy(), functions.P0.copy()
         self.w: np.ndarray | None = None
+        self.lam: np.ndarray | None = None
         self._acc, self._n = np.zeros(2), 0
         self._anchor = None
         self.rti_walls: list[float] = []
@@ -425,15 +451,15 @@ class SampledLoop:
         if k % f.kn == 0 and not restarted:
             c0 = time.perf_counter()
             out = f.startup(self.z, pitch, torque, *extra) if self.w is None else \
-                f.rti(self.w, self.z, pitch, torque, *extra)
+                f.rti(self.w, self.z, pitch, torque, *extra, self.lam)
             self.rti_walls.append(time.perf_counter() - c0)
-            w, rates, viol = (np.asarray(v).ravel() for v in out)
+            w, rates, viol, lam = (np.asarray(v).ravel() for v in out)
             if not (np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT):
                 from ...exceptions import SolverError
 
                 raise SolverError(f"the NMPC's QP was not accepted at t = {t:g} s (violation {viol[0]:.3g}); this "
                                   "reference has no fallback (the exported library applies the baseline there).")
-            self.w = w
+            self.w, self.lam = w, lam
             self._anchor = (t, *self._ramp_start(t, pitch, torque), rates)
         if self._anchor is None:
             return None
