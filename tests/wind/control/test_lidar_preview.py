@@ -285,3 +285,29 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
     pitch = np.array([u[0] for _, _, u in rows])
     pitch0 = np.array([u[0] for _, _, u in plain])
     assert np.max(np.abs(pitch - pitch0)) > math.radians(0.1)
+
+
+def test_turbine_loop_refuses_a_lidar_it_cannot_use():
+    from mbsym.exceptions import SimulationOptionError
+    from mbsym.wind.mpc import TurbineLoop
+    from mbsym.wind.mpc.lidar_preview import PreviewSettings
+
+    settings = PreviewSettings(distance=60.0, n_beams=5)
+    with pytest.raises(SimulationOptionError, match="both lidar="):
+        TurbineLoop(None, 0.01, nmpc=object(), lidar=lambda t: ([10.0] * 5, None))
+    with pytest.raises(SimulationOptionError, match="NMPC with an estimator"):
+        TurbineLoop(None, 0.01, nmpc=object(), lidar=lambda t: ([10.0] * 5, None), lidar_preview=settings)
+
+
+def test_cli_run_with_another_wind_leaves_the_decks_lidar_out(tmp_path):
+    from types import SimpleNamespace
+
+    from mbsym.cli.operate import run_lidar
+    from mbsym.exceptions import ModelWarning
+    from mbsym.wind.deck.inflowwind import read_inflowwind
+
+    deck = SimpleNamespace(inflow=read_inflowwind(_ifw(tmp_path)), lidar_measurement=lambda: "measured")
+    with pytest.warns(ModelWarning, match="--wind steady:12"):
+        assert run_lidar(SimpleNamespace(wind="steady:12"), deck) is None
+    assert run_lidar(SimpleNamespace(wind=None), deck) == "measured"
+    assert run_lidar(SimpleNamespace(wind=None), SimpleNamespace(inflow=None)) is None
