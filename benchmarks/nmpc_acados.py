@@ -8,8 +8,9 @@ Three solvers, each one Gauss–Newton real-time iteration per 0.1 s sample, on 
 prediction model as plant, RK4 with 10 sub-steps; Kaimal 14 m/s TI 16 % seed 3 hub wind, the current wind
 given to the controller):
 
-``generated``   the exported library's step: ``sample_functions(...).rti`` (the QP by CasADi's ``qrqp``, fixed
-                work), compiled to C with gcc -O2 and called through CasADi (``mbsym.codegen.compile_function``);
+``generated``   the exported library's step: ``sample_functions(...).rti`` (the QP by CasADi's ``qrqp`` warm-started
+                from the previous sample's multipliers, fixed work), compiled to C with gcc -O2 as the export
+                compiles it and called through CasADi (``mbsym.codegen.compile_function``);
 ``python``      ``TurbineNMPC.step`` (compiled preparation, CasADi's hpipm interface, Python around it);
 ``acados``      acados SQP-RTI (partial-condensing HPIPM) on the same transcription (our residuals as
                 ``NONLINEAR_LS``, our bounds as ``BGH``, acados' ERK with the same RK4 sub-steps), run by a
@@ -106,7 +107,8 @@ def run_generated(steps: int) -> dict:
     nmpc, estimator, x0, wind = scene()
     t0 = time.perf_counter()
     fns = sample_functions(nmpc, estimator, estimator.dt)
-    compiled = [compile_function(f) for f in (fns.rti, fns.startup)]
+    # the exported library's optimization (discon_export.EXPORT_FLAGS: -O2), not compile_function's default -O1
+    compiled = [compile_function(f, flags=("-O2",)) for f in (fns.rti, fns.startup)]
     if not all(c.compiled for c in compiled):
         raise RuntimeError(f"the generated step did not compile: {[c.message for c in compiled]}")
     rti, startup = (c.function for c in compiled)

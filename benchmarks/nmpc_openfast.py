@@ -250,7 +250,7 @@ def _figure(case: str, data, table, seconds: float) -> None:
     axes[-1].set_xlabel("time [s]")
     r = table["OpenFAST + NMPC"]
     ref = table["OpenFAST + ROSCO"]
-    fig.suptitle(f"{case}: exported NMPC + EKF{' + lidar preview' if case.endswith('_lidar') else ''} vs ROSCO 2.10.6 inside OpenFAST v5 (NMPC/ROSCO: tower FA DEL "
+    fig.suptitle(f"{case}: exported NMPC + EKF{' + lidar preview' if case.endswith('_lidar') else ''} vs ROSCO 2.10.6 inside OpenFAST v5\n(NMPC/ROSCO: tower FA DEL "
                  f"{r['DEL TwrBsMyt'] / ref['DEL TwrBsMyt']:.2f}, speed RMS {r['speed RMS error'] / ref['speed RMS error']:.2f}, "
                  f"pitch rate {r['pitch-rate RMS'] / ref['pitch-rate RMS']:.2f}, energy {r['energy'] / ref['energy']:.3f})",
                  fontsize=9)
