@@ -8,9 +8,10 @@ Three solvers, each one Gauss–Newton real-time iteration per 0.1 s sample, on 
 prediction model as plant, RK4 with 10 sub-steps; Kaimal 14 m/s TI 16 % seed 3 hub wind, the current wind
 given to the controller):
 
-``generated``   the exported library's step: ``sample_functions(...).rti`` (the QP by CasADi's ``qrqp`` warm-started
-                from the previous sample's multipliers, fixed work), compiled to C with gcc -O2 as the export
-                compiles it and called through CasADi (``mbsym.codegen.compile_function``);
+``generated``   the exported library's step: the generated parts of ``sample_functions(...)`` (the QP by
+                CasADi's ``qrqp`` warm-started from the previous sample's multipliers, at most 8 iterations)
+                and the library's own C sequence (``discon_nmpc.RTI_PART``), compiled with the export's
+                flags (gcc -O2) and called through ctypes;
 ``python``      ``TurbineNMPC.step`` (compiled preparation, CasADi's hpipm interface, Python around it);
 ``acados``      acados SQP-RTI (partial-condensing HPIPM) on the same transcription (our residuals as
                 ``NONLINEAR_LS``, our bounds as ``BGH``, acados' ERK with the same RK4 sub-steps), run by a
@@ -100,29 +101,82 @@ def run_python(steps: int) -> dict:
     return _loop(lambda k, x, u: nmpc.step(x, u), nmpc, x0, wind, steps)
 
 
+#: The benchmark's C driver around the library's own RTI_PART (mbsym.wind.mpc.discon_nmpc): the step as the
+#: exported library runs it, called through ctypes.
+DRIVER = r"""
+#include <string.h>
+typedef long long int casadi_int;
+int nmpc_qp_data(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_qp(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_finish(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_startup(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+#define NW {n_w}
+#define NLAM {n_lam}
+static const double *narg[{n_arg}];
+static double *nres[{n_res}];
+static casadi_int niw[{n_iw}];
+static double nw[{n_work}];
+{rti_part}
+__attribute__((visibility("default"))) int bench_rti(const double *w, const double *z, double pitch, double torque,
+        const double *lam, double *w_next, double *rates, double *viol, double *lam_next)
+{{ return rti_parts(w, z, pitch, torque, 0, lam, w_next, rates, viol, lam_next); }}
+__attribute__((visibility("default"))) int bench_startup(const double *z, double pitch, double torque,
+        double *w_next, double *rates, double *viol, double *lam_next)
+{{
+    narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
+    nres[0] = w_next; nres[1] = rates; nres[2] = viol; nres[3] = lam_next;
+    return nmpc_startup(narg, nres, niw, nw, 0);
+}}
+"""
+
+
 def run_generated(steps: int) -> dict:
-    from mbsym.codegen import compile_function
+    import ctypes
+    import tempfile
+
+    import casadi as ca
+
+    from mbsym.codegen import compiler_command
+    from mbsym.wind.control.discon_export import _compile
     from mbsym.wind.mpc import sample_functions
+    from mbsym.wind.mpc.discon_nmpc import rti_part
 
     nmpc, estimator, x0, wind = scene()
     t0 = time.perf_counter()
     fns = sample_functions(nmpc, estimator, estimator.dt)
-    # the exported library's optimization (discon_export.EXPORT_FLAGS: -O2), not compile_function's default -O1
-    compiled = [compile_function(f, flags=("-O2",)) for f in (fns.rti, fns.startup)]
-    if not all(c.compiled for c in compiled):
-        raise RuntimeError(f"the generated step did not compile: {[c.message for c in compiled]}")
-    rti, startup = (c.function for c in compiled)
+    gens = (fns.qp_data, fns.qp, fns.finish, fns.startup)
+    folder = Path(tempfile.mkdtemp(prefix="mbsym_rti_"))
+    cg = ca.CodeGenerator("rti_gen.c", {"with_header": False, "with_export": False, "casadi_int": "long long int",
+                                        "casadi_real": "double"})
+    for f in gens:
+        cg.add(f)
+    cg.generate(str(folder) + os.sep)
+    (folder / "driver.c").write_text(DRIVER.format(
+        n_w=fns.n_w, n_lam=fns.n_lam, n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
+        n_iw=max(max(g.sz_iw() for g in gens), 1), n_work=max(g.sz_w() for g in gens), rti_part=rti_part(fns)))
+    _compile(compiler_command(), [folder / "rti_gen.c", folder / "driver.c"], folder / "rti.so")  # the export's flags
+    lib = ctypes.CDLL(str(folder / "rti.so"))
     build = time.perf_counter() - t0
     states = nmpc.prediction.control.states
-    plan: list = [None, None]
+    w, lam = np.zeros(fns.n_w), np.zeros(fns.n_lam)
+    w_next, lam_next, rates, viol = np.zeros(fns.n_w), np.zeros(fns.n_lam), np.zeros(2), np.zeros(1)
+    ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))          # noqa: E731
+    started = [False]
 
     def solve(k, x, u):
         values = dict(zip(states, x)) | {"Wind1VelX": u}
         z = np.array([values.get(n, 0.0) for n in estimator.names])      # the estimate = the plant's state
-        pitch, torque = values["BlPitch"], values["GenTq"]
-        out = startup(z, pitch, torque) if plan[0] is None else rti(plan[0], z, pitch, torque, plan[1])
-        plan[0], plan[1] = np.asarray(out[0], dtype=float), np.asarray(out[3], dtype=float)
-        return out[1]
+        pitch, torque = ctypes.c_double(values["BlPitch"]), ctypes.c_double(values["GenTq"])
+        if started[0]:
+            r = lib.bench_rti(ptr(w), ptr(z), pitch, torque, ptr(lam), ptr(w_next), ptr(rates), ptr(viol),
+                              ptr(lam_next))
+        else:
+            r = lib.bench_startup(ptr(z), pitch, torque, ptr(w_next), ptr(rates), ptr(viol), ptr(lam_next))
+        if r != 0 or viol[0] > 1e-6:
+            raise RuntimeError(f"the generated step failed at sample {k} (code {r}, violation {viol[0]:.3g})")
+        started[0] = True
+        w[:], lam[:] = w_next, lam_next
+        return rates.copy()
 
     return {**_loop(solve, nmpc, x0, wind, steps), "build_s": build}
 

@@ -114,7 +114,8 @@ def gauss_newton_hessian(P: StageProblem) -> ca.Function:
     return ca.Function("gauss_newton_hessian", [w, D, p], [ca.diagcat(*blocks)], ["w", "D", "p"], ["H"])
 
 
-def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: Mapping[str, Any]) -> ca.Function:
+def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: Mapping[str, Any], *,
+          label: str | None = None) -> ca.Function:
     opts: dict[str, Any] = {"error_on_fail": False}
     N = P.N
     structure = {"N": N, "nx": [P.n_x] * (N + 1), "nu": [P.n_u] * N + [0], "ng": [P.n_c] * N + [P.n_cN]}
@@ -133,7 +134,7 @@ def conic(name: str, P: StageProblem, H: ca.Sparsity, A: ca.Sparsity, options: M
     for key, value in dict(options).items():       # user options override ours (dicts merged one level)
         opts[key] = {**opts[key], **value} if isinstance(value, Mapping) and isinstance(opts.get(key), dict) \
             else value
-    return ca.conic(f"qp_{name}", name, {"h": H, "a": A}, opts)
+    return ca.conic(label or f"qp_{name}", name, {"h": H, "a": A}, opts)
 
 
 class QPCall:

@@ -60,13 +60,13 @@ from ..control.swap import MEASUREMENT_RECORDS
 from .lidar_preview import preview_c
 from .sample import QP_ACCEPT, sample_functions
 
-__all__ = ["NMPC_PART", "NMPC_RECORDS", "export_nmpc_discon"]
+__all__ = ["NMPC_PART", "NMPC_RECORDS", "RTI_PART", "export_nmpc_discon", "rti_part"]
 
 #: Swap records the NMPC and its EKF read (besides the baseline law's).
 NMPC_RECORDS = {"GenSpeed": 20, "YawBrTAxp": 53, "BldPitch1": 4, "GenTq": 23}
 
 NMPC_PART = r"""
-/* ---- the NMPC with its EKF (generated: nmpc_ekf, nmpc_startup, nmpc_rti) ---- */
+/* ---- the NMPC with its EKF (generated: nmpc_ekf, nmpc_startup, nmpc_qp_data, nmpc_qp, nmpc_finish) ---- */
 #define NZ {n_z}
 #define NW {n_w}
 #define NLAM {n_lam}
@@ -79,7 +79,9 @@ NMPC_PART = r"""
 int nmpc_ekf(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_init(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_startup(const double** arg, double** res, casadi_int* iw, double* w, int mem);
-int nmpc_rti(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_qp_data(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_qp(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+int nmpc_finish(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 
 static const double Z0[NZ] = {{{z0}}};
 static const double P0[NZ * NZ] = {{{p0}}};
@@ -87,6 +89,7 @@ static const double LEAD[2] = {{{lead}}};
 static const double LIMITS[4] = {{{limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
 static double lam[NLAM], lam_next[NLAM];
+
 static double acc[2], ramp0[2], rate[2], cmd[2];
 static long k_loop, k_a, n_acc, fallbacks;
 static int have_plan, nmpc_on, init_call;
@@ -94,6 +97,12 @@ static const double *narg[{n_arg}];
 static double *nres[{n_res}];
 static casadi_int niw[{n_iw}];
 static double nw[{n_w_work}];
+
+{rti_part}
+static int nmpc_rti(const double *wind_or_null, double pitch, double torque)
+{{
+    return rti_parts(plan, z, pitch, torque, wind_or_null, lam, plan_next, rates, &viol, lam_next);
+}}
 
 static double clip(double v, double lo, double hi) {{ return v < lo ? lo : (v > hi ? hi : v); }}
 {preview}
@@ -187,16 +196,14 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
     }}
 #endif
     if (k_loop % KN == 0 && !warn) {{
-        nres[0] = plan_next; nres[1] = rates; nres[2] = &viol; nres[3] = lam_next;
         if (have_plan) {{
-            narg[0] = plan; narg[1] = z; narg[2] = &pitch; narg[3] = &torque;
 #if PV_ON
-            narg[4] = windv; narg[5] = lam;
+            r = nmpc_rti(windv, pitch, torque);
 #else
-            narg[4] = lam;
+            r = nmpc_rti(0, pitch, torque);
 #endif
-            r = nmpc_rti(narg, nres, niw, nw, 0);
         }} else {{
+            nres[0] = plan_next; nres[1] = rates; nres[2] = &viol; nres[3] = lam_next;
             narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
 #if PV_ON
             narg[3] = windv;
@@ -241,6 +248,39 @@ static void nmpc_write(float *swap)
 }}
 
 """
+
+
+#: One real-time iteration from its three generated parts (:meth:`~.sample.SampleFunctions.rti`), for a C file
+#: that declares ``narg``, ``nres``, ``niw``, ``nw`` (sized for the generated Functions) and defines ``NW``, ``NLAM``
+#: (format fields ``nnz_h``, ``nnz_a``). The QP's own return code is not an error here: a QP stopped at its
+#: iteration cap returns -1 with its iterate, which the step's violation and finiteness then judge.
+RTI_PART = r"""
+static double lam_qp[NLAM], qh[{nnz_h}], qg[NW], qa[{nnz_a}], qlba[NLAM - NW], quba[NLAM - NW], qlbx[NW], qubx[NW];
+static double qdw[NW], qcost;
+
+static int rti_parts(const double *w_in, const double *z_in, double pitch, double torque, const double *wind,
+                     const double *lam_in, double *w_next, double *rates_out, double *viol_out, double *lam_out)
+{{
+    int r;
+    narg[0] = w_in; narg[1] = z_in; narg[2] = &pitch; narg[3] = &torque; narg[4] = wind;
+    nres[0] = qh; nres[1] = qg; nres[2] = qa; nres[3] = qlba; nres[4] = quba; nres[5] = qlbx; nres[6] = qubx;
+    r = nmpc_qp_data(narg, nres, niw, nw, 0);
+    if (r) return r;
+    narg[0] = qh; narg[1] = qg; narg[2] = qa; narg[3] = qlba; narg[4] = quba; narg[5] = qlbx; narg[6] = qubx;
+    narg[7] = 0; narg[8] = lam_in; narg[9] = lam_in + NW; narg[10] = 0; narg[11] = 0;
+    nres[0] = qdw; nres[1] = &qcost; nres[2] = lam_qp + NW; nres[3] = lam_qp;
+    (void)nmpc_qp(narg, nres, niw, nw, 0);
+    narg[0] = w_in; narg[1] = qdw; narg[2] = lam_qp; narg[3] = qa; narg[4] = qlba; narg[5] = quba; narg[6] = qlbx;
+    narg[7] = qubx;
+    nres[0] = w_next; nres[1] = rates_out; nres[2] = viol_out; nres[3] = lam_out;
+    return nmpc_finish(narg, nres, niw, nw, 0);
+}}
+"""
+
+
+def rti_part(fns) -> str:
+    """:data:`RTI_PART` for the Functions ``fns`` (:class:`~.sample.SampleFunctions`)."""
+    return RTI_PART.format(nnz_h=fns.qp.sparsity_in(0).nnz(), nnz_a=fns.qp.sparsity_in(2).nnz())
 
 
 def _floats(values) -> str:
@@ -298,7 +338,7 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
                               f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
     fns = sample_functions(nmpc, estimator, loop_dt, initial=initial, settings=baseline.settings, preview=preview)
     cc, out = prepare_export(name, compiler, out_dir, "exporting the NMPC")
-    gen = (fns.ekf, fns.startup, fns.rti, fns.init)
+    gen = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init)
     fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
                                           repr(float(loop_dt)), initial, repr(preview)]).encode()).hexdigest()[:16]
     law, _ = _write_sources(baseline, out / "src", name, fingerprint)
@@ -325,7 +365,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
     base = ca.Function(_LAW, [xs, ys], f(xs, ys), {"cse": True})        # as discon_export generates it
     measured = list(baseline.measurements)
     records = [MEASUREMENT_RECORDS[m][0] for m in measured]
-    gens = (fns.ekf, fns.startup, fns.rti, fns.init)
+    gens = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init)
     common = dict(
         controller="nmpc", sample_time=float(fns.loop_dt), n_x=f.size1_in(0), n_y=len(measured), n_u=f.size1_out(1),
         fingerprint=fingerprint, ipc=0, law=_LAW, x0=_floats(baseline.x0),
@@ -335,7 +375,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
         measured=", ".join(f"{r} {m}" for m, r in NMPC_RECORDS.items()) + " (NMPC, EKF); "
         + ", ".join(f"{r} {m}" for r, m in zip(records, measured)) + " (baseline fallback)",
         written="42-45 collective pitch, 47 torque")
-    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, n_lam=fns.n_lam, ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
+    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, n_lam=fns.n_lam, rti_part=rti_part(fns), ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
                 init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
                 wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),

@@ -8,7 +8,8 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
   the time update over the last estimator interval with the mean measured pitch and torque ``u``
   (skipped when ``predict`` is 0, the first sample), then the measurement update with ``y`` =
   (``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²]);
-- ``rti(w, z, pitch, torque, lam) -> (w, rates, violation, lam)``: one real-time iteration of
+- ``rti(w, z, pitch, torque, lam) -> (w, rates, violation, lam)`` (:meth:`SampleFunctions.rti`, three
+  generated parts ``qp_data``, ``qp``, ``finish``): one real-time iteration of
   :class:`mbsym.control.NMPC`: the NMPC state from the estimate and the measured pitch [rad] and
   torque [N m] (:meth:`~.estimator.TurbineEstimator.control_state`), the stage parameters of the
   estimated wind held over the horizon (its references from the steady reference table, as
@@ -20,7 +21,10 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
   multipliers shifted one stage: the next sample's warm start. The multipliers' guess makes qrqp
   start from the previous active set: 1.4 against 7.8 ms median per QP on the NREL 5 MW OCP
   (CasADi's virtual machine, same solutions; benchmarks/nmpc_acados.py measures the generated
-  step). ``violation`` is the QP solution's largest bound or constraint
+  step); its iterations are capped at :data:`QP_MAX_ITER` (a step stopped there is accepted when
+  it passes the violation test below: the bounded worst case of a real-time step; the QP is a
+  part of its own because CasADi's generated code returns an error from a capped QP, which would
+  end the enclosing Function before its step is computed). ``violation`` is the QP solution's largest bound or constraint
   violation divided by ``1 + ‖Δw‖∞`` (:class:`mbsym.control.qp.QPCall`'s acceptance test:
   accepted up to 1e-6);
 - ``init(wind) -> z``: the estimate of steady operation at the hub wind [m/s] (the estimator's
@@ -62,11 +66,16 @@ from ...exceptions import ControlDefinitionError
 from .estimator import control_values
 from .lidar_preview import LidarPreview, PreviewSettings
 
-__all__ = ["QP_ACCEPT", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
+__all__ = ["QP_ACCEPT", "QP_MAX_ITER", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
            "sample_functions"]
 
 #: Full Gauss–Newton iterations of the first sample (fixed work; see the module docstring).
 STARTUP_ITERATIONS = 10
+#: qrqp's iteration cap in the exported step (bounds its worst case). Warm-started from the previous active set,
+#: qrqp reaches the QP's solution within a few iterations and may spend more fixing multiplier signs: on the
+#: NREL 5 MW OCP (300 samples at 14 m/s) 3 QPs needed more than 8 (up to 15); stopped at 8 their steps were
+#: primal feasible to 5e-15 and within 3e-7 of the converged step (measured). Each iteration costs ~0.33 ms.
+QP_MAX_ITER = 8
 #: Largest accepted QP violation relative to ``1 + ‖Δw‖∞`` (:attr:`mbsym.control.qp.QPCall.FEAS_TOL`).
 QP_ACCEPT = 1e-6
 #: Wind step of the steady-estimate table of ``init`` [m/s].
@@ -81,8 +90,13 @@ class SampleFunctions:
 
     Attributes
     ----------
-    ekf, rti, startup, init : casadi.Function
+    ekf, startup, init : casadi.Function
         See the module docstring.
+    qp_data, qp, finish : casadi.Function
+        The real-time iteration in three parts, as the library calls them (:meth:`rti`): the QP at the
+        shifted plan (``(w, z, pitch, torque[, wind]) -> (h, g, a, lba, uba, lbx, ubx)``), the QP solver
+        (CasADi's ``qrqp`` conic, at most :data:`QP_MAX_ITER` iterations) and the step
+        (``(w, dw, lam, a, lba, uba, lbx, ubx) -> (w_next, rates, violation, lam_next)``).
     z0, P0 : ndarray
         The estimator's prior estimate (its start with ``initial="fixed"``) and covariance.
     initial : {"hub-wind", "fixed"}
@@ -111,7 +125,9 @@ class SampleFunctions:
     """
 
     ekf: ca.Function
-    rti: ca.Function
+    qp_data: ca.Function
+    qp: ca.Function
+    finish: ca.Function
     startup: ca.Function
     z0: np.ndarray
     P0: np.ndarray
@@ -128,6 +144,18 @@ class SampleFunctions:
     nmpc_dt: float = 0.0
     horizon: int = 0
     n_lam: int = 0
+
+    def rti(self, w, z, pitch: float, torque: float, *rest) -> tuple:
+        """One real-time iteration ``(w_next, rates, violation, lam_next)`` from the plan ``w``, the estimate,
+        the measured pitch [rad] and torque [N m], (with a preview) the stage winds, and the multipliers
+        ``lam``: :attr:`qp_data`, :attr:`qp` and :attr:`finish` in turn, as the library calls them. A QP
+        stopped at its iteration cap is used as it is (its step is judged by the violation)."""
+        *extra, lam = rest
+        h, g, a, lba, uba, lbx, ubx = self.qp_data(w, z, pitch, torque, *extra)
+        n_w = self.n_w
+        sol = self.qp(h=h, g=g, a=a, lba=lba, uba=uba, lbx=lbx, ubx=ubx, lam_x0=lam[:n_w], lam_a0=lam[n_w:])
+        lam_qp = ca.vertcat(sol["lam_x"], sol["lam_a"])
+        return self.finish(w, sol["x"], lam_qp, a, lba, uba, lbx, ubx)
 
     def restart(self, hub_wind: float | None) -> np.ndarray:
         """The estimate the estimator (re)starts from at the measured hub wind [m/s] (``initial="hub-wind"``)."""
@@ -216,8 +244,9 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     if preview is not None and not isinstance(preview, PreviewSettings):
         raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
     on = preview is not None
-    rti = _rti_function(nmpc, estimator, startup=False, preview=on)
-    return SampleFunctions(ekf=_ekf_function(estimator), rti=rti, n_lam=rti.size1_in("lam"),
+    data, qp, finish = _rti_function(nmpc, estimator, startup=False, preview=on)
+    return SampleFunctions(ekf=_ekf_function(estimator), qp_data=data, qp=qp, finish=finish,
+                           n_lam=finish.size1_in("lam"),
                            startup=_rti_function(nmpc, estimator, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
                            z0=np.array(f.x, dtype=float),
@@ -275,9 +304,9 @@ def _solve_small(S: ca.MX, B: ca.MX) -> ca.MX:
     return solve(S, B)
 
 
-def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False) -> ca.Function:
-    """``(w, z, pitch, torque) -> (w, rates, violation)`` (``startup``: ``(z, pitch, torque) -> ...``; with
-    ``preview`` a last input ``wind``, the stage winds)."""
+def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
+    """``startup``: ``(z, pitch, torque[, wind]) -> (w, rates, violation, lam)``; else the real-time iteration's
+    three parts ``(qp_data, qp, finish)`` (module docstring)."""
     from ...control.nlp import split_w
     from ...control.qp import conic, preparation_function
 
@@ -290,7 +319,8 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False) -> c
                                      "terms on the controls (the turbine NMPC's own); this one has "
                                      f"{P.n_u - nc} extra stage variables and rate controls {list(tr.rate_controls)}.")
     prep = preparation_function(P)
-    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {})
+    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else QP_MAX_ITER},
+               label="qp_qrqp" if startup else "nmpc_qp")
     bounds = [ca.DM(b) for b in P.bounds()]
     p = ca.DM(ctl._p)
     z, pitch, torque = ca.MX.sym("z", len(estimator.names)), ca.MX.sym("pitch"), ca.MX.sym("torque")
@@ -303,48 +333,51 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False) -> c
         D = column.map(P.N + 1)(wind.T)
     else:
         D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
-
     n_a = prep.sparsity_out(2).size1()
 
-    def gn_step(w, lam):
+    def qp_data(w):
         H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
         fixed = x0 - w[L.x_index(0)]
-        lbdw = ca.vertcat(fixed, lbdw[P.n_x:])
-        ubdw = ca.vertcat(fixed, ubdw[P.n_x:])
-        sol = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw, lam_x0=lam[:L.n_w], lam_a0=lam[L.n_w:])
-        dw = sol["x"]
+        return H, g, A, lba, uba, ca.vertcat(fixed, lbdw[P.n_x:]), ca.vertcat(fixed, ubdw[P.n_x:])
+
+    def finish(w, dw, lam, A, lba, uba, lbdw, ubdw):
         Ad = ca.mtimes(A, dw)
         viol = ca.mmax(ca.vertcat(0, lbdw - dw, dw - ubdw, lba - Ad, Ad - uba)) / (1 + ca.norm_inf(dw))
-        return w + dw, viol, ca.vertcat(sol["lam_x"], sol["lam_a"])
+        return w + dw, viol, lam
 
+    def ending(w, viol, lam):
+        X, U, xN = split_w(P, w)
+        rates = ca.fmin(ca.fmax(U[:nc, 0], ca.DM(P.lbu[:nc])), ca.DM(P.ubu[:nc]))
+        Xs = ca.horzcat(X[:, 1:], xN, xN) if P.N > 1 else ca.horzcat(xN, xN)
+        Us = ca.horzcat(U[:, 1:], U[:, -1:]) if P.N > 1 else U
+        shifted = ca.vertcat(ca.vec(ca.vertcat(Xs[:, : P.N], Us)), Xs[:, P.N])
+        lam_next = ca.vertcat(_shift_stages(lam[:L.n_w], P.N, P.n_x + P.n_u),
+                              _shift_stages(lam[L.n_w:], P.N, P.n_x + P.n_c))
+        return [shifted, rates, viol, lam_next]
+
+    outs = ["w_next", "rates", "violation", "lam_next"]
+    extra, extra_names = ([wind], ["wind"]) if preview else ([], [])
     if startup:
         u0 = np.clip(np.zeros(nc), P.lbu[:nc], P.ubu[:nc])
         w = ca.vertcat(ca.repmat(ca.vertcat(x0, u0), P.N, 1), x0)
         lam = ca.MX(L.n_w + n_a, 1)
         worst = ca.MX(0)
         for _ in range(STARTUP_ITERATIONS):
-            w, viol, lam = gn_step(w, lam)
+            H, g, A, lba, uba, lbdw, ubdw = qp_data(w)
+            sol = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw, lam_x0=lam[:L.n_w], lam_a0=lam[L.n_w:])
+            w, viol, lam = finish(w, sol["x"], ca.vertcat(sol["lam_x"], sol["lam_a"]), A, lba, uba, lbdw, ubdw)
             worst = ca.fmax(worst, viol)
-        viol = worst
-        ins, names = [z, pitch, torque], ["z", "pitch", "torque"]
-    else:
-        w_in = ca.MX.sym("w", L.n_w)
-        lam_in = ca.MX.sym("lam", L.n_w + n_a)
-        w, viol, lam = gn_step(w_in, lam_in)
-        ins, names = [w_in, z, pitch, torque], ["w", "z", "pitch", "torque"]
-    if preview:
-        ins, names = ins + [wind], names + ["wind"]
-    if not startup:
-        ins, names = ins + [lam_in], names + ["lam"]
-    X, U, xN = split_w(P, w)
-    rates = ca.fmin(ca.fmax(U[:nc, 0], ca.DM(P.lbu[:nc])), ca.DM(P.ubu[:nc]))
-    Xs = ca.horzcat(X[:, 1:], xN, xN) if P.N > 1 else ca.horzcat(xN, xN)
-    Us = ca.horzcat(U[:, 1:], U[:, -1:]) if P.N > 1 else U
-    shifted = ca.vertcat(ca.vec(ca.vertcat(Xs[:, : P.N], Us)), Xs[:, P.N])
-    lam_next = ca.vertcat(_shift_stages(lam[:L.n_w], P.N, P.n_x + P.n_u),
-                          _shift_stages(lam[L.n_w:], P.N, P.n_x + P.n_c))
-    name = "nmpc_startup" if startup else "nmpc_rti"
-    return ca.Function(name, ins, [shifted, rates, viol, lam_next], names, ["w_next", "rates", "violation", "lam_next"])
+        return ca.Function("nmpc_startup", [z, pitch, torque, *extra], ending(w, worst, lam),
+                           ["z", "pitch", "torque", *extra_names], outs)
+    w_in = ca.MX.sym("w", L.n_w)
+    data = ca.Function("nmpc_qp_data", [w_in, z, pitch, torque, *extra], list(qp_data(w_in)),
+                       ["w", "z", "pitch", "torque", *extra_names], ["h", "g", "a", "lba", "uba", "lbx", "ubx"])
+    dw, lam_in = ca.MX.sym("dw", L.n_w), ca.MX.sym("lam", L.n_w + n_a)
+    A = ca.MX.sym("a", prep.sparsity_out(2))
+    lim = [ca.MX.sym(n, k) for n, k in (("lba", n_a), ("uba", n_a), ("lbx", L.n_w), ("ubx", L.n_w))]
+    end = ca.Function("nmpc_finish", [w_in, dw, lam_in, A, *lim], ending(*finish(w_in, dw, lam_in, A, *lim)),
+                      ["w", "dw", "lam", "a", "lba", "uba", "lbx", "ubx"], outs)
+    return data, qp, end
 
 
 def _shift_stages(v: ca.MX, n_stages: int, block: int) -> ca.MX:
