@@ -311,3 +311,17 @@ def test_cli_run_with_another_wind_leaves_the_decks_lidar_out(tmp_path):
         assert run_lidar(SimpleNamespace(wind="steady:12"), deck) is None
     assert run_lidar(SimpleNamespace(wind=None), deck) == "measured"
     assert run_lidar(SimpleNamespace(wind=None), SimpleNamespace(inflow=None)) is None
+
+
+def test_example_runs_and_shows_the_4_s_average_predicting():
+    import subprocess
+    import sys
+
+    if not (SHARED / "wind" / "ff14.bts").is_file():
+        pytest.skip("needs ../shared's ff14.bts (the example's default field)")
+    example = Path(__file__).resolve().parents[3] / "examples" / "lidar_preview.py"
+    out = subprocess.run([sys.executable, str(example)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    row = next(line for line in out.stdout.splitlines() if line.strip().startswith("4 s"))
+    ratios = [float(v) for v in row.split("|")[1].split()]
+    assert len(ratios) == 4 and max(ratios[1:]) < 0.8               # better than persistence 2-4 s ahead
