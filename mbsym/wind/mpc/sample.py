@@ -1,7 +1,7 @@
 """The turbine NMPC and its EKF as CasADi Functions of fixed work: what an exported DISCON library runs.
 
 :func:`sample_functions` turns a :class:`~.nmpc.TurbineNMPC` (solver ``"rti"``) and an EKF
-:class:`~.estimator.TurbineEstimator` into three Functions with no Python in between, each a fixed
+:class:`~.estimator.TurbineEstimator` into Functions with no Python in between, each a fixed
 amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
 
 - ``ekf(z, P, y, u, predict) -> (z, P)``: one EKF sample, exactly :meth:`mbsym.control.EKF.step`:
