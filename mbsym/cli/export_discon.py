@@ -35,8 +35,7 @@ is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed a
 ``--preview`` (nmpc): ``lidar`` reads the deck's single-point lidar (InflowWind ``SensorType = 1``) from
 OpenFAST's extended swap records and previews the wind over the NMPC's horizon
 (:mod:`mbsym.wind.mpc.lidar_preview`; OpenFAST v5 always fills those records: its ServoDyn hard-codes
-``EXavrSWAP = True``). ``auto`` (the default) does so when the deck has a lidar, ``none`` never. A full-field deck with the
-preview gets ``NMPCTuning.lidar_preview`` (measured inside OpenFAST, benchmarks/nmpc_openfast.py).
+``EXavrSWAP = True``). ``auto`` (the default) does so when the deck has a lidar, ``none`` never.
 """
 
 from __future__ import annotations
@@ -141,12 +140,7 @@ def _run_nmpc(args) -> int:
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
-    preview = _preview(args, deck)
-    if preview is not None and field:
-        tuning = NMPCTuning.lidar_preview()
-        print("mbsym export-discon: the NMPC tuning for a lidar preview (NMPCTuning.lidar_preview)")
-    else:
-        tuning = NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
+    tuning = NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
     nmpc = TurbineNMPC(PredictionModel(model), setpoints, tuning=tuning.for_turbine(setpoints))
     if field:
         print("mbsym export-discon: the deck's wind is a full field: the NMPC and EKF tunings for a rotor-averaged "
@@ -154,6 +148,7 @@ def _run_nmpc(args) -> int:
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
+    preview = _preview(args, deck)
     out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon",
                              initial=initial, preview=preview)
     print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "

@@ -197,27 +197,6 @@ class NMPCTuning:
                                      "pitch_rate_scale": math.radians(0.45), **changes})
 
 
-    @classmethod
-    def lidar_preview(cls, **changes) -> "NMPCTuning":
-        """:meth:`full_field` for a turbine whose NMPC previews the wind from a nacelle lidar
-        (:mod:`~mbsym.wind.mpc.lidar_preview`): the tower-top velocity tracked more tightly (0.06 m/s)
-        and the pitch rate more (0.35 deg/s).
-
-        Tuned inside OpenFAST v5 as :meth:`full_field` (benchmarks/nmpc_openfast.py, 5 beams 60 m
-        upstream; ratios NMPC/ROSCO of tower fore-aft DEL, speed RMS error, pitch-rate RMS). With
-        :meth:`full_field`: 0.58, 0.67, 0.76 at 14 m/s; 0.78, 0.72, 1.16 at 18 m/s (seed 3141); 0.83,
-        0.87, 1.02 at 16 m/s (seed 1618) and 0.83, 0.68, 1.16 at 18 m/s (seed 2718). Tower velocity at
-        0.05 m/s: 0.80 and 0.79 on the last two, but pitch rate 1.43 and 1.63; at 0.07 m/s with
-        0.4 deg/s: 0.81, 0.80 (pitch rate 1.06, 1.21); these values: 0.43, 0.68, 0.50 at 12 m/s
-        (seed 2027); 0.57, 0.72, 0.75 at 14 m/s; 0.74, 0.80, 1.16 at 18 m/s; 0.80, 0.95, 1.02 and
-        0.80, 0.76, 1.16 on the last two (0.802 and 0.804: issue 21's 0.80 still missed there). Below
-        0.35 deg/s (0.3 with 0.05 m/s; 0.35 with a speed scale of 20 rpm) the loop oscillated in
-        OpenFAST (pitch-rate RMS 4-7x ROSCO's).
-        """
-        return cls.full_field(**{"tower_velocity_scale": 0.06, "pitch_rate_scale": math.radians(0.35),
-                                 **changes})
-
-
 #: The NREL 5 MW's rated generator speed [rpm], electrical power [W] and generator torque [N m]
 #: (Jonkman et al. 2009, NREL/TP-500-38060, Table 7-1), which the scales of NMPCTuning are given for.
 _NREL5MW_RPM, _NREL5MW_POWER, _NREL5MW_TORQUE = 1173.7, 5.0e6, 43093.55
