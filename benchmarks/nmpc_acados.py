@@ -9,7 +9,7 @@ prediction model as plant, RK4 with 10 sub-steps; Kaimal 14 m/s TI 16 % seed 3 h
 given to the controller):
 
 ``generated``   the exported library's step: the generated parts of ``sample_functions(...)`` (the QP by
-                CasADi's ``qrqp`` warm-started from the previous sample's multipliers, at most 8 iterations)
+                CasADi's ``qrqp`` warm-started from the previous sample's multipliers, at most 10 iterations)
                 and the library's own C sequence (``discon_nmpc.RTI_PART``), compiled with the export's
                 flags (gcc -O2) and called through ctypes;
 ``python``      ``TurbineNMPC.step`` (compiled preparation, CasADi's hpipm interface, Python around it);
