@@ -41,6 +41,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ...exceptions import ControlDefinitionError
+from .harmonics import with_blade_passing
 
 __all__ = ["TurbineEstimator", "EstimatorTuning", "ESTIMATORS", "ESTIMATOR_MEASUREMENTS", "ESTIMATOR_DOFS",
            "FLOATING_MEASUREMENTS", "estimator_measurements",
@@ -54,6 +55,8 @@ ESTIMATOR_MEASUREMENTS = ("GenSpeed", "YawBrTAxp")
 #: of ROSCO's floating feedback, ``Fl_Mode 2``), the platform's pitch [deg] and surge [m] (a motion reference
 #: unit and GNSS; ServoDyn gives a DISCON library records 83, 1005 and 1001). See :func:`estimator_measurements`.
 FLOATING_MEASUREMENTS = ("NcIMURAys", "PtfmPitch", "PtfmSurge")
+#: Measurements whose blade-passing ripple is estimated (:attr:`EstimatorTuning.blade_passing`).
+RIPPLE_CHANNELS = ("GenSpeed", "YawBrTAxp")
 #: ElastoDyn DOFs of the default estimation model (those the plant has; see the module docstring).
 ESTIMATOR_DOFS = ("GenDOF", "TwFADOF1", "TwSSDOF1", "DrTrDOF", "PtfmSgDOF", "PtfmPDOF")
 
@@ -188,6 +191,12 @@ class EstimatorTuning:
     wave_force_walk, wave_moment_walk : float
         Random-walk steps per sample of the waves' force [N] and moment [N m] on the platform
         (floating platforms: :attr:`PredictionModel.wave_inputs`, estimated like the wind).
+    blade_passing : bool
+        Estimate the blade-passing ripple of the generator speed and tower-top acceleration as states
+        (:mod:`.harmonics`), so that it stays out of the wind and tower estimates.
+    harmonic_speed_walk, harmonic_accel_walk : float
+        Random-walk steps per sample of the ripple's states: generator speed [rpm], tower-top
+        acceleration [m/s²] (with ``blade_passing``).
     """
 
     dt: float = 0.05
@@ -205,6 +214,9 @@ class EstimatorTuning:
     platform_surge_sd: float = 0.1
     wave_force_walk: float = 3e5
     wave_moment_walk: float = 3e7
+    blade_passing: bool = False
+    harmonic_speed_walk: float = 0.3
+    harmonic_accel_walk: float = 0.02
 
     @classmethod
     def full_field(cls, **changes) -> "EstimatorTuning":
@@ -223,6 +235,10 @@ class EstimatorTuning:
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.name == "blade_passing":
+                if not isinstance(v, bool):
+                    raise ControlDefinitionError(f"EstimatorTuning.blade_passing must be True or False; got {v!r}.")
+                continue
             ok = (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1) if f.name == "window" \
                 else (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0)
             if not ok:
@@ -267,6 +283,10 @@ class TurbineEstimator:
             raise TypeError(f"tuning must be an EstimatorTuning; got {type(tuning).__name__}.")
         self.prediction, self.kind, self.tuning = prediction, kind, tuning
         dyn = prediction.estimation
+        if tuning.blade_passing:
+            dyn = with_blade_passing(dyn, RIPPLE_CHANNELS, prediction.plant.turbine.number_of_blades)
+        #: The model the filter runs: the prediction model's estimation form (with the ripple's states).
+        self.dynamics = dyn
         self.measurements = estimator_measurements(prediction)
         self.model = EstimationModel(dyn, dt=tuning.dt, measurements=self.measurements,
                                      unknown_inputs=[*prediction.wave_inputs, "Wind1VelX"], p=p, compile=compile)
@@ -276,7 +296,8 @@ class TurbineEstimator:
              "NcIMURAys": tuning.rotational_accel_sd, "PtfmPitch": tuning.platform_pitch_sd,
              "PtfmSurge": tuning.platform_surge_sd}
         R = {k: R[k] for k in self.measurements}
-        z0 = self.model.state_vector({"Wind1VelX": 10.0}) if x0 is None else self.model.state_vector(x0)
+        z0 = self.model.state_vector({"Wind1VelX": 10.0}) if x0 is None else self.model.state_vector(
+            x0 if isinstance(x0, Mapping) else self.complete(x0))
         P0 = self._prior(dyn.states)
         common = dict(process_noise=Q, measurement_noise=R, x0=z0, P0=P0)
         if kind == "ekf":
@@ -294,7 +315,9 @@ class TurbineEstimator:
         q = {"Wind1VelX": t.wind_walk}
         q.update({n: t.wave_force_walk if "F" in n else t.wave_moment_walk for n in self.prediction.wave_inputs})
         for s in states:
-            if s == "GeAz_d":
+            if s in self._ripple:
+                q[s] = t.harmonic_speed_walk if s.endswith("GenSpeed") else t.harmonic_accel_walk
+            elif s == "GeAz_d":
                 q[s] = t.speed_noise
             elif s in ("Sg_d", "Sw_d", "Hv_d"):
                 q[s] = t.platform_translation_noise
@@ -309,9 +332,27 @@ class TurbineEstimator:
     def _prior(self, states) -> dict[str, float]:
         sd = {"Wind1VelX": 2.0, "GeAz_d": 0.05}
         sd.update({n: 1e6 if "F" in n else 1e8 for n in self.prediction.wave_inputs})
+        sd.update({s: 3.0 if s.endswith("GenSpeed") else 0.2 for s in self._ripple})
         for s in states:
             sd.setdefault(s, 0.3 if s.startswith("DBEMT") else 0.1)
         return sd
+
+    @property
+    def _ripple(self) -> tuple[str, ...]:
+        return self.dynamics.states[len(self.prediction.estimation_states):]
+
+    def complete(self, z) -> np.ndarray:
+        """An estimate of the prediction model's estimation form (:func:`steady_estimate`) with the ripple's
+        states (zero) inserted after its states when :attr:`EstimatorTuning.blade_passing` adds them."""
+        z = np.asarray(z, dtype=float).reshape(-1)
+        n, m = len(self.prediction.estimation_states), len(self._ripple)
+        names = self.model.names
+        if m == 0 or z.size == len(names):
+            return z
+        if z.size != len(names) - m:
+            raise ControlDefinitionError(f"an estimate has {len(names) - m} values (estimation states, wave loads, "
+                                         f"wind) or {len(names)} with the ripple's states; got {z.size}.")
+        return np.concatenate([z[:n], np.zeros(m), z[n:]])
 
     @property
     def dt(self) -> float:

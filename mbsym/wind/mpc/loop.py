@@ -207,7 +207,7 @@ class TurbineLoop:
         """Units of :attr:`state_names` (SI: the baseline's states, the estimated states and wind)."""
         units = tuple(self._base_units) if self.baseline is not None else ()
         if self.estimator is not None:
-            dyn = self.estimator.prediction.estimation
+            dyn = self.estimator.dynamics
             known = {**dict(zip(dyn.inputs, dyn.input_units)), **dict(zip(dyn.states, dyn.state_units))}
             units += tuple(known.get(n, "") for n in self.estimator.names)
         return units

@@ -151,7 +151,7 @@ def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list
     cols = [list(res.output_names).index(f"est.{n}") for n in est.names]
     Z = np.asarray(res.y)[:, cols]
     pitch, torque = X[:, dyn.states.index("BlPitch")], X[:, dyn.states.index("GenTq")]
-    m = est.prediction.estimation
+    m = est.dynamics
     n = m.n_x
     U = np.column_stack([Z[:, -1], pitch, torque, Z[:, n:-1]])          # wind, measured actuators, wave loads
     f = m.outputs.map(Z.shape[0])
