@@ -30,9 +30,13 @@ NMPC samples the demands ramp at the NMPC's rates with the actuators' lead. The 
 often (the communication interval divides the sample time; commands held in between).
 
 **QP failure** (the generated QP returns an error, a non-finite result, or a step violating the
-QP's constraints by more than :data:`~.sample.QP_ACCEPT` relative): the baseline law's commands
-are applied until the next NMPC sample, which starts again with the start-up iterations; each
-failure is counted and reported through ``aviFAIL = 1`` and ``avcMSG``; the host is never stopped.
+QP's constraints by more than :data:`~.sample.QP_ACCEPT` relative): the previous plan's next rates
+are applied (the ramps go on from where they are; the plan and multipliers move one stage ahead,
+:meth:`~.sample.SampleFunctions.hold`), at most ``N - 1`` samples in a row; after that, or when the
+EKF restarts, the baseline law's commands until the next NMPC sample, which starts again with the
+start-up iterations, reached from the NMPC's last demands at the NMPC's rate bounds (the baseline's
+integrator is not synchronized with the NMPC's pitch). Each hold and fallback is counted and reported
+through ``aviFAIL = 1`` and ``avcMSG``; the host is never stopped.
 
 **Lidar preview** (``preview``, :mod:`.lidar_preview`): at every NMPC sample the library reads a
 single-point lidar from OpenFAST's extended records (129 the array size, 2001 sensor type 1, 2002
@@ -76,6 +80,11 @@ NMPC_PART = r"""
 #define INIT_HUB_WIND {init_hub_wind}
 #define WIND_LO {wind_lo!r}
 #define WIND_HI {wind_hi!r}
+#define NXS {n_xs}
+#define NUS {n_us}
+#define NCS {n_cs}
+#define NSTAGE {n_stage}
+#define HOLD_MAX (NSTAGE - 1)
 int nmpc_ekf(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_init(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_startup(const double** arg, double** res, casadi_int* iw, double* w, int mem);
@@ -87,12 +96,13 @@ static const double Z0[NZ] = {{{z0}}};
 static const double P0[NZ * NZ] = {{{p0}}};
 static const double LEAD[2] = {{{lead}}};
 static const double LIMITS[4] = {{{limits}}};
+static const double RATE_LIM[4] = {{{rate_limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
 static double lam[NLAM], lam_next[NLAM];
 
 static double acc[2], ramp0[2], rate[2], cmd[2];
-static long k_loop, k_a, n_acc, fallbacks;
-static int have_plan, nmpc_on, init_call;
+static long k_loop, k_a, n_acc, fallbacks, holds;
+static int have_plan, nmpc_on, init_call, streak, slew;
 static const double *narg[{n_arg}];
 static double *nres[{n_res}];
 static casadi_int niw[{n_iw}];
@@ -113,12 +123,36 @@ static void nmpc_start(void)
     memcpy(z, Z0, sizeof z);
     memcpy(P, P0, sizeof P);
     acc[0] = acc[1] = 0.0;
-    k_loop = n_acc = fallbacks = 0;
-    have_plan = nmpc_on = 0;
+    k_loop = n_acc = fallbacks = holds = 0;
+    have_plan = nmpc_on = streak = slew = 0;
     init_call = 1;
 #if PV_ON
     pv_reset();
 #endif
+}}
+
+/* N blocks of `block` values moved one block earlier, the last block repeated (the rest of v untouched). */
+static void shift_stages(double *v, int block)
+{{
+    if (NSTAGE > 1) memmove(v, v + block, sizeof(double) * (size_t)((NSTAGE - 1) * block));
+}}
+
+/* After a failed QP: the stored plan's first rates (clipped), the plan and multipliers one more stage ahead. */
+static void plan_hold(void)
+{{
+    rates[0] = clip(plan[NXS], RATE_LIM[0], RATE_LIM[1]);
+    rates[1] = clip(plan[NXS + 1], RATE_LIM[2], RATE_LIM[3]);
+    shift_stages(plan, NXS + NUS);
+    memcpy(plan + (NSTAGE - 1) * (NXS + NUS), plan + NSTAGE * (NXS + NUS), sizeof(double) * NXS);
+    shift_stages(lam, NXS + NUS);
+    shift_stages(lam + NW, NXS + NCS);
+}}
+
+/* The NMPC's ramps hand over to the baseline: the demands move to the baseline's at the NMPC's rate bounds. */
+static void nmpc_off(void)
+{{
+    slew = slew || nmpc_on;
+    have_plan = nmpc_on = streak = 0;
 }}
 
 static int all_finite(const double *v, int n)
@@ -144,7 +178,7 @@ static void estimator_restart(const float *swap)
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
     double yv[2], mean[2], flag, pitch, torque, el, since;
-    int r, warn = 0, note = 0;
+    int r, accepted, warn = 0, note = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
     if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
         init_call = 0;
@@ -174,7 +208,7 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
             memcpy(z, z_next, sizeof z); memcpy(P, P_next, sizeof P);
         }} else {{
             estimator_restart(swap);
-            have_plan = nmpc_on = 0;
+            nmpc_off();
             ++fallbacks;
             snprintf(err, n_err, "the EKF's estimate became non-finite or its wind left [%g, %g] m/s at t = %g s: "
                      "estimator restarted, baseline commands applied (%ld fallbacks so far)", WIND_LO, WIND_HI, t,
@@ -210,28 +244,45 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 #endif
             r = nmpc_startup(narg, nres, niw, nw, 0);
         }}
-        if (r == 0 && all_finite(plan_next, NW) && all_finite(rates, 2) && viol <= QP_ACCEPT) {{
+        accepted = r == 0 && all_finite(plan_next, NW) && all_finite(rates, 2) && viol <= QP_ACCEPT;
+        if (accepted) {{
+            memcpy(plan, plan_next, sizeof plan);
+            memcpy(lam, lam_next, sizeof lam);
+            streak = 0;
+        }} else if (have_plan && streak < HOLD_MAX) {{     /* hold: the previous plan's next rates */
+            plan_hold();
+            ++streak; ++holds;
+            snprintf(err, n_err, "the NMPC's QP failed at t = %g s (code %d, violation %.3g): the previous plan's "
+                     "next rates applied (%d in a row, at most %d; %ld holds so far)", t, r, viol, streak, HOLD_MAX,
+                     holds);
+            warn = 1;
+        }} else {{
+            nmpc_off();
+            ++fallbacks;
+            snprintf(err, n_err, "the NMPC's QP failed at t = %g s (code %d, violation %.3g) with no plan to hold: "
+                     "baseline commands applied until the next NMPC sample (%ld fallbacks so far)", t, r, viol,
+                     fallbacks);
+            warn = 1;
+        }}
+        if (have_plan || accepted) {{
             if (nmpc_on) {{                     /* the new ramps start where the previous ones are now */
                 since = (double)(k_loop - k_a) * SAMPLE_TIME;
                 ramp0[0] = clip(ramp0[0] + rate[0] * since, LIMITS[0], LIMITS[1]);
                 ramp0[1] = clip(ramp0[1] + rate[1] * since, LIMITS[2], LIMITS[3]);
             }} else {{ ramp0[0] = pitch; ramp0[1] = torque; }}
             k_a = k_loop; rate[0] = rates[0]; rate[1] = rates[1];
-            memcpy(plan, plan_next, sizeof plan);
-            memcpy(lam, lam_next, sizeof lam);
             have_plan = nmpc_on = 1;
-        }} else {{
-            have_plan = nmpc_on = 0;
-            ++fallbacks;
-            snprintf(err, n_err, "the NMPC's QP failed at t = %g s (code %d, violation %.3g): baseline commands "
-                     "applied until the next NMPC sample (%ld fallbacks so far)", t, r, viol, fallbacks);
-            warn = 1;
+            slew = 0;
         }}
     }}
     if (nmpc_on) {{            /* elapsed time from the sample count: the swap array's time is float32 */
         el = (double)(k_loop - k_a) * SAMPLE_TIME;
         cmd[0] = clip(ramp0[0] + rate[0] * (el + LEAD[0]), LIMITS[0], LIMITS[1]);
         cmd[1] = clip(ramp0[1] + rate[1] * (el + LEAD[1]), LIMITS[2], LIMITS[3]);
+    }} else if (slew) {{      /* from the NMPC's last demands to the baseline's at the rate bounds */
+        cmd[0] += clip(held[0] - cmd[0], RATE_LIM[0] * SAMPLE_TIME, RATE_LIM[1] * SAMPLE_TIME);
+        cmd[1] += clip(held[N_U - 1] - cmd[1], RATE_LIM[2] * SAMPLE_TIME, RATE_LIM[3] * SAMPLE_TIME);
+        slew = !(cmd[0] == held[0] && cmd[1] == held[N_U - 1]);
     }} else {{ cmd[0] = held[0]; cmd[1] = held[N_U - 1]; }}
     ++k_loop;
     return warn || note;
@@ -379,6 +430,8 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
                 init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
                 wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
+                rate_limits=_floats([v for b in fns.rate_bounds for v in b]), n_xs=fns.stage[0], n_us=fns.stage[1],
+                n_cs=fns.stage[2], n_stage=fns.horizon,
                 n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
                 n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1),
                 preview=preview_c(fns.preview, fns.nmpc_dt, fns.horizon))

@@ -146,6 +146,22 @@ class SampleFunctions:
     nmpc_dt: float = 0.0
     horizon: int = 0
     n_lam: int = 0
+    stage: tuple = (0, 0, 0)
+    rate_bounds: tuple = ()
+
+    def hold(self, w: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """After a failed QP: the stored (shifted) plan's first rates, clipped to their bounds, and the plan and
+        multipliers shifted one more stage (the library's hold, :data:`HOLD_MAX`)."""
+        nx, nu, nc = self.stage
+        rates = np.array([min(max(w[nx + i], lo), hi) for i, (lo, hi) in enumerate(self.rate_bounds)])
+        block, n = nx + nu, self.horizon
+        w = w.copy()
+        w[: (n - 1) * block] = w[block: n * block]
+        w[(n - 1) * block: (n - 1) * block + nx] = w[n * block:]
+        lam = lam.copy()
+        lam[: (n - 1) * block] = lam[block: n * block]
+        lam[self.n_w: self.n_w + (n - 1) * (nx + nc)] = lam[self.n_w + nx + nc: self.n_w + n * (nx + nc)]
+        return rates, w, lam
 
     def rti(self, w, z, pitch: float, torque: float, *rest) -> tuple:
         """One real-time iteration ``(w_next, rates, violation, lam_next)`` from the plan ``w``, the estimate,
@@ -255,7 +271,20 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
                            P0=np.array(f.P, dtype=float), n_w=nmpc.nmpc.transcription.problem.layout.n_w,
                            loop_dt=float(loop_dt), ke=ke, kn=kn, lead=tuple(float(v) for v in pred._lead),
                            limits=tuple(tuple(float(v) for v in b) for b in pred._demand_limits), init=init,
-                           initial=initial, wind_range=(0.5 * float(grid[0]), 1.5 * float(grid[-1])))
+                           initial=initial, wind_range=(0.5 * float(grid[0]), 1.5 * float(grid[-1])),
+                           stage=_stage_sizes(nmpc), rate_bounds=_rate_bounds(nmpc))
+
+
+def _stage_sizes(nmpc) -> tuple[int, int, int]:
+    """States, controls and path constraints per stage of the NMPC's OCP (the plan's and multipliers' blocks)."""
+    P = nmpc.nmpc.transcription.problem
+    return int(P.n_x), int(P.n_u), int(P.n_c)
+
+
+def _rate_bounds(nmpc) -> tuple:
+    """Bounds of the NMPC's rates (pitch [rad/s], torque [N m/s])."""
+    P, nc = nmpc.nmpc.transcription.problem, nmpc.nmpc.transcription.n_controls
+    return tuple((float(P.lbu[i]), float(P.ubu[i])) for i in range(nc))
 
 
 def _init_function(estimator, grid: np.ndarray, settings) -> ca.Function:
@@ -264,7 +293,7 @@ def _init_function(estimator, grid: np.ndarray, settings) -> ca.Function:
 
     lo, hi = float(grid[0]), float(grid[-1])
     winds = np.unique(np.append(np.arange(lo, hi, INIT_STEP), hi))
-    table = np.array([steady_estimate(estimator.prediction, u, settings=settings) for u in winds])
+    table = np.array([estimator.complete(steady_estimate(estimator.prediction, u, settings=settings)) for u in winds])
     wind = ca.MX.sym("wind")
     w = ca.fmin(ca.fmax(wind, lo), hi)
     rows = [ca.interpolant(f"init_{i}", "linear", [winds], table[:, i])(w) for i in range(table.shape[1] - 1)]
@@ -278,7 +307,7 @@ def _ekf_function(estimator) -> ca.Function:
 
     m = estimator.model
     # a fresh, uncompiled copy: the filter's own linearization may be a compiled library (no graph to generate)
-    lin = EstimationModel(estimator.prediction.estimation, dt=estimator.dt, measurements=ESTIMATOR_MEASUREMENTS,
+    lin = EstimationModel(estimator.dynamics, dt=estimator.dt, measurements=ESTIMATOR_MEASUREMENTS,
                           unknown_inputs=["Wind1VelX"], compile=False).linearization
     f = estimator.filter
     n, ny, nu = m.n_z, m.n_y, len(m.known_inputs)
@@ -427,11 +456,12 @@ class SampledLoop:
         Wall time of every NMPC sample's Function call [s] (CasADi's virtual machine).
     restarts : list of float
         Times [s] at which the estimator was restarted (an implausible estimate).
-
-    Raises
-    ------
-    SolverError
-        From :meth:`step`, when a QP is not accepted (a reference, not a fallback).
+    holds : list of float
+        Times [s] of NMPC samples whose QP was not accepted and that applied the previous plan's next rates
+        (:meth:`SampleFunctions.hold`; at most ``horizon - 1`` in a row).
+    failures : list of float
+        Times [s] of NMPC samples whose QP was not accepted with no plan left to hold: the library's baseline
+        from there to the next NMPC sample (:meth:`step` returns None), then the start-up iterations.
     """
 
     def __init__(self, functions: SampleFunctions) -> None:
@@ -444,6 +474,9 @@ class SampledLoop:
         self._anchor = None
         self.rti_walls: list[float] = []
         self.restarts: list[float] = []
+        self.holds: list[float] = []
+        self.failures: list[float] = []
+        self._streak = 0
         self.preview = None if functions.preview is None else LidarPreview(
             functions.preview, functions.nmpc_dt, functions.horizon, functions.wind_range)
         self.stage_winds: np.ndarray | None = None
@@ -455,7 +488,8 @@ class SampledLoop:
         ``hub_wind`` [m/s]: the measured hub wind, read where the estimator starts or restarts
         (``initial="hub-wind"``). ``lidar``: the beams' speeds [m/s] (with a preview; None: no
         measurement this sample). ``None`` where the library applies its baseline's commands: from
-        a restart of the estimator (:attr:`restarts`) to the next NMPC sample.
+        a restart of the estimator (:attr:`restarts`) or a failed QP with no plan to hold
+        (:attr:`failures`) to the next NMPC sample.
         """
         import time
 
@@ -475,6 +509,7 @@ class SampledLoop:
             if not (f.plausible(self.z) and np.all(np.isfinite(self.P))):
                 self.z, self.P = f.restart(hub_wind), f.P0.copy()
                 self.w = self._anchor = None
+                self._streak = 0
                 self.restarts.append(t)
                 restarted = True
         extra = []
@@ -489,12 +524,17 @@ class SampledLoop:
                 f.rti(self.w, self.z, pitch, torque, *extra, self.lam)
             self.rti_walls.append(time.perf_counter() - c0)
             w, rates, viol, lam = (np.asarray(v).ravel() for v in out)
-            if not (np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT):
-                from ...exceptions import SolverError
-
-                raise SolverError(f"the NMPC's QP was not accepted at t = {t:g} s (violation {viol[0]:.3g}); this "
-                                  "reference has no fallback (the exported library applies the baseline there).")
-            self.w, self.lam = w, lam
+            if np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT:
+                self.w, self.lam, self._streak = w, lam, 0
+            elif self.w is not None and self._streak < f.horizon - 1:         # hold the previous plan
+                rates, self.w, self.lam = f.hold(self.w, self.lam)
+                self._streak += 1
+                self.holds.append(t)
+            else:                                                              # the library's baseline
+                self.w = self.lam = self._anchor = None
+                self._streak = 0
+                self.failures.append(t)
+                return None
             self._anchor = (t, *self._ramp_start(t, pitch, torque), rates)
         if self._anchor is None:
             return None
