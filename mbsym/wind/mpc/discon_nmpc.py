@@ -460,7 +460,9 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
             "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "terminal_factor"))
         + f", power_reference {t.power_reference}",
         "!   limits: " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in nmpc.prediction.plant.bounds().items()),
-        f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}",
+        f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}"
+        + (f"; blade-passing ripple states, walks {e.harmonic_speed_walk:g} rpm, {e.harmonic_accel_walk:g} m/s^2"
+           if e.blade_passing else ""),
         f"!   EKF model states: {', '.join(estimator.names)}",
         "!   EKF start and restart: " + ("steady operation at the measured hub wind (record 27)"
                                          if fns.initial == "hub-wind" else

@@ -304,9 +304,12 @@ def test_full_field_decks_get_the_rotor_averaged_tunings():
     assert not full_field_wind(operating_deck(aero / "step_10_14" / "step_10_14.fst"))
     assert not full_field_wind(builtin_deck())
     t = NMPCTuning.full_field()
-    assert (t.speed_scale, t.tower_velocity_scale) == (10.0, 0.1)
+    assert (t.speed_scale, t.tower_velocity_scale) == (10.0, 0.07)
     assert t.pitch_rate_scale == math.radians(0.45) and t.power_reference == "steady"
-    assert EstimatorTuning.full_field().wind_walk == 0.05 and EstimatorTuning().wind_walk == 0.25
+    e = EstimatorTuning.full_field()
+    assert e.wind_walk == 0.1 and e.blade_passing and EstimatorTuning().wind_walk == 0.25
+
+
 @pytest.mark.slow
 def test_implausible_estimate_restarts_the_ekf_from_the_hub_wind(library):
     # A generator speed of 3000 rpm at the estimator sample of call 16 (the schedule starts at call 1; the EKF runs
