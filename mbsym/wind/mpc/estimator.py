@@ -234,8 +234,8 @@ class EstimatorTuning:
         ripple's states (walks 1 rpm and 0.01 m/s² per sample) and a 0.1 m/s walk, on the two fields
         that had missed a target (16 m/s seed 1618, 18 m/s seed 2718) and the NMPC of
         :meth:`NMPCTuning.full_field <mbsym.wind.mpc.NMPCTuning.full_field>`: speed RMS error 0.94 and
-        0.80x ROSCO's, pitch-rate RMS 1.00 and 1.14x, tower fore-aft DEL 0.84 and 0.83x. Tried: ripple
-        walks 2 rpm and 0.005-0.02 m/s² (the narrower the acceleration's notch, the better the tower's
+        0.80x ROSCO's, pitch-rate RMS 1.00 and 1.14x, tower fore-aft DEL 0.84 and 0.83x. Tried (with the
+        NMPC's tower-velocity scale at 0.05 m/s): ripple walks 2 rpm and 0.005-0.02 m/s² (the narrower the acceleration's notch, the better the tower's
         estimate and DEL, and the more 3P in the pitch: 0.80 DEL at 1.40x pitch rate with 0.005 m/s²,
         0.84 at 0.97x with 0.02), wind walks 0.05-0.1 m/s (0.07: speed RMS error 1.14x at 16 m/s).
         """
