@@ -457,7 +457,8 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
         f"estimator: EKF at {e.dt:g} s",
         "!   cost scales: " + ", ".join(f"{k} {getattr(t, k):g}" for k in (
             "speed_scale", "power_scale", "pitch_scale", "torque_scale", "tower_velocity_scale",
-            "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "terminal_factor"))
+            "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "pitch_acceleration_scale",
+            "terminal_factor"))
         + f", power_reference {t.power_reference}",
         "!   limits: " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in nmpc.prediction.plant.bounds().items()),
         f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}"

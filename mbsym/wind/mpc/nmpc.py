@@ -5,7 +5,9 @@ prediction model's control form (inputs: the pitch and torque *rates*; the wind 
 disturbance)::
 
     min Σₖ  w_ω (ω_gen − ω_ref,k)² + w_P (P − P_ref,k)² + w_v ẋ_tower² + w_M (M_base − M_ref,k)²
-            + w_β̇ β̇² + w_Ṫ Ṫ²                 (stages 0..N-1; terminal: speed and tower velocity)
+            + w_β̇ β̇² + w_Ṫ Ṫ² + w_β̈ ((β̇ₖ − β̇ₖ₋₁)/dt)²
+                                              (stages 0..N-1; terminal: speed and tower velocity;
+                                               β̇₋₁ the rate applied before; w_β̈ = 0 by default)
     s.t.  β in [β_min, β_max], T in [T_min, T_max]                  (the plant's actuator limits)
           β̇ in [β̇_min, β̇_max], |Ṫ| ≤ Ṫ_max                          (the plant's actuator rates)
 
@@ -80,6 +82,11 @@ class NMPCTuning:
         Pitch rate [rad/s].
     torque_rate_scale : float
         Generator torque rate [N m/s].
+    pitch_acceleration_scale : float
+        Change of the pitch rate from one stage to the next, per sample time [rad/s²] (default: no
+        term). The rates are held over each sample, so without it a noisy estimate makes the applied
+        rate jump from sample to sample: broadband pitch activity up to the sample rate's Nyquist
+        frequency, which moves no load. The first stage's change is from the rate applied before.
     terminal_factor : float
         Terminal weights of speed and tower velocity, in stage weights.
     """
@@ -97,6 +104,7 @@ class NMPCTuning:
     pitch_rate_scale: float = math.radians(2.5)
     torque_rate_scale: float = 3000.0
     terminal_factor: float = 5.0
+    pitch_acceleration_scale: float = math.inf
 
     def __post_init__(self) -> None:
         if self.power_reference not in ("rated", "steady"):
@@ -289,6 +297,8 @@ class TurbineNMPC:
             ocp.track(final, terminal=True)
         ocp.bound("BlPitchRate", *b["BlPitch_d"]).bound("GenTqRate", *b["GenTq_d"])
         ocp.bound("x:BlPitch", *b["BlPitch"]).bound("x:GenTq", *b["GenTq"])
+        if not math.isinf(t.pitch_acceleration_scale):
+            ocp.penalize_rates({"BlPitchRate": _weight(t.pitch_acceleration_scale)})
         return ocp
 
     @property

@@ -345,10 +345,9 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
     tr = ctl.transcription
     P = tr.problem
     L, nc = P.layout, tr.n_controls
-    if P.n_u != nc or tr.rate_controls:
-        raise ControlDefinitionError("the exported NMPC needs an OCP without slacks, collocation variables or rate "
-                                     "terms on the controls (the turbine NMPC's own); this one has "
-                                     f"{P.n_u - nc} extra stage variables and rate controls {list(tr.rate_controls)}.")
+    if P.n_u != nc:
+        raise ControlDefinitionError("the exported NMPC needs an OCP without slacks or collocation variables (the "
+                                     f"turbine NMPC's own); this one has {P.n_u - nc} extra stage variables.")
     prep = preparation_function(P)
     qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else QP_MAX_ITER},
                label="qp_qrqp" if startup else "nmpc_qp")
@@ -366,9 +365,12 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
         D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
     n_a = prep.sparsity_out(2).size1()
 
+    n_prev = P.n_x - x0.size1()            # the previous rates of the rate-penalized controls (augmented state)
+
     def qp_data(w):
         H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
-        fixed = x0 - w[L.x_index(0)]
+        x_w = w[L.x_index(0)]
+        fixed = ca.vertcat(x0, x_w[x0.size1():]) - x_w     # the plan's own previous rates: those last applied
         return H, g, A, lba, uba, ca.vertcat(fixed, lbdw[P.n_x:]), ca.vertcat(fixed, ubdw[P.n_x:])
 
     def finish(w, dw, lam, A, lba, uba, lbdw, ubdw):
@@ -390,7 +392,8 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
     extra, extra_names = ([wind], ["wind"]) if preview else ([], [])
     if startup:
         u0 = np.clip(np.zeros(nc), P.lbu[:nc], P.ubu[:nc])
-        w = ca.vertcat(ca.repmat(ca.vertcat(x0, u0), P.N, 1), x0)
+        xa = ca.vertcat(x0, ca.DM.zeros(n_prev))         # no rate applied before the first sample
+        w = ca.vertcat(ca.repmat(ca.vertcat(xa, u0), P.N, 1), xa)
         lam = ca.MX(L.n_w + n_a, 1)
         worst = ca.MX(0)
         for _ in range(STARTUP_ITERATIONS):

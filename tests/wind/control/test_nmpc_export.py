@@ -41,7 +41,7 @@ def _wind(seconds):
     return kaimal_wind(14.0, 0.14, 3, duration=seconds + 1.0)          # region 3: pitch and torque both act
 
 
-def _controllers(wind, qp_solver="hpipm", z0=None):
+def _controllers(wind, qp_solver="hpipm", z0=None, tuning=None):
     """A fresh EKF (prior ``z0``, default the steady operation at the first wind) and NMPC (no deadline: every
     step's own solution is applied), and the plant's start."""
     from mbsym.wind.mpc import (
@@ -59,18 +59,18 @@ def _controllers(wind, qp_solver="hpipm", z0=None):
     if z0 is None:
         z0 = [x0[dyn.states.index(s)] for s in observed.estimation_states] + [float(wind(0.0))]
     est = TurbineEstimator(observed, "ekf", x0=z0)
-    nmpc = TurbineNMPC(t.prediction, t.setpoints, tuning=NMPCTuning.estimated_wind(), references=t.references,
+    nmpc = TurbineNMPC(t.prediction, t.setpoints, tuning=tuning or NMPCTuning.estimated_wind(), references=t.references,
                        qp_solver=qp_solver, deadline=math.inf)
     return est, nmpc, x0
 
 
-def _recorded_loop(seconds):
+def _recorded_loop(seconds, tuning=None):
     """The Python loop closed on the plant; every loop sample's measurements (loop units) and commands."""
     from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
 
     t = turbine()
     wind = _wind(seconds)
-    est, nmpc, x0 = _controllers(wind)
+    est, nmpc, x0 = _controllers(wind, tuning=tuning)
     loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est)
     law, rows = loop.law, []
 
@@ -84,12 +84,22 @@ def _recorded_loop(seconds):
     return rows
 
 
-def test_sample_functions_equal_the_python_nmpc_in_closed_loop():
+def _pitch_acceleration_tuning():
+    from mbsym.wind.mpc import NMPCTuning
+
+    return NMPCTuning.estimated_wind(pitch_acceleration_scale=math.radians(2.0))
+
+
+@pytest.mark.parametrize("tuning", [None, _pitch_acceleration_tuning], ids=["default", "pitch-acceleration"])
+def test_sample_functions_equal_the_python_nmpc_in_closed_loop(tuning):
+    """Also with a pitch-acceleration term: the exported step takes the previous rates from its own plan
+    (the shifted plan's augmented state), the Python NMPC from what it applied."""
     from mbsym.wind.mpc.sample import SampledLoop, sample_functions
 
     t = turbine()
-    rows = _recorded_loop(T_RUN)
-    est, nmpc, _ = _controllers(_wind(T_RUN))
+    tuning = tuning and tuning()
+    rows = _recorded_loop(T_RUN, tuning)
+    est, nmpc, _ = _controllers(_wind(T_RUN), tuning=tuning)
     sampled = SampledLoop(sample_functions(nmpc, est, t.deck.controller_dt, initial="fixed"))
     got = np.array([sampled.step(tt, y[0], y[6], math.radians(y[2]), y[5] * 1e3) for tt, y, _ in rows])
     ref = np.array([u for _, _, u in rows])

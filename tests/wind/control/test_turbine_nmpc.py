@@ -178,3 +178,25 @@ def test_tuning_for_another_turbine_scales_with_its_rated_values():
     assert (scaled.pitch_rate_scale, scaled.tower_velocity_scale, scaled.horizon) == \
         (tuning.pitch_rate_scale, tuning.tower_velocity_scale, tuning.horizon)
     assert math.isinf(NMPCTuning().platform_pitch_rate_scale) and NMPCTuning.floating().platform_pitch_rate_scale == 5e-4
+
+
+def test_pitch_acceleration_term_starts_the_plan_from_the_rate_applied_before():
+    """``pitch_acceleration_scale`` costs the change of the pitch rate per sample, the first stage's from the rate
+    applied before (the OCP's augmented state). In a gust from rated operation (14 -> 18 m/s) the NMPC without
+    the term pitches at once; with a scale of 1e-3 rad/s² (a 0.01 rad/s jump costs 1e4 units against O(1) for
+    the tracking terms) its first rate stays at the previous one, whatever that was."""
+    from mbsym.wind.mpc import NMPCTuning, TurbineNMPC
+    from mbsym.wind.operation.steady import steady_guess
+
+    t = turbine()
+    x_plant = steady_guess(t.plant, 14.0).state
+    x = t.prediction.state_from_plant(x_plant, t.plant.dynamics().states)
+    free = TurbineNMPC(t.prediction, t.setpoints, references=t.references, compile=False, deadline=math.inf)
+    free.nmpc.reset(u_prev=np.zeros(2))
+    jump = free.step(x, 18.0)[0]
+    assert jump > 0.01                                                  # rad/s: pitching into the gust at once
+    held = TurbineNMPC(t.prediction, t.setpoints, references=t.references, compile=False, deadline=math.inf,
+                       tuning=NMPCTuning(pitch_acceleration_scale=1e-3))
+    for before in (0.0, 0.02):
+        held.nmpc.reset(u_prev=np.array([before, 0.0]))
+        assert held.step(x, 18.0)[0] == pytest.approx(before, abs=0.02 * jump)
