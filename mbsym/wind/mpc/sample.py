@@ -11,7 +11,10 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
 - ``rti(w, z, pitch, torque, lam) -> (w, rates, violation, lam)`` (:meth:`SampleFunctions.rti`, three
   generated parts ``qp_data``, ``qp``, ``finish``): one real-time iteration of
   :class:`mbsym.control.NMPC`: the NMPC state from the estimate and the measured pitch [rad] and
-  torque [N m] (:meth:`~.estimator.TurbineEstimator.control_state`), the stage parameters of the
+  torque [N m] (:meth:`~.estimator.TurbineEstimator.control_state`; with a cost on the rates' changes,
+  :attr:`~.nmpc.NMPCTuning.pitch_acceleration_scale`, the OCP's augmented state also holds the rates
+  applied before, taken from the shifted plan ``w``: its stage 0 is the last plan's first rates, or the
+  held ones after a hold; zero at the start-up), the stage parameters of the
   estimated wind held over the horizon (its references from the steady reference table, as
   :meth:`~.nmpc.TurbineNMPC.step` sets them), the Gauss–Newton QP at the shifted plan ``w``
   (:func:`mbsym.control.qp.preparation_function`), one QP solve by CasADi's ``qrqp`` (an
