@@ -128,22 +128,35 @@ def test_sample_functions_refuse_what_has_no_fixed_work():
 def library(tmp_path_factory):
     if compiler_command() is None:
         pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
+    return _export(tmp_path_factory, None)
+
+
+@pytest.fixture(scope="module")
+def library_pitch_acceleration(tmp_path_factory):
+    if compiler_command() is None:
+        pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
+    return _export(tmp_path_factory, _pitch_acceleration_tuning())
+
+
+def _export(tmp_path_factory, tuning):
     from mbsym.wind.control import BaselineController
     from mbsym.wind.mpc.discon_nmpc import export_nmpc_discon
 
     t = turbine()
-    est, nmpc, _ = _controllers(_wind(T_RUN))
+    est, nmpc, _ = _controllers(_wind(T_RUN), tuning=tuning)
     baseline = BaselineController(t.deck.baseline_settings())
     return export_nmpc_discon(nmpc, est, baseline, tmp_path_factory.mktemp("nmpc"), loop_dt=t.deck.controller_dt)
 
 
 @pytest.mark.slow
-def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
+@pytest.mark.parametrize("which", ["library", "library_pitch_acceleration"])
+def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(which, request):
     # The library closed on the plant in mbsym's DISCON loop (ctypes, float32 swap array), 10 s; then the Python
     # loop (TurbineLoop: hpipm RTI, numpy EKF) fed the same float32 measurements, sample by sample, its EKF started
     # where the library starts its own: the steady estimate table at the hub wind of the first step call (record
     # 27), the Function the library generates. Tolerance: module docstring. ~2 min with the export (60 s of
-    # gcc -O2 on 6.6 MB of generated C).
+    # gcc -O2 on 6.6 MB of generated C). Also with a pitch-acceleration term: the library's OCP then carries the
+    # rates applied before as a state, which it takes from its own shifted plan.
     from mbsym.wind.mpc.sample import sample_functions
     from mbsym.simulate.api import simulate
     from mbsym.simulate.controller import DiscreteController
@@ -151,6 +164,8 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
     from mbsym.wind.mpc import LOOP_CHANNELS, TurbineLoop, measurement_dynamics
     from mbsym.wind.operation.controllers import ACTUATED, held_commands
 
+    library = request.getfixturevalue(which)
+    tuning = _pitch_acceleration_tuning() if which == "library_pitch_acceleration" else None
     assert set(library) == {"library", "input", "controller", "sample_time_s"}
     assert library["controller"] == "nmpc" and library["sample_time_s"] == 0.01
     t = turbine()
@@ -165,15 +180,15 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(library):
             rows.append((tt, y32, u))
             return xc, u
 
-        est, nmpc, x0 = _controllers(wind)
+        est, nmpc, x0 = _controllers(wind, tuning=tuning)
         ctrl = DiscreteController(law, 0.01, np.zeros(0), measurements=LOOP_CHANNELS, actuates=ACTUATED)
         res = simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), T_RUN, x0=x0, controller=ctrl, method="rk4",
                        dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
         assert not any("fallback" in m or "failed" in m for m in lib.messages), lib.messages
     # the library answers its initialization call (status 0, t = 0) with the baseline and starts at the next call
-    est0, nmpc0, _ = _controllers(wind)
+    est0, nmpc0, _ = _controllers(wind, tuning=tuning)
     start = sample_functions(nmpc0, est0, 0.01, settings=t.deck.baseline_settings()).init(rows[1][1][4])
-    est, nmpc, _ = _controllers(wind, z0=np.asarray(start, dtype=float).ravel())
+    est, nmpc, _ = _controllers(wind, z0=np.asarray(start, dtype=float).ravel(), tuning=tuning)
     loop = TurbineLoop(t.plant, 0.01, nmpc=nmpc, estimator=est)
     xc = loop.controller().x0
     ref = []
