@@ -12,7 +12,8 @@ RootMxb<k>, RootMyb<k> kN-m    the same moments in the pitched axes j1, j2
 RootFxc<k> … RootFzc<k> kN     (``load_channels=True``) the blade's force on the hub at its root along
                                i1, i2, i3: minus the reactions of locked root translations
 RootFxb<k>, RootFyb<k> kN      the same forces along j1, j2 (:mod:`mbsym.wind.structure.load_cuts`)
-RtAeroFxh … RtAeroFzh  N       aerodynamic force on the rotor in the (rotating) hub axes
+RtAeroFxh … RtAeroFzh  N       aerodynamic force on the rotor in AeroDyn's (rotating) hub axes
+                               (:func:`aerodyn_hub_axes`)
 RtAeroMxh … RtAeroMzh  N-m     aerodynamic moment about the apex in the hub axes
 RtSkew                 deg     skew angle of the disk-averaged relative wind to the shaft
 Wind1VelY, Wind1VelZ   m/s     the wind at the hub point (0, 0, hub height), as InflowWind's output point
@@ -31,7 +32,7 @@ import casadi as ca
 
 from ..structure.load_cuts import reaction_rows
 
-__all__ = ["blade_channel_rows", "NODE_CHANNELS"]
+__all__ = ["blade_channel_rows", "NODE_CHANNELS", "aerodyn_hub_axes"]
 
 #: AeroDyn node channels: name -> (key of the aero Function's ``node_*`` outputs, unit, scale).
 NODE_CHANNELS = {"Alpha": ("alpha", "deg", 180.0 / math.pi), "Phi": ("phi", "deg", 180.0 / math.pi),
@@ -58,8 +59,18 @@ def _root_loads(g) -> list[tuple[str, str, Any]]:
     return [r for r in reaction_rows(g.eom.locked, reactions(g), pitch) if r[0].startswith("Root")]
 
 
+def aerodyn_hub_axes(R: Any) -> Any:
+    """AeroDyn's hub axes (columns) from the structure's hub-body frame ``R`` (columns x, y, z).
+
+    AeroDyn writes ``RtAero*h`` (v5: ``RtFld*h``) in its hub motion's orientation, ElastoDyn's ``g1, g2, g3``
+    (``ElastoDyn.f90``: ``e2 = cos q c2 + sin q c3`` at the internal azimuth ``q``, without the output azimuth's
+    90° offset). That is the hub body's frame turned by −90° about the shaft: ``g2 = z``, ``g3 = −y``.
+    Checked on OpenFAST v5 runs: series correlation 1.000 with these axes, 0.00 with the body's own."""
+    return ca.horzcat(R[:, 0], R[:, 2], -R[:, 1])
+
+
 def _rotor_loads(g) -> list[tuple[str, str, Any]]:
-    R = g.hub_frame
+    R = aerodyn_hub_axes(g.hub_frame)
     force, moment = g.blade_aero["rotor_force"], g.blade_aero["rotor_moment"]
     rows = [(f"RtAeroF{a}h", "N", ca.dot(force, R[:, i])) for i, a in enumerate("xyz")]
     rows += [(f"RtAeroM{a}h", "N-m", ca.dot(moment, R[:, i])) for i, a in enumerate("xyz")]

@@ -206,6 +206,9 @@ def test_blade_rung_shaft_force_is_the_aerodynamic_force_plus_the_rotor_weight()
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "operation"))
     from _op_data import INPUTS, need
 
+    import casadi as ca
+
+    from mbsym.wind.operation.blade_channels import aerodyn_hub_axes
     from mbsym.wind.operation.deck import operating_deck
 
     model = operating_deck(need(INPUTS / "ss14_shear_flex" / "ss14_shear_flex.fst")).model(
@@ -223,7 +226,7 @@ def test_blade_rung_shaft_force_is_the_aerodynamic_force_plus_the_rotor_weight()
     defaults = dict(eom.defaults)
     g = np.array([0.0, 0.0, -defaults["gravity"]])
     rotor = defaults["hub_mass"] + sum(rotor_mass_properties(model.turbine).blade_mass)
-    aero = R_hub @ [y["RtAeroFxh"], y["RtAeroFyh"], y["RtAeroFzh"]]
+    aero = np.asarray(aerodyn_hub_axes(ca.DM(R_hub))) @ [y["RtAeroFxh"], y["RtAeroFyh"], y["RtAeroFzh"]]
     assert np.linalg.norm(aero) > 3e5                     # the wind loads the rotor (N)
     shaft = R_shaft.T @ (aero + rotor * g) / 1e3
     np.testing.assert_allclose([y["LSShftFxa"], y["LSShftFys"], y["LSShftFzs"]], shaft, rtol=1e-9,
