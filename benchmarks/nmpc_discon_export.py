@@ -1,12 +1,14 @@
 """The exported NMPC + EKF library (``mbsym export-discon --controller nmpc``): step time and a run inside OpenFAST.
 
-``python benchmarks/nmpc_discon_export.py loop [--seconds 20]``: the library (built-in NREL 5 MW, 0.01 s) closed on
+``python benchmarks/nmpc_discon_export.py loop [--seconds 20] [--pitch-acceleration 2]``: the library (built-in NREL 5 MW, 0.01 s) closed on
 mbsym's rotor-effective plant (GenDOF, TwFADOF1, TwSSDOF1, dynamic inflow) in mbsym's DISCON loop at 14 m/s
 (Kaimal, seed 3), each call timed; then the Python loop (:class:`TurbineLoop`: RTI driven from Python with hpipm,
 numpy EKF) on the same float32 measurements, its NMPC steps timed (``TurbineNMPC.step``, the EKF apart), in the
 same process. Printed: the time per DISCON call at NMPC samples (EKF + RTI + baseline + wrapper, with the ctypes
 call and the swap-array writes of ``DisconController.step``), at the other calls (the overhead floor), the Python
-RTI step, and the largest command differences.
+RTI step, and the largest command differences. With ``--pitch-acceleration A`` a second library with
+``NMPCTuning.estimated_wind(pitch_acceleration_scale=A deg/s²)`` runs the same, and the ratio of the two libraries'
+median calls at NMPC samples is printed.
 
 ``python benchmarks/nmpc_discon_export.py openfast [--case step_10_14] [--seconds 60] [--keep DIR]``: the deck of
 ``../shared/openfast/aero/openfast_inputs/<case>`` copied, ``mbsym export-discon <case>.fst --controller nmpc``,
@@ -32,7 +34,23 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parent), str(HERE.parent / "tests" / "wind" / "control")]
 
 
-def loop(seconds: float) -> None:
+def loop(seconds: float, pitch_acceleration: float | None = None) -> None:
+    """The default library; with ``pitch_acceleration`` [deg/s²] then the library with that term, same run."""
+    base = _loop(seconds, None)
+    if pitch_acceleration is None:
+        return
+    import math
+
+    from mbsym.wind.mpc import NMPCTuning
+
+    tuning = NMPCTuning.estimated_wind(pitch_acceleration_scale=math.radians(pitch_acceleration))
+    print(f"\n-- with a pitch-acceleration term, scale {pitch_acceleration:g} deg/s^2 --")
+    other = _loop(seconds, tuning)
+    print(f"ratio of the library's median call at NMPC samples (with / without the term): {other / base:.2f}")
+
+
+def _loop(seconds: float, tuning) -> float:
+    """One library run (module docstring); returns the median DISCON call at NMPC samples [s]."""
     from _mpc_setup import turbine
     from test_nmpc_export import LOOP_SI, _controllers, _wind
 
@@ -41,11 +59,12 @@ def loop(seconds: float) -> None:
     from mbsym.wind.control import BaselineController, DisconController
     from mbsym.wind.mpc import LOOP_CHANNELS, TurbineLoop, measurement_dynamics
     from mbsym.wind.mpc.discon_nmpc import export_nmpc_discon
+    from mbsym.wind.mpc.sample import sample_functions
     from mbsym.wind.operation.controllers import ACTUATED, held_commands
 
     t = turbine()
     wind = _wind(seconds)
-    est, nmpc, x0 = _controllers(wind)
+    est, nmpc, x0 = _controllers(wind, tuning=tuning)
     work = Path(tempfile.mkdtemp(prefix="mbsym_nmpc_lib_"))
     c0 = time.perf_counter()
     out = export_nmpc_discon(nmpc, est, BaselineController(t.deck.baseline_settings()), work, loop_dt=0.01)
@@ -66,6 +85,9 @@ def loop(seconds: float) -> None:
         simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), seconds, x0=x0, controller=ctrl, method="rk4", dt=0.01,
                  inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
         messages = list(lib.messages)
+    # the Python EKF starts where the library's does: the steady estimate at the hub wind of its first step call
+    start = sample_functions(nmpc, est, 0.01, settings=t.deck.baseline_settings()).init(rows[1][1][4])
+    est, nmpc, _ = _controllers(wind, z0=np.asarray(start, dtype=float).ravel(), tuning=tuning)
     lp = TurbineLoop(t.plant, 0.01, nmpc=nmpc, estimator=est)
     xc = lp.controller().x0
     ref = []
@@ -88,6 +110,7 @@ def loop(seconds: float) -> None:
     print(f"max |Δ pitch| {np.max(np.abs(got[:, 0] - ref[:, 0])):.3g} rad, max |Δ torque|/torque "
           f"{np.max(np.abs(got[:, 1] - ref[:, 1]) / np.abs(ref[:, 1])):.3g}")
     shutil.rmtree(work, ignore_errors=True)
+    return float(np.median(at_nmpc))
 
 
 def openfast(case: str, seconds: float, keep: str | None) -> None:
@@ -150,13 +173,15 @@ def main() -> None:
     sub = parser.add_subparsers(dest="what", required=True)
     p = sub.add_parser("loop")
     p.add_argument("--seconds", type=float, default=20.0)
+    p.add_argument("--pitch-acceleration", type=float, metavar="DEG_S2",
+                   help="then the library with NMPCTuning(pitch_acceleration_scale) in the same run, and the ratio")
     p = sub.add_parser("openfast")
     p.add_argument("--case", default="step_10_14")
     p.add_argument("--seconds", type=float, default=60.0)
     p.add_argument("--keep", metavar="DIR")
     args = parser.parse_args()
     if args.what == "loop":
-        loop(args.seconds)
+        loop(args.seconds, args.pitch_acceleration)
     else:
         openfast(args.case, args.seconds, args.keep)
 
