@@ -77,17 +77,21 @@ class _Record:
         Raises
         ------
         ParameterError
-            If a field is missing or unknown, or a value is invalid.
+            If a field without a default is missing, a field is unknown, or a value is invalid
+            (a field with a default may be missing: data written before it existed).
         """
         hints = typing.get_type_hints(cls)
-        names = [f.name for f in dataclasses.fields(cls)]  # type: ignore[arg-type]
-        missing = [n for n in names if n not in data]
+        fields = dataclasses.fields(cls)  # type: ignore[arg-type]
+        names = [f.name for f in fields]
+        optional = {f.name for f in fields if f.default is not dataclasses.MISSING
+                    or f.default_factory is not dataclasses.MISSING}
+        missing = [n for n in names if n not in data and n not in optional]
         unknown = [k for k in data if k not in names]
         if missing or unknown:
             raise ParameterError(
                 f"Cannot build {cls.__name__}: missing fields {missing}, unknown fields "
                 f"{unknown}. Regenerate the data with {cls.__name__}.to_dict().")
-        return cls(**{n: _from_plain(data[n], hints[n]) for n in names})
+        return cls(**{n: _from_plain(data[n], hints[n]) for n in names if n in data})
 
 
 def _to_plain(value: Any) -> Any:

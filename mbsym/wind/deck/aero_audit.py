@@ -1,15 +1,17 @@
 """AeroDyn settings that change loads on DOFs mbsym models but that its rotor models leave out: refused.
 
 mbsym's rotors load the hub (rotor-effective performance surfaces) or the blades (blade-element
-rotor) with the rotor's own aerodynamics only. AeroDyn switches that add loads on other DOFs
-or change the blade inflow are refused with the file, line and key, never ignored:
+rotor); the tower's drag (``TwrAero``) loads the tower with either, and its disturbance of the blade
+inflow (``TwrPotent``, ``TwrShadow``) enters the blade-element rotor (:mod:`mbsym.wind.aero.tower`).
+AeroDyn switches that add loads on other DOFs or change the blade inflow in ways a model leaves out
+are refused with the file, line and key, never ignored:
 
 ==================  ==========================================================================
 Key                 Why it is refused
 ==================  ==========================================================================
-TwrPotent ≠ 0       the tower's potential-flow influence on the blade inflow (3P loads)
-TwrShadow ≠ 0       the tower shadow on the blade inflow
-TwrAero = True      aerodynamic drag on the tower (loads the tower DOFs)
+TwrPotent ≠ 0       rotor-effective model only: the tower's potential flow changes the inflow
+                    of each blade node (3P loads); the blade-element rotor models it
+TwrShadow ≠ 0       rotor-effective model only: the tower shadow (idem)
 NacelleDrag = True  nacelle drag (loads the tower top)
 TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
 SectAvg = True      sector-averaged inflow over each blade element
@@ -34,15 +36,20 @@ __all__ = ["aerodyn_problems", "check_aerodyn"]
 _TRUE = ("true", "t", ".true.")
 #: key -> (is it on?, why it is refused)
 _SWITCHES = {
-    "TwrPotent": (lambda v: _int(v) != 0, "the tower's potential-flow influence on the blade inflow is not modelled"),
-    "TwrShadow": (lambda v: v.lower() in _TRUE or _int(v) > 0, "the tower shadow on the blade inflow is not modelled"),
-    "TwrAero": (lambda v: v.lower() in _TRUE, "aerodynamic drag on the tower (a load on the tower DOFs) is not "
-                                              "modelled"),
     "NacelleDrag": (lambda v: v.lower() in _TRUE, "nacelle drag is not modelled"),
     "TFinAero": (lambda v: v.lower() in _TRUE, "tail-fin aerodynamics are not modelled"),
     "SectAvg": (lambda v: v.lower() in _TRUE, "sector-averaged blade inflow is not modelled"),
     "MHK": (lambda v: _int(v) != 0, "marine hydrokinetic turbines are not modelled"),
     "Buoyancy": (lambda v: v.lower() in _TRUE, "buoyancy is not modelled"),
+}
+#: Refused by the rotor-effective model only (the blade-element rotor models them).
+_BLADE_ONLY = {
+    "TwrPotent": (lambda v: _int(v) != 0, "the tower's potential flow changes the inflow of every blade node, which "
+                                          "the rotor-effective model does not have (the blade-element rotor, "
+                                          "--aero blade, models it)"),
+    "TwrShadow": (lambda v: v.lower() in _TRUE or _int(v) > 0, "the tower shadow changes the inflow of every blade "
+                                                               "node, which the rotor-effective model does not have "
+                                                               "(the blade-element rotor, --aero blade, models it)"),
 }
 
 
@@ -64,7 +71,8 @@ def aerodyn_problems(aerodyn, *, rotor_effective: bool) -> list[str]:
         The rotor-effective model (performance surfaces): ``UA_Mod`` is refused here too.
     """
     lines = _lines(aerodyn.source)
-    found = [(key, why) for key, (on, why) in _SWITCHES.items()
+    switches = {**_SWITCHES, **(_BLADE_ONLY if rotor_effective else {})}
+    found = [(key, why) for key, (on, why) in switches.items()
              if key in aerodyn.extra and on(str(aerodyn.extra[key]).strip().strip("\"'"))]
     if rotor_effective:
         key = next((k for k in ("UA_Mod", "UAMod", "AFAeroMod") if k.lower() in lines), "UA_Mod")

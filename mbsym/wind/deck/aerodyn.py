@@ -44,7 +44,7 @@ _BLADE_TABLE = _TableSpec("blade", "NumBlNds", ("blspn",), (
     ("BlAFID", "airfoil_id", None, True)))
 _TOWER_TABLE = _TableSpec("tower", "NumTwrNds", ("twrelev",), (
     ("TwrElev", "tower_elevation", None, True), ("TwrDiam", "tower_diameter", None, True),
-    ("TwrCd", "tower_drag", None, True)))
+    ("TwrCd", "tower_drag", None, True), ("TwrTI", "tower_ti", None, False)))
 
 
 #: The node-wise geometry of an aerodynamic blade (AeroDyn blade file columns, our BEM rotor).
@@ -160,8 +160,9 @@ class AeroDynInput(_Record):
         The polars, in AFNames order (``airfoil_id`` 1 is ``airfoils[0]``).
     blades : tuple of AeroDynBlade
         One per blade read.
-    tower_elevation, tower_diameter, tower_drag : ndarray
-        The tower table (m, m, -) (kept; unused by the rotor model).
+    tower_elevation, tower_diameter, tower_drag, tower_ti : ndarray
+        The tower table (m, m, -, -): ``TwrElev``, ``TwrDiam``, ``TwrCd`` and ``TwrTI`` (zeros where the
+        table has no such column) for :class:`~mbsym.wind.aero.tower.TowerAero`.
     extra : dict of str to str
         Every other key with its raw value text.
     source : str or None
@@ -191,6 +192,7 @@ class AeroDynInput(_Record):
     tower_elevation: np.ndarray = field(default_factory=lambda: np.zeros(0))
     tower_diameter: np.ndarray = field(default_factory=lambda: np.zeros(0))
     tower_drag: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    tower_ti: np.ndarray = field(default_factory=lambda: np.zeros(0))
     extra: dict[str, str] = field(default_factory=dict)
     source: str | None = field(default=None, compare=False)
 
@@ -354,6 +356,9 @@ def _read_main(deck: _MainDeck, n_blades: int) -> dict[str, Any]:
         deck.value(_Key("NumTwrNds", "", "int", check=_NONNEG))
         _read_table_columns(deck, _TOWER_TABLE, tower)
         v |= {k: tower[k] for k in ("tower_elevation", "tower_diameter", "tower_drag")}
+        ti = tower.get("tower_ti")
+        v["tower_ti"] = np.zeros_like(tower["tower_elevation"]) if ti is None and tower["tower_elevation"] is not None \
+            else ti
     return v
 
 

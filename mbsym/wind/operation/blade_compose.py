@@ -36,6 +36,7 @@ import numpy as np
 from ..structure.blade_points import blade_point_kinematics, blade_point_loads, blade_point_shapes
 from ..structure.turbine import BLADE_LOAD_INPUTS
 from .compose import WIRED_INPUTS, Graph, actuator_states
+from .tower_compose import tower_line, tower_load_inputs
 
 __all__ = ["BladeGraph", "blade_load_inputs", "aerodynamic_centres", "annulus_axes", "elastic_twist",
            "HUB_POINT_OUTPUTS", "INFLOW_OUTPUTS"]
@@ -84,13 +85,24 @@ class BladeGraph(Graph):
 
     def wired_inputs(self) -> tuple[str, ...]:
         pitch = tuple(f"{n}{sfx}" for n in self.model.pitch_names for sfx in ("", "_d", "_dd"))
-        return WIRED_INPUTS + pitch + blade_load_inputs(self.model.structure)
+        return WIRED_INPUTS + pitch + blade_load_inputs(self.model.structure) + tower_load_inputs(self.model.structure)
 
     def wind_inputs(self) -> tuple[str, ...]:
         return tuple(self.model.wind.inputs)
 
     def aero_parameters(self) -> tuple[str, ...]:
         return ("air_density",)
+
+    def tower_wind(self, points: Any) -> Any:
+        """The wind over the rotor (:mod:`.wind_inputs`) at ``points`` (3, N) [m/s]."""
+        names = self.model.wind.inputs
+        key = ("tower_wind", points.size2())
+        f = self.model._parts.get(key)
+        if f is None:                           # an SX Function: the wind's expressions are SX, the graph may be MX
+            at, u = ca.SX.sym("points", 3, points.size2()), ca.SX.sym("wind", len(names))
+            f = self.model._parts[key] = ca.Function(
+                "tower_wind", [at, u], [self.model.wind.velocity(at, {n: u[i] for i, n in enumerate(names)})])
+        return f(points, ca.vertcat(*[self.U[n] for n in names]))
 
     # ------------------------------------------------------------------ graph
     def _build_aero(self) -> None:
@@ -166,6 +178,11 @@ class _AeroBuilder:
         hub_point = ca.DM([0.0, 0.0, float(model.turbine.hub_height)])
         W = model.wind.velocity(ca.horzcat(kin["r_ac"], hub_point), U)
         n = kin["r"].size2()
+        tower = model.tower_aero
+        if tower is not None and tower.disturbs_inflow:          # AeroDyn's TwrPotent, TwrShadow (aero/tower.py)
+            f = eom.point_kinematics("tower")
+            line = tower_line(model, dict(zip(f.name_out(), f(q, qd, zeros, u_s, p_s))), q, qd)
+            W = ca.horzcat(W[:, :n] + tower.disturbance(kin["r_ac"], W[:, :n], **line), W[:, n:])
         rel = W[:, :n] - kin["v_ac"]
         frames = self._frames(kin, rel)
         per_node = ca.repmat(pitch.T, rotor.n_nodes, 1)[:] if pitch.numel() > 1 else pitch      # blade by blade

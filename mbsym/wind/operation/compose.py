@@ -44,6 +44,7 @@ from ...held import HeldPart
 from ...spd_solve import spd_solve
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
+from .tower_compose import tower_drag_loads, tower_load_inputs, tower_moves
 from .units import input_units, state_units
 
 __all__ = ["compose", "check_structure", "Graph", "WIRED_INPUTS"]
@@ -98,7 +99,7 @@ class Graph:
 
     def wired_inputs(self) -> tuple[str, ...]:
         """Structural inputs driven by the composition."""
-        return WIRED_INPUTS
+        return WIRED_INPUTS + tower_load_inputs(self.model.structure)
 
     def wind_inputs(self) -> tuple[str, ...]:
         """The wind inputs (first inputs of the Dynamics)."""
@@ -112,6 +113,7 @@ class Graph:
         self._build_platform()
         self._build_drive()
         self._build_aero()
+        self.loads.update(self._tower_loads())
         self.u_s = self.structural_inputs(**self.loads)
         self.qdd = self._accelerations()
         self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
@@ -211,11 +213,27 @@ class Graph:
         return {"RotMomY": -k * ca.dot(w, c2), "RotMomZ": -k * ca.dot(w, c3),
                 "RotFrcY": -c * ca.dot(v, c2), "RotFrcZ": -c * ca.dot(v, c3)}
 
+    def _tower_loads(self) -> dict[str, Any]:
+        """AeroDyn's tower drag on the tower and platform DOFs (:mod:`.tower_compose`; zero when neither moves)."""
+        names = tower_load_inputs(self.model.structure)
+        if not names:
+            return {}
+        if not tower_moves(self.model.structure):
+            return {n: 0.0 for n in names}
+        unloaded = {n: 0.0 for n in self.eom.inputs if n not in self.U}     # positions and velocities need no load
+        zero = self.structural_inputs(**{"thrust": 0.0, "torque": 0.0, **unloaded})
+        frame = self._kinematics("tower", zero)
+        return tower_drag_loads(self.model, frame, self.q, self.qd, self.tower_wind, self.P["air_density"])
+
+    def tower_wind(self, points: Any) -> Any:
+        """The wind at ``points`` (3, N) [m/s]: the rotor-effective rung's hub wind at every height."""
+        return ca.repmat(ca.vertcat(self.U["Wind1VelX"], 0.0, 0.0), 1, points.size2())
+
     def structural_inputs(self, *, thrust: Any, torque: Any, **loads: Any) -> Any:
         """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
         values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0, "RotMomZ": 0.0,
-                  "RotFrcY": 0.0, "RotFrcZ": 0.0,
+                  "RotFrcY": 0.0, "RotFrcZ": 0.0, **{n: 0.0 for n in tower_load_inputs(self.model.structure)},
                   **self.platform_loads, **loads}
         for n in self.model.pitch_names:
             values.update({n: X[n], f"{n}_d": 0.0, f"{n}_dd": 0.0})         # ElastoDyn: quasi-static pitch

@@ -157,6 +157,7 @@ class OperatingDeck:
         OpenFASTFormatError
             A ServoDyn or AeroDyn setting that would act and is not modelled (file, line, key).
         """
+        from ..aero.tower import TowerAero
         from ..deck.aero_audit import check_aerodyn
 
         dofs = self.dofs if dofs is None else dofs
@@ -165,6 +166,7 @@ class OperatingDeck:
             raise ParameterError(f"aero must be one of {list(AERO_MODELS)}; got {aero!r}.")
         if self.aerodyn is not None:
             check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
+            options.setdefault("tower_aero", TowerAero.from_aerodyn(self.aerodyn))
         self._yaw_drive(dofs, t_end, options)
         options.setdefault("load_channels", self.outlist_needs_load_channels(aero))
         options.setdefault("platform", self.platform)
@@ -259,12 +261,19 @@ class OperatingDeck:
 
     def default_aero(self, dofs: Sequence[str] | None = None) -> str:
         """``"blade"`` when a rotor-effective model cannot represent the deck: a full-field wind, a wind with
-        shear, direction, vertical speed or upflow, or blade or yaw DOFs that the aerodynamics must load;
-        ``"rotor"`` otherwise (uniform hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
+        shear, direction, vertical speed or upflow, blade or yaw DOFs that the aerodynamics must load, or
+        AeroDyn's tower disturbing the blade inflow (``TwrPotent``, ``TwrShadow``); ``"rotor"`` otherwise
+        (uniform hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
         if self.path is None:
             return "rotor"
         if self.inflow is not None and _varies_over_rotor(self.inflow):
             return "blade"
+        if self.aerodyn is not None:
+            from ..aero.tower import TowerAero
+
+            tower = TowerAero.from_aerodyn(self.aerodyn)
+            if tower is not None and tower.disturbs_inflow:
+                return "blade"
         flags = {f for f, on in self.turbine.dofs.items() if on} if dofs is None else set(dofs)
         return "blade" if flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} else "rotor"
 

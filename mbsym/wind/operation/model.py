@@ -130,6 +130,11 @@ class OperatingTurbine:
         (blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
         and sway move the rotor across its shaft: docs/offshore.md §7c), off on land for now
         (docs/identification.md); ``mbsym identify`` switches it on.
+    tower_aero : TowerAero, optional, keyword-only
+        AeroDyn's tower (:class:`~mbsym.wind.aero.tower.TowerAero`, ``TowerAero.from_aerodyn``): with ``drag`` its
+        drag loads the tower and platform DOFs (both rotors; the rotor-effective rung's wind is the hub wind at
+        every height); with ``potential`` or ``shadow`` it disturbs the blades' inflow (blade-element rotor only).
+        Default None: no tower aerodynamics.
     platform : FloatingPlatform, optional, keyword-only
         The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
         structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
@@ -161,7 +166,7 @@ class OperatingTurbine:
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
-                 name: str = "operating_turbine") -> None:
+                 tower_aero=None, name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -214,6 +219,7 @@ class OperatingTurbine:
                                  "already give the disk's moments (leave disk_moments False).")
         self.name = str(name)
         self.platform = _platform(platform)
+        self.tower_aero = _tower_aero(tower_aero, blade)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
@@ -221,7 +227,8 @@ class OperatingTurbine:
                                       blade_loads=blade, blade_root_reactions=blade,
                                       blade_root_forces=blade and bool(load_channels),
                                       shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels),
-                                      hub_moments=bool(disk_moments))
+                                      hub_moments=bool(disk_moments),
+                                      tower_loads=self.tower_aero is not None and self.tower_aero.drag)
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
         if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
@@ -428,6 +435,22 @@ def _platform(platform):
         raise TypeError(f"platform must be a FloatingPlatform (mbsym.wind.offshore.floating_platform); "
                         f"{type(platform).__name__} lacks {missing}.")
     return platform
+
+
+def _tower_aero(tower, blade: bool):
+    """``tower`` (a TowerAero or None), checked against the rotor: its inflow disturbance needs blade nodes."""
+    if tower is None:
+        return None
+    from ..aero.tower import TowerAero
+
+    if not isinstance(tower, TowerAero):
+        raise TypeError(f"tower_aero must be a TowerAero (mbsym.wind.aero.tower.TowerAero.from_aerodyn); got "
+                        f"{type(tower).__name__}.")
+    if tower.disturbs_inflow and not blade:
+        raise ParameterError("the tower's potential flow and shadow (TwrPotent, TwrShadow) disturb the flow at the "
+                             "blade nodes: they need the blade-element rotor (aero='blade'). The rotor-effective "
+                             "model takes the tower's drag only (TowerAero(..., potential=0, shadow=0)).")
+    return tower
 
 
 def _output_nodes(nodes: Sequence[int], rotor) -> tuple[int, ...]:

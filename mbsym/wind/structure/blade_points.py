@@ -30,7 +30,7 @@ import numpy as np
 
 from ...exceptions import ParameterError
 
-__all__ = ["BladePointShapes", "blade_point_shapes", "blade_point_kinematics", "blade_point_loads"]
+__all__ = ["BladePointShapes", "blade_point_shapes", "point_shapes", "blade_point_kinematics", "blade_point_loads"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,21 +91,46 @@ def blade_point_shapes(structure, blade: int, span) -> BladePointShapes:
         raise ParameterError(f"blade points must lie on the blade, 0 to BldFlexL = {length:g} m from the root; got "
                              f"{z.min() if z.size else 'none'} to {z.max() if z.size else 'none'} m. Check that the "
                              "AeroDyn blade (BlSpn) and the ElastoDyn blade have the same length.")
-    z = np.clip(z, 0.0, length)
-    grid = np.concatenate([[0.0], data.span, [length]])
-    flags = [f for f in BLADE_DOFS if structure.dofs.get(f)]
-    idx = [BLADE_DOFS.index(f) for f in flags]
+    return point_shapes(data.span, length, data, [BLADE_DOFS.index(f) for f in BLADE_DOFS if structure.dofs.get(f)],
+                        z, structure.blade_coordinates(blade))
 
-    def with_ends(nodes: np.ndarray, tip: np.ndarray) -> np.ndarray:     # (..., N) -> (..., N + 2)
-        root = np.zeros(nodes.shape[:-1] + (1,))
-        return np.concatenate([root, nodes, tip[..., None]], axis=-1)
+
+def point_shapes(nodes, length: float, data, idx, at, coordinates) -> BladePointShapes:
+    """ElastoDyn's shapes of one flexible member (a blade or the tower) at the points ``at`` [m from its root].
+
+    Displacements, slopes and axial reductions are interpolated linearly between the root (zero), the
+    member's nodes ``nodes`` [m] and its end ``length`` [m], as OpenFAST's line-mesh mapping does.
+
+    Parameters
+    ----------
+    nodes : array_like (N,)
+        ElastoDyn's node positions along the member [m].
+    length : float
+        The flexible length [m].
+    data : ElastoDynBladeData or ElastoDynTowerData
+        Its ``displacement``, ``slope`` (n_shapes, N, 2), ``tip_displacement``, ``tip_slope`` (n_shapes, 2),
+        ``axial_reduction`` (n_shapes, n_shapes, N) and ``tip_axial_reduction``.
+    idx : sequence of int
+        The shapes of the enabled coordinates, in coordinate order.
+    at : array_like (M,)
+        Points within ``[0, length]`` [m].
+    coordinates : tuple of str
+        The coordinates' names (same order as ``idx``).
+    """
+    z = np.clip(np.asarray(at, dtype=float).reshape(-1), 0.0, length)
+    grid = np.concatenate([[0.0], np.asarray(nodes, dtype=float), [length]])
+    idx = list(idx)
+
+    def with_ends(values: np.ndarray, tip: np.ndarray) -> np.ndarray:     # (..., N) -> (..., N + 2)
+        root = np.zeros(values.shape[:-1] + (1,))
+        return np.concatenate([root, values, tip[..., None]], axis=-1)
 
     disp = with_ends(np.moveaxis(data.displacement[idx], -1, 1), data.tip_displacement[idx])   # (ne, 2, N+2)
     slope = with_ends(np.moveaxis(data.slope[idx], -1, 1), data.tip_slope[idx])
     ax = with_ends(data.axial_reduction[np.ix_(idx, idx)], data.tip_axial_reduction[np.ix_(idx, idx)])
     return BladePointShapes(span=z, displacement=np.moveaxis(_interp(disp, z, grid), 1, -1),
                             slope=np.moveaxis(_interp(slope, z, grid), 1, -1), axial_reduction=_interp(ax, z, grid),
-                            coordinates=structure.blade_coordinates(blade))
+                            coordinates=tuple(coordinates))
 
 
 def blade_point_kinematics(shapes: BladePointShapes, frame: dict[str, Any], qe: Any, qde: Any) -> dict[str, Any]:
@@ -129,7 +154,8 @@ def blade_point_kinematics(shapes: BladePointShapes, frame: dict[str, Any], qe: 
         ``∂p/∂q_i`` (body axes).
     """
     n, ne = shapes.n_points, len(shapes.coordinates)
-    zeros = ca.SX.zeros(1, n)
+    kind = ca.MX if isinstance(frame["r"], ca.MX) else ca.SX
+    zeros = kind.zeros(1, n)
     z = ca.DM(shapes.span.reshape(1, -1))
     px, py, pz = zeros, zeros, z
     vx, vy, vz = zeros, zeros, zeros

@@ -80,8 +80,9 @@ from .mbc import BladeFrame
 from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
+from .tower_points import tower_coordinates
 
-__all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "BLADE_ROOT_FORCE_LOCKED", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
+__all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS", "BLADE_ROOT_FORCE_LOCKED", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
            "SHAFT_LOCKED", "STATE_ORDER", "TOWER_BASE_LOCKED", "YAW_BEARING_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
 
 
@@ -139,6 +140,10 @@ class TurbineModel:
         Inputs ``RotMomY``, ``RotMomZ`` [N m] and ``RotFrcY``, ``RotFrcZ`` [N]: a moment on the rotor about
         the shaft frame's second and third axes (across the shaft) and a force along them (in the rotor
         plane), e.g. the aerodynamic damping of a rotor-effective model. Default False.
+    tower_loads : bool, optional, keyword-only
+        Loads along the tower as inputs (AeroDyn's tower drag): a force ``TwrAeroFx/Fy/Fz`` [N] at the tower base
+        and a moment ``TwrAeroMx/My/Mz`` [N m] about it, tower-base axes, and per tower coordinate ``c`` its
+        generalized force ``{c}AeroQ`` [N] (:mod:`.tower_points`). Default False.
 
     Raises
     ------
@@ -170,11 +175,12 @@ class TurbineModel:
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
                  blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
                  shaft_reactions: bool = False, yaw_bearing_reactions: bool = False,
-                 hub_moments: bool = False) -> None:
+                 hub_moments: bool = False, tower_loads: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
         self.hub_moments = bool(hub_moments)
+        self.tower_loads = bool(tower_loads)
         self.dofs, problems = _resolve_dofs(turbine, dofs)
         problems += unsupported_features(turbine, self.dofs)
         if problems:
@@ -602,6 +608,13 @@ class TurbineModel:
             sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
         if self.blade_loads:
             self._blade_load_inputs()
+        if self.tower_loads:
+            tower = self.bodies["tower"]
+            fx, fy, fz, mx, my, mz = sys.inputs([f"TwrAero{c}" for c in TOWER_LOAD_INPUTS])
+            sys.add_force(tower, [fx, fy, fz], frame=tower)
+            sys.add_torque(tower, [mx, my, mz], frame=tower)
+            for c in tower_coordinates(self):
+                sys.add_generalized_force(self.coords[c], sys.inputs(f"{c}AeroQ"))
         if any(self.dofs.get(f) for f in _PLATFORM):
             fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
             sys.add_force(platform, [fx, fy, fz])
@@ -625,5 +638,7 @@ class TurbineModel:
         return tuple(blade_coordinate(blade, f) for f in BLADE_DOFS if self.dofs.get(f))
 
 
+#: Tower load inputs with ``tower_loads=True``: ``TwrAero`` + these (base force [N], moment [N m], tower axes).
+TOWER_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
 BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
