@@ -82,9 +82,9 @@ def test_blade_element_rotor_with_the_decks_tower_tracks_openfast(tmp_path):
     ref = json.loads(TOWER_REF.read_text())["tower_on"]
     last, after = (t >= 200.0 - 1e-9), (t >= 100.0 - 1e-9)
     for name, want in ref["means_200_300_s"].items():
-        y = np.asarray(ours.channel(name))
         if name == "RtFldMyh":
             continue                      # a 1P sine in the rotating hub axes: its mean is noise
+        y = np.asarray(ours.channel(name))
         if name == "BldPitch1":
             assert abs(y[last].mean() - want) < 0.05, (name, y[last].mean(), want)
         else:
