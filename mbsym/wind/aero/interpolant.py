@@ -160,16 +160,42 @@ class SurfaceSpline:
         if min(table.tsr.size, table.pitch.size) < degree + 1:
             raise ParameterError(f"a degree-{degree} spline needs at least {degree + 1} values "
                                  f"per axis; the table has {table.tsr.size} x {table.pitch.size}.")
-        values = {n: getattr(table, n) for n in names}
+        return cls.from_values(table.tsr, table.pitch, {n: getattr(table, n) for n in names}, degree=degree,
+                               method=method, source=table.source)
+
+    @classmethod
+    def from_values(cls, tsr: Any, pitch: Any, values: dict[str, Any], *, degree: int = 3, method: str = "sx",
+                    source: str | None = None) -> "SurfaceSpline":
+        """Interpolate any surfaces ``values`` (name -> array (n_tsr, n_pitch)) over the axes ``tsr`` and
+        ``pitch`` [rad] (strictly increasing; :meth:`from_table` for a PerformanceTable's).
+
+        Raises
+        ------
+        ParameterError
+            Shapes that do not match the axes, degree or method unknown, too few grid points.
+        """
+        tsr, pitch = np.asarray(tsr, dtype=float), np.asarray(pitch, dtype=float)
+        values = {str(n): np.asarray(v, dtype=float) for n, v in values.items()}
+        if not values or any(v.shape != (tsr.size, pitch.size) for v in values.values()):
+            raise ParameterError(f"every surface must have shape (n_tsr, n_pitch) = ({tsr.size}, {pitch.size}); got "
+                                 f"{ {n: v.shape for n, v in values.items()} }.")
+        if degree not in (3, 5):
+            raise ParameterError(f"degree must be 3 or 5; got {degree!r}.")
+        if method not in ("sx", "bspline"):
+            raise ParameterError(f"method must be 'sx' or 'bspline'; got {method!r}.")
+        if min(tsr.size, pitch.size) < degree + 1:
+            raise ParameterError(f"a degree-{degree} spline needs at least {degree + 1} values "
+                                 f"per axis; the table has {tsr.size} x {pitch.size}.")
+        names = tuple(values)
         coefficients = np.zeros(0)
         if method == "sx":
             n = degree + 1
-            cells = np.stack([_cell_coefficients(table.tsr, table.pitch, values[k], degree)
+            cells = np.stack([_cell_coefficients(tsr, pitch, values[k], degree)
                               for k in names], axis=2)  # (mx, my, surfaces, n*n)
             cells = _transpose_ab(_extend(_transpose_ab(_extend(cells, n), n), n), n)
             coefficients = cells
-        return cls(tsr=table.tsr, pitch=table.pitch, names=names, degree=degree, method=method,
-                   coefficients=coefficients, values=values, source=table.source)
+        return cls(tsr=tsr, pitch=pitch, names=names, degree=degree, method=method,
+                   coefficients=coefficients, values=values, source=source)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_lookup", self._make_lookup())

@@ -79,6 +79,9 @@ class RotorAero:
         ``k`` of the optional inflow lag time constant ``τ = k R / U``.
     source : str or None
         Where the table came from.
+    moment_table : DiskMomentTable or None
+        The disk's steady moment per unit ``tan χ`` (:func:`~mbsym.wind.aero.surfaces.disk_moment_surface`;
+        :meth:`disk_moment`); None (default) when the surfaces come without it (ROSCO's tables).
     """
 
     table: PerformanceTable
@@ -90,6 +93,7 @@ class RotorAero:
     u_min: float = 0.01
     lag_factor: float = 1.1
     source: str | None = None
+    moment_table: Any = field(default=None, repr=False)
     spline: SurfaceSpline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -107,6 +111,9 @@ class RotorAero:
             self.table, names=("ct", "cq"), degree=self.degree))
         if self.source is None:
             object.__setattr__(self, "source", self.table.source)
+        moments = self.moment_table
+        object.__setattr__(self, "_moment_spline", None if moments is None else SurfaceSpline.from_values(
+            moments.tsr, moments.pitch, {"cw": moments.cw, "cp": moments.cp}, degree=self.degree))
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -134,7 +141,7 @@ class RotorAero:
         from ..deck.budget import check_deck_memory
         from ..deck.openfast import read_openfast
         from .bem import BEMRotor
-        from .surfaces import DEFAULT_PITCH, DEFAULT_TSR, performance_surface
+        from .surfaces import DEFAULT_PITCH, DEFAULT_TSR, rotor_surfaces
 
         params = read_openfast(fst)
         aerodyn_file = params.source_files.get("aerodyn")
@@ -148,9 +155,9 @@ class RotorAero:
                                       precone=params.precone[0], n_blades=params.number_of_blades,
                                       shaft_tilt=params.shaft_tilt)
         density = aerodyn.air_density or params.simulation.air_density or 1.225
-        return cls(performance_surface(rotor, tsr, pitch), radius=rotor.radius,
-                   air_density=density, precone=rotor.precone, shaft_tilt=rotor.shaft_tilt,
-                   degree=degree)
+        table, moments = rotor_surfaces(rotor, tsr, pitch)
+        return cls(table, radius=rotor.radius, air_density=density, precone=rotor.precone,
+                   shaft_tilt=rotor.shaft_tilt, degree=degree, moment_table=moments)
 
     # ------------------------------------------------------------------ expressions
     def _speed(self, u_rel: Any) -> Any:
@@ -189,6 +196,35 @@ class RotorAero:
         torque = dynamic * self.radius * cq
         return {"torque": torque, "thrust": dynamic * ct, "power": omega * torque,
                 "cp": tsr * cq, "ct": ct, "cq": cq, "tsr": tsr, "u": u}
+
+    def disk_moment(self, u_rel: Any, cross: Any, axis: Any, omega: Any, pitch: Any, rho: Any = None) -> Any:
+        """The disk's steady moment in a skewed flow [N m] (:mod:`.surfaces`), a 3-vector, or None without a
+        moment table.
+
+        Parameters
+        ----------
+        u_rel : SX or float
+            Relative wind along the shaft [m/s].
+        cross : SX (3,)
+            The relative wind's part across the shaft [m/s] (``V tan χ e_w``).
+        axis : SX (3,)
+            The shaft's unit axis ``e_x`` (downwind).
+        omega, pitch, rho
+            As :meth:`loads`.
+
+        Returns
+        -------
+        SX (3,) or None
+            ``½ ρ π R³ U (c_w V_⊥ + c_p e_x × V_⊥)``, in the axes of ``cross`` and ``axis``.
+        """
+        spline = self._moment_spline  # type: ignore[attr-defined]
+        if spline is None:
+            return None
+        rho = self.air_density if rho is None else rho
+        u = self._speed(u_rel)
+        c = spline(omega * self.radius / u, pitch)
+        side = ca.cross(axis, cross)
+        return 0.5 * rho * math.pi * self.radius**3 * u * (c["cw"] * cross + c["cp"] * side)
 
     def inflow_lag_rhs(self, state: Any, u_rel: Any, omega: Any, pitch: Any, rho: Any = None,
                        **scales: Any) -> tuple[Any, dict[str, Any]]:

@@ -1,4 +1,5 @@
-"""Rotor performance surfaces Cp, Ct, Cq over tip-speed ratio × pitch from the steady BEM.
+"""Rotor performance surfaces Cp, Ct, Cq over tip-speed ratio × pitch from the steady BEM, and the disk's
+steady moment.
 
 :func:`performance_surface` evaluates :func:`mbsym.wind.aero.bem.solve_bem` on a
 grid and returns a :class:`~mbsym.wind.deck.performance.PerformanceTable`, which
@@ -6,11 +7,24 @@ grid and returns a :class:`~mbsym.wind.deck.performance.PerformanceTable`, which
 ``Cp_Ct_Cq`` format.  The coefficients follow AeroDyn's conventions (radius =
 in-plane tip radius ``rotor.radius``, wind speed along the shaft), so ``cq`` is
 exactly ``cp / tsr``.
+
+:func:`disk_moment_surface` integrates the same azimuth-resolved solution into the **steady moment** of the
+disk in a skewed flow (:class:`DiskMomentTable`): with the in-plane wind ``V tan χ`` along ``e_w`` (the
+blade azimuth ψ = 0, the disk's downwind side) and ``e_p = e_x × e_w``, the loads vary with ψ (the coned
+blades meet the flow at ``Vx = V (cos c − tan χ sin c cos ψ)``, Pitt and Peters' redistribution moves the
+induction downwind) and their moment about the apex, averaged over the revolution,
+
+    M = B ⟨∫ p × f ds⟩_ψ = ½ ρ V² π R³ tan χ (c_w e_w + c_p e_p)
+
+is, to first order in ``tan χ``, ``c_w``, ``c_p`` times ``tan χ``: the table holds the coefficients at the
+BEM's skew divided by its ``tan χ``. A rotor-effective model applies it with the skew of its own relative
+wind (compose ``_disk_moments``).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -19,7 +33,8 @@ from ...exceptions import ParameterError
 from ..deck.performance import PerformanceTable
 from .bem import BEMRotor, solve_bem
 
-__all__ = ["performance_surface", "DEFAULT_TSR", "DEFAULT_PITCH"]
+__all__ = ["performance_surface", "disk_moment_surface", "rotor_surfaces", "DiskMomentTable", "DEFAULT_TSR",
+           "DEFAULT_PITCH"]
 
 #: Default tip-speed-ratio grid: 1 to 16 in steps of 0.25 (61 values).
 DEFAULT_TSR = np.round(np.arange(1.0, 16.0 + 1e-9, 0.25), 12)
@@ -74,6 +89,37 @@ def performance_surface(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *,
     >>> table.cp.shape
     (2, 2)
     """
+    return rotor_surfaces(rotor, tsr, pitch, skew=skew, n_azimuth=n_azimuth, wind_speed=wind_speed)[0]
+
+
+@dataclass(frozen=True, eq=False)
+class DiskMomentTable:
+    """The disk's steady moment per unit ``tan χ`` over TSR × pitch (module docstring).
+
+    Attributes
+    ----------
+    tsr, pitch : ndarray
+        Axes [-], [rad].
+    cw, cp : ndarray (n_tsr, n_pitch)
+        ``M·e_w`` and ``M·e_p`` over ``½ ρ V² π R³ tan χ`` [-] (``e_w`` the in-plane wind's direction,
+        ``e_p = e_x × e_w``, ``e_x`` the shaft downwind; ``V`` the wind along the shaft, ``R`` the radius).
+    skew : float
+        The BEM's skew χ [rad] the coefficients come from.
+    source : str or None
+    """
+
+    tsr: np.ndarray
+    pitch: np.ndarray
+    cw: np.ndarray
+    cp: np.ndarray
+    skew: float
+    source: str | None = None
+
+
+def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew: float | None = None,
+                   n_azimuth: int = 8, wind_speed: float | None = None
+                   ) -> tuple[PerformanceTable, DiskMomentTable | None]:
+    """:func:`performance_surface` and :func:`disk_moment_surface` from one BEM solve (None: no skew)."""
     tsr_axis = _axis(DEFAULT_TSR if tsr is None else tsr, "tsr")
     pitch_axis = _axis(DEFAULT_PITCH if pitch is None else pitch, "pitch")
     grid_tsr, grid_pitch = np.meshgrid(tsr_axis, pitch_axis, indexing="ij")
@@ -81,5 +127,50 @@ def performance_surface(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *,
     used_skew = abs(rotor.shaft_tilt) if skew is None else abs(skew)
     source = (f"mbsym steady BEM of {rotor.source or 'a BEMRotor'} (R = {rotor.radius:.4f} m, "
               f"skew {math.degrees(used_skew):.3g} deg, {n_azimuth if used_skew else 1} azimuths)")
-    return PerformanceTable(tsr=tsr_axis, pitch=pitch_axis, cp=solution.cp, ct=solution.ct,
-                            cq=solution.cq, wind_speed=wind_speed, source=source)
+    table = PerformanceTable(tsr=tsr_axis, pitch=pitch_axis, cp=solution.cp, ct=solution.ct,
+                             cq=solution.cq, wind_speed=wind_speed, source=source)
+    if used_skew < 1e-6 or n_azimuth < 2:
+        return table, None
+    cw, cp = _disk_moment(rotor, solution.fn, solution.ft, used_skew)
+    return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=cw, cp=cp, skew=used_skew, source=source)
+
+
+def disk_moment_surface(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew: float | None = None,
+                        n_azimuth: int = 8) -> DiskMomentTable:
+    """The disk's steady moment coefficients per unit ``tan χ`` (module docstring) on the grid.
+
+    Parameters
+    ----------
+    rotor, tsr, pitch, skew, n_azimuth
+        As :func:`performance_surface` (the skew must be nonzero: default the shaft tilt).
+
+    Raises
+    ------
+    ParameterError
+        A zero skew (no moment to tabulate) or fewer than 2 azimuths.
+    """
+    table = rotor_surfaces(rotor, tsr, pitch, skew=skew, n_azimuth=n_azimuth)[1]
+    if table is None:
+        raise ParameterError("the disk's steady moment needs a skewed flow (skew, or the shaft tilt, nonzero) and "
+                             "n_azimuth >= 2.")
+    return table
+
+
+def _disk_moment(rotor: BEMRotor, fn: np.ndarray, ft: np.ndarray, skew: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(c_w, c_p)`` per unit ``tan χ`` from the per-azimuth loads (..., n_azimuth, n) of a 1 m/s, 1 kg/m³ solve."""
+    g = rotor._geometry  # type: ignore[attr-defined]
+    n_azimuth = fn.shape[-2]
+    psi = 2.0 * math.pi * (np.arange(n_azimuth) + 0.5) / n_azimuth       # as bem._velocities
+    force = fn[..., None] * g["normal"] + ft[..., None] * np.array([0.0, 1.0, 0.0])   # (e_r, e_t, e_x)
+    moment = np.cross(g["pos"], force)
+    c, s = np.cos(psi)[:, None], np.sin(psi)[:, None]                    # e_r = c e_w + s e_p, e_t = -s e_w + c e_p
+    m_w = moment[..., 0] * c - moment[..., 1] * s
+    m_p = moment[..., 0] * s + moment[..., 1] * c
+    length = g["length"]
+
+    def total(values: np.ndarray) -> np.ndarray:
+        per_blade = 0.5 * np.sum((values[..., 1:] + values[..., :-1]) * length, axis=-1)
+        return rotor.n_blades * per_blade.mean(axis=-1)
+
+    scale = 0.5 * math.pi * rotor.radius**3 * math.tan(skew)           # ½ ρ V² π R³ tan χ with ρ = V = 1
+    return total(m_w) / scale, total(m_p) / scale

@@ -182,7 +182,9 @@ class Graph:
 
     def _disk_moments(self, shaft, hub) -> dict[str, Any]:
         """Aerodynamic moment of the rotor disk turning across the shaft (tilt and yaw rates), ``RotMomY/Z``, and
-        its in-plane force against the hub moving across the shaft, ``RotFrcY/Z`` (comment below).
+        its in-plane force against the hub moving across the shaft, ``RotFrcY/Z`` (comment below), and the
+        disk's steady moment in the skewed relative flow when the rotor has a moment table
+        (:meth:`~mbsym.wind.aero.rotor.RotorAero.disk_moment`: coned blades and Pitt and Peters' skewed wake).
 
         A rotation rate ``ω⊥`` of the shaft across its axis moves a blade element at radius ``r`` and
         azimuth ``ψ`` along the shaft at ``ω⊥ r cos ψ``: its load changes by ``(∂F/∂u) ω⊥ r cos ψ`` (the
@@ -210,8 +212,14 @@ class Graph:
             ca.jacobian(torque, self.p)[:, self.parameters.index("rotor_speed")]
         c = -0.5 * dQ_dW / r2
         v = hub["v"]
-        return {"RotMomY": -k * ca.dot(w, c2), "RotMomZ": -k * ca.dot(w, c3),
-                "RotFrcY": -c * ca.dot(v, c2), "RotFrcZ": -c * ca.dot(v, c3)}
+        my, mz = -k * ca.dot(w, c2), -k * ca.dot(w, c3)
+        # the steady moment of the disk in the skewed relative flow (coned blades, Pitt and Peters; aero.surfaces)
+        rel = ca.vertcat(self.U["Wind1VelX"], 0.0, 0.0) - v
+        steady = self.model.rotor.disk_moment(self.u_rel, rel - c1 * ca.dot(rel, c1), c1, self.rotor_speed,
+                                              self.X["BlPitch"], self.P["air_density"])
+        if steady is not None:
+            my, mz = my + ca.dot(steady, c2), mz + ca.dot(steady, c3)
+        return {"RotMomY": my, "RotMomZ": mz, "RotFrcY": -c * ca.dot(v, c2), "RotFrcZ": -c * ca.dot(v, c3)}
 
     def _tower_loads(self) -> dict[str, Any]:
         """AeroDyn's tower drag on the tower and platform DOFs (:mod:`.tower_compose`; zero when neither moves)."""
