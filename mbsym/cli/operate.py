@@ -66,7 +66,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--aero", choices=("blade", "rotor"),
                    help="aerodynamics: blade (blade-element BEM on every blade node, in the wind over the rotor: "
                         "full field, shears) or rotor (rotor-effective Cp/Ct surfaces, hub-height wind); default: "
-                        "blade when the deck's wind varies over the rotor or blade/yaw DOFs are on, else rotor")
+                        "blade when the deck's wind varies over the rotor, blade/yaw DOFs are on or its AeroDyn "
+                        "has the tower disturb the blade inflow (TwrPotent, TwrShadow), else rotor")
     p.add_argument("--aero-dt", type=float, metavar="DT",
                    help="blade-element aerodynamics with the baseline controller: evaluate them every DT seconds, a "
                         "multiple of the controller's sample time (default: every 2 deg of rotor rotation, 4 deg with "
@@ -292,8 +293,10 @@ def _aero(args, deck, mpc) -> str:
     aero = args.aero or deck.default_aero()
     if aero == "blade" and mpc.active:
         raise SimulationOptionError("the NMPC and its estimators run on the rotor-effective model; this deck runs "
-                                    "blade-element aerodynamics (its wind varies over the rotor, or blade/yaw DOFs "
-                                    "are on). Pass --aero rotor (with --wind SPEC for a full-field deck).")
+                                    "blade-element aerodynamics (its wind varies over the rotor, blade/yaw DOFs are "
+                                    "on, or its AeroDyn's TwrPotent/TwrShadow disturb the blade inflow). Pass --aero "
+                                    "rotor (with --wind SPEC for a full-field deck; with TwrPotent = 0 and "
+                                    "TwrShadow = 0 in the AeroDyn file).")
     return aero
 
 
