@@ -80,7 +80,7 @@ from .mbc import BladeFrame
 from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
-from .tower_points import tower_coordinates
+from .load_inputs import BLADE_LOAD_INPUTS, TOWER_LOAD_INPUTS, add_load_inputs
 
 __all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS", "BLADE_ROOT_FORCE_LOCKED", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
            "SHAFT_LOCKED", "STATE_ORDER", "TOWER_BASE_LOCKED", "YAW_BEARING_LOCKED", "blade_rotation", "blade_coordinate", "initial_blade_deflection", "unsupported_features"]
@@ -591,54 +591,9 @@ class TurbineModel:
         return pitch
 
     def _inputs(self, platform: Body, nacelle: Body, shaft: Body, hub: Body) -> None:
-        """Loads exposed as inputs, only where they can move an enabled DOF."""
-        sys = self.system
-        if "GeAz" in self.coords or "DrTr" in self.coords:
-            tq_gen, tq_aero = sys.inputs("GenTq RotTorq")
-            gen = self.bodies["generator"]
-            sys.add_torque(gen, [-tq_gen, 0.0, 0.0], frame=shaft)       # HSS torque on the generator
-            sys.add_torque(shaft, [tq_gen, 0.0, 0.0], frame=shaft)      # its reaction on the nacelle
-            sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
-        thrust = sys.inputs("RotThrust")
-        if self.hub_moments:                                            # rotor moments and forces across the shaft
-            my, mz, fy, fz = sys.inputs("RotMomY RotMomZ RotFrcY RotFrcZ")
-            sys.add_torque(hub, [0.0, my, mz], frame=shaft)
-            sys.add_force(hub, [thrust, fy, fz], frame=shaft)
-        else:
-            sys.add_force(hub, [thrust, 0.0, 0.0], frame=shaft)
-        if self.blade_loads:
-            self._blade_load_inputs()
-        if self.tower_loads:
-            tower = self.bodies["tower"]
-            fx, fy, fz, mx, my, mz = sys.inputs([f"TwrAero{c}" for c in TOWER_LOAD_INPUTS])
-            sys.add_force(tower, [fx, fy, fz], frame=tower)
-            sys.add_torque(tower, [mx, my, mz], frame=tower)
-            for c in tower_coordinates(self):
-                sys.add_generalized_force(self.coords[c], sys.inputs(f"{c}AeroQ"))
-        if any(self.dofs.get(f) for f in _PLATFORM):
-            fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
-            sys.add_force(platform, [fx, fy, fz])
-            sys.add_torque(platform, [mx, my, mz])
-
-
-    def _blade_load_inputs(self) -> None:
-        """Root force and moment (blade axes) and elastic generalized forces of every blade, as inputs."""
-        sys = self.system
-        for k in range(self.turbine.number_of_blades):
-            blade = self.bodies[f"blade{k + 1}"]
-            names = [f"B{k + 1}Aero{c}" for c in BLADE_LOAD_INPUTS]
-            fx, fy, fz, mx, my, mz = sys.inputs(names)
-            sys.add_force(blade, [fx, fy, fz], frame=blade)
-            sys.add_torque(blade, [mx, my, mz], frame=blade)
-            for c in self.blade_coordinates(k):
-                sys.add_generalized_force(self.coords[c], sys.inputs(f"{c}AeroQ"))
+        """Loads exposed as inputs, only where they can move an enabled DOF (:mod:`.load_inputs`)."""
+        add_load_inputs(self, platform, shaft, hub)
 
     def blade_coordinates(self, blade: int) -> tuple[str, ...]:
         """Elastic coordinates of blade ``blade`` (0-based) in the body's shape order (F1, F2, E1)."""
         return tuple(blade_coordinate(blade, f) for f in BLADE_DOFS if self.dofs.get(f))
-
-
-#: Tower load inputs with ``tower_loads=True``: ``TwrAero`` + these (base force [N], moment [N m], tower axes).
-TOWER_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
-#: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
-BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
