@@ -221,6 +221,7 @@ class OperatingTurbine:
         self.name = str(name)
         self.platform = _platform(platform)
         self.tower_aero = _tower_aero(tower_aero, blade)
+        _check_tower_in_field(self.tower_aero, self.wind)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
@@ -452,6 +453,24 @@ def _tower_aero(tower, blade: bool):
                              "blade nodes: they need the blade-element rotor (aero='blade'). The rotor-effective "
                              "model takes the tower's drag only (TowerAero(..., potential=0, shadow=0)).")
     return tower
+
+
+def _check_tower_in_field(tower, wind) -> None:
+    """The tower's drag samples the wind at AeroDyn's tower nodes: a full field must reach them (tower points, or
+    its grid down to the lowest node), as OpenFAST's InflowWind requires (a fatal error there, at the first step)."""
+    field = getattr(wind, "field", None)
+    if tower is None or not tower.drag or field is None:
+        return
+    if getattr(field, "tower", None) is not None or getattr(field, "interpolate_to_ground", False):
+        return
+    bottom = float(field.grid_bottom)
+    if float(tower.elevation[0]) < bottom - 1e-6:
+        from ...exceptions import WindInputError
+
+        raise WindInputError(f"AeroDyn's tower drag (TwrAero = True) needs the wind at its tower nodes from "
+                             f"TwrElev = {tower.elevation[0]:g} m up, but the full field's grid starts at {bottom:g} m "
+                             "and has no tower points (OpenFAST's InflowWind stops on it too). Generate the field with "
+                             "tower points (TurbSim WrADTWR = True) or set TwrAero = False in the AeroDyn file.")
 
 
 def _output_nodes(nodes: Sequence[int], rotor) -> tuple[int, ...]:

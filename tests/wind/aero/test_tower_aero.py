@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -130,3 +131,27 @@ def test_tower_drag_moves_the_tower_base_moment_by_its_closed_form_moment():
     thrust_arm = float(turbine.hub_height) - base
     got = moments[1][0] - moments[0][0] - (moments[1][1] - moments[0][1]) * thrust_arm
     assert got == pytest.approx(want, rel=1e-3)
+
+
+def test_tower_drag_refuses_a_field_without_tower_points(tmp_path):
+    """OpenFAST's InflowWind stops when AeroDyn's tower nodes are below a full field's grid without tower points;
+    mbsym says so when the model is built (ff14's TurbSim grid starts at 20 m, the NREL 5 MW's TwrElev at 0)."""
+    import re
+    import shutil
+
+    from mbsym.exceptions import WindInputError
+    from mbsym.wind.operation.deck import operating_deck
+
+    inputs = next((p / "shared" / "openfast" / "aero" / "openfast_inputs" for p in Path(__file__).resolve().parents
+                   if (p / "shared" / "openfast" / "aero" / "openfast_inputs").is_dir()), None)
+    if inputs is None:
+        pytest.skip("shared/openfast/aero not found")
+    shutil.copytree(inputs, tmp_path / "openfast_inputs")
+    (tmp_path / "wind").symlink_to(inputs.parent / "wind")
+    aerodyn = tmp_path / "openfast_inputs" / "deck" / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat"
+    text, n = re.subn(r"^\S+(\s+TwrAero\s)", r"True\1", aerodyn.read_text(), count=1, flags=re.M)
+    assert n == 1
+    aerodyn.write_text(text)
+    deck = operating_deck(tmp_path / "openfast_inputs" / "ff14_flex" / "ff14_flex.fst")
+    with pytest.raises(WindInputError, match="TwrAero.*grid starts at 20 m.*tower points"):
+        deck.model(aero="blade")
