@@ -254,12 +254,15 @@ def drag_per_length(flow: Any, axis: Any, diameter, drag_coefficient, rho: Any) 
 
 
 def _interp(grid: np.ndarray, values: np.ndarray, at: Any) -> Any:
-    """Piecewise-linear ``values(grid)`` at the (symbolic) row ``at``, held at the ends."""
+    """Piecewise-linear ``values(grid)`` at the (symbolic) row ``at``, held at the ends (collinear pieces merged,
+    constant ones left out: one clamp per change of slope)."""
+    slopes = np.diff(values) / np.diff(grid)
+    keep = [0] + [k for k in range(1, slopes.size) if not np.isclose(slopes[k], slopes[k - 1], rtol=1e-9, atol=1e-12)]
+    ends = keep[1:] + [slopes.size]
     out = values[0] + 0.0 * at
-    for k in range(grid.size - 1):
-        slope = (values[k + 1] - values[k]) / (grid[k + 1] - grid[k])
-        if slope != 0.0:
-            out = out + slope * (ca.fmin(ca.fmax(at, grid[k]), grid[k + 1]) - grid[k])
+    for k, stop in zip(keep, ends):
+        if slopes[k] != 0.0:
+            out = out + slopes[k] * (ca.fmin(ca.fmax(at, grid[k]), grid[stop]) - grid[k])
     return out
 
 
