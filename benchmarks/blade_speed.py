@@ -59,6 +59,15 @@ def point(model, wind: dict):
     return d, x, d.input_vector({**wind, **held_commands(model, x)}), d.parameter_vector()
 
 
+def aero_arguments(model, d, x) -> list:
+    """Arguments of the model's ``blade_aero`` Function at the state ``x`` (no structural inputs, the field's 30 s)."""
+    eom = model.structure.eom
+    names = list(d.states)
+    return [x[:eom.n_q], x[eom.n_q:2 * eom.n_q], np.zeros(len(eom.inputs)),
+            np.array([dict(eom.defaults)[n] for n in eom.parameters]),
+            x[[names.index(s) for s in model.rotor.state_names]], np.array([30.0]), np.array([1.225])]
+
+
 def flex_deck(description: str):
     """``(--no-write flag, the shared ff14_flex OperatingDeck)`` from the command line of a benchmark."""
     from mbsym.wind.operation.deck import operating_deck
@@ -91,10 +100,7 @@ def main() -> None:
         total = per_call_us(rhs, (x, u, p))
         aero = model._parts["blade_aero"]
         eom = model.structure.eom
-        names = list(d.states)
-        a_in = [x[:eom.n_q], x[eom.n_q:2 * eom.n_q], np.zeros(len(eom.inputs)),
-                np.array([dict(eom.defaults)[n] for n in eom.parameters]),
-                x[[names.index(s) for s in model.rotor.state_names]], np.array([30.0]), np.array([1.225])]
+        a_in = aero_arguments(model, d, x)
         aero_us = per_call_us(codegen.compile_function(aero).function, a_in)
         m_f = per_call_us(codegen.compile_function(eom.functions.mass_matrix).function,
                           (a_in[0], a_in[2], a_in[3]) if eom.functions.mass_matrix.n_in() == 3 else (a_in[0], a_in[3]))

@@ -19,12 +19,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from _report import write_section  # noqa: E402
-from blade_speed import INPUTS, per_call_us, point  # noqa: E402
+from blade_speed import INPUTS, aero_arguments, per_call_us, point  # noqa: E402
 
 
 def _tower_copy(root: Path) -> Path:
@@ -49,32 +47,31 @@ def _costs(fst: Path) -> tuple[float, float, int]:
     d, x, u, p = point(model, {"WindTime": 30.0})
     rhs = per_call_us(codegen.compile_function(d.rhs).function, (x, u, p))
     aero = model._parts["blade_aero"]
-    eom = model.structure.eom
-    names = list(d.states)
-    args = [x[:eom.n_q], x[eom.n_q:2 * eom.n_q], np.zeros(len(eom.inputs)),
-            np.array([dict(eom.defaults)[n] for n in eom.parameters]),
-            x[[names.index(s) for s in model.rotor.state_names]], np.array([30.0]), np.array([1.225])]
-    return rhs, per_call_us(codegen.compile_function(aero).function, args), aero.n_instructions()
+    return rhs, per_call_us(codegen.compile_function(aero).function, aero_arguments(model, d, x)), \
+        aero.n_instructions()
+
+
+def _table(rows: list) -> str:
+    """The markdown table of ``(label, rhs, rotor Function, instructions)`` rows, ratios to the first row."""
+    base = rows[0]
+    head = ("| ff14_flex, blade-element | rhs [µs] | vs baseline | rotor Function [µs] | vs baseline | its instructions |\n"
+            "|---|---:|---:|---:|---:|---:|")
+    return head + "".join(f"\n| {label} | {rhs:.1f} | {rhs / base[1]:.2f}× | {aero:.1f} | {aero / base[2]:.2f}× | {n} |"
+                          for label, rhs, aero, n in rows)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-write", action="store_true")
-    args = parser.parse_args()
+    no_write = parser.parse_args().no_write
     if INPUTS is None:
         raise SystemExit("shared/openfast/aero not found")
     rows = [("as shipped (no tower: baseline)", *_costs(INPUTS / "ff14_flex" / "ff14_flex.fst"))]
     with tempfile.TemporaryDirectory() as tmp:
         rows.append(("TwrPotent 1", *_costs(_tower_copy(Path(tmp)))))
-    base = rows[0]
-    table = ["| ff14_flex, blade-element | rhs [µs] | vs baseline | rotor Function [µs] | vs baseline | "
-             "its instructions |", "|---|---:|---:|---:|---:|---:|"]
-    for label, rhs, aero, n in rows:
-        table.append(f"| {label} | {rhs:.1f} | {rhs / base[1]:.2f}× | {aero:.1f} | {aero / base[2]:.2f}× | {n} |")
-    text = "\n".join(table)
-    print(text)
-    if not args.no_write:
-        write_section("tower-aero", text)
+    print(_table(rows))
+    if not no_write:
+        write_section("tower-aero", _table(rows))
 
 
 if __name__ == "__main__":

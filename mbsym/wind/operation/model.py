@@ -459,7 +459,7 @@ def _check_tower_in_field(tower, wind) -> None:
     """The tower's drag samples the wind at AeroDyn's tower nodes: a full field must reach them (tower points, or
     its grid down to the lowest node), as OpenFAST's InflowWind requires (a fatal error there, at the first step)."""
     field = getattr(wind, "field", None)
-    if tower is None or not tower.drag or field is None:
+    if tower is None or not tower.drag or getattr(field, "grid_bottom", None) is None:
         return
     if getattr(field, "tower", None) is not None or getattr(field, "interpolate_to_ground", False):
         return

@@ -30,7 +30,7 @@ import numpy as np
 
 from ...exceptions import ParameterError
 
-__all__ = ["BladePointShapes", "blade_point_shapes", "point_shapes", "blade_point_kinematics", "blade_point_loads"]
+__all__ = ["BladePointShapes", "blade_point_shapes", "point_shapes", "check_points", "blade_point_kinematics", "blade_point_loads"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,15 +84,22 @@ def blade_point_shapes(structure, blade: int, span) -> BladePointShapes:
     """
     from .elastodyn_bodies import BLADE_DOFS
 
-    z = np.asarray(span, dtype=float).reshape(-1)
     data = structure.blade_data(blade)
     length = float(data.length)
-    if z.size == 0 or not np.all(np.isfinite(z)) or z.min() < -1e-3 or z.max() > length + 1e-3:
-        raise ParameterError(f"blade points must lie on the blade, 0 to BldFlexL = {length:g} m from the root; got "
-                             f"{z.min() if z.size else 'none'} to {z.max() if z.size else 'none'} m. Check that the "
-                             "AeroDyn blade (BlSpn) and the ElastoDyn blade have the same length.")
+    z = check_points(span, length, "blade points must lie on the blade, 0 to BldFlexL",
+                     "Check that the AeroDyn blade (BlSpn) and the ElastoDyn blade have the same length.")
     return point_shapes(data.span, length, data, [BLADE_DOFS.index(f) for f in BLADE_DOFS if structure.dofs.get(f)],
                         z, structure.blade_coordinates(blade))
+
+
+def check_points(at, length: float, what: str, advice: str) -> np.ndarray:
+    """``at`` as a float array, or ParameterError (``what`` = ``length`` m …, got …; ``advice``) when a point lies
+    outside ``[0, length]`` by more than 1 mm or is not finite."""
+    z = np.asarray(at, dtype=float).reshape(-1)
+    if z.size == 0 or not np.all(np.isfinite(z)) or z.min() < -1e-3 or z.max() > length + 1e-3:
+        raise ParameterError(f"{what} = {length:g} m; got {z.min() if z.size else 'none'} to "
+                             f"{z.max() if z.size else 'none'} m. {advice}")
+    return z
 
 
 def point_shapes(nodes, length: float, data, idx, at, coordinates) -> BladePointShapes:

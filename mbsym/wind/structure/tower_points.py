@@ -11,10 +11,7 @@ and ``{c}AeroQ`` per tower coordinate).
 
 from __future__ import annotations
 
-import numpy as np
-
-from ...exceptions import ParameterError
-from .blade_points import BladePointShapes, point_shapes
+from .blade_points import BladePointShapes, check_points, point_shapes
 from .dof_tables import STATE_ORDER, TOWER_FLAGS
 from .elastodyn_bodies import TOWER_DOFS, tower_elastodyn_data
 
@@ -40,12 +37,9 @@ def tower_point_shapes(structure, height) -> BladePointShapes:
     ParameterError
         A point off the tower.
     """
-    z = np.asarray(height, dtype=float).reshape(-1)
     data = tower_elastodyn_data(structure.turbine)
     length = float(data.length)
-    if z.size == 0 or not np.all(np.isfinite(z)) or z.min() < -1e-3 or z.max() > length + 1e-3:
-        raise ParameterError(f"tower points must lie on the tower, 0 to TwrFlexL = {length:g} m above its base; got "
-                             f"{z.min() if z.size else 'none'} to {z.max() if z.size else 'none'} m. Check that "
-                             "AeroDyn's TwrElev lie between ElastoDyn's TowerBsHt and TowerHt.")
+    z = check_points(height, length, "tower points must lie on the tower, 0 m above its base to TwrFlexL",
+                     "Check that AeroDyn's TwrElev lie between ElastoDyn's TowerBsHt and TowerHt.")
     idx = [TOWER_DOFS.index(f) for f in TOWER_FLAGS if structure.dofs.get(f)]
     return point_shapes(data.height, length, data, idx, z, tower_coordinates(structure))

@@ -32,3 +32,24 @@ def rosco_library():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module.rosco_library()
+
+
+def floating_case_copy(tmp_path: Path, aerodyn_edits) -> Path:
+    """A copy of the shared floating decks in ``tmp_path`` with the AeroDyn keys ``aerodyn_edits`` ((key, value)
+    pairs) set; the fl_steady_13 .fst path. Skips without the shared decks."""
+    import re
+    import shutil
+
+    import pytest
+
+    if not (FLOATING / "cases" / "fl_steady_13").is_dir():
+        pytest.skip(f"shared floating decks not found at {FLOATING}")
+    for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
+        shutil.copytree(FLOATING / name, tmp_path / name)
+    aerodyn = tmp_path / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_AeroDyn15.dat"
+    text = aerodyn.read_text()
+    for key, value in aerodyn_edits:
+        text, n = re.subn(rf"^\S+(\s+{key}\s)", rf"{value}\1", text, count=1, flags=re.M)
+        assert n == 1, key
+    aerodyn.write_text(text)
+    return tmp_path / "cases" / "fl_steady_13" / "fl_steady_13.fst"

@@ -13,14 +13,12 @@ bound on the blade pitch (0.05°) catches that.
 from __future__ import annotations
 
 import json
-import re
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import FLOATING
+from .conftest import floating_case_copy
 
 REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_blade" / "fl_steady_13_blade_ref.json"
 TOWER_REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_tower" / "fl_steady_13_tower_ref.json"
@@ -29,17 +27,7 @@ _OFF = (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "False"), ("UA_Mod",
 
 def _deck(tmp_path: Path, edits=_OFF) -> Path:
     """A copy of the shared floating decks with the reference run's AeroDyn edits; the fl_steady_13 .fst path."""
-    if not (FLOATING / "cases" / "fl_steady_13").is_dir():
-        pytest.skip(f"shared floating decks not found at {FLOATING}")
-    for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
-        shutil.copytree(FLOATING / name, tmp_path / name)
-    aerodyn = tmp_path / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_AeroDyn15.dat"
-    text = aerodyn.read_text()
-    for key, value in edits:
-        text, n = re.subn(rf"^\S+(\s+{key}\s)", rf"{value}\1", text, count=1, flags=re.M)
-        assert n == 1, key
-    aerodyn.write_text(text)
-    return tmp_path / "cases" / "fl_steady_13" / "fl_steady_13.fst"
+    return floating_case_copy(tmp_path, edits)
 
 
 @pytest.mark.slow

@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import json
 import math
-import re
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import FLOATING
+from .conftest import FLOATING, floating_case_copy
 
 REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_tower" / "fl_steady_13_tower_ref.json"
 
@@ -48,18 +46,8 @@ def test_rotor_effective_floating_offsets_close_with_the_disk_moment(tmp_path):
     from mbsym.cli import main
     from mbsym.wind.analysis.compare import read_csv
 
-    if not (FLOATING / "cases" / "fl_steady_13").is_dir():
-        pytest.skip(f"shared floating decks not found at {FLOATING}")
-    for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
-        shutil.copytree(FLOATING / name, tmp_path / name)
-    aerodyn = tmp_path / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_AeroDyn15.dat"
-    text = aerodyn.read_text()
-    for key, value in (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "False"), ("UA_Mod", "0")):
-        text, n = re.subn(rf"^\S+(\s+{key}\s)", rf"{value}\1", text, count=1, flags=re.M)
-        assert n == 1, key
-    aerodyn.write_text(text)
+    fst = floating_case_copy(tmp_path, (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "False"), ("UA_Mod", "0")))
     out = tmp_path / "rotor.csv"
-    fst = tmp_path / "cases" / "fl_steady_13" / "fl_steady_13.fst"
     assert main(["simulate", str(fst), "--aero", "rotor", "--controller", "baseline", "--tmax", "300",
                  "--out", str(out)]) == 0
     ours = read_csv(out)

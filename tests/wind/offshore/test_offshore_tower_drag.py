@@ -10,32 +10,21 @@ written: surge +0.48 m at 600 s, pitch +0.094°).
 from __future__ import annotations
 
 import json
-import re
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import FLOATING
+from .conftest import floating_case_copy
 
 REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_tower" / "fl_steady_13_tower_ref.json"
 
 
 def _deck(tmp_path: Path, drag: bool) -> Path:
-    if not (FLOATING / "cases" / "fl_steady_13").is_dir():
-        pytest.skip(f"shared floating decks not found at {FLOATING}")
     root = tmp_path / ("drag" if drag else "off")
-    for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
-        shutil.copytree(FLOATING / name, root / name)
-    aerodyn = root / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_AeroDyn15.dat"
-    text = aerodyn.read_text()
-    for key, value in (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "True" if drag else "False"),
-                       ("UA_Mod", "0")):
-        text, n = re.subn(rf"^\S+(\s+{key}\s)", rf"{value}\1", text, count=1, flags=re.M)
-        assert n == 1, key
-    aerodyn.write_text(text)
-    return root / "cases" / "fl_steady_13" / "fl_steady_13.fst"
+    root.mkdir()
+    return floating_case_copy(root, (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "True" if drag else "False"),
+                                     ("UA_Mod", "0")))
 
 
 @pytest.mark.slow
