@@ -4,8 +4,9 @@ The IEA 15 MW on the VolturnUS-S (``shared/openfast/floating/cases/fl_steady_13`
 water): the deck's structure (six platform DOFs, tower FA1/SS1, generator), rotor-effective aerodynamics of
 its AeroDyn blades with DBEMT, its actuators, HydroDyn (our radiation fit, 169 states) and MoorDyn (three
 quasi-static catenaries with their drag and inertia on that shape), our baseline controller with the deck's
-DISCON.IN (floating feedback Fl_Mode 2, pitch actuator model PA_Mode 2) compiled into the loop. Built with the public constructor, since the deck's
-AeroDyn switches on tower effects the rotor-effective model does not have (docs/offshore.md §7).
+DISCON.IN (floating feedback Fl_Mode 2, pitch actuator model PA_Mode 2) compiled into the loop. Built with the public
+constructor and no tower aerodynamics: run it on a copy with AeroDyn's tower switches and `UA_Mod` off (the
+rotor-effective rung refuses the tower's inflow disturbance and the unsteady airfoils; docs/offshore.md §7, §7b).
 
 Reports: the trim at 13 m/s, the 600 s run's means over its last 100 s against OpenFAST's (the shared CSV,
 and optionally an OpenFAST text output ``--openfast FILE.out``, e.g. a rerun without the tower effects), and
