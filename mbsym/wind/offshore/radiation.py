@@ -86,7 +86,10 @@ class RadiationStateSpace:
             ``"error"``: 6×6 max |H − H_ref| / max |H_ref| per entry (nan where the reference is 0);
             ``"damping_error"``: the same for the real parts (the damping B(ω));
             ``"passive"``: bool; ``"min_dissipation"``: the smallest eigenvalue of the Hermitian part
-            of −H(iω) over the frequencies [N s/m]; ``"stable"``: all eigenvalues of A in the left half-plane.
+            of −H(iω) over the frequencies [mixed units: N s/m, N m s/rad]; ``"relative_dissipation"``: the
+            same after scaling each DOF by the square root of its peak damping B_ii (dimensionless, so
+            translations and rotations count alike); ``"stable"``: all eigenvalues of A in the left
+            half-plane.
         """
         band = wamit.frequencies <= max_frequency
         H = self.frequency_response(wamit.frequencies[band])
@@ -97,5 +100,9 @@ class RadiationStateSpace:
             peak_b = np.abs(ref.real).max(axis=0)
             error_b = np.where(peak_b > 0, np.abs(H.real - ref.real).max(axis=0) / peak_b, np.nan)
         dissipation = min(np.linalg.eigvalsh(-(h + h.conj().T).real / 2).min() for h in H)
+        diagonal = np.abs(np.diagonal(ref.real, axis1=1, axis2=2)).max(axis=0)
+        scale = np.where(diagonal > 0, 1.0 / np.sqrt(np.where(diagonal > 0, diagonal, 1.0)), 1.0)
+        relative = min(np.linalg.eigvalsh(-scale[:, None] * (h + h.conj().T).real / 2 * scale[None, :]).min()
+                       for h in H)
         return {"error": error, "damping_error": error_b, "passive": bool(dissipation >= 0),
-                "min_dissipation": float(dissipation), "stable": bool(np.linalg.eigvals(self.A).real.max() < 0)}
+                "min_dissipation": float(dissipation), "relative_dissipation": float(relative), "stable": bool(np.linalg.eigvals(self.A).real.max() < 0)}

@@ -8,6 +8,18 @@ and residues in conjugate pairs. The number of pole pairs grows per entry until 
 error is below ``tolerance`` of the entry's peak (or ``max_pairs``). Entries whose peak is below
 ``coupling_threshold`` of √(peak_ii peak_jj) are left out (zero).
 
+Two choices make the fit right where the slow modes live (surge and sway near 0.06 rad/s, pitch,
+roll and heave near 0.2 rad/s), where B(ω) is tiny against its peak:
+
+* **K(0) = 0.** B(0) = 0 and A(0) − A∞ is finite, so K(iω) → 0 as ω → 0 (no memory force on a
+  steady drift). The residues are solved with that as a constraint, −Σ c_n / a_n = 0; then
+  Re K = O(ω²) near 0 as in the data.
+* **Relative weights.** Each sample's error counts relative to ``|K(ω)| + floor · peak``
+  (``weight_floor``), not to the peak alone: unweighted, the deck's surge entry had
+  B₁₁(0.0585 rad/s) = 3.0e4 N s/m where the ``.1`` data hold 1.1e2, about 0.8 % of the
+  floating turbine's critical surge damping, enough to damp the slow surge oscillation the
+  shared ``fl_steady_13`` run shows growing (its negative damping 2.5 % in OpenFAST).
+
 Frequencies above ``max_frequency`` are not fitted: WAMIT's irregular frequencies put spikes in
 the deck's ``.1`` data near 4.6-4.9 rad/s (even a negative heave damping), beyond any wave
 spectrum of the decks (``WvHiCOff`` 3.2 rad/s). The result is a
@@ -19,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...exceptions import SolverError
+from ...exceptions import OptionError, SolverError
 from .radiation import RadiationStateSpace, radiation_reference
 
 __all__ = ["fit_radiation", "vector_fit"]
@@ -45,8 +57,21 @@ def _lstsq_complex(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return x[:n] + 1j * x[n:]
 
 
-def vector_fit(omega, values, n_pairs: int, *, iterations: int = 30) -> tuple[np.ndarray, np.ndarray]:
+def vector_fit(omega, values, n_pairs: int, *, iterations: int = 30, weight_floor: float | None = None,
+               zero_at_origin: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Poles and residues of ``Σ c_n / (iω − a_n)`` fitted to ``values`` at ``omega`` [rad/s].
+
+    Parameters
+    ----------
+    n_pairs : int
+        Number of pole pairs.
+    iterations : int, keyword-only
+        Pole relocations.
+    weight_floor : float or None, keyword-only
+        None: every sample weighs the same (least absolute error). A number ``f > 0``: each
+        sample's error is divided by ``|value| + f · max |value|`` (relative error, floored).
+    zero_at_origin : bool, keyword-only
+        Constrain the fit to vanish at ω = 0 (``Σ c_n / a_n = 0``).
 
     Examples
     --------
@@ -55,19 +80,25 @@ def vector_fit(omega, values, n_pairs: int, *, iterations: int = 30) -> tuple[np
     >>> bool(np.abs((res[None] / (1j * w[:, None] - poles[None])).sum(1) - h).max() < 1e-8)
     True
     """
+    if weight_floor is not None and not (isinstance(weight_floor, (int, float)) and weight_floor > 0.0):
+        raise OptionError(f"weight_floor must be None or a positive number; got {weight_floor!r}.")
     omega, values = np.asarray(omega, float), np.asarray(values, complex)
     s = np.concatenate([1j * omega, -1j * omega])
     f = np.concatenate([values, values.conj()])
     scale = max(np.abs(f).max(), 1e-300)
+    w = np.ones(len(f)) if weight_floor is None else 1.0 / (np.abs(f) / scale + weight_floor)
     beta = np.geomspace(omega[0], omega[-1], n_pairs)
     poles = np.concatenate([-0.01 * beta + 1j * beta, -0.01 * beta - 1j * beta])
     for _ in range(iterations):
         basis = 1.0 / (s[:, None] - poles[None, :])
-        x = _lstsq_complex(np.hstack([basis, -(f / scale)[:, None] * basis]), f / scale)
+        x = _lstsq_complex(w[:, None] * np.hstack([basis, -(f / scale)[:, None] * basis]), w * f / scale)
         sigma = x[len(poles):]
         poles = _paired(np.linalg.eigvals(np.diag(poles) - np.outer(np.ones(len(poles)), sigma)))
-    basis = 1.0 / (s[:, None] - poles[None, :])
-    return poles, _lstsq_complex(basis, f)
+    M, rhs = w[:, None] / (s[:, None] - poles[None, :]), w * f / scale
+    if zero_at_origin:  # one heavy row: the fit's value at s = 0, -sum c/a, is zero
+        heavy = 1e3 * np.sqrt(len(f)) * w.max()
+        M, rhs = np.vstack([M, heavy * (-1.0 / poles)[None, :]]), np.append(rhs, 0.0)
+    return poles, scale * _lstsq_complex(M, rhs)
 
 
 def _realize(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -90,7 +121,7 @@ def _realize(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 def fit_radiation(wamit, *, max_frequency: float = 4.0, tolerance: float = 0.02, max_pairs: int = 12,
-                  coupling_threshold: float = 0.01) -> RadiationStateSpace:
+                  coupling_threshold: float = 0.01, weight_floor: float = 0.02) -> RadiationStateSpace:
     """Fit the radiation memory of ``wamit`` (a :class:`~mbsym.wind.deck.wamit.WamitHydrodynamics`).
 
     Parameters
@@ -103,12 +134,19 @@ def fit_radiation(wamit, *, max_frequency: float = 4.0, tolerance: float = 0.02,
         Most pole pairs per entry.
     coupling_threshold : float, keyword-only
         Entries smaller than this fraction of √(peak_ii peak_jj) are not fitted.
+    weight_floor : float, keyword-only
+        Floor of the relative weights, as a fraction of the entry's peak (module docstring).
 
     Raises
     ------
     SolverError
         When the band holds fewer than 8 frequencies.
+    OptionError
+        When ``weight_floor`` is not in (0, 1].
     """
+    if not (isinstance(weight_floor, (int, float)) and 0.0 < weight_floor <= 1.0):
+        raise OptionError(f"weight_floor must be a number in (0, 1] (a fraction of each entry's peak); "
+                          f"got {weight_floor!r}.")
     band = wamit.frequencies <= max_frequency
     if band.sum() < 8:
         raise SolverError(f"only {band.sum()} WAMIT frequencies up to {max_frequency} rad/s; at least 8 are needed.")
@@ -120,7 +158,7 @@ def fit_radiation(wamit, *, max_frequency: float = 4.0, tolerance: float = 0.02,
             if peak[i, j] == 0 or peak[i, j] < coupling_threshold * np.sqrt(peak[i, i] * peak[j, j]):
                 continue
             for pairs in range(2, max_pairs + 1):
-                poles, res = vector_fit(omega, K[:, i, j], pairs)
+                poles, res = vector_fit(omega, K[:, i, j], pairs, weight_floor=weight_floor, zero_at_origin=True)
                 fit = (res[None] / (1j * omega[:, None] - poles[None])).sum(axis=1)
                 if np.abs(fit - K[:, i, j]).max() <= tolerance * peak[i, j]:
                     break
