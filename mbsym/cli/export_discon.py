@@ -43,6 +43,8 @@ from __future__ import annotations
 import json
 import math
 
+from .controller_model import full_field_wind  # noqa: F401 (public here since issue 21)
+
 __all__ = ["add_parser", "run"]
 
 CONTROLLERS = ("baseline", "nmpc")
@@ -120,6 +122,7 @@ def _run_nmpc(args) -> int:
     )
     from ..wind.mpc.discon_nmpc import export_nmpc_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
+    from .controller_model import controller_model
     from .operate_mpc import _initial_estimate
 
     if args.estimator == "mhe":
@@ -133,7 +136,7 @@ def _run_nmpc(args) -> int:
     deck = operating_deck(args.deck) if args.deck is not None else builtin_deck()
     settings = deck.baseline_settings(discon_in=args.discon_input, dt=args.sample_time)
     baseline = BaselineController(settings)
-    model = _controller_model(deck)
+    model = controller_model(deck, say=lambda line: print(f"mbsym export-discon: {line}"))
     observed = estimation_model(model)
     field = full_field_wind(deck)
     estimator = TurbineEstimator(observed, "ekf", tuning=EstimatorTuning.full_field() if field else None,
@@ -173,24 +176,3 @@ def _preview(args, deck):
     print(f"mbsym export-discon: lidar preview: {lidar.n_beams} beams {settings.distance:g} m upstream, every NMPC "
           f"sample (moving average {settings.window:g} s)")
     return settings
-
-
-def full_field_wind(deck) -> bool:
-    """Whether the deck's InflowWind is a full field (TurbSim, Bladed or HAWC boxes: WindType 3, 4, 5, 7)."""
-    return deck.inflow is not None and deck.inflow.wind_type in (3, 4, 5, 7)
-
-
-def _controller_model(deck):
-    """The rotor-effective turbine the NMPC and its EKF predict with: the deck's own model when it is one; else
-    (blade-element aerodynamics for a full field, shear or blade DOFs) the deck's rotor-effective model with the
-    DOFs the controller models (the controller never sees the field: its estimator reads the turbine)."""
-    import dataclasses
-
-    from ..wind.mpc import ESTIMATOR_DOFS, PREDICTION_DOFS
-
-    if deck.default_aero() == "rotor":
-        return deck.model()
-    dofs = [d for d in dict.fromkeys(PREDICTION_DOFS + ESTIMATOR_DOFS) if deck.turbine.dofs.get(d, False)]
-    print(f"mbsym export-discon: the deck's plant is blade-element; the NMPC and its EKF use its rotor-effective "
-          f"model with {', '.join(dofs)}")
-    return dataclasses.replace(deck, inflow=None).model(dofs=dofs, aero="rotor")

@@ -131,9 +131,10 @@ def run_operation(args: argparse.Namespace) -> int:
         if key in options and (aero != "blade" or mpc.active):
             from ..exceptions import SimulationOptionError
 
-            raise SimulationOptionError(f"{flag} sets how the blade-element aerodynamics are evaluated; this run has "
-                                        "the rotor-effective model" + (" (the NMPC's)" if mpc.active else "")
-                                        + f": drop {flag}, or use --aero blade without the NMPC.")
+            raise SimulationOptionError(f"{flag} sets how the blade-element aerodynamics are evaluated between "
+                                        "controller samples; " + ("this run has the rotor-effective model: drop "
+                                        f"{flag}, or use --aero blade." if aero != "blade" else "the NMPC's and the "
+                                        "estimators' Python loop evaluates them at every sample: drop " + flag + "."))
     wind, wind_label = _wind(args, deck, aero)
     tmax, t_out = _grid(args, deck, wind)
     from ..wind.operation.cut_out import warn_above_cut_out
@@ -151,7 +152,8 @@ def run_operation(args: argparse.Namespace) -> int:
                                                  (mpc.estimator or "").upper()) if x)
             print(f"mbsym simulate: preparing the {parts} (models, reference table, solvers): about 3 s, more when "
                   "solver libraries compile (said below)", file=sys.stderr, flush=True)
-        loop = mpc.loop(deck, model, wind, lidar=run_lidar(args, deck)) if mpc.active else None
+        loop = mpc.loop(deck, model, wind, lidar=run_lidar(args, deck),
+                        say=lambda line: print(f"mbsym simulate: {line}", file=sys.stderr)) if mpc.active else None
         if loop is not None:                 # the solvers' libraries compile in the background: say so, wait
             from ..codegen_async import wait_for_compilations
 
@@ -291,12 +293,12 @@ def _aero(args, deck, mpc) -> str:
                                         "built-in turbine runs the rotor-effective model (--aero rotor).")
         return "rotor"
     aero = args.aero or deck.default_aero()
-    if aero == "blade" and mpc.active:
-        raise SimulationOptionError("the NMPC and its estimators run on the rotor-effective model; this deck runs "
-                                    "blade-element aerodynamics (its wind varies over the rotor, blade/yaw DOFs are "
-                                    "on, or its AeroDyn's TwrPotent/TwrShadow disturb the blade inflow). Pass --aero "
-                                    "rotor (with --wind SPEC for a full-field deck; with TwrPotent = 0 and "
-                                    "TwrShadow = 0 in the AeroDyn file).")
+    if aero == "blade" and mpc.preview is not None:
+        raise SimulationOptionError("--preview is an ideal preview of the rotor-effective plant's hub wind with its "
+                                    "true state; this deck's plant is blade-element (its wind varies over the rotor, "
+                                    "blade/yaw DOFs are on, or its AeroDyn's tower disturbs the blade inflow). Drop "
+                                    "--preview (the NMPC then runs on its estimator, and on the deck's lidar when its "
+                                    "InflowWind has one), or pass --aero rotor.")
     return aero
 
 

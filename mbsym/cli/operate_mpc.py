@@ -10,7 +10,10 @@ Contract (kept for acceptance checks)::
   TwFADOF1 + the dynamic inflow + the actuators as rates; a floating deck adds the platform's surge
   and pitch and a cost on the platform's pitch rate, :meth:`~mbsym.wind.mpc.NMPCTuning.floating`),
   running against the full plant. The cost scales are carried to the deck's turbine in proportion
-  to its rated speed, power and torque (:meth:`~mbsym.wind.mpc.NMPCTuning.for_turbine`).
+  to its rated speed, power and torque (:meth:`~mbsym.wind.mpc.NMPCTuning.for_turbine`). A deck whose
+  plant is blade-element (full field, shear, blade or yaw DOFs) gets the controller ``mbsym
+  export-discon`` compiles for it: prediction and estimation on the deck's rotor-effective model
+  (:mod:`.controller_model`), the full-field tunings for a full field, always with an estimator.
 * ``--preview S``: an ideal lidar: the NMPC knows the true hub wind for the next S seconds (held
   after that) and, without ``--estimator``, the plant's true state (ideal state feedback).
 * ``--estimator ekf|mhe``: the state and rotor-effective wind estimated at 20 Hz from generator speed,
@@ -78,31 +81,44 @@ class MpcOptions:
         """Whether the run needs the Python loop (NMPC or an estimator)."""
         return self.controller == "nmpc" or self.estimator is not None
 
-    def loop(self, deck, model, wind, lidar=None):
+    def loop(self, deck, model, wind, lidar=None, say=None):
         """The :class:`~mbsym.wind.mpc.loop.TurbineLoop` of these options for ``model`` (``lidar``: the deck's
-        lidar measurement, :meth:`OperatingDeck.lidar_measurement`, previewing for the NMPC)."""
+        lidar measurement, :meth:`OperatingDeck.lidar_measurement`, previewing for the NMPC; ``say``: told one
+        line when the controller's model is not the plant).
+
+        A blade-element plant gets the controller of ``mbsym export-discon`` for the same deck: the NMPC and
+        the estimator predict with the deck's rotor-effective model (:func:`.controller_model.controller_model`),
+        with the full-field tunings when the deck's wind is a full field."""
         from ..wind.control.baseline import BaselineController
-        from ..wind.mpc.estimator import TurbineEstimator, estimation_model
+        from ..wind.mpc.estimator import EstimatorTuning, TurbineEstimator, estimation_model
         from ..wind.mpc.lidar_preview import PreviewSettings
         from ..wind.mpc.loop import TurbineLoop
         from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
         from ..wind.mpc.setpoints import SetPoints
+        from .controller_model import controller_model, full_field_wind
 
-        prediction = PredictionModel(model)
+        blade = model.aero == "blade"
+        own = controller_model(deck, say=say) if blade else model
+        field = blade and full_field_wind(deck)
+        prediction = PredictionModel(own)
         estimator = nmpc = baseline = None
         settings = deck.baseline_settings()
         if self.estimator is not None:
-            observed = estimation_model(model)
+            observed = estimation_model(own)
+            start = _start_speed(model, wind)
             estimator = TurbineEstimator(observed, self.estimator,
-                                         x0=_initial_estimate(model, observed, wind, settings))
+                                         tuning=EstimatorTuning.full_field() if field else None,
+                                         x0=_initial_estimate(own, observed, lambda t: start, settings))
         if self.controller == "nmpc":
             floating = any(s.startswith("Ptfm") for s in prediction.dofs)
             if self.preview is not None:
                 tuning = NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
+            elif field:
+                tuning = NMPCTuning.full_field()
             else:
                 tuning = NMPCTuning.floating() if floating else NMPCTuning.estimated_wind()
-            setpoints = SetPoints.from_settings(settings, model.rotor)
+            setpoints = SetPoints.from_settings(settings, own.rotor)
             nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints), deadline=self.deadline)
         else:
             baseline = BaselineController(settings)
@@ -110,6 +126,22 @@ class MpcOptions:
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,
                            preview=self.preview, wind=wind, lidar=lidar,
                            lidar_preview=None if lidar is None else PreviewSettings.for_lidar(deck.inflow.lidar))
+
+
+def _start_speed(model, wind) -> float:
+    """The plant's hub-height wind [m/s] at t = 0 (a speed, uniform-wind inputs, or the full field the model
+    carries, at the hub)."""
+    import numpy as np
+
+    from ..wind.operation.simulation import wind_at_start
+
+    start = wind_at_start(model, wind)
+    if not isinstance(start, dict):
+        return float(np.asarray(start, dtype=float).reshape(-1)[0])
+    if "Wind1VelX" in start:
+        return float(start["Wind1VelX"])
+    field = model.wind.field
+    return float(field.velocity(0.0, np.array([[0.0, 0.0, float(field.reference_height)]]))[0, 0])
 
 
 def _initial_estimate(model, prediction, wind, settings=None):

@@ -154,11 +154,15 @@ class TurbineLoop:
         self._ke = _multiple(estimator.dt, self.dt, "estimator") if estimator is not None else 0
         self.prediction = nmpc.prediction if nmpc is not None else (estimator.prediction if estimator else None)
         dyn = plant.dynamics()
-        self._state_names = tuple(s for s in self.prediction.states if s != "GenTq") if nmpc is not None else ()
+        # the NMPC reads the plant's own states only without an estimator (ideal state feedback): a plant with other
+        # states (blade-element, per-node inflow) needs the estimator
+        self._state_names = tuple(s for s in self.prediction.states if s != "GenTq") \
+            if nmpc is not None and estimator is None else ()
         missing = [s for s in self._state_names if s not in dyn.states]
         if missing:
-            raise SimulationOptionError(f"the plant has no states {missing} of the prediction model; the prediction "
-                                        "model's DOFs must be a subset of the plant's.")
+            raise SimulationOptionError(f"the plant has no states {missing} of the prediction model; without an "
+                                        "estimator the NMPC reads the plant's state, so the prediction model's states "
+                                        "must be a subset of the plant's (or give estimator=).")
         if nmpc is not None and estimator is not None:
             unseen = [s for s in nmpc.prediction.states if s not in estimator.names and s not in ("BlPitch", "GenTq")]
             if unseen:

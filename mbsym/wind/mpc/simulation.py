@@ -53,8 +53,13 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     Parameters
     ----------
     model : OperatingTurbine
+        Rotor-effective, or blade-element (then run by
+        :func:`~mbsym.wind.operation.simulation.simulate_turbine` with the loop's law as a Python
+        controller, ``rk4-held`` at the loop's sample time; the loop needs an estimator).
     wind : WindSignal or callable
-        Hub-height wind [m/s] of time [s].
+        Hub-height wind [m/s] of time [s]; for a blade-element model what
+        :func:`~mbsym.wind.operation.simulation.simulate_turbine` takes (None for a model that carries
+        its full field).
     tmax : float
         [s].
     loop : TurbineLoop
@@ -89,22 +94,32 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
 
     wait_for_compilations()           # the solvers' libraries (compiled in the background): not inside a step's time
     dyn = model.dynamics()
-    u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
-    x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
-    meas = measurement_dynamics(model, loop.measurements)
-    inputs: dict[str, Any] = {"Wind1VelX": wind, **held_commands(model, x0)}
-    if model.platform is not None:                  # the deck's sea (HydroDyn's excitation series), as simulate_turbine
-        inputs.update(model.platform.sea_tables(tmax))
     if compile is None:
         compile = _compile_pays_off(tmax / loop.dt)
-    res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=loop.controller(), method="rk4", dt=loop.dt,
-                   t_out=t_out, p=p, compile=compile, progress=progress)
     t0 = time.perf_counter()
-    from ...simulate.model import evaluate_outputs
+    if model.aero == "blade":        # its wind inputs, held aerodynamics and every channel: simulate_turbine's loop
+        from ..operation.simulation import simulate_turbine
 
-    X, U = np.asarray(res.x), np.asarray(res.u)
-    Y = evaluate_outputs(dyn.rhs, dyn.outputs, X, U, dyn.parameter_vector(p), compile)
-    n_meas = len(meas.output_names)
+        res = simulate_turbine(model, wind, tmax, controller=loop.controller(), x0=x0, t_out=t_out, p=p,
+                               compile=compile, progress=progress)
+        t0 = time.perf_counter()
+        n_meas = len(dyn.output_names)
+        X, Y = np.asarray(res.x), np.asarray(res.y)[:, :n_meas]
+    else:
+        u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
+        x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
+        meas = measurement_dynamics(model, loop.measurements)
+        inputs: dict[str, Any] = {"Wind1VelX": wind, **held_commands(model, x0)}
+        if model.platform is not None:              # the deck's sea (HydroDyn's excitation series), as simulate_turbine
+            inputs.update(model.platform.sea_tables(tmax))
+        res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=loop.controller(), method="rk4", dt=loop.dt,
+                       t_out=t_out, p=p, compile=compile, progress=progress)
+        t0 = time.perf_counter()
+        from ...simulate.model import evaluate_outputs
+
+        X, U = np.asarray(res.x), np.asarray(res.u)
+        Y = evaluate_outputs(dyn.rhs, dyn.outputs, X, U, dyn.parameter_vector(p), compile)
+        n_meas = len(meas.output_names)
     extra = np.asarray(res.y)[:, n_meas:]
     names, units = list(dyn.output_names), list(dyn.output_units)
     blocks = [Y]

@@ -1,0 +1,52 @@
+"""The rotor-effective model the turbine NMPC and its estimators predict with, for any deck.
+
+Shared by ``mbsym export-discon`` and ``mbsym simulate --controller nmpc`` / ``--estimator`` so that a
+deck configures the controller the same way in both (issue 21's contract):
+
+* :func:`controller_model`: the deck's own model when it is rotor-effective; for a deck whose plant is
+  blade-element (a full-field wind, shear, blade or yaw DOFs) the deck's rotor-effective model with the
+  DOFs the controller models (:data:`~mbsym.wind.mpc.PREDICTION_DOFS` and
+  :data:`~mbsym.wind.mpc.ESTIMATOR_DOFS` the deck switches on). The controller never sees the field:
+  its estimator reads the turbine's sensors.
+* :func:`full_field_wind`: whether the deck's wind is a full field (then the NMPC and the EKF take their
+  full-field tunings, :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`,
+  :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable
+
+__all__ = ["controller_model", "full_field_wind"]
+
+
+def full_field_wind(deck) -> bool:
+    """Whether the deck's InflowWind is a full field (TurbSim, Bladed or HAWC boxes: WindType 3, 4, 5, 7)."""
+    return deck.inflow is not None and deck.inflow.wind_type in (3, 4, 5, 7)
+
+
+def controller_model(deck, say: Callable[[str], None] | None = None):
+    """The rotor-effective :class:`~mbsym.wind.operation.OperatingTurbine` the NMPC and its estimators use.
+
+    Parameters
+    ----------
+    deck : OperatingDeck
+    say : callable, optional
+        Told one line when the model differs from the deck's plant (blade-element decks).
+
+    Raises
+    ------
+    OpenFASTFormatError
+        The deck's AeroDyn asks for what the rotor-effective model refuses (the tower's potential flow or
+        shadow on the blade inflow): the controller's model cannot be built from it.
+    """
+    from ..wind.mpc import ESTIMATOR_DOFS, PREDICTION_DOFS
+
+    if deck.default_aero() == "rotor":
+        return deck.model()
+    dofs = [d for d in dict.fromkeys(PREDICTION_DOFS + ESTIMATOR_DOFS) if deck.turbine.dofs.get(d, False)]
+    if say is not None:
+        say(f"the deck's plant is blade-element; the NMPC and its estimators use its rotor-effective model with "
+            f"{', '.join(dofs)}")
+    return dataclasses.replace(deck, inflow=None).model(dofs=dofs, aero="rotor")
