@@ -28,10 +28,10 @@ from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .operating import FloatingPlatform, deck_radiation, floating_platform
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace, radiation_reference
-from .radiation_fit import fit_radiation, vector_fit
+from .radiation_fit import fit_radiation, fit_radiation_cached, vector_fit
 
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
            "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
-           "RadiationStateSpace", "radiation_reference", "fit_radiation", "vector_fit", "FloatingPlatform",
-           "floating_platform", "deck_radiation"]
+           "RadiationStateSpace", "radiation_reference", "fit_radiation", "fit_radiation_cached", "vector_fit",
+           "FloatingPlatform", "floating_platform", "deck_radiation"]

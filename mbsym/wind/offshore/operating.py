@@ -347,9 +347,9 @@ def _radiation(hydro: PlatformHydrodynamics, model: str, hydrodyn_file) -> Radia
     if model == "none":
         return None
     if model == "fit":
-        from .radiation_fit import fit_radiation
+        from .radiation_fit import fit_radiation_cached
 
-        return fit_radiation(hydro.wamit)
+        return fit_radiation_cached(hydro.wamit)
     from ..deck.hydrodyn import read_hydrodyn
     from ..deck.wamit import read_wamit_ss
 

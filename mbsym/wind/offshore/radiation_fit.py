@@ -29,12 +29,18 @@ Passivity is not enforced (see docs/offshore.md).
 
 from __future__ import annotations
 
+import hashlib
+import os
+
 import numpy as np
 
 from ...exceptions import OptionError, SolverError
 from .radiation import RadiationStateSpace, radiation_reference
 
-__all__ = ["fit_radiation", "vector_fit"]
+__all__ = ["fit_radiation", "fit_radiation_cached", "vector_fit", "FIT_VERSION"]
+
+#: Names the fit's algorithm in the disk cache's key (:func:`fit_radiation_cached`): change it with the algorithm.
+FIT_VERSION = "vector fit, relative weights, K(0) = 0 (2026-11-29)"
 
 
 def _paired(poles: np.ndarray) -> np.ndarray:
@@ -170,3 +176,36 @@ def fit_radiation(wamit, *, max_frequency: float = 4.0, tolerance: float = 0.02,
         A[k:k + d, k:k + d], B[k:k + d, j], C[i, k:k + d] = Ab, bb, -cb   # F = −K q̇
         k += d
     return RadiationStateSpace(A, B, C)
+
+
+def fit_radiation_cached(wamit, **options) -> RadiationStateSpace:
+    """:func:`fit_radiation` through a disk cache: the same ``.1`` data and options give the stored block.
+
+    The fit takes about 3 s on an idle machine and far longer on a loaded one (numpy's threaded LAPACK
+    on its many small least-squares solves: 121 s measured), at every build of a floating model. The
+    block is kept in ``<cache dir>/radiation/<key>.npz`` (:func:`mbsym.codegen.cache_dir`), the key a
+    SHA-256 of :data:`FIT_VERSION`, the options and the frequencies, A(ω), A∞ and B(ω) it fits. An
+    unreadable or unwritable cache is bypassed (the fit is computed).
+    """
+    from ...codegen import cache_dir
+
+    digest = hashlib.sha256(FIT_VERSION.encode())
+    digest.update(repr(sorted(options.items())).encode())
+    for array in (wamit.frequencies, wamit.added_mass[:, :6, :6], wamit.added_mass_infinite[:6, :6],
+                  wamit.damping[:, :6, :6]):
+        digest.update(np.ascontiguousarray(array, dtype=float).tobytes())
+    path = cache_dir() / "radiation" / f"{digest.hexdigest()[:32]}.npz"
+    try:
+        with np.load(path) as stored:
+            return RadiationStateSpace(stored["A"], stored["B"], stored["C"])
+    except (OSError, KeyError, ValueError):
+        pass
+    block = fit_radiation(wamit, **options)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        partial = path.with_name(f"{path.stem}.{os.getpid()}.partial.npz")
+        np.savez(partial, A=block.A, B=block.B, C=block.C)
+        os.replace(partial, path)                       # atomic: a reader sees the whole file or none
+    except OSError:
+        pass
+    return block

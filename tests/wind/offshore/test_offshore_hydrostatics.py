@@ -310,3 +310,32 @@ def test_fit_radiation_of_the_deck():
         assert np.abs(fitted[:, i, i] - data[slow, i, i]).max() < 0.003 * peak, i
     with pytest.raises(OptionError, match="weight_floor"):
         fit_radiation(wamit, weight_floor=0.0)
+
+
+def test_the_fit_is_cached_on_disk(tmp_path, monkeypatch):
+    """fit_radiation_cached gives fit_radiation's block, stored once and read back (identical arrays); other
+    options or data are another entry; a damaged entry is refitted, not trusted."""
+    from types import SimpleNamespace
+
+    from mbsym.wind.offshore.radiation_fit import fit_radiation, fit_radiation_cached
+
+    monkeypatch.setenv("MBSYM_CACHE_DIR", str(tmp_path))
+    omega = np.linspace(0.05, 4.0, 60)
+    s = 1j * omega
+    kernel = s * (s + 3.0) / ((s * s + 0.2 * s + 0.64) * (s * s + 0.8 * s + 4.0))    # K(iω) = B + iω (A − A∞)
+    damping = np.zeros((omega.size, 6, 6))
+    added = np.zeros((omega.size, 6, 6))
+    for i in range(6):
+        damping[:, i, i] = 1e5 * (i + 1) * kernel.real
+        added[:, i, i] = 1e5 * (i + 1) * kernel.imag / omega
+    wamit = SimpleNamespace(frequencies=omega, damping=damping, added_mass=added, added_mass_infinite=np.zeros((6, 6)))
+    direct = fit_radiation(wamit)
+    first = fit_radiation_cached(wamit)
+    stored = list((tmp_path / "radiation").glob("*.npz"))
+    assert len(stored) == 1 and np.array_equal(first.A, direct.A) and np.array_equal(first.C, direct.C)
+    again = fit_radiation_cached(wamit)
+    assert np.array_equal(again.B, direct.B) and again is not first
+    fit_radiation_cached(wamit, weight_floor=0.05)
+    assert len(list((tmp_path / "radiation").glob("*.npz"))) == 2
+    stored[0].write_bytes(b"not an npz")
+    assert np.array_equal(fit_radiation_cached(wamit).A, direct.A)
