@@ -114,6 +114,9 @@ class RotorAero:
         moments = self.moment_table
         object.__setattr__(self, "_moment_spline", None if moments is None else SurfaceSpline.from_values(
             moments.tsr, moments.pitch, {"cw": moments.cw, "cp": moments.cp}, degree=self.degree))
+        forces = None if moments is None or getattr(moments, "hw", None) is None else SurfaceSpline.from_values(
+            moments.tsr, moments.pitch, {"hw": moments.hw, "hp": moments.hp}, degree=self.degree)
+        object.__setattr__(self, "_force_spline", forces)
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -225,6 +228,20 @@ class RotorAero:
         c = spline(omega * self.radius / u, pitch)
         side = ca.cross(axis, cross)
         return 0.5 * rho * math.pi * self.radius**3 * u * (c["cw"] * cross + c["cp"] * side)
+
+    def disk_force(self, u_rel: Any, cross: Any, axis: Any, omega: Any, pitch: Any, rho: Any = None) -> Any:
+        """The disk's steady in-plane force in a skewed flow [N] (:mod:`.surfaces`), a 3-vector, or None when the
+        moment table has no force coefficients.
+
+        Parameters and axes as :meth:`disk_moment`; returns ``½ ρ π R² U (h_w V_⊥ + h_p e_x × V_⊥)``.
+        """
+        spline = self._force_spline  # type: ignore[attr-defined]
+        if spline is None:
+            return None
+        rho = self.air_density if rho is None else rho
+        u = self._speed(u_rel)
+        h = spline(omega * self.radius / u, pitch)
+        return 0.5 * rho * math.pi * self.radius**2 * u * (h["hw"] * cross + h["hp"] * ca.cross(axis, cross))
 
     def inflow_lag_rhs(self, state: Any, u_rel: Any, omega: Any, pitch: Any, rho: Any = None,
                        **scales: Any) -> tuple[Any, dict[str, Any]]:

@@ -183,7 +183,7 @@ class Graph:
     def _disk_moments(self, shaft, hub) -> dict[str, Any]:
         """Aerodynamic moment of the rotor disk turning across the shaft (tilt and yaw rates), ``RotMomY/Z``, and
         its in-plane force against the hub moving across the shaft, ``RotFrcY/Z`` (comment below), and the
-        disk's steady moment in the skewed relative flow when the rotor has a moment table
+        disk's steady moment and in-plane force in the skewed relative flow when the rotor has a moment table
         (:meth:`~mbsym.wind.aero.rotor.RotorAero.disk_moment`: coned blades and Pitt and Peters' skewed wake).
 
         A rotation rate ``ω⊥`` of the shaft across its axis moves a blade element at radius ``r`` and
@@ -219,7 +219,13 @@ class Graph:
                                               self.X["BlPitch"], self.P["air_density"])
         if steady is not None:
             my, mz = my + ca.dot(steady, c2), mz + ca.dot(steady, c3)
-        return {"RotMomY": my, "RotMomZ": mz, "RotFrcY": -c * ca.dot(v, c2), "RotFrcZ": -c * ca.dot(v, c3)}
+        fy, fz = -c * ca.dot(v, c2), -c * ca.dot(v, c3)
+        # and its steady in-plane force there (the loads' part in the rotor plane, aero.surfaces)
+        force = self.model.rotor.disk_force(self.u_rel, rel - c1 * ca.dot(rel, c1), c1, self.rotor_speed,
+                                            self.X["BlPitch"], self.P["air_density"])
+        if force is not None:
+            fy, fz = fy + ca.dot(force, c2), fz + ca.dot(force, c3)
+        return {"RotMomY": my, "RotMomZ": mz, "RotFrcY": fy, "RotFrcZ": fz}
 
     def _tower_loads(self) -> dict[str, Any]:
         """AeroDyn's tower drag on the tower and platform DOFs (:mod:`.tower_compose`; zero when neither moves)."""
