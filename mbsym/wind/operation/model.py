@@ -124,8 +124,8 @@ class OperatingTurbine:
         the output Function grows (benchmarks/README.md, "Load channels"). Default False.
     disk_moments : bool or None, optional, keyword-only
         Rotor-effective model only: the aerodynamic moment of the rotor disk against its tilt and yaw
-        rates, its steady moment in a skewed flow (the rotor's ``moment_table``, when its surfaces have one)
-        and its in-plane force against the hub's velocity across the shaft (``RotMomY``, ``RotMomZ``,
+        rates, its steady moment and in-plane force in a skewed flow (the rotor's ``moment_table``, when its
+        surfaces have one) and its in-plane force against the hub's velocity across the shaft (``RotMomY``, ``RotMomZ``,
         ``RotFrcY``, ``RotFrcZ`` on the hub; :meth:`.compose.Graph._disk_moments`), which the blade-element
         rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 % to 7.2 %
         (blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
