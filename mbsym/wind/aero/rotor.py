@@ -220,14 +220,8 @@ class RotorAero:
         SX (3,) or None
             ``½ ρ π R³ U (c_w V_⊥ + c_p e_x × V_⊥)``, in the axes of ``cross`` and ``axis``.
         """
-        spline = self._moment_spline  # type: ignore[attr-defined]
-        if spline is None:
-            return None
-        rho = self.air_density if rho is None else rho
-        u = self._speed(u_rel)
-        c = spline(omega * self.radius / u, pitch)
-        side = ca.cross(axis, cross)
-        return 0.5 * rho * math.pi * self.radius**3 * u * (c["cw"] * cross + c["cp"] * side)
+        return self._skewed(self._moment_spline, ("cw", "cp"), 3, u_rel, cross, axis, omega, pitch,  # type: ignore
+                            rho)
 
     def disk_force(self, u_rel: Any, cross: Any, axis: Any, omega: Any, pitch: Any, rho: Any = None) -> Any:
         """The disk's steady in-plane force in a skewed flow [N] (:mod:`.surfaces`), a 3-vector, or None when the
@@ -235,13 +229,19 @@ class RotorAero:
 
         Parameters and axes as :meth:`disk_moment`; returns ``½ ρ π R² U (h_w V_⊥ + h_p e_x × V_⊥)``.
         """
-        spline = self._force_spline  # type: ignore[attr-defined]
+        return self._skewed(self._force_spline, ("hw", "hp"), 2, u_rel, cross, axis, omega, pitch,  # type: ignore
+                            rho)
+
+    def _skewed(self, spline, names: tuple[str, str], power: int, u_rel, cross, axis, omega, pitch,
+                rho) -> Any:
+        """``½ ρ π R^power U (k_w V_⊥ + k_p e_x × V_⊥)``, ``(k_w, k_p)`` the spline's ``names`` (None: none)."""
         if spline is None:
             return None
         rho = self.air_density if rho is None else rho
         u = self._speed(u_rel)
-        h = spline(omega * self.radius / u, pitch)
-        return 0.5 * rho * math.pi * self.radius**2 * u * (h["hw"] * cross + h["hp"] * ca.cross(axis, cross))
+        k = spline(omega * self.radius / u, pitch)
+        side = ca.cross(axis, cross)
+        return 0.5 * rho * math.pi * self.radius**power * u * (k[names[0]] * cross + k[names[1]] * side)
 
     def inflow_lag_rhs(self, state: Any, u_rel: Any, omega: Any, pitch: Any, rho: Any = None,
                        **scales: Any) -> tuple[Any, dict[str, Any]]:
