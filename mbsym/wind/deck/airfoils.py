@@ -16,6 +16,12 @@ naming the file and line, all problems of a file together.
 
 Like AeroDyn's default (``InterpOrd = "default"`` = 1), the polars are meant to be
 interpolated linearly in AoA; the file's choice is kept in ``interp_order``.
+
+The unsteady-aerodynamics block of the first table (``InclUAdata`` and the constants
+after it) becomes :attr:`AirfoilPolar.ua`, completed as AeroDyn does (see
+:mod:`mbsym.wind.deck.airfoil_ua`): a missing line, ``"Default"`` (where AeroDyn
+accepts it) or ``InclUAdata = False`` lets AeroDyn compute the constant.  A table
+whose coefficients do not vary (AeroDyn's ``ConstData``) has no UA constants.
 """
 
 from __future__ import annotations
@@ -29,10 +35,16 @@ import numpy as np
 from ...exceptions import OpenFASTFormatError, ParameterError
 from ._format import _TOKEN, _canon, _Deck, _Key, _real
 from ._record import _readonly, _Record
+from .airfoil_ua import (_ANGLE_KEYS, _KEYWORD_DEFAULT_KEYS, UA_KEYS, UACoefficients,
+                         ua_coefficients_from_polar)
 
 __all__ = ["AirfoilPolar", "read_airfoil"]
 
 _DEG = math.pi / 180.0
+# Precision of the ConstData comparison: ReKi of OpenFAST's DOUBLE_PRECISION build (the CMake default of
+# OpenFAST v5 and the shared v5.0.0 binary): float64, tolerance 1.1e-14 (a single-precision build would use
+# float32, 5.96e-6).
+_CONST_DATA_REAL = np.float64
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,6 +68,12 @@ class AirfoilPolar(_Record):
         Number of tables in the file; only the first is kept (AFTabMod = 1).
     source : str or None
         The file read (not compared by ``==``).
+    ua : UACoefficients or None
+        Unsteady-aerodynamics (Beddoes-Leishman, UA_Mod 2/3) constants of the table, as
+        AeroDyn completes them; None for constant data.
+    constant_data : bool
+        AeroDyn's ``ConstData``: fewer than 3 rows, or every row equal to the next in all
+        coefficient columns (NWTC ``EqualRealNos`` in double precision, the shared OpenFAST build).
     """
 
     name: str
@@ -67,6 +85,8 @@ class AirfoilPolar(_Record):
     interp_order: int = 1
     n_tables: int = 1
     source: str | None = field(default=None, compare=False)
+    ua: UACoefficients | None = None
+    constant_data: bool = False
 
     def __post_init__(self) -> None:
         alpha = _readonly(self.alpha, f"AirfoilPolar({self.name}).alpha")
@@ -88,6 +108,13 @@ class AirfoilPolar(_Record):
         if self.interp_order not in (1, 3):
             raise ParameterError(f"AirfoilPolar({self.name}).interp_order must be 1 or 3; got "
                                  f"{self.interp_order!r}.")
+        if self.ua is not None and not isinstance(self.ua, UACoefficients):
+            raise ParameterError(f"AirfoilPolar({self.name}).ua must be UACoefficients or None; "
+                                 f"got {type(self.ua).__name__}.")
+        if not isinstance(self.constant_data, (bool, np.bool_)):
+            raise ParameterError(f"AirfoilPolar({self.name}).constant_data must be True or False; "
+                                 f"got {self.constant_data!r}.")
+        object.__setattr__(self, "constant_data", bool(self.constant_data))
 
     def coefficients(self, alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Linearly interpolated (cl, cd, cm) at ``alpha`` [rad] (wrapped to [-π, π])."""
@@ -163,14 +190,18 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
     -------
     AirfoilPolar
         AoA in rad, coefficients as written; a single-row table (constant data)
-        becomes a constant polar over [-π, π].
+        becomes a constant polar over [-π, π].  ``constant_data`` is AeroDyn's
+        ``ConstData``; ``ua`` holds the unsteady-aero constants of the table as AeroDyn
+        (UA_Mod 2/3) completes them (angles in rad), None for constant data.
 
     Raises
     ------
     OpenFASTFormatError
         If the file is missing, a key is missing or malformed, the table is short,
         a value is not a number, or the AoA does not strictly increase over
-        [-180, 180] deg; the message names the file and line.
+        [-180, 180] deg; also if an unsteady-aero value is one AeroDyn stops on
+        (a non-number, ``"Default"`` where AeroDyn reads a number only, or UA lines
+        after ``InclUAdata = False``); the message names the file and line.
     """
     path = Path(path)
     if not path.is_file():
@@ -191,6 +222,7 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
     n_tables = deck.value(_Key("NumTabs", "", "int",
                                check=(lambda v: v >= 1, "must be at least 1")))
     reynolds = deck.value(_Key("Re", "", check=(lambda v: v >= 0, "must not be negative")))
+    given = _read_ua_block(deck)
     n_alpha = deck.value(_Key("NumAlf", "", "int", check=(lambda v: v >= 1, "must be at least 1")))
     interp = 1 if order in ("default", None) else order
     if interp not in (1, 3, 1.0, 3.0):
@@ -199,17 +231,83 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
     data, numbers = (None, [])
     if deck.numalf_index is not None and isinstance(n_alpha, int) and n_alpha >= 1:
         data, numbers = _read_rows(deck, n_alpha, max(columns))
+    constant, ua = True, None
     if data is not None:
         alpha, cl, cd = (data[:, c - 1] for c in columns[:3])
         cm = data[:, columns[3] - 1] if columns[3] else np.zeros(len(data))
+        constant = _constant_data(np.column_stack([cl, cd, cm] if columns[3] else [cl, cd]))
         if len(data) == 1:  # constant data, as AeroDyn's ConstData
             alpha, cl, cd, cm = (np.array([-180.0, 180.0]), np.repeat(cl, 2), np.repeat(cd, 2),
                                  np.repeat(cm, 2))
         _check_alpha(deck, alpha, numbers)
+        if not constant and not deck.problems:
+            try:
+                ua = ua_coefficients_from_polar(alpha * _DEG, cl, cd, cm, given, columns[3] > 0)
+            except ParameterError as error:
+                deck.problem(deck.numalf_index + 1, "NumAlf", f"{error}")
     deck.raise_problems()
     return AirfoilPolar(name=path.stem, alpha=alpha * _DEG, cl=cl, cd=cd, cm=cm,
                         reynolds=reynolds * 1e6, interp_order=int(interp), n_tables=n_tables,
-                        source=str(path))
+                        source=str(path), ua=ua, constant_data=constant)
+
+
+def _read_ua_block(deck: _AirfoilDeck) -> dict[str, float | None]:
+    """The UA constants of the first table as given (angles in rad); None = AeroDyn computes.
+
+    AeroDyn (OpenFAST v5 ReadAFfile) reads them only if ``InclUAdata`` is True; a missing
+    line means "compute".  ``"Default"`` selects the default only for the keys read with
+    ParseVarWDefault: for the others AeroDyn does not consume the line and then stops at
+    ``NumAlf``, so such a file is an error here too, as is any other non-number.
+    """
+    include = deck.value(_Key("InclUAdata", "", "bool", default=False))
+    present = [k for k in UA_KEYS if _canon(k) in deck.entries]
+    given: dict[str, float | None] = dict.fromkeys(UA_KEYS)
+    if not include:
+        if present and include is not None:
+            entry = deck.entries[_canon(present[0])]
+            deck.problem(entry.line, entry.key, "InclUAdata is False (or missing), so AeroDyn "
+                         "does not read the unsteady-aero constants and stops here, expecting "
+                         "NumAlf. Set InclUAdata to True, or remove the unsteady-aero lines.")
+        return given
+    for key in present:
+        entry = deck.entries[_canon(key)]
+        deck.used.add(_canon(key))
+        if len(entry.values) != 1:
+            deck.problem(entry.line, entry.key, f"expected one value, got {len(entry.values)} "
+                         f"({', '.join(map(repr, entry.values))}). Fix the value in that line.")
+            continue
+        text = entry.values[0]
+        if key in _KEYWORD_DEFAULT_KEYS and text.upper().startswith("DEFAULT"):
+            continue
+        value = _real(text)
+        if value is None:
+            if key in _KEYWORD_DEFAULT_KEYS:
+                what = f'expected a number or "Default", got {text!r}. Fix the value in that line.'
+            elif text.upper().startswith("DEFAULT"):
+                what = (f'AeroDyn reads {key} as a number only ("Default" is accepted for '
+                        f'{", ".join(sorted(_KEYWORD_DEFAULT_KEYS))}) and stops at this line. '
+                        "Give a number, or delete the line to let AeroDyn compute the value.")
+            else:
+                what = f"expected a number, got {text!r}. Fix the value in that line."
+            deck.problem(entry.line, entry.key, what)
+            continue
+        given[key] = value * _DEG if key in _ANGLE_KEYS else value
+    return given
+
+
+def _constant_data(coefficients: np.ndarray) -> bool:
+    """AeroDyn's ``ConstData`` of a table (rows x coefficient columns).
+
+    True for fewer than 3 rows, or if every row equals the next in every column by NWTC
+    ``EqualRealNos`` in :data:`_CONST_DATA_REAL`: |a - b| <= max(|a + b|, 1) * 50 eps.
+    """
+    if coefficients.shape[0] < 3:
+        return True
+    real = _CONST_DATA_REAL
+    values = coefficients.astype(real)
+    a, b = values[:-1], values[1:]
+    tol = real(100.0) * np.finfo(real).eps / real(2.0)
+    return bool(np.all(np.abs(a - b) <= np.maximum(np.abs(a + b), real(1.0)) * tol))
 
 
 def _check_alpha(deck: _AirfoilDeck, alpha: np.ndarray, numbers: list[int]) -> None:
