@@ -17,8 +17,9 @@ TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
 SectAvg = True      sector-averaged inflow over each blade element
 MHK ≠ 0             marine hydrokinetic turbine (buoyancy, added mass, cavitation)
 Buoyancy = True     buoyant loads (MHK)
-UA_Mod ≠ 0          unsteady airfoil aerodynamics (rotor-effective surfaces; the blade-element
-                    rotor refuses it itself, :meth:`BladeElementRotor.from_aerodyn`)
+UA_Mod ≠ 0          rotor-effective model only: unsteady airfoil aerodynamics (the blade-element
+                    rotor models UA_Mod 3 and refuses the others itself,
+                    :func:`mbsym.wind.aero.blade.unsteady.unsteady_nodes`)
 ==================  ==========================================================================
 
 Output-only settings (``CompAA`` acoustics, ``CavitCheck``, the output lists) and the settings
@@ -79,7 +80,8 @@ def aerodyn_problems(aerodyn, *, rotor_effective: bool) -> list[str]:
         steady = 1 if key == "AFAeroMod" else 0               # AeroDyn 15 before v3: AFAeroMod 1 = steady
         if aerodyn.unsteady_model != steady:
             found.append((key, f"unsteady airfoil aerodynamics ({key} = {aerodyn.unsteady_model}) are not in the "
-                               "rotor's steady performance surfaces"))
+                               "rotor's steady performance surfaces (the blade-element rotor, --aero blade, models "
+                               "UA_Mod 3)"))
     return [f"{aerodyn.source}, line {lines.get(key.lower(), '?')}, key '{key}': {why}; set {key} = {_off(key)} "
             "to run the deck" for key, why in found]
 

@@ -262,8 +262,9 @@ class OperatingDeck:
     def default_aero(self, dofs: Sequence[str] | None = None) -> str:
         """``"blade"`` when a rotor-effective model cannot represent the deck: a full-field wind, a wind with
         shear, direction, vertical speed or upflow, blade or yaw DOFs that the aerodynamics must load, or
-        AeroDyn's tower disturbing the blade inflow (``TwrPotent``, ``TwrShadow``); ``"rotor"`` otherwise
-        (uniform hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
+        AeroDyn's tower disturbing the blade inflow (``TwrPotent``, ``TwrShadow``), or unsteady airfoil
+        aerodynamics (``UA_Mod`` ≠ 0); ``"rotor"`` otherwise (uniform hub-height wind on a rigid rotor: the cheap
+        rung is exact enough)."""
         if self.path is None:
             return "rotor"
         if self.inflow is not None and _varies_over_rotor(self.inflow):
@@ -272,7 +273,7 @@ class OperatingDeck:
             from ..aero.tower import TowerAero
 
             tower = TowerAero.from_aerodyn(self.aerodyn)
-            if tower is not None and tower.disturbs_inflow:
+            if tower is not None and tower.disturbs_inflow or self.aerodyn.unsteady_model != 0:
                 return "blade"
         flags = {f for f, on in self.turbine.dofs.items() if on} if dofs is None else set(dofs)
         return "blade" if flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} else "rotor"

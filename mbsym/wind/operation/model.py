@@ -357,8 +357,10 @@ class OperatingTurbine:
         inflow = self._part("blade_inflow")
         values = dict(zip(inflow.name_out(), (np.asarray(v, dtype=float).ravel()
                                                for v in inflow(vec, u, dyn.parameter_vector(p)))))
+        rotor = {k: float(values[f"rotor_{k}"][0]) for k in ("skew", "skew_azimuth", "un_disk")
+                 if f"rotor_{k}" in values}
         states = self.rotor.steady_states(values["node_vx"], values["node_vy"], values["node_r_local"],
-                                          values["node_theta"], values["node_azimuth"])
+                                          values["node_theta"], values["node_azimuth"], **rotor)
         return dict(zip(self.rotor.state_names, np.asarray(states, dtype=float).ravel()))
 
     def _wind_inputs(self, wind) -> dict[str, float]:

@@ -153,6 +153,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
             options["accuracy"] = accuracy
         else:
             step = controller.dt if dt is None else dt
+            _check_unsteady(model, method, aero_dt, aero_order, step)
             if method in MULTISTEP_METHODS:
                 unstable = _actuator_instability(model, method, step)
                 if unstable:
@@ -166,7 +167,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     in_loop = controller is not None and controller.is_function and options.get("method") in HELD_METHODS \
         and options.get("dt") == controller.dt               # a Python law (DISCON library) samples every step
     if aero_order is None and in_loop:
-        aero_order = int(model.turbine.simulation.interp_order)
+        aero_order = 0 if _unsteady(model) is not None else int(model.turbine.simulation.interp_order)
     if aero_dt is None and in_loop:
         aero_dt = default_aero_dt(model, controller.dt, x0, order=aero_order)
     if aero_dt is not None:
@@ -200,6 +201,8 @@ def _default_method(model: OperatingTurbine, controller: DiscreteController, dt:
     interval, else ``"rk4-held"`` (blade) or ``"rk4"``."""
     if model.aero != "blade":
         return "rk4"
+    if _unsteady(model) is not None:                # AeroDyn's UA recursion: one held step per AeroDyn step
+        return "rk4-held"
     code = deck_method(model)
     if code is None or not controller.is_function or (dt is not None and dt != controller.dt):
         return "rk4-held"
@@ -262,11 +265,38 @@ def default_aero_dt(model: OperatingTurbine, sample_dt: float, x0: np.ndarray, *
     if order not in AERO_ROTATION_DEG:
         raise SimulationOptionError(f"the aerodynamics' extrapolation order must be one of {sorted(AERO_ROTATION_DEG)}; "
                                     f"got {order!r}.")
+    if _unsteady(model) is not None:                # AeroDyn's UA recursion: updated every step
+        return sample_dt
     states = model.dynamics().states
     speed = abs(sum(float(x0[states.index(n)]) for n in ("GeAz_d", "DrTr_d") if n in states))
     speed = max(speed, TIP_SPEED_REF / float(model.rotor.tip_radius))                  # rad/s
     k = int(np.floor(np.radians(AERO_ROTATION_DEG[order]) / (speed * sample_dt) + 1e-9))
     return max(k, 1) * sample_dt
+
+
+def _unsteady(model: OperatingTurbine):
+    """The blade-element rotor's UA nodes (:mod:`mbsym.wind.aero.blade.unsteady`), or None."""
+    return getattr(model.rotor, "unsteady", None) if model.aero == "blade" else None
+
+
+def _check_unsteady(model: OperatingTurbine, method: str | None, aero_dt: float | None, aero_order: int | None,
+                    step: float) -> None:
+    """Refuse what breaks AeroDyn's UA recursion on a blade-element rotor with ``UA_Mod = 3``: the aerodynamics
+    held over more than one step (``aero_dt``) or extrapolated across it (``aero_order``), or a multistep method
+    (its derivative history mixes the recursion's updates of several steps)."""
+    ua = _unsteady(model)
+    if ua is None:
+        return
+    if aero_order:
+        raise SimulationOptionError(f"aero_order = {aero_order}: the unsteady airfoil model (UA_Mod 3) holds its "
+                                    "update over the step as AeroDyn does; extrapolating it across the step breaks "
+                                    "the recursion. Leave aero_order unset (0).")
+    if aero_dt is not None and abs(aero_dt - step) > 1e-12 * step:
+        raise SimulationOptionError(f"aero_dt = {aero_dt:g} s: the unsteady airfoil model (UA_Mod 3) updates its "
+                                    f"states every step ({step:g} s) as AeroDyn does; leave aero_dt unset.")
+    if method in MULTISTEP_METHODS:
+        raise SimulationOptionError(f"method {method!r} with the unsteady airfoil model (UA_Mod 3): its recursion "
+                                    "is integrated one held step at a time; use 'rk4-held' (the default).")
 
 
 def wind_at_start(model: OperatingTurbine, wind) -> "float | dict[str, float]":

@@ -304,7 +304,7 @@ def test_bad_inputs(bem):
     with pytest.raises(DimensionError, match="azimuth"):
         rot.evaluate(vx, vy, r, theta, np.zeros(2), rho=1.2, skew=0.1)
     dyn = rotor(bem, dbemt_mode=2)
-    with pytest.raises(DimensionError, match="DBEMT states"):
+    with pytest.raises(DimensionError, match="DBEMT and UA states"):
         dyn.evaluate(vx, vy, r, theta, np.zeros(3), rho=1.2)
     with pytest.raises(ParameterError, match="finite"):
         dyn.steady_states(np.full(57, np.nan), vy, r, theta)
@@ -318,12 +318,22 @@ def test_bad_inputs(bem):
         rotor(bem, polar_method="cubic")
 
 
-def test_deck_with_unsteady_aerodynamics_is_refused():
+def test_unsteady_aerodynamics_other_than_ua_mod_3_are_refused():
     import dataclasses
 
+    from mbsym.exceptions import ParameterError
+
+    for mode in (2, 4, 5, 6, 7):
+        aerodyn = dataclasses.replace(nrel5mw_aerodyn(), unsteady_model=mode)
+        with pytest.raises(UnsupportedFeatureError, match=f"UA_Mod = {mode} is not modelled"):
+            BladeElementRotor.from_aerodyn(aerodyn, hub_radius=1.5, precone=-0.04, n_blades=3, ua_dt=0.01,
+                                           speed_of_sound=335.0)
     aerodyn = dataclasses.replace(nrel5mw_aerodyn(), unsteady_model=3)
-    with pytest.raises(UnsupportedFeatureError, match="UA_Mod = 3"):
+    with pytest.raises(ParameterError, match="DTAero"):               # the AeroDyn step is needed
         BladeElementRotor.from_aerodyn(aerodyn, hub_radius=1.5, precone=-0.04, n_blades=3)
+    rot = BladeElementRotor.from_aerodyn(aerodyn, hub_radius=1.5, precone=-0.04, n_blades=3, ua_dt=0.01,
+                                         speed_of_sound=335.0)
+    assert rot.unsteady is not None and rot.state_names[-1].endswith("_ua_sigma3")
 
 
 def test_from_aerodyn_runs_dbemt_as_openfast_v5():

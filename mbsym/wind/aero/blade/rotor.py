@@ -25,7 +25,7 @@ import numpy as np
 from ....exceptions import DimensionError, ParameterError, UnsupportedFeatureError
 from ...deck.aerodyn import AeroDynInput, read_aerodyn
 from ..bem import BEMRotor
-from . import dbemt
+from . import dbemt, rest, unsteady
 from .corrections import low_tsr_weight, skewed_wake
 from .induction import A_LIMITS, AP_LIMITS, ElementData, induction, solve_phi
 from .polars import NodePolars
@@ -78,6 +78,9 @@ class BladeElementRotor:
     tip_radius : float
         Default rotor radius ``R_tip`` [m] (skew ``r/R``, DBEMT ``R``): the undeflected
         largest local radius (AeroDyn's ``rmax``) unless given.
+    unsteady : UnsteadyNodes or None
+        AeroDyn's unsteady airfoil aerodynamics ``UA_Mod = 3`` on these nodes (:mod:`.unsteady`); None: the
+        static polars (``UA_Mod = 0``).
     dbemt_wind_rate : bool
         Whether the rate of the quasi-steady induced velocity caused by the wind changing along a
         node's path enters Øye's ``k τ₁ dv_s/dt`` (see :mod:`.dbemt`). Default (None) as AeroDyn
@@ -92,6 +95,7 @@ class BladeElementRotor:
     n_newton: int | None = None
     tip_radius: float | None = None
     dbemt_wind_rate: bool | None = None
+    unsteady: unsteady.UnsteadyNodes | None = None
     polars: NodePolars = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -125,7 +129,8 @@ class BladeElementRotor:
     @classmethod
     def from_aerodyn(cls, aerodyn: AeroDynInput, *, hub_radius: float, precone: float, n_blades: int,
                      tip_radius: float | None = None, dynamic_wake: bool | None = None,
-                     polar_method: str = "spline", n_newton: int | None = None) -> "BladeElementRotor":
+                     polar_method: str = "spline", n_newton: int | None = None, ua_dt: float | None = None,
+                     speed_of_sound: float | None = None) -> "BladeElementRotor":
         """The rotor of an AeroDyn 15 input (blade 1's data for all blades).
 
         Parameters
@@ -145,18 +150,19 @@ class BladeElementRotor:
         polar_method : {"spline", "linear"}, optional
         n_newton : int, optional
             Newton steps (default :data:`DEFAULT_NEWTON`).
+        ua_dt, speed_of_sound : float, optional
+            AeroDyn's step ``DTAero`` [s] and ``SpdSound`` [m/s]; needed with ``UA_Mod = 3`` (the file's own values
+            when it gives numbers).
 
         Raises
         ------
         UnsupportedFeatureError
-            Unsteady airfoil aerodynamics (``UA_Mod != 0``), ``Skew_Mod = -1``, frozen wake
+            Unsteady airfoil aerodynamics other than ``UA_Mod = 3`` (:func:`.unsteady.unsteady_nodes`),
+            ``Skew_Mod = -1``, frozen wake
             (``DBEMT_Mod = -1``), or anything :meth:`BEMRotor.from_aerodyn` refuses (BEM_Mod 2,
             OLAF, AFTabMod != 1).
         """
         problems = []
-        if aerodyn.unsteady_model != 0:
-            problems.append(f"UA_Mod = {aerodyn.unsteady_model} (unsteady airfoil aerodynamics is not modelled: "
-                            "set UA_Mod = 0)")
         if aerodyn.skew_model == -1:
             problems.append("Skew_Mod = -1 (the linearization-only orthogonal inflow: set Skew_Mod 0 or 1)")
         mode, tau = _dbemt_from_deck(aerodyn)
@@ -174,8 +180,11 @@ class BladeElementRotor:
             if dynamic_wake and mode == 0:
                 mode, tau = 2, tau
             mode = mode if dynamic_wake else 0
+        ua_dt, speed_of_sound = _deck_number(aerodyn, "DTAero", ua_dt), _deck_number(aerodyn, "SpdSound",
+                                                                                       speed_of_sound)
+        ua = unsteady.unsteady_nodes(aerodyn, bem, n_blades, dt=ua_dt, speed_of_sound=speed_of_sound)
         return cls(bem, dbemt_mode=mode, tau1_const=tau, polar_method=polar_method, n_newton=n_newton,
-                   tip_radius=tip_radius)
+                   tip_radius=tip_radius, unsteady=ua)
 
     @classmethod
     def from_openfast(cls, fst: str | Path, **options: Any) -> "BladeElementRotor":
@@ -195,8 +204,10 @@ class BladeElementRotor:
                                  "must exist).")
         check_deck_memory(fst, aero="blade", run=False)       # the graph, before it is built
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
+        defaults = {"ua_dt": params.simulation.time_step,
+                    "speed_of_sound": _number(params.simulation.extra.get("SpdSound"))}
         return cls.from_aerodyn(aerodyn, hub_radius=params.hub_radius, precone=params.precone[0],
-                                n_blades=params.number_of_blades, **options)
+                                n_blades=params.number_of_blades, **(defaults | options))
 
     # ------------------------------------------------------------------ geometry
     @property
@@ -272,8 +283,13 @@ class BladeElementRotor:
 
     @property
     def state_names(self) -> tuple[str, ...]:
-        """Names of the dynamic-wake states (empty when quasi-steady); layout in :mod:`.dbemt`."""
-        return dbemt.state_names(self.n_blades, self.n_nodes) if self.dbemt_mode else ()
+        """Names of the dynamic-wake states (:mod:`.dbemt`; none when quasi-steady), then of the unsteady
+        airfoil states (:mod:`.unsteady`; none without UA)."""
+        wake = dbemt.state_names(self.n_blades, self.n_nodes) if self.dbemt_mode else ()
+        if self.unsteady is None:
+            return wake
+        ua = self.unsteady
+        return wake + unsteady.state_names([(int(i) // self.n_nodes, int(i) % self.n_nodes) for i in ua.index])
 
     def __repr__(self) -> str:
         wake = f"DBEMT_Mod {self.dbemt_mode}" if self.dbemt_mode else "quasi-steady"
@@ -329,7 +345,7 @@ class BladeElementRotor:
         n = self.n_blades * self.n_nodes
         vx, vy, r_local, theta = (self._column(v, n, name) for v, name in
                                   ((vx, "vx"), (vy, "vy"), (r_local, "r_local"), (theta, "theta")))
-        states = self._states(states)
+        states, ua_states = self._split_states(self._states(states))
         tip_radius = self.tip_radius if tip_radius is None else tip_radius
         rate = None
         if self.dbemt_mode and not self.dbemt_wind_rate and wind_rate is not None:
@@ -365,17 +381,31 @@ class BladeElementRotor:
         if tsr is not None and self.bem.low_tsr_blend:
             weight = low_tsr_weight(tsr)
             a, ap = a * weight, ap * weight
-        out.update(self._loads(vx, vy, theta, a, ap, rho))
+        loads = self._loads(vx, vy, theta, a, ap, rho, ua_states)
+        out["states_dot"] = ca.vertcat(out["states_dot"], loads.pop("ua_states_dot"))
+        out.update(loads)
         return out
 
-    def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any) -> dict[str, Any]:
-        """Loads and diagnostics at the final inductions (AeroDyn's SetOutputsFromBEMT, BEM_Mod 1)."""
+    def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any, ua_states: Any = None
+               ) -> dict[str, Any]:
+        """Loads and diagnostics at the final inductions (AeroDyn's SetOutputsFromBEMT, BEM_Mod 1), with the
+        unsteady airfoil coefficients on the UA nodes."""
         n = self.n_blades * self.n_nodes
         ux, uy = vx * (1.0 - a), vy * (1.0 + ap)
         phi = ca.atan2(ux, uy)
         alpha = phi - theta
         coef = self.polars(alpha, np.tile(np.arange(self.n_nodes), self.n_blades))
         cl, cd, cm = coef["cl"], coef["cd"], coef["cm"]
+        ua_dot = ca.SX(0, 1)
+        if self.unsteady is not None:
+            ua = self.unsteady
+            idx = [int(i) for i in ua.index]
+            static = self._static_polars(ua)
+            chain = unsteady.kelvin_chain(ua, alpha[idx], ca.sqrt(ux[idx]**2 + uy[idx]**2), ua_states, static,
+                                          lambda x: static(x)["cm"])
+            cl, cd, cm = ca.SX(cl), ca.SX(cd), ca.SX(cm)
+            cl[idx], cd[idx], cm[idx] = chain["cl"], chain["cd"], chain["cm"]
+            ua_dot = chain["states_dot"]
         sin_phi, cos_phi = ca.sin(phi), ca.cos(phi)
         cx, cy = cl * cos_phi + cd * sin_phi, cl * sin_phi - cd * cos_phi
         vrel2 = ux**2 + uy**2
@@ -384,7 +414,12 @@ class BladeElementRotor:
         m = q_c * chord * cm if self.bem.pitching_moment else ca.SX.zeros(n, 1)
         return {"fn": q_c * cx, "ft": q_c * cy, "m": m, "alpha": alpha, "phi": phi, "vrel": ca.sqrt(vrel2),
                 "axial_induction": a, "tangential_induction": ap, "cl": cl, "cd": cd, "cm": cm, "cx": cx,
-                "cy": cy}
+                "cy": cy, "ua_states_dot": ua_dot}
+
+    def _static_polars(self, ua: unsteady.UnsteadyNodes):
+        """``alpha (m, 1) -> {"cl", "cd", "cm"}`` of the UA nodes' static polars (the same polars as the BEM)."""
+        nodes = [int(j) for j in ua.node]
+        return lambda x: self.polars(x, nodes)
 
     def _quasi_steady(self, vx: Any, vy: Any, r_local: Any, theta: Any, states: Any) -> tuple[Any, Any]:
         """Quasi-steady ``(a, a')`` of every node (AeroDyn's limits; tip/hub nodes 1 and 0)."""
@@ -447,29 +482,13 @@ class BladeElementRotor:
         unknown = set(ignored_rotor_inputs) - {"rho", "skew", "skew_azimuth", "tip_radius", "tsr", "un_disk"}
         if unknown:
             raise TypeError(f"steady_states() got unexpected keyword arguments {sorted(unknown)}.")
-        if not self.dbemt_mode:
-            return np.zeros(0)
         n = self.n_blades * self.n_nodes
         args = [self._numeric(v, n, name) for v, name in ((vx, "vx"), (vy, "vy"), (r_local, "r_local"),
                                                            (theta, "theta"))]
-        f = self._cache.get("qs")  # type: ignore[attr-defined]
-        if f is None:
-            syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta")]
-            x = ca.SX.sym("x", 4 * n)
-            a, ap = self._quasi_steady(*syms, x)
-            f = ca.Function("blade_qs_induction", [*syms, x], [ca.horzcat(-a * syms[0], ap * syms[1])])
-            self._cache["qs"] = f  # type: ignore[attr-defined]
-        # start from the states whose inflow angle is the quasi-steady start atan2(Vx (1 - a0), Vy): the first
-        # iterate is then the quasi-steady induction (no second graph to build for it)
-        x = dbemt.equilibrium(np.stack([-QS_GUESS_INDUCTION * args[0], np.zeros(n)], axis=1))
-        for _ in range(max_iter):
-            new = dbemt.equilibrium(np.asarray(f(*args, x)))
-            change = np.max(np.abs(new - x))
-            x = new
-            if change <= tol:
-                return x
-        raise ParameterError(f"steady_states did not converge in {max_iter} iterations (last change {change:.3g} "
-                             "m/s); check that the inputs describe an operating rotor (vx, vy > 0).")
+        wake = rest.wake_states(self, args, tol, max_iter, QS_GUESS_INDUCTION) if self.dbemt_mode else np.zeros(0)
+        if self.unsteady is None:
+            return wake
+        return np.concatenate([wake, rest.unsteady_states(self, args, azimuth, wake, ignored_rotor_inputs)])
 
     def _disk_weights(self) -> np.ndarray:
         w = dbemt.integrate_weights(self.local_radius, self.n_blades)
@@ -495,15 +514,22 @@ class BladeElementRotor:
             raise ParameterError(f"{name} must hold finite numbers.")
         return array
 
+    def _split_states(self, states: Any) -> tuple[Any, Any]:
+        """The DBEMT states (None when quasi-steady) and the UA states (None without UA)."""
+        if self.unsteady is None:
+            return states, None
+        n_wake = 4 * self.n_blades * self.n_nodes if self.dbemt_mode else 0
+        return (states[:n_wake] if self.dbemt_mode else None), states[n_wake:]
+
     def _states(self, states: Any) -> Any:
         n_states = len(self.state_names)
-        if not self.dbemt_mode:
+        if not self.dbemt_mode and self.unsteady is None:
             if states is not None and (isinstance(states, (ca.SX, ca.MX)) and states.numel() > 0
                                        or not isinstance(states, (ca.SX, ca.MX)) and np.size(states) > 0):
                 raise DimensionError("this rotor is quasi-steady (no states); pass states=None or an empty vector.")
             return None
         if states is None:
-            raise DimensionError(f"this rotor has {n_states} DBEMT states (state_names); pass them.")
+            raise DimensionError(f"this rotor has {n_states} DBEMT and UA states (state_names); pass them.")
         return self._column(states, n_states, "states")
 
     def _per_node(self, azimuth: Any, n: int) -> Any:
@@ -514,6 +540,20 @@ class BladeElementRotor:
         if size == n:
             return self._column(azimuth, n, "azimuth")
         raise DimensionError(f"azimuth has {size} values; expected {self.n_blades} (one per blade) or {n} (per node).")
+
+
+def _number(text: Any) -> float | None:
+    """A deck value as a number, None if it is absent, "default" or not a number."""
+    try:
+        return float(str(text).strip().strip('"'))
+    except (TypeError, ValueError):
+        return None
+
+
+def _deck_number(aerodyn: AeroDynInput, key: str, fallback: float | None) -> float | None:
+    """AeroDyn's own ``key`` when the file gives a number (it overrides the glue code's), else ``fallback``."""
+    value = _number(dict(aerodyn.extra or {}).get(key))
+    return fallback if value is None else value
 
 
 def _is_zero(value: Any) -> bool:
