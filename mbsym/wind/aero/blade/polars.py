@@ -191,6 +191,26 @@ class NodePolars:
                                                           / self.step)
         return {name: ca.vertcat(*values) for name, values in out.items()}
 
+    def by_airfoil(self, alpha: Any, airfoil: Any) -> dict[str, Any]:
+        """cl, cd, cm at ``alpha`` [rad] of the airfoil numbered ``airfoil`` (an SX value: :attr:`airfoil_index`
+        of a node), the ``"spline"`` tables only: one SX expression for any node, for a Function mapped over nodes.
+
+        Raises
+        ------
+        ParameterError
+            With ``method="linear"`` (one interpolant per airfoil: the airfoil must be known when building).
+        """
+        if self.method != "spline":
+            raise ParameterError("NodePolars.by_airfoil needs the 'spline' tables (one table for every airfoil); "
+                                 "this one is 'linear'.")
+        n_cells = self._tables["n_cells"]
+        scaled = (_wrap(alpha) + math.pi) / self.step
+        cell = ca.fmin(ca.fmax(ca.floor(scaled), 0), n_cells - 1)
+        t = scaled - cell
+        coef = self._tables["all"].call([cell + airfoil * n_cells], False, True)[0]
+        return {name: ((coef[4 * k + 3] * t + coef[4 * k + 2]) * t + coef[4 * k + 1]) * t + coef[4 * k]
+                for k, name in enumerate(_COLUMNS)}
+
     def numeric(self, alpha: np.ndarray, node: int) -> dict[str, np.ndarray]:
         """cl, cd, cm of node ``node``'s airfoil at ``alpha`` [rad] (numpy, for checks and docs)."""
         alpha = np.asarray(alpha, dtype=float).ravel()

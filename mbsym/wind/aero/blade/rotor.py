@@ -400,9 +400,12 @@ class BladeElementRotor:
         if self.unsteady is not None:
             ua = self.unsteady
             idx = [int(i) for i in ua.index]
-            static = self._static_polars(ua)
-            chain = unsteady.kelvin_chain(ua, alpha[idx], ca.sqrt(ux[idx]**2 + uy[idx]**2), ua_states, static,
-                                          lambda x: static(x)["cm"])
+            speed = ca.sqrt(ux[idx]**2 + uy[idx]**2)
+            if self.polar_method == "spline":                  # one node's chain, mapped: a loop in the C code
+                chain = unsteady.kelvin_chain_mapped(ua, alpha[idx], speed, ua_states, self.polars)
+            else:
+                static = self._static_polars(ua)
+                chain = unsteady.kelvin_chain(ua, alpha[idx], speed, ua_states, static, lambda x: static(x)["cm"])
             cl, cd, cm = ca.SX(cl), ca.SX(cd), ca.SX(cm)
             cl[idx], cd[idx], cm[idx] = chain["cl"], chain["cd"], chain["cm"]
             ua_dot = chain["states_dot"]
