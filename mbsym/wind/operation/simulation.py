@@ -245,6 +245,8 @@ def _state_deck_method(res, model: OperatingTurbine, controller, given: bool) ->
         why = "the multistep methods are modelled for blade-element aerodynamics only"
     elif controller is None:
         why = "without a controller the accuracy-driven default chooses"
+    elif _unsteady(model) is not None:
+        why = "AeroDyn's unsteady airfoil model (UA_Mod 3) is integrated one held step at a time"
     elif not controller.is_function:
         why = "the controller is called from Python; the multistep methods run in the compiled loop"
     elif _actuator_instability(model, ELASTODYN_METHODS[code], float(stats.get("dt", controller.dt))):

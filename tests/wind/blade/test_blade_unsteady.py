@@ -217,3 +217,43 @@ def test_mapped_chain_equals_the_vectorized_one():
         state = np.asarray(r1[0])
     with pytest.raises(ParameterError, match="spline"):
         BladeElementRotor.from_openfast(FST, polar_method="linear").polars.by_airfoil(ca.SX.sym("a"), 0)
+
+
+@pytest.fixture(scope="module")
+def stock_deck():
+    """ROSCO 2.10.6's own NREL 5 MW deck (AeroDyn UA_Mod 3, UAStartRad 0): skips without the wheel."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "control"))
+    import _rosco
+
+    fst = _rosco.rosco_nrel5mw_deck()
+    if fst is None:
+        pytest.skip("the ROSCO 2.10.6 wheel is not cached and could not be fetched with pip")
+    return fst
+
+
+def test_a_ua_deck_runs_its_recursion_every_step_in_the_closed_loop(stock_deck):
+    """The stock deck as shipped runs on the blade-element rung with UA; the compiled-loop default would hold the
+    aerodynamics over several steps and extrapolate them (which made the recursion's sigma3 reach 12, outside
+    AeroDyn's {1, 2, 3, 4}, and the run diverge): with UA it is rk4-held with the aerodynamics every step, and the
+    run says why it is not the deck's ABM4."""
+    from mbsym.wind.control import BaselineController
+    from mbsym.wind.operation.controllers import baseline_in_loop
+    from mbsym.wind.operation.deck import operating_deck
+    from mbsym.wind.operation.simulation import simulate_turbine
+
+    deck = operating_deck(stock_deck)
+    model = deck.model(t_end=0.1)
+    assert model.aero == "blade" and model.rotor.unsteady is not None and model.rotor.unsteady.dt == 0.00625
+    controller = baseline_in_loop(BaselineController(deck.baseline_settings()))
+    res = simulate_turbine(model, deck.wind(), 0.05, controller=controller, compile=False)
+    assert res.statistics["method"] == "rk4-held" and "UA_Mod 3" in res.statistics["message"]
+    assert "aerodynamics every" not in res.statistics["message"]
+    states = model.dynamics().states
+    x = np.asarray(res.x)
+    for suffix, allowed in (("_ua_sigma3", {1.0, 2.0, 3.0, 4.0}), ("_ua_sigma1", {0.25, 0.5, 0.75, 1.0, 1.75, 2.0})):
+        cols = [i for i, n in enumerate(states) if n.endswith(suffix)]
+        assert set(np.round(x[:, cols], 12).ravel()) <= allowed, suffix
+    cols = [i for i, n in enumerate(states) if n.endswith("_ua_alpha_filt")]
+    assert np.abs(x[-1, cols] - x[0, cols]).max() > 1e-3          # the recursion moves with the rotating blades
