@@ -189,7 +189,8 @@ class _AeroBuilder:
         theta = (ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + per_node.T
                  + elastic_twist(kin["slope"][0, :], kin["slope"][1, :], per_node.T))
         wind_rate = None
-        if rotor.dbemt_mode and not rotor.dbemt_wind_rate:       # the wind's rate along each node's path
+        if rotor.dbemt_mode and not rotor.dbemt_wind_rate or rotor.needs_ua_wind_rate:
+            # the wind's rate along each node's path (DBEMT's rate term, UA's update: AeroDyn v5's wind copy)
             rate = model.wind.path_rate(kin["r_ac"], kin["v_ac"], U)
             wind_rate = (_dot(rate, frames["x_n"]).T, _dot(rate, frames["y_n"]).T)
         aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,

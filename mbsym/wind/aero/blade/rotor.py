@@ -81,6 +81,9 @@ class BladeElementRotor:
     unsteady : UnsteadyNodes or None
         AeroDyn's unsteady airfoil aerodynamics ``UA_Mod = 3`` on these nodes (:mod:`.unsteady`); None: the
         static polars (``UA_Mod = 0``).
+    ua_step_end_wind : bool
+        As AeroDyn v5: UA's update sees the node's flow plus the wind's change along its path over the step
+        (``wind_rate`` × ``DTAero``; :mod:`.unsteady`). False: the update sees the outputs' flow.
     dbemt_wind_rate : bool
         Whether the rate of the quasi-steady induced velocity caused by the wind changing along a
         node's path enters Øye's ``k τ₁ dv_s/dt`` (see :mod:`.dbemt`). Default (None) as AeroDyn
@@ -96,6 +99,7 @@ class BladeElementRotor:
     tip_radius: float | None = None
     dbemt_wind_rate: bool | None = None
     unsteady: unsteady.UnsteadyNodes | None = None
+    ua_step_end_wind: bool = True
     polars: NodePolars = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -282,6 +286,11 @@ class BladeElementRotor:
             "tip_radius": self.tip_radius, "dbemt_wind_rate": self.dbemt_wind_rate})
 
     @property
+    def needs_ua_wind_rate(self) -> bool:
+        """Whether :meth:`evaluate` uses ``wind_rate`` for UA's update (UA on, ``ua_step_end_wind``)."""
+        return self.unsteady is not None and self.ua_step_end_wind
+
+    @property
     def state_names(self) -> tuple[str, ...]:
         """Names of the dynamic-wake states (:mod:`.dbemt`; none when quasi-steady), then of the unsteady
         airfoil states (:mod:`.unsteady`; none without UA)."""
@@ -332,7 +341,8 @@ class BladeElementRotor:
             The rates of ``vx`` and ``vy`` [m/s²] caused by the wind changing along each node's
             path (the wind's own change in time and its change across the node's motion). Used
             when :attr:`dbemt_wind_rate` is False: that part of ``dv_s/dt`` is taken out of Øye's
-            rate term (:mod:`.dbemt`). None: no such rate is known, the whole rate stays in.
+            rate term (:mod:`.dbemt`). None: no such rate is known, the whole rate stays in. With UA
+            (:attr:`ua_step_end_wind`) the update's flow gets ``DTAero`` times it (:mod:`.unsteady`).
 
         Returns
         -------
@@ -347,9 +357,11 @@ class BladeElementRotor:
                                   ((vx, "vx"), (vy, "vy"), (r_local, "r_local"), (theta, "theta")))
         states, ua_states = self._split_states(self._states(states))
         tip_radius = self.tip_radius if tip_radius is None else tip_radius
-        rate = None
-        if self.dbemt_mode and not self.dbemt_wind_rate and wind_rate is not None:
-            rate = tuple(self._column(v, n, name) for v, name in zip(wind_rate, ("wind_rate[0]", "wind_rate[1]")))
+        rate = ua_rate = None
+        if wind_rate is not None and (self.dbemt_mode and not self.dbemt_wind_rate or self.needs_ua_wind_rate):
+            given = tuple(self._column(v, n, name) for v, name in zip(wind_rate, ("wind_rate[0]", "wind_rate[1]")))
+            rate = given if self.dbemt_mode and not self.dbemt_wind_rate else None
+            ua_rate = given if self.needs_ua_wind_rate else None
         a_qs, ap_qs = self._quasi_steady(vx, vy, r_local, theta, states)
         out: dict[str, Any] = {"axial_induction_qs": a_qs, "tangential_induction_qs": ap_qs,
                                "states_dot": ca.SX(0, 1), "tau1": ca.SX(0)}
@@ -381,13 +393,13 @@ class BladeElementRotor:
         if tsr is not None and self.bem.low_tsr_blend:
             weight = low_tsr_weight(tsr)
             a, ap = a * weight, ap * weight
-        loads = self._loads(vx, vy, theta, a, ap, rho, ua_states)
+        loads = self._loads(vx, vy, theta, a, ap, rho, ua_states, ua_rate)
         out["states_dot"] = ca.vertcat(out["states_dot"], loads.pop("ua_states_dot"))
         out.update(loads)
         return out
 
-    def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any, ua_states: Any = None
-               ) -> dict[str, Any]:
+    def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any, ua_states: Any = None,
+               ua_rate: Any = None) -> dict[str, Any]:
         """Loads and diagnostics at the final inductions (AeroDyn's SetOutputsFromBEMT, BEM_Mod 1), with the
         unsteady airfoil coefficients on the UA nodes."""
         n = self.n_blades * self.n_nodes
@@ -401,11 +413,16 @@ class BladeElementRotor:
             ua = self.unsteady
             idx = [int(i) for i in ua.index]
             speed = ca.sqrt(ux[idx]**2 + uy[idx]**2)
+            update = None
+            if ua_rate is not None:            # AeroDyn v5: the update sees the wind of the step's end (.unsteady)
+                ux_u, uy_u = ux[idx] + ua.dt * ua_rate[0][idx], uy[idx] + ua.dt * ua_rate[1][idx]
+                update = (ca.atan2(ux_u, uy_u) - theta[idx], ca.sqrt(ux_u**2 + uy_u**2))
             if self.polar_method == "spline":                  # one node's chain, mapped: a loop in the C code
-                chain = unsteady.kelvin_chain_mapped(ua, alpha[idx], speed, ua_states, self.polars)
+                chain = unsteady.kelvin_chain_mapped(ua, alpha[idx], speed, ua_states, self.polars, update)
             else:
                 static = self._static_polars(ua)
-                chain = unsteady.kelvin_chain(ua, alpha[idx], speed, ua_states, static, lambda x: static(x)["cm"])
+                chain = unsteady.kelvin_chain(ua, alpha[idx], speed, ua_states, static, lambda x: static(x)["cm"],
+                                              update)
             cl, cd, cm = ca.SX(cl), ca.SX(cd), ca.SX(cm)
             cl[idx], cd[idx], cm[idx] = chain["cl"], chain["cd"], chain["cm"]
             ua_dot = chain["states_dot"]

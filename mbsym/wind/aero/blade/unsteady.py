@@ -32,6 +32,16 @@ part evaluated once per step as AeroDyn is) gives ``z_{n+1} = F(z_n, α_n, U_n)`
 Any other integrator sees a stable ODE (eigenvalues ``-1/Δ`` of the delayed copies, inside RK4's interval up to a
 step of 2.78 Δ) that follows the recursion's response below ~``1/(2πΔ)``; the steady states are the recursion's
 fixed points (:func:`steady_states`). Every quantity is an SX column over the nodes UA runs on.
+
+**The update's inputs (AeroDyn v5).** AeroDyn's ``AD_UpdateStates`` builds the BEMT inputs of the step's start from
+the structure at that time but from one copy of the undisturbed wind made before, at the blade positions of the
+step's end (the same copy :mod:`.dbemt` describes). UA's update at step n therefore sees ``α'``, ``U'`` of the node's
+relative flow plus the change of the wind along its path over the step, ``Δ ≈ dW/dt|_path Δt`` projected on its
+axes (the induced velocities kept), while the coefficients of step n (AeroDyn's outputs) use the wind of step n.
+:class:`~mbsym.wind.aero.blade.BladeElementRotor` does the same by default (``ua_step_end_wind``); traced with
+OpenFAST v5.0.0's own UnsteadyAero built and driven on the same inputs: ignoring it leaves 1.5-6e-3 in Cl against
+AeroDyn's node outputs in a sheared wind (an angle of attack 0.01-0.025° off, of one sign per half turn), taking it
+into account ~1e-5 (tests/wind/blade/test_blade_unsteady.py).
 """
 
 from __future__ import annotations
@@ -139,7 +149,7 @@ def _separation(static: Callable, alpha: Any, p: dict, cna_c: Any) -> tuple[Any,
 
 
 def kelvin_chain(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: Any, static: Callable,
-                 static_cm: Callable) -> dict[str, Any]:
+                 static_cm: Callable, update: tuple[Any, Any] | None = None) -> dict[str, Any]:
     """One AeroDyn step of every UA node: coefficients now and the states of the next step.
 
     Parameters
@@ -155,6 +165,9 @@ def kelvin_chain(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: Any, stat
         ``alpha (m, 1) -> {"cl", "cd", "cm"}`` of the static polars of the same nodes.
     static_cm : callable
         ``alpha -> cm`` (the polar's moment column; zeros where it has none).
+    update : pair of SX (m, 1), optional
+        The angle of attack [rad] and speed [m/s] the states' update sees, when they differ from the outputs'
+        (AeroDyn v5 updates with the wind of the step's end: :mod:`module docstring <.unsteady>`); default the same.
 
     Returns
     -------
@@ -165,12 +178,13 @@ def kelvin_chain(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: Any, stat
     p = {k: ca.DM(np.asarray(v, dtype=float).reshape(-1, 1)) for k, v in nodes.params.items()}
     c = ca.DM(np.asarray(nodes.chord, dtype=float).reshape(-1, 1))
     out = _step(p, c, float(nodes.dt), float(nodes.speed_of_sound), nodes.has_cm, alpha, speed, states, static,
-                static_cm)
+                static_cm, update)
     out["states_dot"] = (out["next"] - states) / float(nodes.dt)
     return out
 
 
-def kelvin_chain_mapped(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: Any, polars: Any) -> dict[str, Any]:
+def kelvin_chain_mapped(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: Any, polars: Any,
+                        update: tuple[Any, Any] | None = None) -> dict[str, Any]:
     """:func:`kelvin_chain` as one node's SX Function mapped over the nodes (a loop in generated code).
 
     The same expressions, built once: the airfoil's constants, chord and airfoil number are the mapped Function's
@@ -179,11 +193,12 @@ def kelvin_chain_mapped(nodes: UnsteadyNodes, alpha: Any, speed: Any, states: An
     instructions), for the same numbers (tests/wind/blade/test_blade_unsteady.py).
     """
     m = nodes.size
-    f = _node_function(nodes, polars)
+    f = _node_function(nodes, polars, update is not None)
     params = np.vstack([np.asarray(nodes.params[k], dtype=float).reshape(1, -1) for k in UA_PARAMETERS] +
                        [np.asarray(nodes.chord, dtype=float).reshape(1, -1),
                         polars.airfoil_index[np.asarray(nodes.node, dtype=int)].reshape(1, -1).astype(float)])
-    out = _mapped(f, m)(alpha.T, speed.T, ca.reshape(states, len(STATE_SUFFIXES), m), ca.DM(params))
+    args = [alpha.T, speed.T, ca.reshape(states, len(STATE_SUFFIXES), m), ca.DM(params)]
+    out = _mapped(f, m)(*args, *([update[0].T, update[1].T] if update is not None else []))
     nxt = ca.vec(out[0])
     return {"cl": out[1].T, "cd": out[2].T, "cm": out[3].T, "weight": out[4].T, "next": nxt,
             "states_dot": (nxt - states) / float(nodes.dt)}
@@ -195,9 +210,10 @@ def _mapped(f: ca.Function, m: int) -> ca.Function:
     return ca.Function(f"ua_nodes_{m}", args, f.map(m)(*args), {"never_inline": True})
 
 
-def _node_function(nodes: UnsteadyNodes, polars: Any) -> ca.Function:
-    """One node's step ``(alpha, U, z (25), constants (22)) -> (next, cl, cd, cm, weight)`` (cached per polars)."""
-    key = (float(nodes.dt), float(nodes.speed_of_sound), bool(nodes.has_cm))
+def _node_function(nodes: UnsteadyNodes, polars: Any, separate_update: bool) -> ca.Function:
+    """One node's step ``(alpha, U, z (25), constants (22)[, alpha_update, U_update]) -> (next, cl, cd, cm,
+    weight)`` (cached per polars)."""
+    key = (float(nodes.dt), float(nodes.speed_of_sound), bool(nodes.has_cm), separate_update)
     cache = polars.__dict__.setdefault("_ua_node", {})
     if key in cache:
         return cache[key]
@@ -206,26 +222,35 @@ def _node_function(nodes: UnsteadyNodes, polars: Any) -> ca.Function:
     p = {k: c[i] for i, k in enumerate(UA_PARAMETERS)}
     airfoil = c[len(UA_PARAMETERS) + 1]
     static = lambda x: polars.by_airfoil(x, airfoil)              # noqa: E731
-    out = _step(p, c[len(UA_PARAMETERS)], key[0], key[1], key[2], a, u, z, static, lambda x: static(x)["cm"])
-    f = ca.Function("ua_node", [a, u, z, c], [out["next"], out["cl"], out["cd"], out["cm"], out["weight"]],
-                    ["alpha", "U", "z", "constants"], ["next", "cl", "cd", "cm", "weight"])
+    extra = [ca.SX.sym("alpha_update"), ca.SX.sym("U_update")] if separate_update else []
+    out = _step(p, c[len(UA_PARAMETERS)], key[0], key[1], key[2], a, u, z, static, lambda x: static(x)["cm"],
+                tuple(extra) or None)
+    f = ca.Function("ua_node", [a, u, z, c, *extra], [out["next"], out["cl"], out["cd"], out["cm"], out["weight"]],
+                    ["alpha", "U", "z", "constants", *["alpha_update", "U_update"][:len(extra)]],
+                    ["next", "cl", "cd", "cm", "weight"])
     cache[key] = f
     return f
 
 
 def _step(p: dict, c: Any, dt: float, a_s: float, has_cm: bool, alpha: Any, speed: Any, states: Any,
-          static: Callable, static_cm: Callable) -> dict[str, Any]:
+          static: Callable, static_cm: Callable, update: tuple[Any, Any] | None = None) -> dict[str, Any]:
     """The step of :func:`kelvin_chain` on columns of constants ``p`` and chords ``c`` (DM or SX)."""
     m = alpha.size1()
     s = ca.reshape(states, len(STATE_SUFFIXES), m).T
     old = {name: s[:, k] for k, name in enumerate(STATE_SUFFIXES)}
-    alpha = alpha - 2.0 * math.pi * ca.floor((alpha + math.pi) / (2.0 * math.pi))       # into [-π, π)
-    u = ca.fmax(speed, U_MIN)
+    alpha, u = _wrap(alpha), ca.fmax(speed, U_MIN)
     kc = _chain(p, old, alpha, u, c, dt, a_s, static)
-    new = _other_states(p, old, kc)
     out = _coefficients(p, old, kc, alpha, u, static, static_cm, has_cm)
+    if update is not None:                   # AeroDyn v5: the update's inputs carry the wind of the step's end
+        kc = _chain(p, old, _wrap(update[0]), ca.fmax(update[1], U_MIN), c, dt, a_s, static)
+    new = _other_states(p, old, kc)
     out["next"] = ca.reshape(ca.horzcat(*[new[name] for name in STATE_SUFFIXES]).T, -1, 1)
     return out
+
+
+def _wrap(alpha: Any) -> Any:
+    """α into [-π, π) (AeroDyn's ``MPi2Pi``)."""
+    return alpha - 2.0 * math.pi * ca.floor((alpha + math.pi) / (2.0 * math.pi))
 
 
 def _chain(p: dict, old: dict, alpha: Any, u: Any, c: Any, dt: float, a_s: float, static: Callable) -> dict:
@@ -339,10 +364,10 @@ def steady_states(nodes: UnsteadyNodes, alpha: Any, speed: Any, static: Callable
     """The states at rest for constant ``alpha`` [rad] and ``speed`` [m/s]: the recursion's fixed point.
 
     With α and U constant the filters hold α, every rate and lag is zero and ``α_f = α_e + α₀ = α``;
-    ``f' = f'' = f(α)``, ``f'_c`` likewise, ``C_V`` at its value, no vortex lift (``Cn_v = 0``, ``τ_V = 0`` as
-    OpenFAST starts), σ₃ = 1 and σ₁ = 0.5 (1 where the leading edge has separated, ``Cn' > Cn1`` or ``< Cn2``):
-    AeroDyn's rules for a flow that neither separates further nor moves. (A node whose leading edge has
-    separated at rest has no fixed point: its vortex clock runs; it starts at 0 as in OpenFAST.)
+    ``f' = f'' = f(α)``, ``f'_c`` likewise, ``C_V`` at its value, no vortex lift (``Cn_v = 0``), σ₃ = 1 and
+    σ₁ = 0.5 (1 where the leading edge has separated, ``Cn' > Cn1`` or ``< Cn2``): AeroDyn's rules for a flow that
+    neither separates further nor moves. A node whose leading edge has separated at rest has no fixed point: its
+    vortex clock runs; it starts one step in (``τ_V = ds``), as after OpenFAST's first update.
 
     Parameters
     ----------
@@ -358,8 +383,7 @@ def steady_states(nodes: UnsteadyNodes, alpha: Any, speed: Any, static: Callable
     """
     m = nodes.size
     p = {k: ca.DM(np.asarray(v, dtype=float).reshape(-1, 1)) for k, v in nodes.params.items()}
-    alpha = alpha - 2.0 * math.pi * ca.floor((alpha + math.pi) / (2.0 * math.pi))
-    u = ca.fmax(speed, U_MIN)
+    alpha, u = _wrap(alpha), ca.fmax(speed, U_MIN)
     mach = u / float(nodes.speed_of_sound)
     cna_c = p["C_nalpha"] / ca.sqrt(1.0 - mach**2)
     f, _, f_c = _separation(static, alpha, p, cna_c)
@@ -367,9 +391,11 @@ def steady_states(nodes: UnsteadyNodes, alpha: Any, speed: Any, static: Callable
     lesf = (cn > p["Cn1"]) + (cn < p["Cn2"]) > 0
     zero = 0.0 * alpha
     values = {name: zero for name in STATE_SUFFIXES}
+    chord = ca.DM(np.asarray(nodes.chord, dtype=float).reshape(-1, 1))
     values.update(alpha_filt=alpha, Cn_pot=cn, fpp=f, fp=f, fp_c=f_c, alpha_f=alpha,
                   C_V=cn * (1.0 - (0.5 + 0.5 * ca.sqrt(ca.fmax(f, 0.0))) ** 2),
-                  sigma1=ca.if_else(lesf, 1.0, 0.5), sigma3=zero + 1.0)
+                  sigma1=ca.if_else(lesf, 1.0, 0.5), sigma3=zero + 1.0,
+                  tau_V=ca.if_else(lesf, 2.0 * u * float(nodes.dt) / chord, 0.0))
     del m
     return ca.reshape(ca.horzcat(*[values[name] for name in STATE_SUFFIXES]).T, -1, 1)
 
