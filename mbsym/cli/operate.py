@@ -67,12 +67,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="aerodynamics: blade (blade-element BEM on every blade node, in the wind over the rotor: "
                         "full field, shears) or rotor (rotor-effective Cp/Ct surfaces, hub-height wind); default: "
                         "blade when the deck's wind varies over the rotor, blade/yaw DOFs are on or its AeroDyn "
-                        "has the tower disturb the blade inflow (TwrPotent, TwrShadow), else rotor")
+                        "has the tower disturb the blade inflow (TwrPotent, TwrShadow) or unsteady airfoils "
+                        "(UA_Mod 3), else rotor")
     p.add_argument("--aero-dt", type=float, metavar="DT",
                    help="blade-element aerodynamics with the baseline controller: evaluate them every DT seconds, a "
                         "multiple of the controller's sample time (default: every 2 deg of rotor rotation, 4 deg with "
-                        "quadratic extrapolation; NREL 5 MW 25 / 50 ms; the controller and the structure keep the "
-                        "sample time)")
+                        "quadratic extrapolation; NREL 5 MW 25 / 50 ms; every step with UA_Mod 3; the controller and "
+                        "the structure keep the sample time)")
     p.add_argument("--aero-order", type=int, choices=(0, 1, 2), metavar="{0,1,2}",
                    help="blade-element aerodynamics with the baseline controller: between evaluations hold them (0) "
                         "or extrapolate them linearly (1) or quadratically (2) (default: the deck's InterpOrder)")
