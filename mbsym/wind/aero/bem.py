@@ -35,7 +35,8 @@ The model follows AeroDyn 15's BEMT with ``BEM_Mod = 1`` (legacy
   in AeroDyn.  Below TSR 2 the induction is blended to zero (cosine, TSR 1 → 2),
   as AeroDyn's ``check_turnOffBEMT`` does.
 * **Loads.** Lift, drag (always) and pitching moment at ``α = φ - θ``
-  (``θ = twist + pitch``), airfoil polars interpolated linearly in α (AeroDyn's
+  (``θ = twist + pitch``; on a curved blade AeroDyn's Euler angle, :func:`aerodyn_theta`), airfoil polars
+  interpolated linearly in α (AeroDyn's
   default).  Per unit length: ``fn = q c (Cl cos φ + Cd sin φ)`` along ``e_n``,
   ``ft = q c (Cl sin φ - Cd cos φ)`` along ``e_t``, ``m = q c² Cm`` about ``e_s``.
   Thrust ``T = ∫ fn cos c`` and torque ``Q = ∫ (p × f + m e_s)·e_x`` are
@@ -59,7 +60,7 @@ from ..deck.aerodyn import AeroDynInput, freeze_blade_geometry, read_aerodyn
 from ..deck.airfoils import AirfoilPolar
 from ._induction import _Elements, _induction, _lookup, _polar_tables, _solve_phi
 
-__all__ = ["BEMRotor", "BEMSolution", "solve_bem", "rotor_coefficients"]
+__all__ = ["BEMRotor", "BEMSolution", "solve_bem", "rotor_coefficients", "aerodyn_theta"]
 
 _A_LIMITS = (-1.0, 1.5)  # AeroDyn's limits of the axial induction
 _AP_LIMITS = (-1.0, 1.0)  # ... and of the tangential induction
@@ -220,6 +221,30 @@ class BEMRotor:
                 f"precone={math.degrees(self.precone):g} deg, source={self.source!r})")
 
 
+def aerodyn_theta(twist: Any, curve_angle: Any, pitch: Any, *, sin=np.sin, cos=np.cos, atan2=np.arctan2) -> Any:
+    """AeroDyn's twist + pitch angle θ [rad] of a node of a curved (prebent) rigid blade (``BEM_Mod = 1``).
+
+    AeroDyn (AeroDyn.f90 ``Init_u``, ``Calculate_MeshOrientation_NoSweepPitchTwist``) orients node ``j`` at
+    ``EulerConstruct(0, BlCrvAng, −BlTwist)`` relative to the pitched root and takes θ as minus the z angle of
+    the z-y-x decomposition (NWTC ``EulerExtract``) of that orientation relative to the root without pitch,
+    ``EulerConstruct(0, γ, −τ) · EulerConstruct(0, 0, −β)``:
+
+        θ = atan2(cos γ sin τ cos β + cos τ sin β, cos γ cos τ cos β − sin τ sin β),
+
+    ``τ + β`` for a straight blade (γ = 0), and larger for a curved one at pitch: on the IEA 15 MW at 8.2° pitch
+    +0.03° at 87 % span (γ = −5°, τ = −2.1°), which OpenFAST's node outputs show (docs/blade_aero.md §2).
+
+    Parameters
+    ----------
+    twist, curve_angle, pitch : array_like or SX
+        ``BlTwist`` τ, ``BlCrvAng`` γ and the blade pitch β [rad] (broadcast).
+    sin, cos, atan2 : callable, optional
+        The functions to use (``casadi.sin`` … for SX).
+    """
+    cg, ct, st, cb, sb = cos(curve_angle), cos(twist), sin(twist), cos(pitch), sin(pitch)
+    return atan2(cg * st * cb + ct * sb, cg * ct * cb - st * sb)
+
+
 def _geometry(rotor: BEMRotor) -> dict[str, np.ndarray]:
     """Node positions, frames and Prandtl constants (see the module docstring)."""
     cone = rotor.precone + rotor.curve_angle
@@ -370,7 +395,7 @@ def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = Non
     g = rotor._geometry  # type: ignore[attr-defined]
     vx, vy, cos_psi = _velocities(rotor, tsr_a, abs(skew), n_azimuth)
     shape = vx.shape
-    theta = np.broadcast_to(rotor.twist + pitch_a[..., None, None], shape)
+    theta = np.broadcast_to(aerodyn_theta(rotor.twist, rotor.curve_angle, pitch_a[..., None, None]), shape)
     flat = _Elements(
         vx=vx.ravel(), vy=vy.ravel(), theta=theta.ravel(),
         sigma=np.broadcast_to(rotor.n_blades * rotor.chord / (2 * math.pi * g["r"]), shape).ravel(),

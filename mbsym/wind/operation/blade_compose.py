@@ -33,6 +33,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from ..aero.bem import aerodyn_theta
 from ..structure.blade_points import blade_point_kinematics, blade_point_loads, blade_point_shapes
 from ..structure.turbine import BLADE_LOAD_INPUTS
 from .compose import WIRED_INPUTS, Graph, actuator_states
@@ -186,7 +187,9 @@ class _AeroBuilder:
         rel = W[:, :n] - kin["v_ac"]
         frames = self._frames(kin, rel)
         per_node = ca.repmat(pitch.T, rotor.n_nodes, 1)[:] if pitch.numel() > 1 else pitch      # blade by blade
-        theta = (ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T + per_node.T
+        twist = ca.DM(np.tile(np.asarray(rotor.twist, dtype=float), rotor.n_blades)).T
+        curve = ca.DM(np.tile(np.asarray(rotor.curve_angle, dtype=float), rotor.n_blades)).T
+        theta = (aerodyn_theta(twist, curve, per_node.T, sin=ca.sin, cos=ca.cos, atan2=ca.atan2)
                  + elastic_twist(kin["slope"][0, :], kin["slope"][1, :], per_node.T))
         wind_rate = None
         if rotor.dbemt_mode and not rotor.dbemt_wind_rate or rotor.needs_ua_wind_rate:
