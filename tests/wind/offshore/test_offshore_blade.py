@@ -93,7 +93,8 @@ def test_the_shared_floating_deck_as_written_tracks_openfast(tmp_path):
 
     The unsteady airfoils raise the rotor's steady tilt moment (σ of the 1P of ``RtFldMyh`` over 100-600 s) from
     1.402 to 1.631 MN m in OpenFAST; mbsym has 1.628 (1.400 with ``UA_Mod`` 0: the 1 % bound catches a run
-    without UA). Means over 500-600 s within 0.4 % (measured 0.00-0.35 %, TTDspFA's the largest)."""
+    without UA). Means over 500-600 s within 0.4 % (measured 0.00-0.04 % since the curved blade's θ and
+    pitching-moment axis, docs/blade_aero.md §2; 0.35 % before: the bound holds both)."""
     from mbsym.cli import main
     from mbsym.wind.analysis.compare import read_csv
 
