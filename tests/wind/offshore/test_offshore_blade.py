@@ -93,8 +93,9 @@ def test_the_shared_floating_deck_as_written_tracks_openfast(tmp_path):
 
     The unsteady airfoils raise the rotor's steady tilt moment (σ of the 1P of ``RtFldMyh`` over 100-600 s) from
     1.402 to 1.631 MN m in OpenFAST; mbsym has 1.628 (1.400 with ``UA_Mod`` 0: the 1 % bound catches a run
-    without UA). Means over 500-600 s within 0.4 % (measured 0.00-0.04 % since the curved blade's θ and
-    pitching-moment axis, docs/blade_aero.md §2; 0.35 % before: the bound holds both)."""
+    without UA). Means over 500-600 s within 0.15 % (measured 0.00-0.04 % since the curved blade's θ and
+    pitching-moment axis, docs/blade_aero.md §2; before them TTDspFA +0.35 % and platform pitch +0.22 %: the bound
+    catches either)."""
     from mbsym.cli import main
     from mbsym.wind.analysis.compare import read_csv
 
@@ -113,4 +114,4 @@ def test_the_shared_floating_deck_as_written_tracks_openfast(tmp_path):
     assert abs(tilt - 1.0) < 0.01, tilt
     for name in ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "FAIRTEN1", "TTDspFA", "TwrBsMyt"):
         mine, theirs = np.asarray(ours.channel(name))[t >= 500].mean(), np.asarray(ref.channel(name))[tr >= 500].mean()
-        assert abs(mine / theirs - 1.0) < 0.004, (name, mine, theirs)
+        assert abs(mine / theirs - 1.0) < 0.0015, (name, mine, theirs)
