@@ -381,7 +381,6 @@ def steady_states(nodes: UnsteadyNodes, alpha: Any, speed: Any, static: Callable
     -------
     SX or DM (25 m, 1)
     """
-    m = nodes.size
     p = {k: ca.DM(np.asarray(v, dtype=float).reshape(-1, 1)) for k, v in nodes.params.items()}
     alpha, u = _wrap(alpha), ca.fmax(speed, U_MIN)
     mach = u / float(nodes.speed_of_sound)
@@ -396,7 +395,6 @@ def steady_states(nodes: UnsteadyNodes, alpha: Any, speed: Any, static: Callable
                   C_V=cn * (1.0 - (0.5 + 0.5 * ca.sqrt(ca.fmax(f, 0.0))) ** 2),
                   sigma1=ca.if_else(lesf, 1.0, 0.5), sigma3=zero + 1.0,
                   tau_V=ca.if_else(lesf, 2.0 * u * float(nodes.dt) / chord, 0.0))
-    del m
     return ca.reshape(ca.horzcat(*[values[name] for name in STATE_SUFFIXES]).T, -1, 1)
 
 
