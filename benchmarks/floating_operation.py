@@ -4,9 +4,10 @@ The IEA 15 MW on the VolturnUS-S (``shared/openfast/floating/cases/fl_steady_13`
 water): the deck's structure (six platform DOFs, tower FA1/SS1, generator), rotor-effective aerodynamics of
 its AeroDyn blades with DBEMT, its actuators, HydroDyn (our radiation fit, 169 states) and MoorDyn (three
 quasi-static catenaries with their drag and inertia on that shape), our baseline controller with the deck's
-DISCON.IN (floating feedback Fl_Mode 2, pitch actuator model PA_Mode 2) compiled into the loop. Built with the public
-constructor and no tower aerodynamics: run it on a copy with AeroDyn's tower switches and `UA_Mod` off (the
-rotor-effective rung refuses the tower's inflow disturbance and the unsteady airfoils; docs/offshore.md §7, §7b).
+DISCON.IN (floating feedback Fl_Mode 2, pitch actuator model PA_Mode 2) compiled into the loop. The deck's
+rotor-effective model (``OperatingDeck.model(aero="rotor")``): on the deck as written its tower's drag, its tower's
+inflow disturbance as an azimuth average and ``UA_Mod`` 3 at its steady state (docs/aero.md §6b; before 2026-11-29's
+second evening the rung refused the last two and this script ran on a copy with them off: docs/offshore.md §7, §7b).
 
 Reports: the trim at 13 m/s, the 600 s run's means over its last 100 s against OpenFAST's (the shared CSV,
 and optionally an OpenFAST text output ``--openfast FILE.out``, e.g. a rerun without the tower effects), and
@@ -105,19 +106,16 @@ def main() -> None:
         ap.error(f"--reference {args.reference}: no such file (expected an OpenFAST run as CSV)")
 
     from mbsym.wind.control import BaselineController
-    from mbsym.wind.operation import OperatingTurbine, SteadyControl, trim
+    from mbsym.wind.operation import SteadyControl, trim
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.deck import operating_deck
-    from mbsym.wind.operation.dynamic_inflow import DynamicInflow
     from mbsym.wind.operation.simulation import simulate_turbine
 
     t0, c0 = time.perf_counter(), _cpu()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         deck = dataclasses.replace(operating_deck(args.fst), radiation="fit")
-        mode, tau1 = deck.dbemt
-        model = OperatingTurbine(deck.turbine, deck.rotor, actuators=deck.actuators, platform=deck.platform,
-                                 dynamic_inflow=DynamicInflow(deck.rotor, mode=mode, tau1_const=tau1))
+        model = deck.model(aero="rotor")
         dyn = model.dynamics()
     build = time.perf_counter() - t0, _cpu() - c0
     print(f"model: {len(dyn.states)} states ({model.platform.n_radiation} radiation), build {build[0]:.1f} s wall, "

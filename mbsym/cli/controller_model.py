@@ -35,18 +35,16 @@ def controller_model(deck, say: Callable[[str], None] | None = None):
     say : callable, optional
         Told one line when the model differs from the deck's plant (blade-element decks).
 
-    The deck's unsteady airfoil aerodynamics (``UA_Mod`` 3, modelled by the blade-element plant) are left out of
-    the controller's model, and ``say`` is told: UA moves the loads at the blades' passage and in the pitch's
-    transients but hardly their means (on the floating IEA 15 MW at 13 m/s: rotor speed, power and blade pitch
-    within 0.05 %, platform pitch +0.2 %, in OpenFAST and in mbsym alike; docs/offshore.md §7b).
+    The deck's tower influence on the blade inflow (``TwrPotent``, ``TwrShadow``) enters the controller's model as
+    its azimuth average and its unsteady airfoils (``UA_Mod`` 3) at their steady state (the rotor-effective
+    surfaces: :mod:`mbsym.wind.aero.tower_average`, :mod:`mbsym.wind.aero.blade.ua_steady`), and ``say`` is told.
+    Before the average was modelled, a model without the tower's loss of torque held the power 3-4 % above rated
+    (2026-11-29, the floating IEA 15 MW at 13 m/s: the NMPC has no integral action for it).
 
     Raises
     ------
     OpenFASTFormatError
-        The deck's AeroDyn asks for what the rotor-effective model refuses (the tower's potential flow or
-        shadow on the blade inflow): the controller's model cannot be built from it. Leaving them out of the
-        controller's model was tried (2026-11-29, the floating IEA 15 MW at 13 m/s): the NMPC, without an
-        integral action for the tower's 3P-averaged loss of torque, then held the power 3-4 % above rated.
+        The deck's AeroDyn asks for what neither rotor models: the controller's model cannot be built from it.
     """
     from ..wind.mpc import ESTIMATOR_DOFS, PREDICTION_DOFS
 
@@ -58,14 +56,17 @@ def controller_model(deck, say: Callable[[str], None] | None = None):
             f"{', '.join(dofs)}")
     from ..exceptions import OpenFASTFormatError
 
-    steady = deck
-    if deck.aerodyn is not None and deck.aerodyn.unsteady_model != 0:
-        steady = dataclasses.replace(deck, aerodyn=dataclasses.replace(deck.aerodyn, unsteady_model=0))
-        if say is not None:
-            say(f"the controller's model leaves out the deck's unsteady airfoil aerodynamics (UA_Mod "
-                f"{deck.aerodyn.unsteady_model}: no steady loads); the plant has them")
+    if deck.aerodyn is not None and say is not None:
+        from ..wind.aero.tower import TowerAero
+
+        tower = TowerAero.from_aerodyn(deck.aerodyn)
+        held = (["the tower's influence on the blade inflow as its azimuth average"]
+                if tower is not None and tower.disturbs_inflow else []) + \
+            ([f"UA_Mod {deck.aerodyn.unsteady_model} at its steady state"] if deck.aerodyn.unsteady_model else [])
+        if held:
+            say(f"the controller's model holds {' and '.join(held)}; the plant has them blade by blade")
     try:
-        return dataclasses.replace(steady, inflow=None).model(dofs=dofs, aero="rotor")
+        return dataclasses.replace(deck, inflow=None).model(dofs=dofs, aero="rotor")
     except OpenFASTFormatError as exc:
         raise OpenFASTFormatError(f"the NMPC and its estimators predict with the deck's rotor-effective model, which "
                                   f"this deck's AeroDyn rules out: {exc}") from exc

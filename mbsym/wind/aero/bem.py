@@ -329,12 +329,13 @@ def _torque(pos: np.ndarray, force: np.ndarray, moment: np.ndarray, length: np.n
     return np.sum(arm * length, axis=-1) + _line_integral(moment, length)
 
 
-def _velocities(rotor: BEMRotor, tsr: np.ndarray, skew: float, n_azimuth: int
+def _velocities(rotor: BEMRotor, tsr: np.ndarray, skew: float, n_azimuth: int, change=None
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Vx, Vy (..., n_azimuth, n) for a shaft-axial wind of 1 m/s, and cos of the azimuth.
 
     The azimuth ψ of a blade is measured from the direction of the in-plane wind
-    component ``tan(skew)`` (the downwind side of the skewed disk is ψ = 0).
+    component ``tan(skew)`` (the downwind side of the skewed disk is ψ = 0). ``change``:
+    ``(dvx, dvy)`` (n_azimuth, n) added (the tower's, :mod:`.tower_average`).
     """
     g = rotor._geometry  # type: ignore[attr-defined]
     psi = 2.0 * math.pi * (np.arange(n_azimuth) + 0.5) / n_azimuth if n_azimuth > 1 else \
@@ -345,11 +346,14 @@ def _velocities(rotor: BEMRotor, tsr: np.ndarray, skew: float, n_azimuth: int
     omega = tsr[..., None, None] / rotor.radius
     vx = g["cos_cone"] - in_plane * sin_cone * cos_psi + 0.0 * omega
     vy = omega * g["r_rad"] + in_plane * sin_psi
+    if change is not None:
+        vx, vy = vx + change[0], vy + change[1]
     return vx, vy, np.broadcast_to(cos_psi, vx.shape)
 
 
 def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = None,
-              n_azimuth: int = 8) -> BEMSolution:
+              n_azimuth: int = 8, inflow_change: tuple[np.ndarray, np.ndarray] | None = None,
+              airfoil_loads: Any = None) -> BEMSolution:
     """Solve the steady BEM at tip-speed ratios ``tsr`` and pitch angles ``pitch``.
 
     Parameters
@@ -367,6 +371,16 @@ def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = Non
         varies the blade velocities with azimuth.
     n_azimuth : int, optional
         Azimuth positions averaged when ``skew != 0`` (8 reproduce 36 within 0.01 %).
+    inflow_change : (ndarray, ndarray), optional
+        ``(dvx, dvy)`` (n_azimuth, n_nodes): added to each node's velocities at each azimuth, per m/s
+        of wind along the shaft (the tower's potential flow and shadow,
+        :func:`~mbsym.wind.aero.tower_average.tower_inflow_change`, made for the default skew).
+    airfoil_loads : callable, optional
+        ``(alpha, speed, coefficients) -> coefficients``: the coefficients (..., n, 3: Cl, Cd, Cm) that load
+        the blade at the induced angle of attack ``alpha`` [rad] and relative speed ``speed`` [per m/s of wind
+        along the shaft] (..., n), given the static ones; the induction is solved with the static polars, as
+        AeroDyn's BEMT does (the steady state of unsteady airfoils,
+        :func:`~mbsym.wind.aero.blade.ua_steady.steady_airfoil_loads`).
 
     Returns
     -------
@@ -391,9 +405,11 @@ def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = Non
         raise ParameterError(f"skew must be an angle in (-60, 60) deg [rad]; got {skew!r}.")
     if not (isinstance(n_azimuth, int) and n_azimuth >= 1):
         raise ParameterError(f"n_azimuth must be a positive integer; got {n_azimuth!r}.")
-    n_azimuth = n_azimuth if skew else 1
+    if inflow_change is not None:
+        inflow_change = _checked_change(rotor, inflow_change, n_azimuth, skew)
+    n_azimuth = n_azimuth if skew or inflow_change is not None else 1
     g = rotor._geometry  # type: ignore[attr-defined]
-    vx, vy, cos_psi = _velocities(rotor, tsr_a, abs(skew), n_azimuth)
+    vx, vy, cos_psi = _velocities(rotor, tsr_a, abs(skew), n_azimuth, inflow_change)
     shape = vx.shape
     theta = np.broadcast_to(aerodyn_theta(rotor.twist, rotor.curve_angle, pitch_a[..., None, None]), shape)
     flat = _Elements(
@@ -428,6 +444,8 @@ def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = Non
     phi = np.arctan2(ux, uy)
     alpha = phi - theta
     coef = _lookup(rotor._tables, alpha, rotor._tables["which"])  # type: ignore[attr-defined]
+    if airfoil_loads is not None:
+        coef = airfoil_loads(alpha, np.hypot(ux, uy), coef)
     cl, cd, cm = coef[..., 0], coef[..., 1], coef[..., 2]
     q = 0.5 * (ux**2 + uy**2)
     fn = q * rotor.chord * (cl * np.cos(phi) + cd * np.sin(phi))
@@ -442,6 +460,19 @@ def solve_bem(rotor: BEMRotor, tsr: Any, pitch: Any, *, skew: float | None = Non
     return BEMSolution(tsr=tsr_a, pitch=pitch_a, cp=cq * tsr_a, ct=ct, cq=cq, phi=phi,
                        alpha=np.mod(alpha + math.pi, 2 * math.pi) - math.pi, a=a, ap=ap,
                        fn=fn, ft=ft, m=m, converged=ok | fixed)
+
+
+def _checked_change(rotor: BEMRotor, change, n_azimuth: int, skew: float) -> tuple[np.ndarray, np.ndarray]:
+    """``inflow_change`` of :func:`solve_bem`, checked against the azimuths and the skew it was made for."""
+    dvx, dvy = (np.asarray(v, dtype=float) for v in change)
+    shape = (n_azimuth, rotor.span.size)
+    if dvx.shape != shape or dvy.shape != shape or not (np.all(np.isfinite(dvx)) and np.all(np.isfinite(dvy))):
+        raise ParameterError(f"inflow_change must be two finite arrays of shape (n_azimuth, n_nodes) = {shape}; got "
+                             f"{dvx.shape} and {dvy.shape}.")
+    if not math.isclose(abs(skew), abs(rotor.shaft_tilt), abs_tol=1e-12):
+        raise ParameterError("inflow_change is made for the wind along the ground (skew = |shaft_tilt|); got skew "
+                             f"{math.degrees(skew):.4g} deg for a tilt of {math.degrees(rotor.shaft_tilt):.4g} deg.")
+    return dvx, dvy
 
 
 def rotor_coefficients(rotor: BEMRotor, tsr: Any, pitch: Any, **options: Any

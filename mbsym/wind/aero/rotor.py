@@ -46,7 +46,12 @@ from ...exceptions import ParameterError
 from ..deck.performance import PerformanceTable
 from .interpolant import SurfaceSpline
 
-__all__ = ["RotorAero"]
+__all__ = ["RotorAero", "UA_TIP_SPEED"]
+
+#: Tip speed [m/s] at which the surfaces of a deck with ``UA_Mod = 3`` hold the airfoils' steady state: 90 m/s, tip
+#: Mach 0.26, between the NREL 5 MW's 80 m/s and the IEA 15 MW's 95 m/s at rated (the steady state's Mach
+#: sensitivity: tests/wind/aero/test_ua_steady.py).
+UA_TIP_SPEED = 90.0
 
 
 def _positive(value: Any, name: str) -> float:
@@ -82,6 +87,9 @@ class RotorAero:
     moment_table : DiskMomentTable or None
         The disk's steady moment per unit ``tan χ`` (:func:`~mbsym.wind.aero.surfaces.disk_moment_surface`;
         :meth:`disk_moment`); None (default) when the surfaces come without it (ROSCO's tables).
+    tower_inflow : bool
+        The surfaces hold the azimuth average of the tower's potential flow and shadow (AeroDyn's ``TwrPotent``,
+        ``TwrShadow``: :mod:`~mbsym.wind.aero.tower_average`); default False.
     """
 
     table: PerformanceTable
@@ -94,6 +102,7 @@ class RotorAero:
     lag_factor: float = 1.1
     source: str | None = None
     moment_table: Any = field(default=None, repr=False)
+    tower_inflow: bool = False
     spline: SurfaceSpline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -107,6 +116,8 @@ class RotorAero:
             if not isinstance(value, (int, float)) or not abs(value) < math.pi / 2:
                 raise ParameterError(f"RotorAero.{name} must be an angle in (-90, 90) deg [rad]; "
                                      f"got {value!r}.")
+        if not isinstance(self.tower_inflow, bool):
+            raise TypeError(f"RotorAero.tower_inflow must be a bool; got {type(self.tower_inflow).__name__}.")
         object.__setattr__(self, "spline", SurfaceSpline.from_table(
             self.table, names=("ct", "cq"), degree=self.degree))
         if self.source is None:
@@ -121,8 +132,10 @@ class RotorAero:
     # ------------------------------------------------------------------ constructors
     @classmethod
     def from_openfast(cls, fst: str | Path, *, tsr: Any = None, pitch: Any = None,
-                      degree: int = 3) -> "RotorAero":
-        """Compute the surfaces of an OpenFAST deck with mbsym's BEM (a few seconds).
+                      degree: int = 3, ua_tip_speed: float = UA_TIP_SPEED) -> "RotorAero":
+        """Compute the surfaces of an OpenFAST deck with mbsym's BEM (a few seconds; twice that when the deck's
+        tower disturbs the blade inflow, whose azimuth average the surfaces then hold, or its airfoils run
+        ``UA_Mod = 3``, whose steady state they then hold: :mod:`.blade.ua_steady`).
 
         Parameters
         ----------
@@ -133,12 +146,17 @@ class RotorAero:
             :data:`~mbsym.wind.aero.surfaces.DEFAULT_PITCH`).
         degree : int, optional
             Spline degree (3 or 5).
+        ua_tip_speed : float, optional
+            With ``UA_Mod = 3``: the tip speed [m/s] at which the airfoils' steady state is taken (its Mach number
+            enters; :data:`UA_TIP_SPEED`).
 
         Raises
         ------
         DeckMemoryError
             Computing the surfaces would take more memory than the limit (~4.8 kB per AeroDyn blade node and
             grid point: :func:`mbsym.wind.deck.budget.deck_memory_estimate` with ``aero="rotor"``).
+        UnsupportedFeatureError
+            ``UA_Mod`` other than 0 and 3 (:func:`~mbsym.wind.aero.blade.unsteady.unsteady_nodes`).
         """
         from ..deck.aerodyn import read_aerodyn
         from ..deck.budget import check_deck_memory
@@ -151,6 +169,7 @@ class RotorAero:
         if aerodyn_file is None:
             raise ParameterError(f"{fst}: the deck names no AeroDyn file (CompAero must be 2 and "
                                  "AeroFile must exist).")
+        _positive(ua_tip_speed, "ua_tip_speed")
         points = np.size(DEFAULT_TSR if tsr is None else tsr) * np.size(DEFAULT_PITCH if pitch is None else pitch)
         check_deck_memory(fst, aero="rotor", surface_points=int(points), run=False)   # the surfaces, before they are computed
         aerodyn = read_aerodyn(aerodyn_file, n_blades=params.number_of_blades)
@@ -158,9 +177,10 @@ class RotorAero:
                                       precone=params.precone[0], n_blades=params.number_of_blades,
                                       shaft_tilt=params.shaft_tilt)
         density = aerodyn.air_density or params.simulation.air_density or 1.225
-        table, moments = rotor_surfaces(rotor, tsr, pitch)
+        tower, unsteady = _deck_corrections(params, aerodyn, rotor, float(ua_tip_speed))
+        table, moments = rotor_surfaces(rotor, tsr, pitch, tower=tower, unsteady=unsteady)
         return cls(table, radius=rotor.radius, air_density=density, precone=rotor.precone,
-                   shaft_tilt=rotor.shaft_tilt, degree=degree, moment_table=moments)
+                   shaft_tilt=rotor.shaft_tilt, degree=degree, moment_table=moments, tower_inflow=tower is not None)
 
     # ------------------------------------------------------------------ expressions
     def _speed(self, u_rel: Any) -> Any:
@@ -285,3 +305,27 @@ class RotorAero:
         out = f(*(a.ravel()[None, :] for a in arrays))
         names = ("torque", "thrust", "power", "cp", "ct", "tsr")
         return {n: np.asarray(v).reshape(arrays[0].shape) for n, v in zip(names, out)}
+
+
+def _deck_corrections(params, aerodyn, rotor, tip_speed: float) -> tuple[Any, Any]:
+    """``(tower, unsteady)`` of :func:`~mbsym.wind.aero.surfaces.rotor_surfaces` for a deck: its tower when that
+    disturbs the blade inflow, its UA nodes (one blade) with ``UA_Mod = 3``; None for each otherwise."""
+    from .blade.unsteady import unsteady_nodes
+    from .tower import TowerAero
+    from .tower_average import RotorPlacement
+
+    tower = TowerAero.from_aerodyn(aerodyn)
+    tower = (tower, RotorPlacement.from_elastodyn(params)) if tower is not None and tower.disturbs_inflow else None
+    extra = dict(aerodyn.extra or {})
+    dt = _number(extra.get("DTAero"), params.simulation.time_step)
+    sound = _number(extra.get("SpdSound"), _number(params.simulation.extra.get("SpdSound"), None))
+    nodes = unsteady_nodes(aerodyn, rotor, 1, dt=dt, speed_of_sound=sound)
+    return tower, None if nodes is None else (nodes, tip_speed)
+
+
+def _number(text: Any, fallback: Any) -> Any:
+    """``text`` as a float, or ``fallback`` ("default", missing)."""
+    try:
+        return float(str(text).strip().strip("\"'"))
+    except (TypeError, ValueError):
+        return fallback

@@ -289,9 +289,10 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
     deck = operating_deck(fst)
     if aero == "rotor" and deck.default_aero() == "blade":
         warnings.warn(f"{fst}: operating points on the rotor-effective rung (uniform hub-height wind along the shaft, "
-                      "no aerodynamic load on blade or yaw DOFs); the deck's wind or DOFs ask for the blade-element "
-                      "rung in time simulation (`mbsym simulate`), whose trim is not supported.", ModelWarning,
-                      stacklevel=2)
+                      "no aerodynamic load on blade or yaw DOFs; the tower's influence on the blade inflow as its "
+                      "azimuth average, unsteady airfoils at their steady state); the deck's wind, DOFs or AeroDyn "
+                      "ask for the blade-element rung in time simulation (`mbsym simulate`), whose periodic trim is "
+                      "not supported.", ModelWarning, stacklevel=2)
     source = Path(discon_in) if discon_in is not None else deck.discon_in
     if source is None:
         raise ControllerError(f"{fst}: the deck names no controller input file (ServoDyn DLL_InFile); operating "

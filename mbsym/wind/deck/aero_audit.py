@@ -2,28 +2,26 @@
 
 mbsym's rotors load the hub (rotor-effective performance surfaces) or the blades (blade-element
 rotor); the tower's drag (``TwrAero``) loads the tower with either, and its disturbance of the blade
-inflow (``TwrPotent``, ``TwrShadow``) enters the blade-element rotor (:mod:`mbsym.wind.aero.tower`).
+inflow (``TwrPotent``, ``TwrShadow``) enters the blade-element rotor node by node (:mod:`mbsym.wind.aero.tower`)
+and the rotor-effective surfaces as its azimuth average (:mod:`mbsym.wind.aero.tower_average`).
 AeroDyn switches that add loads on other DOFs or change the blade inflow in ways a model leaves out
 are refused with the file, line and key, never ignored:
 
 ==================  ==========================================================================
 Key                 Why it is refused
 ==================  ==========================================================================
-TwrPotent ≠ 0       rotor-effective model only: the tower's potential flow changes the inflow
-                    of each blade node (3P loads); the blade-element rotor models it
-TwrShadow ≠ 0       rotor-effective model only: the tower shadow (idem)
 NacelleDrag = True  nacelle drag (loads the tower top)
 TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
 SectAvg = True      sector-averaged inflow over each blade element
 MHK ≠ 0             marine hydrokinetic turbine (buoyancy, added mass, cavitation)
 Buoyancy = True     buoyant loads (MHK)
-UA_Mod ≠ 0          rotor-effective model only: unsteady airfoil aerodynamics (the blade-element
-                    rotor models UA_Mod 3 and refuses the others itself,
-                    :func:`mbsym.wind.aero.blade.unsteady.unsteady_nodes`)
 ==================  ==========================================================================
 
 Output-only settings (``CompAA`` acoustics, ``CavitCheck``, the output lists) and the settings
-the rotors honour (BEM, skew, DBEMT, tip and hub losses, drag in the induction) are not listed.
+the rotors honour (BEM, skew, DBEMT, tip and hub losses, drag in the induction) are not listed;
+nor is ``UA_Mod``: the blade-element rotor runs ``UA_Mod = 3`` step by step, the rotor-effective
+surfaces hold its steady state (:mod:`mbsym.wind.aero.blade.ua_steady`), and both refuse the other
+models (:func:`mbsym.wind.aero.blade.unsteady.unsteady_nodes`).
 """
 
 from __future__ import annotations
@@ -43,15 +41,6 @@ _SWITCHES = {
     "MHK": (lambda v: _int(v) != 0, "marine hydrokinetic turbines are not modelled"),
     "Buoyancy": (lambda v: v.lower() in _TRUE, "buoyancy is not modelled"),
 }
-#: Refused by the rotor-effective model only (the blade-element rotor models them).
-_BLADE_ONLY = {
-    "TwrPotent": (lambda v: _int(v) != 0, "the tower's potential flow changes the inflow of every blade node, which "
-                                          "the rotor-effective model does not have (the blade-element rotor, "
-                                          "--aero blade, models it)"),
-    "TwrShadow": (lambda v: v.lower() in _TRUE or _int(v) > 0, "the tower shadow changes the inflow of every blade "
-                                                               "node, which the rotor-effective model does not have "
-                                                               "(the blade-element rotor, --aero blade, models it)"),
-}
 
 
 def _int(text: str) -> int:
@@ -69,19 +58,11 @@ def aerodyn_problems(aerodyn, *, rotor_effective: bool) -> list[str]:
     aerodyn : AeroDynInput
         From :func:`~mbsym.wind.deck.aerodyn.read_aerodyn` (its ``extra`` keys and ``source`` file).
     rotor_effective : bool, keyword-only
-        The rotor-effective model (performance surfaces): ``UA_Mod`` is refused here too.
+        The rotor-effective model (performance surfaces); today both rotors refuse the same settings.
     """
     lines = _lines(aerodyn.source)
-    switches = {**_SWITCHES, **(_BLADE_ONLY if rotor_effective else {})}
-    found = [(key, why) for key, (on, why) in switches.items()
+    found = [(key, why) for key, (on, why) in _SWITCHES.items()
              if key in aerodyn.extra and on(str(aerodyn.extra[key]).strip().strip("\"'"))]
-    if rotor_effective:
-        key = next((k for k in ("UA_Mod", "UAMod", "AFAeroMod") if k.lower() in lines), "UA_Mod")
-        steady = 1 if key == "AFAeroMod" else 0               # AeroDyn 15 before v3: AFAeroMod 1 = steady
-        if aerodyn.unsteady_model != steady:
-            found.append((key, f"unsteady airfoil aerodynamics ({key} = {aerodyn.unsteady_model}) are not in the "
-                               "rotor's steady performance surfaces (the blade-element rotor, --aero blade, models "
-                               "UA_Mod 3)"))
     return [f"{aerodyn.source}, line {lines.get(key.lower(), '?')}, key '{key}': {why}; set {key} = {_off(key)} "
             "to run the deck" for key, why in found]
 

@@ -220,7 +220,7 @@ class OperatingTurbine:
                                  "already give the disk's moments (leave disk_moments False).")
         self.name = str(name)
         self.platform = _platform(platform)
-        self.tower_aero = _tower_aero(tower_aero, blade)
+        self.tower_aero = _tower_aero(tower_aero, blade, getattr(rotor, "tower_inflow", False))
         _check_tower_in_field(self.tower_aero, self.wind)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
@@ -441,8 +441,9 @@ def _platform(platform):
     return platform
 
 
-def _tower_aero(tower, blade: bool):
-    """``tower`` (a TowerAero or None), checked against the rotor: its inflow disturbance needs blade nodes."""
+def _tower_aero(tower, blade: bool, averaged: bool = False):
+    """``tower`` (a TowerAero or None), checked against the rotor: its inflow disturbance needs blade nodes, or
+    rotor-effective surfaces that hold its azimuth average (``averaged``: ``RotorAero.tower_inflow``)."""
     if tower is None:
         return None
     from ..aero.tower import TowerAero
@@ -450,10 +451,12 @@ def _tower_aero(tower, blade: bool):
     if not isinstance(tower, TowerAero):
         raise TypeError(f"tower_aero must be a TowerAero (mbsym.wind.aero.tower.TowerAero.from_aerodyn); got "
                         f"{type(tower).__name__}.")
-    if tower.disturbs_inflow and not blade:
+    if tower.disturbs_inflow and not blade and not averaged:
         raise ParameterError("the tower's potential flow and shadow (TwrPotent, TwrShadow) disturb the flow at the "
-                             "blade nodes: they need the blade-element rotor (aero='blade'). The rotor-effective "
-                             "model takes the tower's drag only (TowerAero(..., potential=0, shadow=0)).")
+                             "blade nodes: they need the blade-element rotor (aero='blade') or rotor-effective "
+                             "surfaces that hold their azimuth average (RotorAero.from_openfast of a deck with "
+                             "them: RotorAero.tower_inflow). Otherwise the rotor-effective model takes the tower's "
+                             "drag only (TowerAero(..., potential=0, shadow=0)).")
     return tower
 
 

@@ -71,64 +71,21 @@ FLOATING = SHARED / "openfast" / "floating"
 
 
 @pytest.mark.skipif(not (FLOATING / "cases" / "fl_steady_13").is_dir(), reason=f"the shared data ({FLOATING}) is missing")
-def test_a_deck_whose_tower_disturbs_the_blades_has_no_controller_model(tmp_path):
-    """The shared floating deck with UA_Mod 0 (its tower's potential flow and shadow kept): the plant runs on the
-    blade-element rung, but the NMPC's rotor-effective model cannot leave the tower's 3P-averaged torque loss out
-    (tried: the NMPC held the power 3-4 % above rated), so it is refused naming the keys."""
-    import shutil
-
-    from mbsym.cli.controller_model import controller_model
-    from mbsym.exceptions import OpenFASTFormatError
-    from mbsym.wind.operation.deck import operating_deck
-
-    (tmp_path / "IEA-15-240-RWT").symlink_to(FLOATING / "IEA-15-240-RWT")
-    platform = tmp_path / "IEA-15-240-RWT-UMaineSemi"
-    platform.mkdir()
-    for item in (FLOATING / "IEA-15-240-RWT-UMaineSemi").iterdir():
-        if item.name.endswith("_AeroDyn15.dat"):
-            text = item.read_text(encoding="latin-1").splitlines()
-            text = [("0 " + line.split(None, 1)[1]) if line.split()[1:2] == ["UA_Mod"] else line for line in text]
-            (platform / item.name).write_text("\n".join(text) + "\n", encoding="latin-1")
-        else:
-            (platform / item.name).symlink_to(item)
-    case = tmp_path / "cases" / "fl_steady_13"
-    shutil.copytree(FLOATING / "cases" / "fl_steady_13", case)     # a copy: its ../../ must reach the edit
-    deck = operating_deck(case / "fl_steady_13.fst")
-    assert deck.default_aero() == "blade" and deck.aerodyn.unsteady_model == 0
-    with pytest.raises(OpenFASTFormatError, match="(?s)NMPC and its estimators predict.*TwrPotent.*TwrShadow"):
-        controller_model(deck)
-
-
-@pytest.mark.skipif(not (FLOATING / "cases" / "fl_steady_13").is_dir(), reason=f"the shared data ({FLOATING}) is missing")
-def test_the_controllers_model_leaves_the_unsteady_airfoils_out(tmp_path):
-    """The shared floating deck without the tower's inflow disturbance but with ``UA_Mod`` 3: the plant is
-    blade-element (UA is modelled there); the controller's rotor-effective model is built without UA (it has no
-    steady loads: the means of rotor speed, power and pitch move < 0.05 % in OpenFAST) and says so."""
-    import re
-    import shutil
-
+def test_the_controllers_model_holds_the_tower_and_the_airfoils_steady_state():
+    """The shared floating deck as written (TwrPotent 1, TwrShadow 1, UA_Mod 3): the plant is blade-element; the
+    NMPC's rotor-effective model holds the tower's influence as its azimuth average and UA's steady state (their
+    changes of the mean loads against OpenFAST's: tests/wind/aero/test_tower_average.py), and says so. Before,
+    the model had to be refused: without the tower's loss of torque the NMPC held the power 3-4 % above rated."""
     from mbsym.cli.controller_model import controller_model
     from mbsym.wind.operation.deck import operating_deck
 
-    (tmp_path / "IEA-15-240-RWT").symlink_to(FLOATING / "IEA-15-240-RWT")
-    platform = tmp_path / "IEA-15-240-RWT-UMaineSemi"
-    platform.mkdir()
-    for item in (FLOATING / "IEA-15-240-RWT-UMaineSemi").iterdir():
-        if item.name.endswith("_AeroDyn15.dat"):
-            text = item.read_text(encoding="latin-1")
-            for key in ("TwrPotent", "TwrShadow"):
-                text = re.sub(rf"^\S+(\s+{key}\s)", r"0\1", text, count=1, flags=re.M)
-            (platform / item.name).write_text(text, encoding="latin-1")
-        else:
-            (platform / item.name).symlink_to(item)
-    case = tmp_path / "cases" / "fl_steady_13"
-    shutil.copytree(FLOATING / "cases" / "fl_steady_13", case)     # a copy: its ../../ must reach the edit
-    deck = operating_deck(case / "fl_steady_13.fst")
-    assert deck.aerodyn.unsteady_model == 3 and deck.default_aero() == "blade"
+    deck = operating_deck(FLOATING / "cases" / "fl_steady_13" / "fl_steady_13.fst")
+    assert deck.default_aero() == "blade" and deck.aerodyn.unsteady_model == 3
     said: list[str] = []
     model = controller_model(deck, say=said.append)
-    assert model.aero == "rotor"
-    assert any("UA_Mod 3" in line for line in said)
+    assert model.aero == "rotor" and model.rotor.tower_inflow
+    assert "UA_Mod 3 at its steady state" in model.rotor.source
+    assert any("azimuth average" in line and "UA_Mod 3 at its steady state" in line for line in said)
     assert deck.aerodyn.unsteady_model == 3                   # the deck itself is untouched
 
 
