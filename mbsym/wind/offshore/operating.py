@@ -3,7 +3,8 @@
 :class:`FloatingPlatform` gathers what acts on the platform of an operating turbine besides its
 structure and the rotor:
 
-* hydrostatics, buoyancy and HydroDyn's additional loads (:class:`~.platform.PlatformHydrodynamics`);
+* hydrostatics, buoyancy, HydroDyn's additional loads and its members' viscous drag
+  (:class:`~.platform.PlatformHydrodynamics`, :mod:`.morison`);
 * the radiation memory as linear states (:class:`~.radiation.RadiationStateSpace`, states
   ``Rdtn1 … RdtnN``), driven by the platform velocities;
 * the quasi-static catenary mooring (:class:`~.mooring.MooringSystem`, fixed Newton steps in SX), with
@@ -192,8 +193,8 @@ class FloatingPlatform:
 
         ``qp``, ``vp``: the platform DOFs [m, rad] and their rates; ``xr``: the radiation states; ``sea``:
         the values of :data:`SEA_INPUTS` (the excitation joins ``load`` and ``hydro``).
-        ``load`` [N, N m]: everything but the added mass (hydrostatics, buoyancy, additional loads,
-        radiation, mooring with its lines' drag); ``hydro``: HydroDyn's part of it (no mooring, no added
+        ``load`` [N, N m]: everything but the added mass (hydrostatics, buoyancy, additional loads, the
+        members' drag, radiation, mooring with its lines' drag); ``hydro``: HydroDyn's part of it (no mooring, no added
         mass); ``tension``: the fairlead tensions [N]; ``mass``: the mooring lines' mass and added mass on
         the platform DOFs (6 × 6, zero for quasi-static lines without ``dynamics``), which the operating
         turbine adds to its mass matrix with A∞.
@@ -208,7 +209,7 @@ class FloatingPlatform:
             fit, xe = self.excitation_fit, xr[nr:]
             excitation = excitation + ca.mtimes(ca.DM(fit.C), xe)
             xe_dot = ca.mtimes(ca.DM(fit.A), xe) + ca.DM(fit.B) * sea[len(SEA_INPUTS)]
-        hydro = self.hydro.hydrostatics.load(qp) + self.hydro.additional.load(qp, vp) + excitation
+        hydro = self.hydro.load(qp, vp) + excitation         # hydrostatics, additional loads, members' drag
         if self.radiation is not None:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr[:nr])
             xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr[:nr])
@@ -250,7 +251,7 @@ class FloatingPlatform:
         """This platform as a controller's or estimator's model holds it: no states of its own.
 
         Kept: hydrostatics and buoyancy, A∞, HydroDyn's additional loads (``AddF0``, ``AddCLin``,
-        ``AddBLin``, ``AddBQuad``) and the quasi-static catenaries. Left out: the radiation memory
+        ``AddBLin``, ``AddBQuad``), the members' viscous drag (:mod:`.morison`) and the quasi-static catenaries. Left out: the radiation memory
         (169 states for the VolturnUS-S; at the platform's surge and pitch periods, 30–140 s, its
         damping is small against the rotor's), the lines' drag and inertia (40 % of the step) and the
         sea (its inputs stay, to be given as zero or as an estimate). The platform's stiffness and
@@ -287,7 +288,8 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
     ------
     UnsupportedFeatureError
         ``CompMooring`` 2 or 4 (FEAMooring, OrcaFlex), mooring without HydroDyn, and what
-        :func:`~.platform.platform_hydrodynamics` refuses (Morison members, second-order forces, …).
+        :func:`~.platform.platform_hydrodynamics` refuses (Morison members other than potential-flow ones in
+        still water, second-order forces, …).
     """
     from ...exceptions import ParameterError
     from ..deck.mapplusplus import read_map
@@ -321,7 +323,8 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
         if radiation != "none":          # the radiation memory is modelled here: no "left out" warning
             warnings.filterwarnings("ignore", message=r"RdtnMod", category=ModelWarning)
         hydro = platform_hydrodynamics(Path(files["hydrodyn"]), water_density=rho, gravity=g,
-                                       seastate=files.get("seastate"), water_depth=float(sim.water_depth))
+                                       seastate=files.get("seastate"), water_depth=float(sim.water_depth),
+                                       platform_reference=tuple(turbine.platform_reference))
     mooring = None
     if mooring_model == 3:
         mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=rho, gravity=g)

@@ -15,11 +15,12 @@ redimensionalized with the ``.fst``'s water density and gravity:
   (:class:`~.excitation.WaveExcitation`, from :func:`~.waves.incident_waves`).
 
 **Modelled**: still water or first-order waves (``WaveMod`` 1, ``1P#``, 2, 3, 5; ``ExctnMod`` 1 at the
-undisplaced position), first-order potential flow, one rigid body. What the deck asks for beyond that
+undisplaced position), first-order potential flow, one rigid body, the viscous drag of its potential-flow
+members in still water (:mod:`.morison`). What the deck asks for beyond that
 is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
 :mod:`.operating` as states), second-order forces (refused with waves; zero in still water), a current
-(``CurrMod`` > 0: HydroDyn applies it to Morison members only, none here), SeaState's second-order
+(``CurrMod`` > 0: HydroDyn applies it to Morison members only; refused with members), SeaState's second-order
 elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
 first-order sea).
 """
@@ -41,6 +42,7 @@ from ..deck.wamit import ExcitationFit, WamitHydrodynamics, read_wamit, read_wam
 from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
+from .morison import MorisonDrag, morison_drag, morison_problems
 from .waves import incident_waves
 
 __all__ = ["PlatformHydrodynamics", "platform_hydrodynamics"]
@@ -71,12 +73,17 @@ class PlatformHydrodynamics:
     notes: tuple[str, ...] = field(default=())
     waves: WaveExcitation | None = None
     excitation_fit: ExcitationFit | None = None
+    morison: MorisonDrag | None = None
 
     def load(self, q, qd):
         """Still-water load at the reference point, inertial axes [N, N m]: hydrostatics and
-        buoyancy plus the additional loads (no radiation memory, no waves)."""
-        return _out(_in(self.hydrostatics.load(_in(q, 6, "q")), 6, "q")
-                    + _in(self.additional.load(_in(q, 6, "q"), _in(qd, 6, "qd")), 6, "qd"), q, qd)
+        buoyancy, the additional loads and the members' viscous drag (:mod:`.morison`; no radiation
+        memory, no waves)."""
+        x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
+        out = _in(self.hydrostatics.load(x), 6, "q") + _in(self.additional.load(x, v), 6, "qd")
+        if self.morison is not None:
+            out = out + _in(self.morison.load(x, v), 6, "qd")
+        return _out(out, q, qd)
 
     def added_mass_load(self, qdd):
         """``−A∞ a`` [N, N m] for the reference point's acceleration ``a`` (translational, angular) [m/s², rad/s²]."""
@@ -88,7 +95,7 @@ class PlatformHydrodynamics:
         return self.hydrostatics.stiffness + self.additional.stiffness
 
 
-def _refuse(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
+def _refuse(hd: HydroDynInput, sea: SeaStateInput | None, water_depth: float | None = None) -> list[str]:
     out = []
     if hd.potential_model != 1:
         out.append(f"PotMod = {hd.potential_model} (only 1, WAMIT potential flow, is modelled)")
@@ -96,8 +103,7 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
         out.append(f"NBody = {hd.n_bodies}, NAddDOF = {list(hd.n_additional_dofs)} (one rigid body only)")
     if hd.reference_rotation and any(hd.reference_rotation):
         out.append("PtfmRefztRot /= 0 (a rotated WAMIT body frame)")
-    if hd.has_morison_members:
-        out.append(f"{len(hd.tables['members'])} Morison (strip-theory) members (NMembers > 0)")
+    out += morison_problems(hd, sea, water_depth=water_depth)
     if sea is not None and sea.msl_to_swl not in (0.0, "default"):
         out.append(f"MSL2SWL = {sea.msl_to_swl} (HydroDyn requires 0 with potential flow)")
     if sea is not None and sea.wave_model != 0:
@@ -141,7 +147,8 @@ def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
 
 
 def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, seastate=None,
-                           water_depth: float | None = None) -> PlatformHydrodynamics:
+                           water_depth: float | None = None, platform_reference=(0.0, 0.0, 0.0)
+                           ) -> PlatformHydrodynamics:
     """The hydrodynamics of a HydroDyn deck, with its SeaState's waves (see the module docstring).
 
     Parameters
@@ -155,12 +162,17 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         The SeaState file: its waves (none without it).
     water_depth : float, optional, keyword-only
         [m] for the dispersion relation of waves (the ``.fst``'s ``WtrDpth``; SeaState's own wins when
-        it is not ``"default"``); needed only with waves and an elevation output point off the origin.
+        it is not ``"default"``); needed only with waves and an elevation output point off the origin, and
+        for the seabed of Morison members.
+    platform_reference : sequence of 3 floats, optional, keyword-only
+        The platform reference point's undisplaced position (ElastoDyn's ``PtfmRefxt/yt/zt``) [m]: the
+        members' drag acts about it (:mod:`.morison`).
 
     Raises
     ------
     UnsupportedFeatureError
-        Naming every deck setting that is not modelled (waves, Morison members, several bodies…).
+        Naming every deck setting that is not modelled (waves, what of the Morison members
+        :func:`~.morison.morison_problems` names, several bodies…).
     OpenFASTFormatError
         From the readers.
 
@@ -178,7 +190,8 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     """
     hd = hydrodyn if isinstance(hydrodyn, HydroDynInput) else read_hydrodyn(Path(hydrodyn))
     sea = seastate if isinstance(seastate, SeaStateInput) or seastate is None else read_seastate(Path(seastate))
-    refused = _refuse(hd, sea)
+    depth = _depth(sea, water_depth)
+    refused = _refuse(hd, sea, depth)
     if refused:
         raise UnsupportedFeatureError(f"{hd.path}: the deck asks for what mbsym does not model yet: "
                                       + "; ".join(refused) + ". Change these settings or leave the module out.")
@@ -200,7 +213,16 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         warnings.warn(note, ModelWarning, stacklevel=2)
     waves = _waves(hd, sea, wamit, float(gravity), water_depth)
     fit = _excitation_fit(hd, sea) if waves is not None and hd.excitation_model == 2 else None
-    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves, fit)
+    morison = morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth)
+    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves, fit,
+                                 morison)
+
+
+def _depth(sea: SeaStateInput | None, water_depth: float | None) -> float | None:
+    """SeaState's water depth when it gives one, else the ``.fst``'s (None: unknown)."""
+    if sea is not None and sea.water_depth != "default":
+        return float(sea.water_depth)
+    return None if water_depth is None else float(water_depth)
 
 
 def _excitation_fit(hd: HydroDynInput, sea: SeaStateInput) -> ExcitationFit:

@@ -1,0 +1,302 @@
+"""Viscous drag on a floating platform's strip-theory members, as HydroDyn v5 computes it (``NMembers > 0``).
+
+HydroDyn's Morison members are cylinders between joints. A member modelled by potential flow (``PropPot =
+TRUE``) gets from strip theory only its **viscous drag** (its buoyancy, added mass and wave inertia are in the
+WAMIT data); this module models that drag in **still water**, with HydroDyn v5.0.0's conventions (read for the
+facts in ``Morison.f90``: ``Morison_GenerateSimulationNodes``, ``SetMemberProperties_Cyl``, ``Morison_CalcOutput``,
+``LumpDistrHydroLoads``):
+
+* **Strips.** A member of length ``L`` from joint 1 to joint 2 is cut into ``N = ⌈L / MDivSize⌉`` equal elements
+  ``dl``; its ``N + 1`` nodes carry the radius ``R`` linear from ``PropD1/2`` to ``PropD2/2`` and the coefficients of
+  the member's table (``MCoefMod`` 1: ``SimplCd``, ``SimplAxCd``; 3: ``MemberCd1 → MemberCd2``, ``MemberAxCd1 → 2``,
+  linear along the member). A node is in the water when its **undisplaced** height is ``z ≤ 0`` (still-water level;
+  HydroDyn's ``WaveStMod = 0``). Each node takes half of each neighbouring element where both ends are wet, the
+  wet part ``dl · z_i / (z_i − z_j)`` of an element that crosses the surface, nothing of a dry one: its strip
+  ``Δl = Δl_left + Δl_right`` with its centroid ``h = (Δl_right − Δl_left)/2`` along the member's axis ``k``.
+* **Drag per unit length** of the relative flow ``v = u_water − ṙ`` (``ṙ`` the node's velocity on the moving
+  platform, at its displaced position; ``u_water = 0`` in still water), across the member
+  ``v_n = (I − k kᵀ) v`` and along it ``v_a = k·v``:
+
+      f = ½ ρ C_d D |v_n| v_n + ½ ρ C_{d,ax} π R |dR/dl| |v_a| v_a k,
+
+  the second term the axial drag of a tapered member (zero for a straight one; ``dR/dl`` averaged over the node's
+  two elements). ``k`` is the member's **undisplaced** axis (HydroDyn keeps it). The strip carries
+  ``F = f Δl`` at the node and ``(h k) × F``.
+* **End plates.** At a joint (above the seabed, ``z ≤ 0``) the members meeting there expose ``A n = Σ ± π R² k``
+  (``−`` where a member starts, ``+`` where it ends: the outward normals; members in line cancel). With the joint's
+  axial coefficients (``JointAxID`` → ``AxCd``, ``AxFDMod``) and ``v_n = v·n``:
+  ``F = ¼ ρ C_{d,ax} A |v_n| v_n n`` (``AxFDMod`` 0) or ``½ ρ C_{d,ax} A |v_n| max(v_n, 0) n`` (1, drag only
+  while the flow leaves the plate).
+
+The loads are summed about the displaced platform reference point in inertial axes, as the other platform loads
+(:class:`~.platform.PlatformHydrodynamics`), and enter HydroDyn's totals ``HydroFxi … HydroMzi``. The node
+velocity is ``q̇[0:3] + ω × (R p)`` with ``ω = q̇[3:6]`` (HydroDyn's mesh velocities; the DOF rates, exact for
+small angles, as :class:`~.hydrostatics.AdditionalLoads`).
+
+**Refused** (:func:`morison_problems`): members not modelled by potential flow (``PropPot = FALSE``: their
+buoyancy, added mass and wave inertia), rectangular members (``MSecGeom = 2``), depth-based coefficients
+(``MCoefMod = 2``), filled members (``NFillGroups``), marine growth (``NMGDepths``), the end drag's high-pass
+filter (``AxVnCOff > 0``), waves or a current with members (the water's velocity at the members), wave stretching
+(``WaveStMod > 0``), members below the seabed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ParameterError
+from ._casadi import _in, _out, euler_zyx
+
+__all__ = ["MorisonDrag", "morison_drag", "morison_problems"]
+
+_EPS = 1e-6          # m/s: |v| as sqrt(v·v + ε²), so the drag stays differentiable at rest (bias ≤ 1e-6 m/s)
+
+
+@dataclass(frozen=True, eq=False)
+class MorisonDrag:
+    """The wet strips and end plates of a platform's members (module docstring), SI units.
+
+    Attributes
+    ----------
+    points : ndarray (n, 3)
+        Strip nodes, platform axes relative to the reference point (= inertial axes undisplaced) [m].
+    axis : ndarray (n, 3)
+        Unit member axis ``k`` of each node (undisplaced, inertial).
+    length, offset : ndarray (n,)
+        Wetted strip length ``Δl`` and its centroid's offset ``h`` along ``k`` [m].
+    drag : ndarray (n,)
+        ``C_d D`` [m].
+    taper : ndarray (n,)
+        ``C_{d,ax} π R |dR/dl|`` [m].
+    end_points, end_normals : ndarray (m, 3)
+        Joints with an exposed end plate and its outward unit normal.
+    end_drag : ndarray (m,)
+        ``C_{d,ax} A`` [m²].
+    end_one_sided : ndarray of bool (m,)
+        ``AxFDMod = 1``.
+    water_density : float
+        [kg/m³].
+    """
+
+    points: np.ndarray
+    axis: np.ndarray
+    length: np.ndarray
+    offset: np.ndarray
+    drag: np.ndarray
+    taper: np.ndarray
+    end_points: np.ndarray
+    end_normals: np.ndarray
+    end_drag: np.ndarray
+    end_one_sided: np.ndarray
+    water_density: float
+
+    @property
+    def n_nodes(self) -> int:
+        """Wet strip nodes."""
+        return int(self.length.size)
+
+    def load(self, q, qd):
+        """The drag at the reference point, inertial axes [N, N m] (numbers → numpy, SX/MX → expression).
+
+        Parameters
+        ----------
+        q, qd : array_like or casadi (6)
+            Platform DOFs (surge … yaw) [m, rad] and their rates [m/s, rad/s].
+        """
+        x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
+        rot = euler_zyx(x[3:6])
+        force = moment = 0.0 * x[0:3]
+        rho = self.water_density
+        for k in range(self.n_nodes):
+            arm = ca.mtimes(rot, ca.DM(self.points[k]))
+            rel = -(v[0:3] + ca.cross(v[3:6], arm))
+            axis = ca.DM(self.axis[k])
+            along = ca.dot(axis, rel)
+            across = rel - along * axis
+            f = 0.5 * rho * self.drag[k] * ca.sqrt(ca.sumsqr(across) + _EPS**2) * across
+            if self.taper[k]:
+                f += 0.5 * rho * self.taper[k] * ca.fabs(along) * along * axis
+            f *= self.length[k]
+            force += f
+            moment += ca.cross(arm + self.offset[k] * axis, f)
+        for k in range(self.end_drag.size):
+            arm = ca.mtimes(rot, ca.DM(self.end_points[k]))
+            rel = -(v[0:3] + ca.cross(v[3:6], arm))
+            normal = ca.DM(self.end_normals[k])
+            vn = ca.dot(normal, rel)
+            if self.end_one_sided[k]:
+                f = 0.5 * rho * self.end_drag[k] * ca.fabs(vn) * ca.fmax(vn, 0.0) * normal
+            else:
+                f = 0.25 * rho * self.end_drag[k] * ca.fabs(vn) * vn * normal
+            force += f
+            moment += ca.cross(arm, f)
+        return _out(ca.vertcat(force, moment), q, qd)
+
+
+def _rows(hd, name: str) -> list[tuple]:
+    return list(hd.tables.get(name, ()).rows) if name in hd.tables else []
+
+
+def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[str]:
+    """What of a HydroDyn deck's members this module does not model (empty: all of it), one phrase each."""
+    members = _rows(hd, "members")
+    if not members:
+        return []
+    out = []
+    lines = dict(zip([int(r[0]) for r in members], hd.tables["members"].lines))
+    for row in members:
+        ident, where = int(row[0]), f"member {int(row[0])} (line {lines[int(row[0])]})"
+        if int(row[5]) != 1:
+            out.append(f"{where}: MSecGeom = {int(row[5])} (rectangular members are not modelled)")
+        if not row[10]:
+            out.append(f"{where}: PropPot = FALSE (strip-theory buoyancy, added mass and wave inertia are not "
+                       "modelled; only the viscous drag of potential-flow members)")
+        if int(row[8]) not in (1, 3):
+            out.append(f"{where}: MCoefMod = {int(row[8])} (only 1, simple, and 3, member-based coefficients)")
+        if not row[7] > 0:
+            out.append(f"{where}: MDivSize = {row[7]} must be > 0")
+    for name, what in (("fill_groups", "filled members (NFillGroups > 0: their ballast)"),
+                       ("marine_growth", "marine growth (NMGDepths > 0)"),
+                       ("rectangle_properties", "rectangular property sets (NPropSetsRec > 0)")):
+        if _rows(hd, name):
+            out.append(what)
+    for row in _rows(hd, "axial_coefficients"):
+        if len(row) > 5 and row[5] > 0:
+            out.append(f"AxVnCOff = {row[5]} on axial coefficients {int(row[0])} (the end drag's high-pass filter)")
+        if len(row) > 4 and int(row[4]) not in (0, 1):
+            out.append(f"AxFDMod = {int(row[4])} on axial coefficients {int(row[0])} (0 or 1)")
+    if sea is not None:
+        if sea.wave_model != 0:
+            out.append(f"WaveMod = {sea.wave_model} with members (the waves' velocity at the members is not modelled; "
+                       "their drag is, in still water)")
+        if sea.current_model != 0:
+            out.append(f"CurrMod = {sea.current_model} with members (the current's drag on them is not modelled)")
+        if sea.stretching_model != 0:
+            out.append(f"WaveStMod = {sea.stretching_model} with members (the members' wetted length at the "
+                       "instantaneous free surface; use 0)")
+    if water_depth is not None and math.isfinite(water_depth):
+        deep = [int(r[0]) for r in _rows(hd, "joints") if r[3] < -water_depth]
+        if deep:
+            out.append(f"joints {deep} below the seabed (z < -{water_depth:g} m)")
+    return out
+
+
+def morison_drag(hd, *, water_density: float, reference=(0.0, 0.0, 0.0),
+                 water_depth: float | None = None) -> MorisonDrag | None:
+    """The :class:`MorisonDrag` of a HydroDyn input (None without members).
+
+    Parameters
+    ----------
+    hd : HydroDynInput
+        Checked first by :func:`morison_problems`.
+    water_density : float
+        [kg/m³].
+    reference : sequence of 3 floats, optional
+        The platform reference point's undisplaced position (ElastoDyn's ``PtfmRefxt/yt/zt``) [m].
+    water_depth : float, optional
+        [m]: joints deeper than it carry no end drag (HydroDyn's seabed).
+
+    Raises
+    ------
+    ParameterError
+        A member naming a joint, property set or coefficient row that does not exist.
+    """
+    members = _rows(hd, "members")
+    if not members:
+        return None
+    joints = {int(r[0]): (np.array(r[1:4], dtype=float), int(r[4])) for r in _rows(hd, "joints")}
+    props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
+    axial = {int(r[0]): (float(r[1]), int(r[4]) if len(r) > 4 else 0) for r in _rows(hd, "axial_coefficients")}
+    simple = _rows(hd, "simple_cylinder_coefficients")
+    by_member = {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")}
+    ref = np.asarray(reference, dtype=float)
+    nodes, ends = [], {}
+    for row in members:
+        ident = int(row[0])
+        (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
+        r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
+        cd, axcd = _coefficients(int(row[8]), simple, by_member, ident)
+        z = np.array([p1[2], p2[2]])
+        if np.all(z > 0):                                  # both ends dry: HydroDyn skips the member
+            continue
+        nodes.append(_strips(p1 - ref, p2 - ref, r1, r2, float(row[7]), cd, axcd))
+        k = (p2 - p1) / np.linalg.norm(p2 - p1)
+        ends.setdefault(int(row[1]), []).append(-math.pi * r1**2 * k)
+        ends.setdefault(int(row[2]), []).append(math.pi * r2**2 * k)
+    strips = {key: np.concatenate([n[key] for n in nodes]) for key in nodes[0]} if nodes else None
+    end = _end_plates(ends, joints, axial, ref, water_depth)
+    if strips is None:
+        strips = {"points": np.zeros((0, 3)), "axis": np.zeros((0, 3))} | {k: np.zeros(0) for k in
+                                                                           ("length", "offset", "drag", "taper")}
+    return MorisonDrag(**strips, **end, water_density=float(water_density))
+
+
+def _lookup(table: dict, key: int, what: str):
+    if key not in table:
+        raise ParameterError(f"HydroDyn {what} {key} is not in its table ({sorted(table)}).")
+    return table[key]
+
+
+def _coefficients(mode: int, simple: list, by_member: dict, ident: int) -> tuple[tuple, tuple]:
+    """``(Cd at joint 1, at joint 2), (AxCd at 1, at 2)`` of a member (``MCoefMod`` 1 or 3)."""
+    if mode == 1:
+        if not simple:
+            raise ParameterError(f"HydroDyn member {ident}: MCoefMod = 1 needs the simple coefficient table.")
+        return (simple[0][0],) * 2, (simple[0][6],) * 2
+    row = _lookup(by_member, ident, "member-based coefficients of member")
+    return (row[1], row[2]), (row[13], row[14])
+
+
+def _strips(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, cd, axcd) -> dict:
+    """The wet nodes of one member (module docstring)."""
+    span = p2 - p1
+    length = float(np.linalg.norm(span))
+    if length <= 0:
+        raise ParameterError(f"HydroDyn member from {p1.tolist()} to {p2.tolist()} has zero length.")
+    n = math.ceil(length / div)
+    dl = length / n
+    s = np.arange(n + 1) / n
+    pts = p1 + s[:, None] * span
+    z = pts[:, 2]
+    radius = r1 + s * (r2 - r1)
+    slope = np.abs(np.diff(radius)) / dl
+    dr = np.concatenate([[slope[0]], 0.5 * (slope[:-1] + slope[1:]), [slope[-1]]]) if n > 1 else \
+        np.array([slope[0], slope[0]])
+    wet = z <= 0.0
+    left, right = np.zeros(n + 1), np.zeros(n + 1)
+    for j in range(n):
+        a, b = j, j + 1
+        for node, other, side in ((a, b, right), (b, a, left)):
+            if wet[node]:
+                side[node] = 0.5 * dl if wet[other] else dl * z[node] / (z[node] - z[other])
+    keep = wet & (left + right > 0)
+    k = span / length
+    cd_n = cd[0] + s * (cd[1] - cd[0])
+    ax_n = axcd[0] + s * (axcd[1] - axcd[0])
+    return {"points": pts[keep], "axis": np.tile(k, (int(keep.sum()), 1)), "length": (left + right)[keep],
+            "offset": 0.5 * (right - left)[keep], "drag": (2.0 * cd_n * radius)[keep],
+            "taper": (ax_n * math.pi * radius * dr)[keep]}
+
+
+def _end_plates(ends: dict, joints: dict, axial: dict, ref: np.ndarray, water_depth: float | None) -> dict:
+    """The exposed end plates at the joints (module docstring)."""
+    pts, normals, drag, one_sided = [], [], [], []
+    for ident, vectors in ends.items():
+        position, axial_id = joints[ident]
+        if position[2] > 0 or (water_depth is not None and position[2] < -water_depth):
+            continue
+        total = np.sum(vectors, axis=0)
+        area = float(np.linalg.norm(total))
+        cd, mode = _lookup(axial, axial_id, f"joint {ident}: axial coefficients")
+        if area <= 1e-12 * max(float(np.linalg.norm(v)) for v in vectors) or cd == 0.0:
+            continue
+        pts.append(position - ref)
+        normals.append(total / area)
+        drag.append(cd * area)
+        one_sided.append(mode == 1)
+    return {"end_points": np.array(pts).reshape(-1, 3), "end_normals": np.array(normals).reshape(-1, 3),
+            "end_drag": np.array(drag, dtype=float), "end_one_sided": np.array(one_sided, dtype=bool)}
