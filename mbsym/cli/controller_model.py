@@ -38,8 +38,7 @@ def controller_model(deck, say: Callable[[str], None] | None = None):
     The deck's tower influence on the blade inflow (``TwrPotent``, ``TwrShadow``) enters the controller's model as
     its azimuth average and its unsteady airfoils (``UA_Mod`` 3) at their steady state (the rotor-effective
     surfaces: :mod:`mbsym.wind.aero.tower_average`, :mod:`mbsym.wind.aero.blade.ua_steady`), and ``say`` is told.
-    Before the average was modelled, a model without the tower's loss of torque held the power 3-4 % above rated
-    (2026-11-29, the floating IEA 15 MW at 13 m/s: the NMPC has no integral action for it).
+    (On the floating IEA 15 MW as written the NMPC still holds the power 3.9 % above rated: docs/turbine_nmpc.md.)
 
     Raises
     ------

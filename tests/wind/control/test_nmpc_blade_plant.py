@@ -74,8 +74,8 @@ FLOATING = SHARED / "openfast" / "floating"
 def test_the_controllers_model_holds_the_tower_and_the_airfoils_steady_state():
     """The shared floating deck as written (TwrPotent 1, TwrShadow 1, UA_Mod 3): the plant is blade-element; the
     NMPC's rotor-effective model holds the tower's influence as its azimuth average and UA's steady state (their
-    changes of the mean loads against OpenFAST's: tests/wind/aero/test_tower_average.py), and says so. Before,
-    the model had to be refused: without the tower's loss of torque the NMPC held the power 3-4 % above rated."""
+    changes of the mean loads against OpenFAST's: tests/wind/aero/test_tower_average.py), and says so (before,
+    such a deck was refused for the NMPC)."""
     from mbsym.cli.controller_model import controller_model
     from mbsym.wind.operation.deck import operating_deck
 
