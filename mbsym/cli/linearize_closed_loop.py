@@ -44,19 +44,23 @@ __all__ = ["run_closed_loop"]
 
 
 def _turbine_and_controller(deck_path, discon_in):
-    """``(model, BaselineController, label)`` of a deck (rotor-effective aerodynamics) or of the built-in turbine."""
+    """``(model, BaselineController, label)`` of a deck (rotor-effective aerodynamics with the disk's moment, as the
+    open-loop linear models: :func:`~mbsym.wind.analysis.operating_points.turbine_and_control`) or of the built-in
+    turbine."""
     from ..exceptions import ControllerError
     from ..wind.control import BaselineController
     from ..wind.operation.deck import builtin_deck, operating_deck
 
     if deck_path is None:
         deck = builtin_deck()
-        return deck.model(), BaselineController(deck.baseline_settings(discon_in=discon_in)), deck.label
+        return deck.model(disk_moments=True), BaselineController(deck.baseline_settings(discon_in=discon_in)), \
+            deck.label
     deck = operating_deck(deck_path)
     if discon_in is None and deck.discon_in is None:
         raise ControllerError(f"{deck_path}: the deck names no controller input file (ServoDyn DLL_InFile); the "
                               "closed loop needs the controller's settings (a ROSCO DISCON.IN): pass --discon-input.")
-    return deck.model(aero="rotor"), BaselineController(deck.baseline_settings(discon_in=discon_in)), deck.label
+    return deck.model(aero="rotor", disk_moments=True), BaselineController(deck.baseline_settings(discon_in=discon_in)), \
+        deck.label
 
 
 def run_closed_loop(args) -> int:

@@ -130,7 +130,8 @@ class OperatingTurbine:
         rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 % to 7.2 %
         (blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
         and sway move the rotor across its shaft: docs/offshore.md §7c), off on land for now
-        (docs/identification.md); ``mbsym identify`` switches it on.
+        (docs/operation.md); ``mbsym identify``, ``mbsym linearize`` and ``mbsym operating-points`` switch it on
+        (OpenFAST's linearization: docs/operating_points.md).
     tower_aero : TowerAero, optional, keyword-only
         AeroDyn's tower (:class:`~mbsym.wind.aero.tower.TowerAero`, ``TowerAero.from_aerodyn``): with ``drag`` its
         drag loads the tower and platform DOFs (both rotors; the rotor-effective rung's wind is the hub wind at
