@@ -128,6 +128,9 @@ class RotorAero:
         forces = None if moments is None or getattr(moments, "hw", None) is None else SurfaceSpline.from_values(
             moments.tsr, moments.pitch, {"hw": moments.hw, "hp": moments.hp}, degree=self.degree)
         object.__setattr__(self, "_force_spline", forces)
+        tower = None if moments is None else getattr(moments, "tower", None)
+        object.__setattr__(self, "_tower_spline", None if tower is None else SurfaceSpline.from_values(
+            moments.tsr, moments.pitch, tower, degree=self.degree))
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -251,6 +254,27 @@ class RotorAero:
         """
         return self._skewed(self._force_spline, ("hw", "hp"), 2, u_rel, cross, axis, omega, pitch,  # type: ignore
                             rho)
+
+    def tower_loads(self, u_rel: Any, omega: Any, pitch: Any, rho: Any = None) -> Any:
+        """The disk's steady moment [N m] and in-plane force [N] from the tower's inflow disturbance
+        (:class:`~mbsym.wind.aero.surfaces.DiskMomentTable`'s ``tower``), or None without it.
+
+        Returns
+        -------
+        dict or None
+            ``moment_up``, ``moment_side`` (along the disk's "up" ``e_u``, perpendicular to the shaft in the
+            nacelle's vertical plane, and along ``e_x × e_u``) ``½ ρ π R³ U² (mu, ms)`` and ``force_up``,
+            ``force_side`` ``½ ρ π R² U² (fu, fs)``.
+        """
+        spline = getattr(self, "_tower_spline")
+        if spline is None:
+            return None
+        rho = self.air_density if rho is None else rho
+        u = self._speed(u_rel)
+        k = spline(omega * self.radius / u, pitch)
+        q = 0.5 * rho * math.pi * self.radius**2 * u**2
+        return {"moment_up": q * self.radius * k["mu"], "moment_side": q * self.radius * k["ms"],
+                "force_up": q * k["fu"], "force_side": q * k["fs"]}
 
     def _skewed(self, spline, names: tuple[str, str], power: int, u_rel, cross, axis, omega, pitch,
                 rho) -> Any:

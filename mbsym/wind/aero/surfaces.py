@@ -117,6 +117,12 @@ class DiskMomentTable:
     source : str or None
     hw, hp : ndarray (n_tsr, n_pitch) or None
         The in-plane force ``F·e_w``, ``F·e_p`` over ``½ ρ V² π R² tan χ`` [-] (None: not tabulated).
+    tower : dict or None
+        The part of the disk's moment and in-plane force the tower's inflow disturbance adds
+        (:mod:`.tower_average`), which does not scale with the skew: ``"mu"``, ``"ms"`` (moment along the disk's
+        "up" ``e_u``, perpendicular to the shaft in the nacelle's vertical plane, and along ``e_x × e_u``, over
+        ``½ ρ V² π R³``) and ``"fu"``, ``"fs"`` (the force, over ``½ ρ V² π R²``), each (n_tsr, n_pitch); None
+        without the tower's disturbance.
     """
 
     tsr: np.ndarray
@@ -127,6 +133,7 @@ class DiskMomentTable:
     source: str | None = None
     hw: np.ndarray | None = None
     hp: np.ndarray | None = None
+    tower: dict | None = None
 
 
 def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew: float | None = None,
@@ -151,8 +158,8 @@ def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew:
         raise ParameterError("the tower's inflow disturbance is averaged for the wind along the ground: leave skew at "
                              "its default (the shaft tilt).")
     if tower is not None or unsteady is not None:
-        dct, dcq = _corrections(rotor, tsr_axis, pitch_axis, tower, unsteady)
-        ct, cq = ct + dct, cq + dcq
+        changes = _corrections(rotor, tsr_axis, pitch_axis, tower, unsteady)
+        ct, cq = ct + changes["ct"], cq + changes["cq"]
         if tower is not None:
             source += f"; the tower's potential flow/shadow averaged over {TOWER_AZIMUTHS} azimuths"
         if unsteady is not None:
@@ -162,8 +169,9 @@ def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew:
     if used_skew < 1e-6 or n_azimuth < 2:
         return table, None
     cw, cp, hw, hp = _disk_moment(rotor, solution.fn, solution.ft, used_skew)   # the tower's part: module docstring
+    extra = {k: changes[k] for k in ("mu", "ms", "fu", "fs")} if tower is not None else None
     return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=cw, cp=cp, skew=used_skew, source=source,
-                                  hw=hw, hp=hp)
+                                  hw=hw, hp=hp, tower=extra)
 
 
 def _coarse(axis: np.ndarray, n: int = 16) -> np.ndarray:
@@ -172,15 +180,16 @@ def _coarse(axis: np.ndarray, n: int = 16) -> np.ndarray:
 
 
 def _corrections(rotor: BEMRotor, tsr: np.ndarray, pitch: np.ndarray, tower: Any = None, unsteady: Any = None
-                 ) -> tuple[np.ndarray, np.ndarray]:
+                 ) -> dict[str, np.ndarray]:
     """The change of ``ct``, ``cq`` on the grid ``tsr`` × ``pitch`` by the tower's inflow disturbance (``tower``:
     ``(TowerAero, RotorPlacement)``) and the unsteady airfoils' steady state (``unsteady``: ``(UnsteadyNodes,
-    tip speed [m/s])``, :mod:`.blade.ua_steady`, the wind at each tip-speed ratio ``tip speed / λ``).
+    tip speed [m/s])``, :mod:`.blade.ua_steady`, the wind at each tip-speed ratio ``tip speed / λ``); with the tower
+    also its disk moment and in-plane force (``mu``, ``ms``, ``fu``, ``fs``: :class:`DiskMomentTable`'s ``tower``).
 
     Solved with and without them on a coarse grid of ~16 × 16 points (the changes are smooth in both axes) and
     spline-interpolated (cubic where 4 points allow), with :data:`~.tower_average.TOWER_AZIMUTHS` azimuths when the
     tower is in (else 8): a quarter of the full-grid cost; against the full grid on the IEA 15 MW within 6e-5 in
-    ``ct`` and 8e-6 in ``cq`` (tests/wind/aero/test_tower_average.py, test_ua_steady.py).
+    ``ct`` and 8e-6 in ``cq`` (tests/wind/aero/test_tower_average.py).
     """
     from .blade.ua_steady import steady_airfoil_loads
     from .tower_average import tower_inflow_change
@@ -194,12 +203,25 @@ def _corrections(rotor: BEMRotor, tsr: np.ndarray, pitch: np.ndarray, tower: Any
                                                                 reference_wind=(unsteady[1] / g_t)[..., None])
     plain = solve_bem(rotor, g_t, g_p, n_azimuth=n_az)
     changed = solve_bem(rotor, g_t, g_p, n_azimuth=n_az, inflow_change=change, airfoil_loads=loads)
-    out = []
-    for name in ("ct", "cq"):
-        delta = getattr(changed, name) - getattr(plain, name)
+    deltas = {"ct": changed.ct - plain.ct, "cq": changed.cq - plain.cq}
+    if tower is not None:
+        up = -1.0 if tower[1].shaft_tilt > 0 else 1.0               # e_w (the BEM's ψ = 0) is ±e_u: tower_average
+        with_tower, without = (_in_plane(rotor, sol.fn, sol.ft) for sol in (changed, plain))
+        for key, a, b in zip(("mu", "ms", "fu", "fs"), with_tower, without):
+            deltas[key] = up * (a - b)
+    out = {}
+    for name, delta in deltas.items():
         spline = RectBivariateSpline(ct_, pt_, delta, kx=min(3, ct_.size - 1), ky=min(3, pt_.size - 1))
-        out.append(spline(tsr, pitch))
-    return out[0], out[1]
+        out[name] = spline(tsr, pitch)
+    return out
+
+
+def _in_plane(rotor: BEMRotor, fn: np.ndarray, ft: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The disk's moment (over ``½ ρ V² π R³``) and in-plane force (over ``½ ρ V² π R²``) along ``e_w``, ``e_p``
+    from per-azimuth loads (..., n_azimuth, n) of a 1 m/s, 1 kg/m³ solve (as :func:`_disk_moment`, not per
+    ``tan χ``)."""
+    cw, cp, hw, hp = _disk_moment(rotor, fn, ft, math.pi / 4.0)       # tan(π/4) = 1
+    return cw, cp, hw, hp
 
 
 def disk_moment_surface(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew: float | None = None,

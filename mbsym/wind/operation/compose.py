@@ -219,7 +219,14 @@ class Graph:
                                               self.X["BlPitch"], self.P["air_density"])
         if steady is not None:
             my, mz = my + ca.dot(steady, c2), mz + ca.dot(steady, c3)
+        # the tower's part of that moment and force (its inflow disturbance, aero.tower_average): along the disk's "up",
+        # c3 (perpendicular to the shaft in the nacelle's vertical plane; c2 is lateral), and c1 × c3 = −c2
+        tower = self.model.rotor.tower_loads(self.u_rel, self.rotor_speed, self.X["BlPitch"], self.P["air_density"])
+        if tower is not None:
+            my, mz = my - tower["moment_side"], mz + tower["moment_up"]
         fy, fz = -c * ca.dot(v, c2), -c * ca.dot(v, c3)
+        if tower is not None:
+            fy, fz = fy - tower["force_side"], fz + tower["force_up"]
         # and its steady in-plane force there (the loads' part in the rotor plane, aero.surfaces)
         force = self.model.rotor.disk_force(self.u_rel, rel - c1 * ca.dot(rel, c1), c1, self.rotor_speed,
                                             self.X["BlPitch"], self.P["air_density"])

@@ -182,3 +182,20 @@ def test_ua_steady_state_is_the_recursion_s_fixed_point(parts):
         assert np.array_equal(ua[0, inner], static[0, inner])
     with pytest.raises(ParameterError, match="one blade"):
         steady_airfoil_loads(rotor, unsteady_nodes(aerodyn, rotor, 2, dt=0.025, speed_of_sound=340.0))
+
+
+@pytest.mark.parametrize("wind, pitch", [(13.0, 8.2), (16.0, 12.0)])
+def test_tower_tilt_moment_as_openfast_s(surfaces, wind, pitch):
+    """The disk's steady moment from the tower's dip (the rotor-effective model's RotMomY/Z) against OpenFAST's change
+    of the mean rotor moment in the non-rotating shaft axes, tower on minus off: tilt within 15 % (measured 0.276 /
+    0.339 MN m against 0.315 / 0.381: 11-12 % low; a likely cause, not verified: OpenFAST's DBEMT does not let the
+    induction follow the 3P dip, mbsym's steady BEM does at every azimuth), yaw within 20 kN m (both small)."""
+    import casadi as ca
+
+    none, tower = _openfast(wind, False, False), _openfast(wind, True, False)
+    loads = surfaces["tower"].tower_loads(none["RtVAvgxh"], 7.56 * math.pi / 30.0, math.radians(pitch))
+    loads = {k: float(ca.evalf(v)) for k, v in loads.items()}
+    tilt = tower["RtFldMys"] - none["RtFldMys"]
+    assert -loads["moment_side"] == pytest.approx(tilt, rel=0.15)          # e_x × e_up is minus the lateral axis
+    assert abs(loads["moment_up"] - (tower["RtFldMzs"] - none["RtFldMzs"])) < 2e4
+    assert surfaces["none"].tower_loads(10.0, 0.8, 0.1) is None
