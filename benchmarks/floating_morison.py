@@ -1,0 +1,75 @@
+"""Free decays of the floating IEA 15 MW with drag-only Morison members: accuracy against OpenFAST and cost.
+
+The shared ``fl_decay_a`` with ``AddBQuad`` zeroed and members added (``write_deck`` of
+tests/wind/offshore/test_offshore_morison.py: ``columns``, ``braces``; ``none`` without members), run 300 s with
+``mbsym simulate`` (the default path) beside the OpenFAST v5.0.0 runs of the same decks
+(tests/data/openfast_morison). Prints per deck the ε of surge, heave, pitch and TTDspFA against OpenFAST's
+``columns`` and ``braces`` runs, the wall time of the run and its ratio to the run without members, measured in
+the same process (the compiled model cached after the first run of each deck: the second of two runs is timed).
+
+    python benchmarks/floating_morison.py
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+DATA = HERE.parent / "tests" / "data" / "openfast_morison"
+CHANNELS = ("PtfmSurge", "PtfmHeave", "PtfmPitch", "TTDspFA")
+
+
+def _reference(name: str) -> dict[str, np.ndarray]:
+    with (DATA / f"{name}.csv").open() as fh:
+        rows = list(csv.reader(fh))
+    data = np.array(rows[1:], dtype=float)
+    return {h.split("_[")[0]: data[:, k] for k, h in enumerate(rows[0])}
+
+
+def _run(fst: Path, out: Path) -> float:
+    from mbsym.cli import main
+
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        main(["simulate", str(fst), "--tmax", "300", "--out", str(out)])          # compiles and caches
+        t0 = time.perf_counter()
+        code = main(["simulate", str(fst), "--tmax", "300", "--out", str(out)])
+    if code != 0:
+        raise SystemExit(f"mbsym simulate {fst} failed ({code})")
+    return time.perf_counter() - t0
+
+
+def main() -> int:
+    from mbsym.wind.analysis.compare import error_metrics, read_csv
+    from tests.wind.offshore.test_offshore_morison import write_deck
+
+    root = Path(tempfile.mkdtemp(prefix="mbsym_morison_"))
+    refs = {name: _reference(name) for name in ("columns", "braces")}
+    rows, base = [], None
+    for variant in ("none", "columns", "braces"):
+        fst = write_deck(root / variant, variant)
+        out = root / f"{variant}.csv"
+        wall = _run(fst, out)
+        base = wall if base is None else base
+        run = read_csv(out)
+        for ref_name, ref in refs.items():
+            eps = [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] for c in CHANNELS]
+            rows.append((variant, ref_name, *eps, wall, wall / base))
+    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | wall [s] | ratio to no members |")
+    print("|---|---|---|---|---|---|---|---|")
+    for variant, ref_name, *eps, wall, ratio in rows:
+        print(f"| {variant} | {ref_name} | " + " | ".join(f"{100 * e:.2f} %" for e in eps)
+              + f" | {wall:.2f} | {ratio:.2f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
