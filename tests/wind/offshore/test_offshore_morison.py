@@ -47,7 +47,8 @@ def _member_section(variant: str) -> dict[str, list[str]]:
         return {}
     braces = variant == "braces"
     joints = _COLUMNS + (_BRACES if braces else [])
-    members = [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  {1 if m == 0 else 2}  {(3 if braces else 1) if m == 0 else 2}  1  0  "
+    top = 3 if braces else 1                                      # the centre column's top property set
+    members = [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  {1 if m == 0 else 2}  {top if m == 0 else 2}  1  0  "
                "1.0  1  0  TRUE" for m in range(4)]
     members += [f"{m}  {2 * m - 1}  {2 * m}  4  4  1  0  2.0  3  0  TRUE" for m in (5, 6, 7)] if braces else []
     coefficients = [f"{m} 1.0 0.6 1.0 0.6 0 0 0 0 0 0 0 0 0.5 0.5 0.5 0.5 0 0 0 0 0 0 0 0 0 0 0 0" for m in (5, 6, 7)]
