@@ -128,6 +128,7 @@ def run_operation(args: argparse.Namespace) -> int:
 
     mpc = check_options(args, kind)                          # --preview/--estimator (cli/operate_mpc.py)
     aero = _aero(args, deck, mpc)
+    _rotor_note(deck, aero)
     for key, flag in (("aero_dt", "--aero-dt"), ("aero_order", "--aero-order")):
         if key in options and (aero != "blade" or mpc.active):
             from ..exceptions import SimulationOptionError
@@ -301,6 +302,22 @@ def _aero(args, deck, mpc) -> str:
                                     "--preview (the NMPC then runs on its estimator, and on the deck's lidar when its "
                                     "InflowWind has one), or pass --aero rotor.")
     return aero
+
+
+def _rotor_note(deck, aero: str) -> None:
+    """Say what of the deck's AeroDyn the rotor-effective rung holds only as an average (docs/aero.md §6b)."""
+    if aero != "rotor" or deck.path is None or deck.aerodyn is None:
+        return
+    from ..wind.aero.tower import TowerAero
+
+    tower = TowerAero.from_aerodyn(deck.aerodyn)
+    held = (["tower's inflow disturbance as an azimuth average (no 3P)"] if tower is not None
+            and tower.disturbs_inflow else []) + \
+        ([f"UA_Mod {deck.aerodyn.unsteady_model} at its steady state (no dynamic stall)"]
+         if deck.aerodyn.unsteady_model else [])
+    if held:
+        print(f"note: the rotor-effective rung holds the deck's {' and '.join(held)}; the blade-element rung "
+              "(--aero blade) has them blade by blade")
 
 
 def _controller_kind(args, deck) -> str:

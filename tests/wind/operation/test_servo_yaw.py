@@ -80,6 +80,7 @@ def test_stock_deck_runs_on_the_rotor_rung_with_its_tower_and_airfoils(rosco_dec
         status = main(["simulate", str(rosco_deck), "--aero", "rotor", "--discon", str(rosco_lib), "--tmax", "60",
                        "--wind", "steady:14"])
     assert status == 0, err.getvalue()
+    assert "rotor-effective rung holds the deck's tower's inflow disturbance as an azimuth average" in out.getvalue()
     power = next(line.split() for line in out.getvalue().splitlines() if line.startswith("GenPwr"))
     assert float(power[5]) == pytest.approx(5000.0, rel=0.01)                 # mean [kW]
     source = operating_deck(rosco_deck).rotor.source
