@@ -188,8 +188,8 @@ def test_ua_steady_state_is_the_recursion_s_fixed_point(parts):
 def test_tower_tilt_moment_as_openfast_s(surfaces, wind, pitch):
     """The disk's steady moment from the tower's dip (the rotor-effective model's RotMomY/Z) against OpenFAST's change
     of the mean rotor moment in the non-rotating shaft axes, tower on minus off: tilt within 15 % (measured 0.276 /
-    0.339 MN m against 0.315 / 0.381: 11-12 % low; a likely cause, not verified: OpenFAST's DBEMT does not let the
-    induction follow the 3P dip, mbsym's steady BEM does at every azimuth), yaw within 20 kN m (both small)."""
+    0.339 MN m against 0.315 / 0.381: 11-12 % low, not traced; not the induction's dynamics: held at its value
+    without the tower the BEM gives 0.279 / 0.356), yaw within 20 kN m (both small)."""
     import casadi as ca
 
     none, tower = _openfast(wind, False, False), _openfast(wind, True, False)
