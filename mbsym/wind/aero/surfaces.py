@@ -113,7 +113,8 @@ class DiskMomentTable:
         ``M·e_w`` and ``M·e_p`` over ``½ ρ V² π R³ tan χ`` [-] (``e_w`` the in-plane wind's direction,
         ``e_p = e_x × e_w``, ``e_x`` the shaft downwind; ``V`` the wind along the shaft, ``R`` the radius).
     skew : float
-        The BEM's skew χ [rad] the coefficients come from.
+        The BEM's skew χ [rad] the coefficients come from (0: an untilted shaft, whose table holds only the
+        tower's part).
     source : str or None
     hw, hp : ndarray (n_tsr, n_pitch) or None
         The in-plane force ``F·e_w``, ``F·e_p`` over ``½ ρ V² π R² tan χ`` [-] (None: not tabulated).
@@ -166,10 +167,14 @@ def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew:
             source += f"; UA_Mod 3 at its steady state (tip speed {unsteady[1]:g} m/s)"
     table = PerformanceTable(tsr=tsr_axis, pitch=pitch_axis, cp=cq * grid_tsr, ct=ct,
                              cq=cq, wind_speed=wind_speed, source=source)
-    if used_skew < 1e-6 or n_azimuth < 2:
-        return table, None
-    cw, cp, hw, hp = _disk_moment(rotor, solution.fn, solution.ft, used_skew)   # the tower's part: module docstring
     extra = {k: changes[k] for k in ("mu", "ms", "fu", "fs")} if tower is not None else None
+    if used_skew < 1e-6 or n_azimuth < 2:
+        if extra is None:
+            return table, None
+        zero = np.zeros_like(ct)                # no skew: only the tower's part of the disk's moment
+        return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=zero, cp=zero, skew=0.0, source=source,
+                                      hw=zero, hp=zero, tower=extra)
+    cw, cp, hw, hp = _disk_moment(rotor, solution.fn, solution.ft, used_skew)   # the tower's part: module docstring
     return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=cw, cp=cp, skew=used_skew, source=source,
                                   hw=hw, hp=hp, tower=extra)
 
