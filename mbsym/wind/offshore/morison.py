@@ -7,9 +7,12 @@ facts in ``Morison.f90``: ``Morison_GenerateSimulationNodes``, ``SetMemberProper
 ``LumpDistrHydroLoads``):
 
 * **Strips.** A member of length ``L`` from joint 1 to joint 2 is cut into ``N = ⌈L / MDivSize⌉`` equal elements
-  ``dl``; its ``N + 1`` nodes carry the radius ``R`` linear from ``PropD1/2`` to ``PropD2/2`` and the coefficients of
-  the member's table (``MCoefMod`` 1: ``SimplCd``, ``SimplAxCd``; 3: ``MemberCd1 → MemberCd2``, ``MemberAxCd1 → 2``,
-  linear along the member). A node is in the water when its **undisplaced** height is ``z ≤ 0`` (still-water level;
+  ``dl``; its ``N + 1`` nodes carry the radius ``R`` linear from ``PropD1/2`` to ``PropD2/2`` plus the marine
+  growth's thickness at their height (``SetNodeMG``: linear in the ``MGDpth`` table, zero outside it) and the
+  coefficients of the member's table (``MCoefMod`` 1: ``SimplCd``, ``SimplAxCd``; 2: the depth-based table at their
+  height, as ``SetDepthBasedCoefs_Cyl`` reads it; 3: ``MemberCd1 → MemberCd2``, ``MemberAxCd1 → 2``, linear along the
+  member), the ``…MG`` coefficients where they have growth. (HydroDyn gives a potential-flow member's marine growth
+  no mass or weight.) A node is in the water when its **undisplaced** height is ``z ≤ 0`` (still-water level;
   HydroDyn's ``WaveStMod = 0``). Each node takes half of each neighbouring element where both ends are wet, the
   wet part ``dl · z_i / (z_i − z_j)`` of an element that crosses the surface, nothing of a dry one: its strip
   ``Δl = Δl_left + Δl_right`` with its centroid ``h = (Δl_right − Δl_left)/2`` along the member's axis ``k``.
@@ -34,9 +37,8 @@ velocity is ``q̇[0:3] + ω × (R p)`` with ``ω = q̇[3:6]`` (HydroDyn's mesh v
 small angles, as :class:`~.hydrostatics.AdditionalLoads`).
 
 **Refused** (:func:`morison_problems`): members not modelled by potential flow (``PropPot = FALSE``: their
-buoyancy, added mass and wave inertia), rectangular members (``MSecGeom = 2``), depth-based coefficients
-(``MCoefMod = 2``), filled members (``NFillGroups``), marine growth (``NMGDepths``), the end drag's high-pass
-filter (``AxVnCOff > 0``), waves or a current with members (the water's velocity at the members), wave stretching
+buoyancy, added mass and wave inertia), rectangular members (``MSecGeom = 2``), filled members (``NFillGroups``:
+their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), waves or a current with members (the water's velocity at the members), wave stretching
 (``WaveStMod > 0``), members below the seabed.
 """
 
@@ -155,12 +157,12 @@ def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[
         if not row[10]:
             out.append(f"{where}: PropPot = FALSE (strip-theory buoyancy, added mass and wave inertia are not "
                        "modelled; only the viscous drag of potential-flow members)")
-        if int(row[8]) not in (1, 3):
-            out.append(f"{where}: MCoefMod = {int(row[8])} (only 1, simple, and 3, member-based coefficients)")
+        if int(row[8]) not in (1, 2, 3):
+            out.append(f"{where}: MCoefMod = {int(row[8])} (1 simple, 2 depth-based, 3 member-based coefficients)")
         if not row[7] > 0:
             out.append(f"{where}: MDivSize = {row[7]} must be > 0")
+    out += _depth_range_problems(hd, members, lines)
     for name, what in (("fill_groups", "filled members (NFillGroups > 0: their ballast)"),
-                       ("marine_growth", "marine growth (NMGDepths > 0)"),
                        ("rectangle_properties", "rectangular property sets (NPropSetsRec > 0)")):
         if _rows(hd, name):
             out.append(what)
@@ -182,6 +184,26 @@ def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[
         deep = [int(r[0]) for r in _rows(hd, "joints") if r[3] < -water_depth]
         if deep:
             out.append(f"joints {deep} below the seabed (z < -{water_depth:g} m)")
+    return out
+
+
+def _depth_range_problems(hd, members: list, lines: dict) -> list[str]:
+    """Members with depth-based coefficients whose joints lie outside the table's heights (HydroDyn refuses them:
+    it does not extrapolate the table)."""
+    joints = {int(r[0]): float(r[3]) for r in _rows(hd, "joints")}
+    depths = [float(r[0]) for r in _rows(hd, "depth_cylinder_coefficients")]
+    out = []
+    for row in members:
+        if int(row[8]) != 2 or int(row[5]) != 1:
+            continue
+        where = f"member {int(row[0])} (line {lines[int(row[0])]})"
+        if not depths:
+            out.append(f"{where}: MCoefMod = 2 needs the depth-based coefficient table (NCoefDpthCyl > 0)")
+            continue
+        z = [joints.get(int(row[j]), float("nan")) for j in (1, 2)]
+        if not (min(depths) <= min(z) and max(z) <= max(depths)):
+            out.append(f"{where}: MCoefMod = 2, its joints at z = {z[0]:g} and {z[1]:g} m lie outside the depth-based "
+                       f"table's {min(depths):g} … {max(depths):g} m (HydroDyn does not extrapolate it either)")
     return out
 
 
@@ -211,22 +233,23 @@ def morison_drag(hd, *, water_density: float, reference=(0.0, 0.0, 0.0),
     joints = {int(r[0]): (np.array(r[1:4], dtype=float), int(r[4])) for r in _rows(hd, "joints")}
     props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
     axial = {int(r[0]): (float(r[1]), int(r[4]) if len(r) > 4 else 0) for r in _rows(hd, "axial_coefficients")}
-    simple = _rows(hd, "simple_cylinder_coefficients")
-    by_member = {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")}
+    tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
+              "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
+              "depth": _rows(hd, "depth_cylinder_coefficients")}
+    growth = _rows(hd, "marine_growth")
     ref = np.asarray(reference, dtype=float)
     nodes, ends = [], {}
     for row in members:
         ident = int(row[0])
         (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
         r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
-        cd, axcd = _coefficients(int(row[8]), simple, by_member, ident)
-        z = np.array([p1[2], p2[2]])
-        if np.all(z > 0):                                  # both ends dry: HydroDyn skips the member
+        coefficients = _coefficients(int(row[8]), tables, ident)
+        if p1[2] > 0 and p2[2] > 0:                         # both ends dry: HydroDyn skips the member
             continue
-        nodes.append(_strips(p1 - ref, p2 - ref, r1, r2, float(row[7]), cd, axcd))
+        nodes.append(_strips(p1, p2, ref, r1, r2, float(row[7]), coefficients, growth))
         k = (p2 - p1) / np.linalg.norm(p2 - p1)
-        ends.setdefault(int(row[1]), []).append(-math.pi * r1**2 * k)
-        ends.setdefault(int(row[2]), []).append(math.pi * r2**2 * k)
+        ends.setdefault(int(row[1]), []).append(-math.pi * (r1 + marine_growth(growth, p1[2])) ** 2 * k)
+        ends.setdefault(int(row[2]), []).append(math.pi * (r2 + marine_growth(growth, p2[2])) ** 2 * k)
     strips = {key: np.concatenate([n[key] for n in nodes]) for key in nodes[0]} if nodes else None
     end = _end_plates(ends, joints, axial, ref, water_depth)
     if strips is None:
@@ -241,18 +264,59 @@ def _lookup(table: dict, key: int, what: str):
     return table[key]
 
 
-def _coefficients(mode: int, simple: list, by_member: dict, ident: int) -> tuple[tuple, tuple]:
-    """``(Cd at joint 1, at joint 2), (AxCd at 1, at 2)`` of a member (``MCoefMod`` 1 or 3)."""
+def _coefficients(mode: int, tables: dict, ident: int):
+    """``(s, z, growth) -> (Cd, AxCd)`` per node of a member (``MCoefMod`` 1 simple, 2 depth-based, 3 member-based;
+    ``s`` the fraction along the member from joint 1, ``z`` the height [m], ``growth`` where marine growth is):
+    the marine-growth coefficients where the node has growth, as HydroDyn's ``SetExternalHydroCoefs_Cyl``."""
     if mode == 1:
-        if not simple:
+        if not tables["simple"]:
             raise ParameterError(f"HydroDyn member {ident}: MCoefMod = 1 needs the simple coefficient table.")
-        return (simple[0][0],) * 2, (simple[0][6],) * 2
-    row = _lookup(by_member, ident, "member-based coefficients of member")
-    return (row[1], row[2]), (row[13], row[14])
+        row = tables["simple"][0]
+        return lambda s, z, mg: (np.where(mg, row[1], row[0]), np.where(mg, row[7], row[6]))
+    if mode == 2:
+        rows = tables["depth"]
+        if not rows:
+            raise ParameterError(f"HydroDyn member {ident}: MCoefMod = 2 needs the depth-based coefficient table "
+                                 "(NCoefDpthCyl > 0).")
+        return lambda s, z, mg: tuple(np.array([_depth_value(rows, zi, c + (1 if g else 0)) for zi, g in zip(z, mg)])
+                                      for c in (1, 7))
+    row = _lookup(tables["member"], ident, "member-based coefficients of member")
+
+    def along(a, b, s):
+        return row[a] + s * (row[b] - row[a])
+
+    return lambda s, z, mg: (np.where(mg, along(3, 4, s), along(1, 2, s)), np.where(mg, along(15, 16, s),
+                                                                                   along(13, 14, s)))
 
 
-def _strips(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, cd, axcd) -> dict:
-    """The wet nodes of one member (module docstring)."""
+def _depth_value(rows: list, z: float, column: int) -> float:
+    """HydroDyn's depth-based coefficient at height ``z`` (``SetDepthBasedCoefs_Cyl``, its table read from the
+    first row down): linear between the first row at or below ``z`` and the last at or above it (a member reaching
+    outside the table is refused: :func:`_depth_range_problems`)."""
+    below = next((k for k, r in enumerate(rows) if r[0] <= z), None)
+    above = max((k for k, r in enumerate(rows) if r[0] >= z), default=0)
+    below = 0 if below is None else below
+    span = rows[below][0] - rows[above][0]
+    s = 0.0 if abs(span) < 1e-9 else (rows[below][0] - z) / span
+    return rows[below][column] * (1.0 - s) + rows[above][column] * s
+
+
+def marine_growth(rows: list, z: float) -> float:
+    """HydroDyn's marine-growth thickness at height ``z`` [m] (``SetNodeMG``: linear between the first row of the
+    table at or below ``z`` and the last at or above it; zero outside the table)."""
+    below = next((k for k, r in enumerate(rows) if r[0] <= z), None)
+    above = max((k for k, r in enumerate(rows) if r[0] >= z), default=None)
+    if below is None or above is None:
+        return 0.0
+    span = rows[below][0] - rows[above][0]
+    s = 0.0 if abs(span) < 1e-9 else (rows[below][0] - z) / span
+    return float(rows[below][1] * (1.0 - s) + rows[above][1] * s)
+
+
+def _strips(p1: np.ndarray, p2: np.ndarray, ref: np.ndarray, r1: float, r2: float, div: float, coefficients,
+            growth: list) -> dict:
+    """The wet nodes of one member from joint ``p1`` to ``p2`` (inertial, undisplaced; points returned relative
+    to the reference point ``ref``) (module docstring)."""
     span = p2 - p1
     length = float(np.linalg.norm(span))
     if length <= 0:
@@ -262,7 +326,8 @@ def _strips(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, cd
     s = np.arange(n + 1) / n
     pts = p1 + s[:, None] * span
     z = pts[:, 2]
-    radius = r1 + s * (r2 - r1)
+    thickness = np.array([marine_growth(growth, zi) for zi in z])
+    radius = r1 + s * (r2 - r1) + thickness
     slope = np.abs(np.diff(radius)) / dl
     dr = np.concatenate([[slope[0]], 0.5 * (slope[:-1] + slope[1:]), [slope[-1]]]) if n > 1 else \
         np.array([slope[0], slope[0]])
@@ -275,9 +340,8 @@ def _strips(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, cd
                 side[node] = 0.5 * dl if wet[other] else dl * z[node] / (z[node] - z[other])
     keep = wet & (left + right > 0)
     k = span / length
-    cd_n = cd[0] + s * (cd[1] - cd[0])
-    ax_n = axcd[0] + s * (axcd[1] - axcd[0])
-    return {"points": pts[keep], "axis": np.tile(k, (int(keep.sum()), 1)), "length": (left + right)[keep],
+    cd_n, ax_n = coefficients(s, z, thickness > 0)
+    return {"points": (pts - ref)[keep], "axis": np.tile(k, (int(keep.sum()), 1)), "length": (left + right)[keep],
             "offset": 0.5 * (right - left)[keep], "drag": (2.0 * cd_n * radius)[keep],
             "taper": (ax_n * math.pi * radius * dr)[keep]}
 

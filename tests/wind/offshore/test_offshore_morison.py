@@ -9,7 +9,8 @@ References, each independent of the code under test:
 - OpenFAST v5.0.0 free decays of the shared ``fl_decay_a`` (surge 10 m, heave 1.5 m, pitch 4°, still water, 300 s)
   with the deck's ``AddBQuad`` set to zero and drag-only members added (:func:`write_deck`; tests/data/
   openfast_morison/README.md): ``columns`` (the VolturnUS-S's four columns, heave-plate end drag) and ``braces``
-  (plus a tapered centre column, three inclined braces with member-based coefficients, one-sided end drag).
+  (plus a tapered centre column, three inclined braces with member-based coefficients, one-sided end drag) and
+  ``growth`` (the columns with marine growth and depth-based coefficients on the outer ones).
   Measured ε: surge, heave, pitch 0.3–0.5 %, against 3–6 % with the members left out: bound 1.5 %.
 """
 
@@ -45,6 +46,13 @@ def _member_section(variant: str) -> dict[str, list[str]]:
     """Rows of the Morison tables of a variant (the count key → its rows; ``none``: the deck's, no members)."""
     if variant == "none":
         return {}
+    if variant == "growth":                      # columns; outer ones depth-based; marine growth from 0 to -20 m
+        rows = _member_section("columns")
+        rows["NMembers"] = [r if r.startswith("1 ") else r.replace("  1.0  1  0  TRUE", "  1.0  2  0  TRUE")
+                            for r in rows["NMembers"]]
+        rows["NCoefDpthCyl"] = ["15.0 0.5 0.8 0 0 0 0 0 0 0 0 0 0 0 0", "-20.0 1.0 1.2 0 0 0 0 0 0 0 0 0 0 0 0"]
+        rows["NMGDepths"] = ["0.0 0.3 1100", "-20.0 0.1 1100"]
+        return rows
     braces = variant == "braces"
     joints = _COLUMNS + (_BRACES if braces else [])
     top = 3 if braces else 1                                      # the centre column's top property set
@@ -85,7 +93,8 @@ def write_deck(root: Path, variant: str) -> Path:
         return case / "fl_decay_a.fst"
     k = next(j for j, line in enumerate(lines) if line.split()[:1] == ["SimplCd"])
     axial = "1.0 1.0" if variant == "braces" else "0.0 0.0"
-    lines[k + 2] = f"0.6 0.6 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
+    mg = "0.8" if variant == "growth" else "0.6"
+    lines[k + 2] = f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
     path.write_text("\n".join(lines) + "\n")
     return case / "fl_decay_a.fst"
 
@@ -94,7 +103,7 @@ def write_deck(root: Path, variant: str) -> Path:
 def decks(tmp_path_factory):
     if not CASE.is_dir():
         pytest.skip(f"shared floating deck not found at {CASE}")
-    return {v: write_deck(tmp_path_factory.mktemp(v), v) for v in ("columns", "braces", "none")}
+    return {v: write_deck(tmp_path_factory.mktemp(v), v) for v in ("columns", "braces", "growth", "none")}
 
 
 def _drag(fst: Path):
@@ -160,11 +169,12 @@ def test_wet_length_of_a_member_through_the_surface():
     as HydroDyn's SubRatio; a member wholly above water carries nothing."""
     from mbsym.wind.offshore.morison import _strips
 
-    strips = _strips(np.array([0, 0, -20.5]), np.array([0, 0, 14.5]), 5.0, 5.0, 1.0, (0.6, 0.6), (0.0, 0.0))
+    coefficients = lambda s, z, mg: (np.full(s.size, 0.6), np.zeros(s.size))          # noqa: E731
+    strips = _strips(np.array([0, 0, -20.5]), np.array([0, 0, 14.5]), np.zeros(3), 5.0, 5.0, 1.0, coefficients, [])
     assert strips["length"].sum() == pytest.approx(20.5, abs=1e-12)
     assert strips["points"][-1][2] == pytest.approx(-0.5) and strips["length"][-1] == pytest.approx(1.0)
     assert strips["offset"][-1] == pytest.approx(0.0, abs=1e-12)        # half an element below, the wet half above
-    dry = _strips(np.array([0, 0, 1.0]), np.array([0, 0, 5.0]), 5.0, 5.0, 1.0, (0.6, 0.6), (0.0, 0.0))
+    dry = _strips(np.array([0, 0, 1.0]), np.array([0, 0, 5.0]), np.zeros(3), 5.0, 5.0, 1.0, coefficients, [])
     assert dry["length"].size == 0
 
 
@@ -174,10 +184,13 @@ def test_unmodelled_member_settings_are_named(decks):
     assert morison_problems(hd) == []
     text = (decks["braces"].parent / "fl_decay_a_HydroDyn.dat").read_text()
     broken = decks["braces"].parent / "broken_HydroDyn.dat"
-    broken.write_text(text.replace("2.0  3  0  TRUE", "2.0  2  0  FALSE").replace("0   NFillGroups",
-                                                                                 "0   NFillGroups"))
+    broken.write_text(text.replace("4  4  1  0  2.0  3  0  TRUE", "4  4  2  0  2.0  3  0  FALSE"))
     problems = morison_problems(read_hydrodyn(broken))
-    assert any("PropPot = FALSE" in p for p in problems) and any("MCoefMod = 2" in p for p in problems)
+    assert any("PropPot = FALSE" in p for p in problems) and any("MSecGeom = 2" in p for p in problems)
+    growth = (decks["growth"].parent / "fl_decay_a_HydroDyn.dat").read_text()
+    short = decks["braces"].parent / "short_HydroDyn.dat"
+    short.write_text(growth.replace("15.0 0.5 0.8", "10.0 0.5 0.8"))
+    assert any("lie outside the depth-based table's -20 … 10 m" in p for p in morison_problems(read_hydrodyn(short)))
     bad = decks["braces"].parent / "bad_HydroDyn.dat"
     bad.write_text(text.replace("5  9  10  4  4", "5  9  99  4  4"))
     with pytest.raises(ParameterError, match="joint 99"):
@@ -201,8 +214,28 @@ def _reference(name: str) -> dict[str, np.ndarray]:
     return {h.split("_[")[0]: data[:, k] for k, h in enumerate(rows[0])}     # "PtfmSurge_[m]"
 
 
+def test_marine_growth_and_depth_coefficients_as_hydrodyn_reads_them():
+    """HydroDyn's tables read from the first row down (SetNodeMG, SetDepthBasedCoefs_Cyl): linear between rows;
+    marine growth zero outside its table; a member reaching outside the depth-based table is refused (HydroDyn's
+    fatal error); a node with growth drags with the ``…MG`` coefficient over its diameter plus twice the growth."""
+    from mbsym.wind.offshore.morison import _depth_value, _strips, marine_growth
+
+    growth = [(0.0, 0.3, 1100.0), (-20.0, 0.1, 1100.0)]
+    assert marine_growth(growth, -5.0) == pytest.approx(0.25) and marine_growth(growth, 1.0) == 0.0
+    assert marine_growth(growth, -20.5) == 0.0
+    depth = [(0.0, 0.5, 0.8), (-20.0, 1.0, 1.2)]
+    assert _depth_value(depth, -5.0, 1) == pytest.approx(0.625) and _depth_value(depth, -20.0, 2) == 1.2
+    coefficients = lambda s, z, mg: (np.where(mg, 0.8, 0.6), np.zeros(s.size))        # noqa: E731
+    strips = _strips(np.array([0, 0, -30.0]), np.array([0, 0, 10.0]), np.zeros(3), 5.0, 5.0, 1.0, coefficients,
+                     growth)
+    z = strips["points"][:, 2]
+    expected = np.where((z >= -20.0) & (z <= 0.0), 0.8 * 2 * (5.0 + np.array([marine_growth(growth, v) for v in z])),
+                        0.6 * 10.0)
+    assert np.allclose(strips["drag"], expected)
+
+
 @needs_deck
-@pytest.mark.parametrize("variant", ["columns", "braces"])
+@pytest.mark.parametrize("variant", ["columns", "braces", "growth"])
 def test_decay_with_members_matches_openfast(decks, variant, tmp_path):
     """300 s of the decay on mbsym's default path (``mbsym simulate``) against OpenFAST's with the same members:
     ε ≤ 1.5 % on surge, heave and pitch (module docstring); without the members' drag ε > 2.5 %."""
