@@ -73,7 +73,9 @@ class PredictionModel:
         :data:`PREDICTION_DOFS`, for a floating plant :data:`FLOATING_PREDICTION_DOFS`.
     dynamic_inflow : bool, optional, keyword-only
         Keep the plant's dynamic inflow (default: as the plant). The rotor disk's across-shaft terms
-        (``disk_moments``) are the plant's.
+        (``disk_moments``) and the tower's drag (``tower_aero``) are the plant's: without the drag the floating IEA
+        15 MW's prediction model settled 0.54 m of surge and 0.09° of platform pitch short of the plant at 13 m/s,
+        and the NMPC, penalizing the platform's predicted return, held the power 3.6-3.9 % above rated.
     p : dict, optional, keyword-only
         Parameter values by name (those the reduced model has; e.g. the plant's own values).
 
@@ -118,7 +120,8 @@ class PredictionModel:
         self.turbine = OperatingTurbine(plant.turbine, plant.rotor, dofs=dofs, actuators=plant.actuators,
                                         dynamic_inflow=plant.dynamic_inflow if keep_inflow else False,
                                         saturation_width=plant.saturation_width, platform=platform,
-                                        disk_moments=plant.structure.hub_moments, name="prediction")
+                                        disk_moments=plant.structure.hub_moments, tower_aero=plant.tower_aero,
+                                        name="prediction")
         full = self.turbine.dynamics()
         self.full = full
         self._p = dict(p or {})
