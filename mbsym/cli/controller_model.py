@@ -38,7 +38,7 @@ def controller_model(deck, say: Callable[[str], None] | None = None):
     The deck's tower influence on the blade inflow (``TwrPotent``, ``TwrShadow``) enters the controller's model as
     its azimuth average and its unsteady airfoils (``UA_Mod`` 3) at their steady state (the rotor-effective
     surfaces: :mod:`mbsym.wind.aero.tower_average`, :mod:`mbsym.wind.aero.blade.ua_steady`), and ``say`` is told.
-    (On the floating IEA 15 MW as written the NMPC still holds the power 3.9 % above rated: docs/turbine_nmpc.md.)
+    Its prediction model keeps the plant's tower drag (:class:`~mbsym.wind.mpc.prediction.PredictionModel`).
 
     Raises
     ------
