@@ -10,7 +10,8 @@ deck configures the controller the same way in both (issue 21's contract):
   its estimator reads the turbine's sensors.
 * :func:`full_field_wind`: whether the deck's wind is a full field (then the NMPC and the EKF take their
   full-field tunings, :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`,
-  :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field`).
+  :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field`);
+* :func:`nmpc_tuning`: the NMPC's tuning for the deck (full field, floating platform, preview).
 """
 
 from __future__ import annotations
@@ -18,12 +19,36 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
-__all__ = ["controller_model", "full_field_wind"]
+__all__ = ["controller_model", "full_field_wind", "nmpc_tuning"]
 
 
 def full_field_wind(deck) -> bool:
     """Whether the deck's InflowWind is a full field (TurbSim, Bladed or HAWC boxes: WindType 3, 4, 5, 7)."""
     return deck.inflow is not None and deck.inflow.wind_type in (3, 4, 5, 7)
+
+
+def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
+    """The :class:`~mbsym.wind.mpc.NMPCTuning` a deck's NMPC gets, before ``for_turbine``.
+
+    Parameters
+    ----------
+    prediction : PredictionModel
+        The NMPC's model (a platform DOF in it makes the tuning the floating one).
+    field : bool, keyword-only
+        The deck's wind is a full field (:func:`full_field_wind`): :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`.
+    preview : float, optional, keyword-only
+        A preview of the plant's own wind [s] (``mbsym simulate --preview``): the ideal-wind tuning (with a cost
+        on the platform's pitch rate when floating). Otherwise :meth:`~mbsym.wind.mpc.NMPCTuning.floating` on a
+        floating platform, :meth:`~mbsym.wind.mpc.NMPCTuning.estimated_wind` on land.
+    """
+    from ..wind.mpc.nmpc import NMPCTuning
+
+    floating = any(s.startswith("Ptfm") for s in prediction.dofs)
+    if preview is not None:
+        return NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
+    if field:
+        return NMPCTuning.full_field()
+    return NMPCTuning.floating() if floating else NMPCTuning.estimated_wind()
 
 
 def controller_model(deck, say: Callable[[str], None] | None = None):

@@ -20,7 +20,9 @@ simulate``).
 
 ``--controller nmpc`` (:func:`mbsym.wind.mpc.discon_nmpc.export_nmpc_discon`): the turbine NMPC as
 ``mbsym simulate DECK --controller nmpc`` runs it without preview (:class:`~mbsym.wind.mpc.TurbineNMPC`
-with ``NMPCTuning.estimated_wind()`` on the deck's turbine, one real-time iteration per 0.1 s) with its
+with the tuning :func:`~mbsym.cli.controller_model.nmpc_tuning` gives the deck: ``NMPCTuning.estimated_wind()``
+on land, ``NMPCTuning.floating()`` on a floating platform, whose EKF also reads the nacelle IMU and the
+platform's pitch and surge from OpenFAST's swap records 83, 1005 and 1001; one real-time iteration per 0.1 s) with its
 EKF (``--estimator ekf``, the default; 20 Hz) and the baseline controller of the deck as its fallback
 on a QP failure, all generated as C. The library's sample time is the controller sample time above.
 The EKF starts (and restarts, should its wind estimate leave the plausible range) from the steady
@@ -113,7 +115,6 @@ def _run_nmpc(args) -> int:
     from ..wind.control.baseline import BaselineController
     from ..wind.mpc import (
         EstimatorTuning,
-        NMPCTuning,
         PredictionModel,
         SetPoints,
         TurbineEstimator,
@@ -122,7 +123,7 @@ def _run_nmpc(args) -> int:
     )
     from ..wind.mpc.discon_nmpc import export_nmpc_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
-    from .controller_model import controller_model
+    from .controller_model import controller_model, nmpc_tuning
     from .operate_mpc import _initial_estimate
 
     if args.estimator == "mhe":
@@ -143,8 +144,9 @@ def _run_nmpc(args) -> int:
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
-    tuning = NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
-    nmpc = TurbineNMPC(PredictionModel(model), setpoints, tuning=tuning.for_turbine(setpoints))
+    prediction = PredictionModel(model)
+    tuning = nmpc_tuning(prediction, field=field)
+    nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints))
     if field:
         print("mbsym export-discon: the deck's wind is a full field: the NMPC and EKF tunings for a rotor-averaged "
               "wind (NMPCTuning.full_field, EstimatorTuning.full_field)")

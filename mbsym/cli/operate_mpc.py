@@ -93,10 +93,10 @@ class MpcOptions:
         from ..wind.mpc.estimator import EstimatorTuning, TurbineEstimator, estimation_model
         from ..wind.mpc.lidar_preview import PreviewSettings
         from ..wind.mpc.loop import TurbineLoop
-        from ..wind.mpc.nmpc import NMPCTuning, TurbineNMPC
+        from ..wind.mpc.nmpc import TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
         from ..wind.mpc.setpoints import SetPoints
-        from .controller_model import controller_model, full_field_wind
+        from .controller_model import controller_model, full_field_wind, nmpc_tuning
 
         blade = model.aero == "blade"
         own = controller_model(deck, say=say) if blade else model
@@ -111,13 +111,7 @@ class MpcOptions:
                                          tuning=EstimatorTuning.full_field() if field else None,
                                          x0=_initial_estimate(own, observed, lambda t: start, settings))
         if self.controller == "nmpc":
-            floating = any(s.startswith("Ptfm") for s in prediction.dofs)
-            if self.preview is not None:
-                tuning = NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
-            elif field:
-                tuning = NMPCTuning.full_field()
-            else:
-                tuning = NMPCTuning.floating() if floating else NMPCTuning.estimated_wind()
+            tuning = nmpc_tuning(prediction, field=field, preview=self.preview)
             setpoints = SetPoints.from_settings(settings, own.rotor)
             nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints), deadline=self.deadline)
         else:

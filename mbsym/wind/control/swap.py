@@ -24,10 +24,12 @@ demand 47, yaw rate demand 48, generator contactor 35, brake flag 36, and the
 override flags 55, 56 (which must stay 0).
 
 The extended interface of OpenFAST ≥ 3.5 (records 1001-1018: platform motions,
-read by ROSCO when ``Ext_Interface = 1``) is left at zero, except for a single-point
-lidar's records 2001… when the caller has one (:func:`mbsym.wind.inflow.lidar_records`);
-the array is allocated with :data:`SWAP_SIZE` records so such a library never reads
-past its end.
+read by ROSCO when ``Ext_Interface = 1``, by the exported floating NMPC always): the
+platform's displacements 1001-1006 (``PtfmSurge`` … ``PtfmYaw``, SI) from a plant that
+has them, as OpenFAST v5 fills them for every library; its velocities and accelerations
+(1007-1018) stay zero, and a single-point lidar's records 2001… are written when the
+caller has one (:func:`mbsym.wind.inflow.lidar_records`); the array is allocated with
+:data:`SWAP_SIZE` records so such a library never reads past its end.
 """
 
 from __future__ import annotations
@@ -79,6 +81,13 @@ MEASUREMENT_RECORDS: dict[str, tuple[int, str, str]] = {
     "LSShftFxa": (110, "N", "rotor thrust (rotating LSS force x)"),
     "LSShftFys": (111, "N", "non-rotating LSS force y"),
     "LSShftFzs": (112, "N", "non-rotating LSS force z"),
+    # OpenFAST's extended interface (BladedInterface_EX.f90): the platform's displacements
+    "PtfmSurge": (1001, "m", "platform surge (extended record TDX)"),
+    "PtfmSway": (1002, "m", "platform sway (extended record TDY)"),
+    "PtfmHeave": (1003, "m", "platform heave (extended record TDZ)"),
+    "PtfmRoll": (1004, "rad", "platform roll (extended record RDX, small angle)"),
+    "PtfmPitch": (1005, "rad", "platform pitch (extended record RDY, small angle)"),
+    "PtfmYaw": (1006, "rad", "platform yaw (extended record RDZ, small angle)"),
 }
 MEASUREMENT_UNITS = {name: unit for name, (_, unit, _) in MEASUREMENT_RECORDS.items()}
 

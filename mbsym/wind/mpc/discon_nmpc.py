@@ -16,8 +16,12 @@ actuator type (must be 0), 49 size of ``avcMSG``, 50 length of ``accINFILE``, 61
 the measurements 20 ``GenSpeed`` [rad/s] (the estimator reads it in rpm), 53 ``YawBrTAxp`` [m/s²],
 4 ``BldPitch1`` [rad], 23 ``GenTq`` (measured generator torque) [N m], and for the baseline law
 (run at every sample, so its filters are current when it takes over) 21 ``RotSpeed`` [rad/s],
-15 ``GenPwr`` [W], 27 ``Wind1VelX`` [m/s] (also the EKF's start and restart, :mod:`.sample`). Written: 42-45 the collective pitch demand [rad], 47 the
-generator torque demand [N m]; 35 = 1, 36 = 0, 41 = 0, 46 = 0, 48 = 0, 55 = 56 = 0, 65 = 0.
+15 ``GenPwr`` [W], 27 ``Wind1VelX`` [m/s] (also the EKF's start and restart, :mod:`.sample`). On a floating
+platform the EKF also reads 83 ``NcIMURAys`` [rad/s²] and OpenFAST's extended records 1005 ``PtfmPitch`` [rad]
+and 1001 ``PtfmSurge`` [m] (:data:`FLOATING_RECORDS`; OpenFAST v5's ServoDyn always fills them; a swap array
+shorter than that, record 129, is an error), and the fallback baseline its floating feedback's records. Written:
+42-45 the collective pitch demand [rad], 47 the generator torque demand [N m]; 35 = 1, 36 = 0, 41 = 0, 46 = 0,
+48 = 0, 55 = 56 = 0, 65 = 0.
 
 **Schedule** (:class:`~.sample.SampledLoop`, :class:`~.loop.TurbineLoop`): the library's sample time
 is the loop's; the initialization call (status 0) is answered with the baseline's commands (OpenFAST
@@ -68,6 +72,10 @@ __all__ = ["NMPC_PART", "NMPC_RECORDS", "RTI_PART", "export_nmpc_discon", "rti_p
 
 #: Swap records the NMPC and its EKF read (besides the baseline law's).
 NMPC_RECORDS = {"GenSpeed": 20, "YawBrTAxp": 53, "BldPitch1": 4, "GenTq": 23}
+#: A floating estimator's further measurements (:data:`~.estimator.FLOATING_MEASUREMENTS`): record and factor from
+#: the record's SI unit to the estimator's (OpenFAST v5's ServoDyn: record 83 ``NcIMURAys`` [rad/s²]; the extended
+#: records 1005 and 1001, the platform's small-angle pitch [rad] and surge [m], ``BladedInterface_EX.f90``).
+FLOATING_RECORDS = {"NcIMURAys": (83, 180.0 / math.pi), "PtfmPitch": (1005, 180.0 / math.pi), "PtfmSurge": (1001, 1.0)}
 
 NMPC_PART = r"""
 /* ---- the NMPC with its EKF (generated: nmpc_ekf, nmpc_startup, nmpc_qp_data, nmpc_qp, nmpc_finish) ---- */
@@ -84,6 +92,7 @@ NMPC_PART = r"""
 #define NUS {n_us}
 #define NCS {n_cs}
 #define NSTAGE {n_stage}
+#define NY {n_y_est}
 #define HOLD_MAX (NSTAGE - 1)
 int nmpc_ekf(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 int nmpc_init(const double** arg, double** res, casadi_int* iw, double* w, int mem);
@@ -177,7 +186,7 @@ static void estimator_restart(const float *swap)
 /* One loop sample: the baseline law, the EKF every KE samples, the NMPC every KN samples, the demands. */
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
-    double yv[2], mean[2], flag, pitch, torque, el, since;
+    double yv[NY], mean[2], flag, pitch, torque, el, since;
     int r, accepted, warn = 0, note = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
     if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
@@ -194,7 +203,7 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
                  "t = %g s", t);
         return -1;
     }}
-    if (k_loop == 0) estimator_restart(swap);
+{read_more}    if (k_loop == 0) estimator_restart(swap);
     else {{ acc[0] += pitch; acc[1] += torque; ++n_acc; }}
     if (k_loop % KE == 0) {{
         if (n_acc > 0) {{ mean[0] = acc[0] / n_acc; mean[1] = acc[1] / n_acc; }}
@@ -408,6 +417,33 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
             "sample_time_s": float(loop_dt)}
 
 
+def _read_more(measurements) -> str:
+    """C that reads a floating estimator's further measurements into ``yv[2…]`` (:data:`FLOATING_RECORDS`), with
+    the array-size check of the extended records (record 129) and a finiteness check."""
+    extra = list(measurements[2:])
+    if not extra:
+        return ""
+    unknown = [m for m in extra if m not in FLOATING_RECORDS]
+    if unknown:
+        raise ControllerError(f"the exported EKF cannot read {unknown} from the swap array (it reads "
+                              f"{list(NMPC_RECORDS)} and {list(FLOATING_RECORDS)}).")
+    records = [FLOATING_RECORDS[m][0] for m in extra]
+    names = ", ".join(f"{r} {m}" for m, r in zip(extra, records))
+    need = max(records)
+    lines = [f"    if ((long)swap[128] < {need}) {{",
+             f'        snprintf(err, n_err, "the swap array has %ld records; the floating EKF reads {names} (OpenFAST '
+             'v5 ServoDyn fills the extended records 1001-1018 with the platform motion)", (long)swap[128]);',
+             "        return -1;", "    }"]
+    for k, m in enumerate(extra, start=2):
+        rec, factor = FLOATING_RECORDS[m]
+        lines.append(f"    yv[{k}] = (double)swap[{rec - 1}] * {factor!r};{' ' * 8}/* record {rec} {m} */")
+    finite = " && ".join(f"isfinite(yv[{k}])" for k in range(2, 2 + len(extra)))
+    lines += [f"    if (!({finite})) {{",
+              f'        snprintf(err, n_err, "records {", ".join(str(r) for r in records)} ({", ".join(extra)}) must '
+              'be finite at t = %g s", t);', "        return -1;", "    }"]
+    return "\n".join(lines) + "\n"
+
+
 def _wrapper_text(baseline, fns, fingerprint: str) -> str:
     from ..control.discon_export import _LAW
 
@@ -423,10 +459,12 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
         y_records=", ".join(str(r) for r in records), y_names=", ".join(f'"{m}"' for m in measured),
         sz_arg=max(base.sz_arg(), 1), sz_res=max(base.sz_res(), 1), sz_iw=max(base.sz_iw(), 1),
         sz_w=max(base.sz_w(), 1),
-        measured=", ".join(f"{r} {m}" for m, r in NMPC_RECORDS.items()) + " (NMPC, EKF); "
+        measured=", ".join(f"{r} {m}" for m, r in _nmpc_records(fns).items()) + " (NMPC, EKF); "
         + ", ".join(f"{r} {m}" for r, m in zip(records, measured)) + " (baseline fallback)",
         written="42-45 collective pitch, 47 torque")
-    nmpc = dict(n_z=fns.z0.size, n_w=fns.n_w, n_lam=fns.n_lam, rti_part=rti_part(fns), ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT, z0=_floats(fns.z0),
+    nmpc = dict(n_y_est=len(fns.measurements), read_more=_read_more(fns.measurements), n_z=fns.z0.size,
+                n_w=fns.n_w, n_lam=fns.n_lam, rti_part=rti_part(fns), ke=fns.ke, kn=fns.kn, qp_accept=QP_ACCEPT,
+                z0=_floats(fns.z0),
                 init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
                 wind_hi=float(fns.wind_range[1]),
                 p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
@@ -474,7 +512,13 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
                            f"single-point lidar, {fns.preview.n_beams} beams {fns.preview.distance:g} m upstream "
                            f"(records 2001-{2004 + 4 * fns.preview.n_beams}), moving average {fns.preview.window:g} s, "
                            f"advection filter {fns.preview.advection_time:g} s"),
-        "! measurements (swap records): " + ", ".join(f"{m} ({r})" for m, r in NMPC_RECORDS.items())
+        "! measurements (swap records): " + ", ".join(f"{m} ({r})" for m, r in _nmpc_records(fns).items())
         + "; baseline: " + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in baseline.measurements),
     ]
     return "\n".join(lines) + "\n"
+
+
+def _nmpc_records(fns) -> dict[str, int]:
+    """Measurement name -> swap record of what the NMPC and its EKF read (:data:`NMPC_RECORDS`, a floating
+    estimator's :data:`FLOATING_RECORDS`)."""
+    return {**NMPC_RECORDS, **{m: FLOATING_RECORDS[m][0] for m in fns.measurements[2:]}}

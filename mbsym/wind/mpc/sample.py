@@ -7,7 +7,8 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
 - ``ekf(z, P, y, u, predict) -> (z, P)``: one EKF sample, exactly :meth:`mbsym.control.EKF.step`:
   the time update over the last estimator interval with the mean measured pitch and torque ``u``
   (skipped when ``predict`` is 0, the first sample), then the measurement update with ``y`` =
-  (``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²]);
+  (``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²]; on a floating platform also ``NcIMURAys`` [deg/s²],
+  ``PtfmPitch`` [deg], ``PtfmSurge`` [m], :data:`~.estimator.FLOATING_MEASUREMENTS`);
 - ``rti(w, z, pitch, torque, lam) -> (w, rates, violation, lam)`` (:meth:`SampleFunctions.rti`, three
   generated parts ``qp_data``, ``qp``, ``finish``): one real-time iteration of
   :class:`mbsym.control.NMPC`: the NMPC state from the estimate and the measured pitch [rad] and
@@ -127,6 +128,9 @@ class SampleFunctions:
         Lead of the pitch and torque demands [s] (:meth:`~.prediction.PredictionModel.commands`).
     limits : tuple of (float, float)
         Pitch [rad] and torque [N m] demand limits.
+    measurements : tuple of str
+        What ``ekf``'s ``y`` holds, in the estimator's units: ``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²], and on a
+        floating platform ``NcIMURAys`` [deg/s²], ``PtfmPitch`` [deg], ``PtfmSurge`` [m].
     """
 
     ekf: ca.Function
@@ -151,6 +155,7 @@ class SampleFunctions:
     n_lam: int = 0
     stage: tuple = (0, 0, 0)
     rate_bounds: tuple = ()
+    measurements: tuple = ("GenSpeed", "YawBrTAxp")
 
     def hold(self, w: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """After a failed QP: the stored (shifted) plan's first rates, clipped to their bounds, and the plan and
@@ -230,21 +235,22 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         does not estimate the NMPC's states, an OCP with slacks or collocation variables, or an
         unknown ``initial``.
     UnsupportedFeatureError
-        An estimator with more measurements than :data:`~.estimator.ESTIMATOR_MEASUREMENTS` (floating).
+        An estimator measuring other than :data:`~.estimator.ESTIMATOR_MEASUREMENTS` (land) or those and
+        :data:`~.estimator.FLOATING_MEASUREMENTS` (floating).
     """
     from ...exceptions import UnsupportedFeatureError
-    from .estimator import ESTIMATOR_MEASUREMENTS, TurbineEstimator
+    from .estimator import ESTIMATOR_MEASUREMENTS, FLOATING_MEASUREMENTS, TurbineEstimator
     from .nmpc import TurbineNMPC
 
     if not isinstance(nmpc, TurbineNMPC):
         raise TypeError(f"nmpc must be a TurbineNMPC; got {type(nmpc).__name__}.")
     if not isinstance(estimator, TurbineEstimator):
         raise TypeError(f"estimator must be a TurbineEstimator; got {type(estimator).__name__}.")
-    if tuple(estimator.measurements) != ESTIMATOR_MEASUREMENTS:
-        raise UnsupportedFeatureError(f"the sampled loop (the exported NMPC) reads {list(ESTIMATOR_MEASUREMENTS)}; this "
-                                      f"estimator measures {list(estimator.measurements)} (a floating platform's "
-                                      "estimator). Run the floating NMPC in mbsym (mbsym simulate DECK --controller "
-                                      "nmpc) or give the NMPC a land prediction model.")
+    known = (ESTIMATOR_MEASUREMENTS, ESTIMATOR_MEASUREMENTS + FLOATING_MEASUREMENTS)
+    if tuple(estimator.measurements) not in known:
+        raise UnsupportedFeatureError(f"the sampled loop (the exported NMPC) reads {list(known[0])} (land) or "
+                                      f"{list(known[1])} (floating); this estimator measures "
+                                      f"{list(estimator.measurements)}. Use the estimator of estimation_model(plant).")
     if estimator.kind != "ekf":
         raise ControlDefinitionError(f"only the EKF has a fixed-work sample; the estimator is {estimator.kind!r} "
                                      "(the MHE solves an NLP per sample: not exportable yet).")
@@ -275,7 +281,8 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
                            loop_dt=float(loop_dt), ke=ke, kn=kn, lead=tuple(float(v) for v in pred._lead),
                            limits=tuple(tuple(float(v) for v in b) for b in pred._demand_limits), init=init,
                            initial=initial, wind_range=(0.5 * float(grid[0]), 1.5 * float(grid[-1])),
-                           stage=_stage_sizes(nmpc), rate_bounds=_rate_bounds(nmpc))
+                           stage=_stage_sizes(nmpc), rate_bounds=_rate_bounds(nmpc),
+                           measurements=tuple(estimator.measurements))
 
 
 def _stage_sizes(nmpc) -> tuple[int, int, int]:
@@ -306,12 +313,11 @@ def _init_function(estimator, grid: np.ndarray, settings) -> ca.Function:
 def _ekf_function(estimator) -> ca.Function:
     """``(z, P, y, u, predict) -> (z, P)``: :meth:`mbsym.control.EKF.step` as one Function."""
     from ...control import EstimationModel
-    from .estimator import ESTIMATOR_MEASUREMENTS
 
     m = estimator.model
     # a fresh, uncompiled copy: the filter's own linearization may be a compiled library (no graph to generate)
-    lin = EstimationModel(estimator.dynamics, dt=estimator.dt, measurements=ESTIMATOR_MEASUREMENTS,
-                          unknown_inputs=["Wind1VelX"], compile=False).linearization
+    lin = EstimationModel(estimator.dynamics, dt=estimator.dt, measurements=m.measurements,
+                          unknown_inputs=m.unknown_inputs, compile=False).linearization
     f = estimator.filter
     n, ny, nu = m.n_z, m.n_y, len(m.known_inputs)
     z, y, u, flag = ca.MX.sym("z", n), ca.MX.sym("y", ny), ca.MX.sym("u", nu), ca.MX.sym("predict")
@@ -370,15 +376,22 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
 
     n_prev = P.n_x - x0.size1()            # the previous rates of the rate-penalized controls (augmented state)
 
-    def qp_data(w):
+    col, row = _qp_scaling(nmpc, prep, bounds, p, n_prev)
+    S, Rs = ca.diag(ca.DM(col)), ca.diag(ca.DM(row))
+    cs, rs = ca.DM(col), ca.DM(row)
+
+    def qp_data(w):             # the QP in the scaled step dw / col, its rows divided by row (_qp_scaling)
         H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
         x_w = w[L.x_index(0)]
         fixed = ca.vertcat(x0, x_w[x0.size1():]) - x_w     # the plan's own previous rates: those last applied
-        return H, g, A, lba, uba, ca.vertcat(fixed, lbdw[P.n_x:]), ca.vertcat(fixed, ubdw[P.n_x:])
+        lbdw, ubdw = ca.vertcat(fixed, lbdw[P.n_x:]), ca.vertcat(fixed, ubdw[P.n_x:])
+        return (ca.mtimes([S, H, S]), g * cs, ca.mtimes([Rs, A, S]), lba * rs, uba * rs, lbdw / cs, ubdw / cs)
 
-    def finish(w, dw, lam, A, lba, uba, lbdw, ubdw):
-        Ad = ca.mtimes(A, dw)
-        viol = ca.mmax(ca.vertcat(0, lbdw - dw, dw - ubdw, lba - Ad, Ad - uba)) / (1 + ca.norm_inf(dw))
+    def finish(w, dws, lam, A, lba, uba, lbdw, ubdw):   # violation of the unscaled QP
+        dw = dws * cs
+        Ad = ca.mtimes(A, dws) / rs
+        viol = ca.mmax(ca.vertcat(0, lbdw * cs - dw, dw - ubdw * cs, lba / rs - Ad, Ad - uba / rs)) \
+            / (1 + ca.norm_inf(dw))
         return w + dw, viol, lam
 
     def ending(w, viol, lam):
@@ -415,6 +428,31 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
     end = ca.Function("nmpc_finish", [w_in, dw, lam_in, A, *lim], ending(*finish(w_in, dw, lam_in, A, *lim)),
                       ["w", "dw", "lam", "a", "lba", "uba", "lbx", "ubx"], outs)
     return data, qp, end
+
+
+def _qp_scaling(nmpc, prep, bounds, p, n_prev: int) -> tuple[np.ndarray, np.ndarray]:
+    """Constant column and row scales of the exported QP: ``col`` = 1/sqrt of the Hessian's diagonal (1 where it is
+    zero), each dynamics row divided by the ``col`` of the state it defines (its identity block stays one), at the
+    NMPC's steady reference at the middle of its wind table (Gauss–Newton: the diagonal hardly moves with the
+    operating point). qrqp's tolerances are absolute: on the IEA 15 MW (torque ~2e7 N m, its rate's Hessian
+    ~1e-10) the unscaled QP stopped warm-started at a non-optimal point, 71 kN m off hpipm's (measured)."""
+    P = nmpc.nmpc.transcription.problem
+    grid = np.asarray(nmpc.references.winds, dtype=float)
+    wind = 0.5 * (grid[0] + grid[-1])
+    xs = np.concatenate([nmpc.references.state(wind), np.zeros(n_prev)])
+    u0 = np.clip(np.zeros(P.n_u), P.lbu[:P.n_u], P.ubu[:P.n_u])
+    w = np.concatenate([np.tile(np.concatenate([xs, u0]), P.N), xs])
+    ws = ca.MX.sym("ws")
+    column = ca.Function("stage_column", [ws], [_stage_column(nmpc, ws)])
+    stages = np.tile(np.asarray(column(wind), dtype=float), (1, P.N + 1))
+    h = np.asarray(ca.diag(prep(w, stages, p, *bounds)[0]), dtype=float).ravel()
+    col = np.where(h > 0.0, 1.0 / np.sqrt(np.where(h > 0.0, h, 1.0)), 1.0)
+    row = np.ones(prep.sparsity_out(2).size1())
+    nv = P.n_x + P.n_u
+    for k in range(P.N):                      # rows x_{k+1} - F(x_k, u_k): divided by x_{k+1}'s scale
+        r0 = k * (P.n_x + P.n_c)
+        row[r0:r0 + P.n_x] = 1.0 / col[(k + 1) * nv:(k + 1) * nv + P.n_x]
+    return col, row
 
 
 def _shift_stages(v: ca.MX, n_stages: int, block: int) -> ca.MX:
@@ -488,8 +526,11 @@ class SampledLoop:
         self.stage_winds: np.ndarray | None = None
 
     def step(self, t: float, gen_speed_rpm: float, accel: float, pitch: float, torque: float,
-             hub_wind: float | None = None, lidar=None) -> tuple[float, float] | None:
+             hub_wind: float | None = None, lidar=None, more=()) -> tuple[float, float] | None:
         """Pitch [rad] and torque [N m] demands at loop sample ``t`` [s] from the measurements.
+
+        ``more``: the estimator's further measurements (:attr:`SampleFunctions.measurements` after the first
+        two; a floating platform's ``NcIMURAys`` [deg/s²], ``PtfmPitch`` [deg], ``PtfmSurge`` [m]).
 
         ``hub_wind`` [m/s]: the measured hub wind, read where the estimator starts or restarts
         (``initial="hub-wind"``). ``lidar``: the beams' speeds [m/s] (with a preview; None: no
@@ -500,6 +541,9 @@ class SampledLoop:
         import time
 
         f, k = self.f, self.k
+        if len(more) != len(f.measurements) - 2:
+            raise ControlDefinitionError(f"the estimator measures {list(f.measurements)}: give the last "
+                                         f"{len(f.measurements) - 2} as more=; got {len(more)} values.")
         self.k += 1
         if k == 0:
             self.z = f.restart(hub_wind)
@@ -509,7 +553,7 @@ class SampledLoop:
         restarted = False
         if k % f.ke == 0:
             mean = self._acc / self._n if self._n else np.array([pitch, torque])
-            z, P = f.ekf(self.z, self.P, [gen_speed_rpm, accel], mean, 0.0 if k == 0 else 1.0)
+            z, P = f.ekf(self.z, self.P, [gen_speed_rpm, accel, *more], mean, 0.0 if k == 0 else 1.0)
             self.z, self.P = np.asarray(z).ravel(), np.asarray(P)
             self._acc[:], self._n = 0.0, 0
             if not (f.plausible(self.z) and np.all(np.isfinite(self.P))):

@@ -25,7 +25,8 @@ from ...simulate.controller import DiscreteController
 from ..control.baseline import BaselineController
 from ..control.discon import DisconController
 
-__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "DISCON_MEASUREMENTS",
+__all__ = ["MEASUREMENTS", "TO_SI", "ACTUATED", "BLADE_MEASUREMENTS", "FLOATING_MEASUREMENTS", "PLATFORM_MEASUREMENTS",
+           "DISCON_MEASUREMENTS",
            "SI_FACTORS",
            "measurement_names",
            "baseline_in_loop", "discon_in_loop", "held_commands"]
@@ -43,6 +44,9 @@ BLADE_MEASUREMENTS = ("RootMyc1", "RootMyc2", "RootMyc3", "Azimuth", "BldPitch2"
 #: acceleration [deg/s^2] (Fl_Mode 2), the tower top's fore-aft and side-side accelerations [m/s^2] and the
 #: nacelle yaw [deg] (Fl_Mode 1).
 FLOATING_MEASUREMENTS = ("NcIMURAys", "YawBrTAxp", "YawBrTAyp", "NacYaw")
+#: Further channels a DISCON library receives from a floating plant, as OpenFAST v5's ServoDyn fills its extended
+#: records 1001-1006: the platform's displacements [m, deg] (the exported floating NMPC's EKF reads pitch and surge).
+PLATFORM_MEASUREMENTS = ("PtfmSurge", "PtfmSway", "PtfmHeave", "PtfmRoll", "PtfmPitch", "PtfmYaw")
 #: Further channels a DISCON library receives from any plant that has them, as ServoDyn fills their records for
 #: every library: the measured generator torque [kN-m] (record 23) and the tower top's fore-aft acceleration
 #: [m/s^2] (53); the exported NMPC's estimator reads both.
@@ -51,16 +55,18 @@ DISCON_MEASUREMENTS = ("GenTq", "YawBrTAxp")
 SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "YawBrTAxp": 1.0, "YawBrTAyp": 1.0,
               "GenTq": 1e3,
               "NacYaw": math.pi / 180.0,
+              **{n: math.pi / 180.0 if n in ("PtfmRoll", "PtfmPitch", "PtfmYaw") else 1.0
+                 for n in PLATFORM_MEASUREMENTS},
               "RootMyc1": 1e3, "RootMyc2": 1e3, "RootMyc3": 1e3,
               "Azimuth": math.pi / 180.0, "BldPitch2": math.pi / 180.0, "BldPitch3": math.pi / 180.0}
 
 
 def measurement_names(model) -> tuple[str, ...]:
     """The channels ``model``'s measurement outputs carry (:data:`MEASUREMENTS`, for a blade-element
-    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS`, then
-    :data:`DISCON_MEASUREMENTS` not among them)."""
+    plant :data:`BLADE_MEASUREMENTS`, for a floating plant :data:`FLOATING_MEASUREMENTS` and
+    :data:`PLATFORM_MEASUREMENTS`, then :data:`DISCON_MEASUREMENTS` not among them)."""
     names = MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
-        (FLOATING_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
+        (FLOATING_MEASUREMENTS + PLATFORM_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
     return names + tuple(c for c in DISCON_MEASUREMENTS if c not in names)
 
 
