@@ -35,20 +35,23 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
     prediction : PredictionModel
         The NMPC's model (a platform DOF in it makes the tuning the floating one).
     field : bool, keyword-only
-        The deck's wind is a full field (:func:`full_field_wind`): :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`.
+        The deck's wind is a full field (:func:`full_field_wind`): :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`
+        on land.
     preview : float, optional, keyword-only
         A preview of the plant's own wind [s] (``mbsym simulate --preview``): the ideal-wind tuning (with a cost
         on the platform's pitch rate when floating). Otherwise :meth:`~mbsym.wind.mpc.NMPCTuning.floating` on a
-        floating platform, :meth:`~mbsym.wind.mpc.NMPCTuning.estimated_wind` on land.
+        floating platform in any wind (without its platform term the speed loop pumps the platform's pitch),
+        :meth:`~mbsym.wind.mpc.NMPCTuning.full_field` or :meth:`~mbsym.wind.mpc.NMPCTuning.estimated_wind` on
+        land.
     """
     from ..wind.mpc.nmpc import NMPCTuning
 
     floating = any(s.startswith("Ptfm") for s in prediction.dofs)
     if preview is not None:
         return NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
-    if field:
-        return NMPCTuning.full_field()
-    return NMPCTuning.floating() if floating else NMPCTuning.estimated_wind()
+    if floating:
+        return NMPCTuning.floating()
+    return NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
 
 
 def controller_model(deck, say: Callable[[str], None] | None = None):

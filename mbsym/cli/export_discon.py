@@ -31,7 +31,8 @@ m/s when given. For a deck whose plant needs blade-element aerodynamics (full fi
 the controller's models are the deck's rotor-effective model with the DOFs they use (GenDOF,
 TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsion where the deck has it).
 A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
-``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py). ``--estimator mhe``
+``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py; a floating deck keeps
+``NMPCTuning.floating``). ``--estimator mhe``
 is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
 
 ``--preview`` (nmpc): ``lidar`` reads the deck's single-point lidar (InflowWind ``SensorType = 1``) from
@@ -147,9 +148,11 @@ def _run_nmpc(args) -> int:
     prediction = PredictionModel(model)
     tuning = nmpc_tuning(prediction, field=field)
     nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints))
+    floating = any(d.startswith("Ptfm") for d in prediction.dofs)
     if field:
-        print("mbsym export-discon: the deck's wind is a full field: the NMPC and EKF tunings for a rotor-averaged "
-              "wind (NMPCTuning.full_field, EstimatorTuning.full_field)")
+        print("mbsym export-discon: the deck's wind is a full field: the EKF tuning for a rotor-averaged wind "
+              "(EstimatorTuning.full_field)" + (", the floating NMPC's (NMPCTuning.floating)" if floating else
+                                                ", the NMPC's too (NMPCTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")

@@ -335,6 +335,25 @@ def test_full_field_decks_get_the_rotor_averaged_tunings():
     assert e.wind_walk == 0.1 and e.blade_passing and EstimatorTuning().wind_walk == 0.25
 
 
+def test_simulate_and_export_tune_the_nmpc_alike():
+    # One choice for `mbsym simulate DECK --controller nmpc` and `mbsym export-discon DECK --controller nmpc`. A
+    # platform in the prediction model keeps NMPCTuning.floating in any wind: without its platform term the speed
+    # loop pumps the platform's pitch (the export once used estimated_wind on the floating deck: its library let the
+    # pitch oscillation grow from 0.01 to 1.3 deg in 250 s, in mbsym and in OpenFAST alike).
+    from types import SimpleNamespace
+
+    from mbsym.cli.controller_model import nmpc_tuning
+    from mbsym.wind.mpc import NMPCTuning
+
+    land = SimpleNamespace(dofs=("GenDOF", "TwFADOF1"))
+    floating = SimpleNamespace(dofs=("GenDOF", "TwFADOF1", "PtfmSgDOF", "PtfmPDOF"))
+    assert nmpc_tuning(land, field=False) == NMPCTuning.estimated_wind()
+    assert nmpc_tuning(land, field=True) == NMPCTuning.full_field()
+    assert nmpc_tuning(floating, field=False) == nmpc_tuning(floating, field=True) == NMPCTuning.floating()
+    assert nmpc_tuning(floating, field=False, preview=1.0).platform_pitch_rate_scale == 5e-4
+    assert nmpc_tuning(land, field=True, preview=1.0) == NMPCTuning()
+
+
 @pytest.mark.slow
 def test_implausible_estimate_restarts_the_ekf_from_the_hub_wind(library):
     # A generator speed of 3000 rpm at the estimator sample of call 16 (the schedule starts at call 1; the EKF runs
