@@ -32,7 +32,7 @@ the controller's models are the deck's rotor-effective model with the DOFs they 
 TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsion where the deck has it).
 A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
 ``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py; a floating deck keeps
-``NMPCTuning.floating``). ``--estimator mhe``
+``NMPCTuning.floating`` and the default ``EstimatorTuning``). ``--estimator mhe``
 is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
 
 ``--preview`` (nmpc): ``lidar`` reads the deck's single-point lidar (InflowWind ``SensorType = 1``) from
@@ -115,7 +115,6 @@ def _run_nmpc(args) -> int:
     from ..exceptions import ControllerError, OptionError
     from ..wind.control.baseline import BaselineController
     from ..wind.mpc import (
-        EstimatorTuning,
         PredictionModel,
         SetPoints,
         TurbineEstimator,
@@ -124,7 +123,7 @@ def _run_nmpc(args) -> int:
     )
     from ..wind.mpc.discon_nmpc import export_nmpc_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
-    from .controller_model import controller_model, nmpc_tuning
+    from .controller_model import controller_model, estimator_tuning, nmpc_tuning
     from .operate_mpc import _initial_estimate
 
     if args.estimator == "mhe":
@@ -141,7 +140,7 @@ def _run_nmpc(args) -> int:
     model = controller_model(deck, say=lambda line: print(f"mbsym export-discon: {line}"))
     observed = estimation_model(model)
     field = full_field_wind(deck)
-    estimator = TurbineEstimator(observed, "ekf", tuning=EstimatorTuning.full_field() if field else None,
+    estimator = TurbineEstimator(observed, "ekf", tuning=estimator_tuning(observed, field=field),
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
@@ -150,9 +149,9 @@ def _run_nmpc(args) -> int:
     nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints))
     floating = any(d.startswith("Ptfm") for d in prediction.dofs)
     if field:
-        print("mbsym export-discon: the deck's wind is a full field: the EKF tuning for a rotor-averaged wind "
-              "(EstimatorTuning.full_field)" + (", the floating NMPC's (NMPCTuning.floating)" if floating else
-                                                ", the NMPC's too (NMPCTuning.full_field)"))
+        print("mbsym export-discon: the deck's wind is a full field: " + (
+            "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning())" if floating else
+            "the NMPC and EKF tunings for a rotor-averaged wind (NMPCTuning.full_field, EstimatorTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")

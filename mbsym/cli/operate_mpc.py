@@ -90,13 +90,13 @@ class MpcOptions:
         the estimator predict with the deck's rotor-effective model (:func:`.controller_model.controller_model`),
         with the full-field tunings when the deck's wind is a full field."""
         from ..wind.control.baseline import BaselineController
-        from ..wind.mpc.estimator import EstimatorTuning, TurbineEstimator, estimation_model
+        from ..wind.mpc.estimator import TurbineEstimator, estimation_model
         from ..wind.mpc.lidar_preview import PreviewSettings
         from ..wind.mpc.loop import TurbineLoop
         from ..wind.mpc.nmpc import TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
         from ..wind.mpc.setpoints import SetPoints
-        from .controller_model import controller_model, full_field_wind, nmpc_tuning
+        from .controller_model import controller_model, estimator_tuning, full_field_wind, nmpc_tuning
 
         blade = model.aero == "blade"
         own = controller_model(deck, say=say) if blade else model
@@ -107,8 +107,7 @@ class MpcOptions:
         if self.estimator is not None:
             observed = estimation_model(own)
             start = _start_speed(model, wind)
-            estimator = TurbineEstimator(observed, self.estimator,
-                                         tuning=EstimatorTuning.full_field() if field else None,
+            estimator = TurbineEstimator(observed, self.estimator, tuning=estimator_tuning(observed, field=field),
                                          x0=_initial_estimate(own, observed, lambda t: start, settings))
         if self.controller == "nmpc":
             tuning = nmpc_tuning(prediction, field=field, preview=self.preview)

@@ -28,7 +28,7 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import ModelDefinitionError
 from .mooring import MooringSystem
-from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, SEA_INPUT_UNITS, FloatingPlatform, platform_dofs
+from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS, FloatingPlatform, platform_dofs, sea_input_unit
 from .platform import PlatformHydrodynamics
 from .radiation import RadiationStateSpace
 
@@ -146,7 +146,7 @@ class FloatingStructure:
                         parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
                         output_names=names, output_units=units, x0=self.initial_state(),
                         name="floating_structure",
-                        input_units=[structural_input_unit(n) for n in other] + [SEA_INPUT_UNITS[n] for n in sea_inputs])
+                        input_units=[structural_input_unit(n) for n in other] + [sea_input_unit(n) for n in sea_inputs])
 
     def rhs(self) -> ca.Function:
         """``x → ẋ`` (SX), the deck's parameter values bound, other inputs zero (still water)."""

@@ -2,7 +2,8 @@
 
 HydroDyn's Morison members are cylinders between joints. A member modelled by potential flow (``PropPot =
 TRUE``) gets from strip theory only its **viscous drag** (its buoyancy, added mass and wave inertia are in the
-WAMIT data); this module models that drag in **still water**, with HydroDyn v5.0.0's conventions (read for the
+WAMIT data); this module models that drag in still water and in first-order waves, with HydroDyn v5.0.0's
+conventions (read for the
 facts in ``Morison.f90``: ``Morison_GenerateSimulationNodes``, ``SetMemberProperties_Cyl``, ``Morison_CalcOutput``,
 ``LumpDistrHydroLoads``):
 
@@ -36,16 +37,22 @@ The loads are summed about the displaced platform reference point in inertial ax
 velocity is ``q̇[0:3] + ω × (R p)`` with ``ω = q̇[3:6]`` (HydroDyn's mesh velocities; the DOF rates, exact for
 small angles, as :class:`~.hydrostatics.AdditionalLoads`).
 
+**In waves** the water's velocity ``u_water`` at every strip node and end plate is SeaState's first-order
+kinematics at its undisplaced position (``WaveDisp = 0``; zero above the still-water level), read off SeaState's
+grid as HydroDyn reads it (:mod:`.wave_kinematics`); the model takes it as inputs (:meth:`MorisonDrag.load`'s
+``flow``), fed from tables like the excitation.
+
 **Refused** (:func:`morison_problems`): members not modelled by potential flow (``PropPot = FALSE``: their
 buoyancy, added mass and wave inertia), rectangular members (``MSecGeom = 2``), filled members (``NFillGroups``:
-their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), waves or a current with members (the water's velocity at the members), wave stretching
-(``WaveStMod > 0``), members below the seabed.
+their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), a current with members, waves with the
+members' displaced positions (``WaveDisp = 1``) or with second-order kinematics (``WvDiffQTF``, ``WvSumQTF``),
+wave stretching (``WaveStMod > 0``), members below the seabed.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
@@ -82,6 +89,8 @@ class MorisonDrag:
         ``AxFDMod = 1``.
     water_density : float
         [kg/m³].
+    reference : ndarray (3,)
+        The platform reference point's undisplaced position [m] (:attr:`flow_points` are absolute).
     """
 
     points: np.ndarray
@@ -95,27 +104,43 @@ class MorisonDrag:
     end_drag: np.ndarray
     end_one_sided: np.ndarray
     water_density: float
+    reference: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def n_nodes(self) -> int:
         """Wet strip nodes."""
         return int(self.length.size)
 
-    def load(self, q, qd):
+    @property
+    def n_flow(self) -> int:
+        """Points where the water's velocity enters: the strip nodes, then the end plates."""
+        return self.n_nodes + int(self.end_drag.size)
+
+    def flow_points(self) -> np.ndarray:
+        """``(n_flow, 3)`` undisplaced positions [m] of the strip nodes, then the end plates (inertial, z from the
+        still-water level): where HydroDyn reads the waves' kinematics (``WaveDisp = 0``)."""
+        return np.vstack([self.points, self.end_points]) + np.asarray(self.reference, dtype=float)
+
+    def load(self, q, qd, flow=None):
         """The drag at the reference point, inertial axes [N, N m] (numbers → numpy, SX/MX → expression).
 
         Parameters
         ----------
         q, qd : array_like or casadi (6)
             Platform DOFs (surge … yaw) [m, rad] and their rates [m/s, rad/s].
+        flow : array_like or casadi (3 n_flow), optional
+            The water's velocity [m/s] at :meth:`flow_points` (x, y, z of each in turn); default still water.
         """
         x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
+        water = None if flow is None else _in(flow, 3 * self.n_flow, "flow")
         rot = euler_zyx(x[3:6])
         force = moment = 0.0 * x[0:3]
         rho = self.water_density
         for k in range(self.n_nodes):
             arm = ca.mtimes(rot, ca.DM(self.points[k]))
             rel = -(v[0:3] + ca.cross(v[3:6], arm))
+            if water is not None:
+                rel = rel + water[3 * k:3 * k + 3]
             axis = ca.DM(self.axis[k])
             along = ca.dot(axis, rel)
             across = rel - along * axis
@@ -128,6 +153,9 @@ class MorisonDrag:
         for k in range(self.end_drag.size):
             arm = ca.mtimes(rot, ca.DM(self.end_points[k]))
             rel = -(v[0:3] + ca.cross(v[3:6], arm))
+            if water is not None:
+                j = 3 * (self.n_nodes + k)
+                rel = rel + water[j:j + 3]
             normal = ca.DM(self.end_normals[k])
             vn = ca.dot(normal, rel)
             if self.end_one_sided[k]:
@@ -136,7 +164,7 @@ class MorisonDrag:
                 f = 0.25 * rho * self.end_drag[k] * ca.fabs(vn) * vn * normal
             force += f
             moment += ca.cross(arm, f)
-        return _out(ca.vertcat(force, moment), q, qd)
+        return _out(ca.vertcat(force, moment), q, qd, flow)
 
 
 def _rows(hd, name: str) -> list[tuple]:
@@ -172,9 +200,12 @@ def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[
         if len(row) > 4 and int(row[4]) not in (0, 1):
             out.append(f"AxFDMod = {int(row[4])} on axial coefficients {int(row[0])} (0 or 1)")
     if sea is not None:
-        if sea.wave_model != 0:
-            out.append(f"WaveMod = {sea.wave_model} with members (the waves' velocity at the members is not modelled; "
-                       "their drag is, in still water)")
+        if sea.wave_model != 0 and getattr(hd, "wave_displaced", 0):
+            out.append(f"WaveDisp = {hd.wave_displaced} with waves and members (the waves' velocity at the members' "
+                       "displaced positions; use 0, the undisplaced ones)")
+        if sea.wave_model != 0 and (getattr(sea, "difference_qtf", False) or getattr(sea, "sum_qtf", False)):
+            out.append("WvDiffQTF/WvSumQTF with waves and members (SeaState adds second-order kinematics to the "
+                       "waves' velocity at the members, which is first order here; set both False)")
         if sea.current_model != 0:
             out.append(f"CurrMod = {sea.current_model} with members (the current's drag on them is not modelled)")
         if sea.stretching_model != 0:
@@ -255,7 +286,7 @@ def morison_drag(hd, *, water_density: float, reference=(0.0, 0.0, 0.0),
     if strips is None:
         strips = {"points": np.zeros((0, 3)), "axis": np.zeros((0, 3))} | {k: np.zeros(0) for k in
                                                                            ("length", "offset", "drag", "taper")}
-    return MorisonDrag(**strips, **end, water_density=float(water_density))
+    return MorisonDrag(**strips, **end, water_density=float(water_density), reference=ref)
 
 
 def _lookup(table: dict, key: int, what: str):

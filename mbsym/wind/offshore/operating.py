@@ -33,6 +33,7 @@ undisplaced platform (HydroDyn's ``ExctnDisp = 0``).
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import dataclass
 from functools import cached_property
@@ -44,12 +45,14 @@ import numpy as np
 
 from ...exceptions import ModelWarning, UnsupportedFeatureError
 from .excitation import EXCITATION_CHANNELS
+from .wave_kinematics import flow_input_names
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "ELEVATION_AHEAD", "platform_dofs", "deck_radiation"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "sea_input_unit", "ELEVATION_AHEAD",
+           "platform_dofs", "deck_radiation"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -63,6 +66,13 @@ SEA_INPUTS = (*EXCITATION_CHANNELS, "Wave1Elev")
 #: Their units as inputs (mbsym's input convention: "N m" for moments).
 SEA_INPUT_UNITS = {"B1WvsFxi": "N", "B1WvsFyi": "N", "B1WvsFzi": "N", "B1WvsMxi": "N m", "B1WvsMyi": "N m",
                    "B1WvsMzi": "N m", "Wave1Elev": "m", "WaveElevAhead": "m"}
+def sea_input_unit(name: str) -> str:
+    """The unit of a sea input (:data:`SEA_INPUT_UNITS`; ``m/s`` for the waves' velocity at a Morison point), or ""."""
+    if name in SEA_INPUT_UNITS:
+        return SEA_INPUT_UNITS[name]
+    return "m/s" if re.fullmatch(r"MorisonU\d+[xyz]i", name) else ""
+
+
 #: The input of HydroDyn's state-space excitation (``ExctnMod = 2``): the elevation at the platform ``Tc`` ahead [m].
 ELEVATION_AHEAD = "WaveElevAhead"
 #: How :func:`floating_platform` models the radiation memory.
@@ -148,8 +158,12 @@ class FloatingPlatform:
 
     @property
     def sea_inputs(self) -> tuple[str, ...]:
-        """:data:`SEA_INPUTS`, and with the state-space excitation the elevation ``Tc`` ahead (:data:`ELEVATION_AHEAD`)."""
-        return SEA_INPUTS + ((ELEVATION_AHEAD,) if self.excitation_fit is not None else ())
+        """:data:`SEA_INPUTS`, with the state-space excitation the elevation ``Tc`` ahead
+        (:data:`ELEVATION_AHEAD`), with Morison members in waves the water's velocity at them
+        (:func:`~.wave_kinematics.flow_input_names`)."""
+        flow = getattr(self.hydro, "flow", None)
+        return SEA_INPUTS + ((ELEVATION_AHEAD,) if self.excitation_fit is not None else ()) + \
+            (flow_input_names(flow.n_points) if flow is not None else ())
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -181,10 +195,13 @@ class FloatingPlatform:
             return {}
         tables = self.waves.tables(t_end)
         fit = self.excitation_fit
+        t = tables["Wave1Elev"][0]
         if fit is not None:
-            t = tables["Wave1Elev"][0]
             sea = self.waves.waves
             tables[ELEVATION_AHEAD] = (t, np.interp((t + fit.delay) % sea.period, sea.times(), sea.elevation()))
+        flow = getattr(self.hydro, "flow", None)
+        if flow is not None:
+            tables.update(flow.tables(t))
         return tables
 
     @cached_property
@@ -209,7 +226,9 @@ class FloatingPlatform:
             fit, xe = self.excitation_fit, xr[nr:]
             excitation = excitation + ca.mtimes(ca.DM(fit.C), xe)
             xe_dot = ca.mtimes(ca.DM(fit.A), xe) + ca.DM(fit.B) * sea[len(SEA_INPUTS)]
-        hydro = self.hydro.load(qp, vp) + excitation         # hydrostatics, additional loads, members' drag
+        n_sea = len(SEA_INPUTS) + (1 if self.excitation_fit is not None else 0)
+        flow = sea[n_sea:] if sea.numel() > n_sea else None    # the waves' velocity at the Morison members
+        hydro = self.hydro.load(qp, vp, flow) + excitation   # hydrostatics, additional loads, members' drag
         if self.radiation is not None:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr[:nr])
             xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr[:nr])
@@ -260,7 +279,7 @@ class FloatingPlatform:
         from dataclasses import replace
 
         mooring = None if self.mooring is None else self.mooring.with_dynamics(None, self.mooring.water_density)
-        hydro = replace(self.hydro, waves=None, excitation_fit=None)
+        hydro = replace(self.hydro, waves=None, excitation_fit=None, flow=None)
         return FloatingPlatform(hydro, mooring, None, self.mooring_steps)
 
     def __repr__(self) -> str:

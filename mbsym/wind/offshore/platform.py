@@ -16,7 +16,8 @@ redimensionalized with the ``.fst``'s water density and gravity:
 
 **Modelled**: still water or first-order waves (``WaveMod`` 1, ``1P#``, 2, 3, 5; ``ExctnMod`` 1 at the
 undisplaced position), first-order potential flow, one rigid body, the viscous drag of its potential-flow
-members in still water (:mod:`.morison`). What the deck asks for beyond that
+members (:mod:`.morison`) in still water or in the waves' velocity at their undisplaced nodes
+(:mod:`.wave_kinematics`). What the deck asks for beyond that
 is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
 :mod:`.operating` as states), second-order forces (refused with waves; zero in still water), a current
@@ -43,6 +44,7 @@ from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
+from .wave_kinematics import WaveFlow, wave_flow
 from .waves import incident_waves
 
 __all__ = ["PlatformHydrodynamics", "platform_hydrodynamics"]
@@ -64,6 +66,12 @@ class PlatformHydrodynamics:
         What the deck asks for that is not modelled (also issued as warnings).
     waves : WaveExcitation or None
         The sea's first-order excitation and elevation (None: still water).
+    excitation_fit : ExcitationFit or None
+        HydroDyn's state-space excitation (``ExctnMod = 2``).
+    morison : MorisonDrag or None
+        The members' viscous drag (:mod:`.morison`).
+    flow : WaveFlow or None
+        The waves' velocity at the members (:mod:`.wave_kinematics`; None in still water or without members).
     """
 
     hydrostatics: PlatformHydrostatics
@@ -74,16 +82,17 @@ class PlatformHydrodynamics:
     waves: WaveExcitation | None = None
     excitation_fit: ExcitationFit | None = None
     morison: MorisonDrag | None = None
+    flow: WaveFlow | None = None
 
-    def load(self, q, qd):
-        """Still-water load at the reference point, inertial axes [N, N m]: hydrostatics and
-        buoyancy, the additional loads and the members' viscous drag (:mod:`.morison`; no radiation
-        memory, no waves)."""
+    def load(self, q, qd, flow=None):
+        """Load at the reference point, inertial axes [N, N m]: hydrostatics and buoyancy, the additional
+        loads and the members' viscous drag (:mod:`.morison`) in the water's velocity ``flow`` at the
+        members (``3 morison.n_flow`` values [m/s]; default still water); no radiation memory, no excitation."""
         x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
         out = _in(self.hydrostatics.load(x), 6, "q") + _in(self.additional.load(x, v), 6, "qd")
         if self.morison is not None:
-            out = out + _in(self.morison.load(x, v), 6, "qd")
-        return _out(out, q, qd)
+            out = out + _in(self.morison.load(x, v, flow), 6, "qd")
+        return _out(out, q, qd, flow)
 
     def added_mass_load(self, qdd):
         """``−A∞ a`` [N, N m] for the reference point's acceleration ``a`` (translational, angular) [m/s², rad/s²]."""
@@ -214,8 +223,14 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     waves = _waves(hd, sea, wamit, float(gravity), water_depth)
     fit = _excitation_fit(hd, sea) if waves is not None and hd.excitation_model == 2 else None
     morison = morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth)
+    flow = None
+    if morison is not None and morison.n_flow and waves is not None:
+        if depth is None:
+            raise ParameterError(f"{hd.path}: the waves' velocity at the Morison members needs the water depth; give "
+                                 "water_depth (the .fst's WtrDpth).")
+        flow = wave_flow(waves.waves, sea, morison.flow_points())
     return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves, fit,
-                                 morison)
+                                 morison, flow)
 
 
 def _depth(sea: SeaStateInput | None, water_depth: float | None) -> float | None:

@@ -37,7 +37,7 @@ from ...exceptions import ModelWarning, OpenFASTFormatError, UnsupportedFeatureE
 from .ranlux import RanLux
 
 __all__ = ["IncidentWaves", "incident_waves", "jonswap", "wave_steps", "wave_number", "read_elevation_series",
-           "grid_elevation"]
+           "grid_elevation", "index_weights"]
 
 _PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23)
 #: SeaState's tolerance between WaveDT and an external series' time step [s] (UserWaves.f90).
@@ -139,9 +139,14 @@ def grid_elevation(waves: IncidentWaves, sea, x: float, y: float) -> np.ndarray:
 
 def _grid_weights(p_in: float, half_width: float, n_half: int) -> list[tuple[float, float]]:
     """(node coordinate, weight) of the NWTC GridInterp along one non-periodic grid axis (``SetIndex``, ``GetN1D``)."""
-    n = 2 * n_half - 1
     delta = half_width / (n_half - 1)
-    p = min(max((p_in + half_width) / delta, 0.0), n - 1.0)
+    return [((i - (n_half - 1)) * delta, w) for i, w in index_weights((p_in + half_width) / delta, 2 * n_half - 1)]
+
+
+def index_weights(p: float, n: int) -> list[tuple[int, float]]:
+    """(node index, weight) of the NWTC GridInterp at index coordinate ``p`` on ``n`` uniform nodes ``0 … n − 1``:
+    cubic Catmull–Rom inside, quadratic at the first and last interval, linear on two nodes; ``p`` clamped."""
+    p = min(max(p, 0.0), n - 1.0)
     if math.isclose(p, n - 1.0, rel_tol=0.0, abs_tol=1e-9):
         u, index = 1.0, [n - 3, n - 2, n - 1, n]
     else:
@@ -159,7 +164,7 @@ def _grid_weights(p_in: float, half_width: float, n_half: int) -> list[tuple[flo
                1: (0.0, 0.5 * u2 - 1.5 * u + 1.0, -u2 + 2.0 * u, 0.5 * u2 - 0.5 * u),
                2: (0.5 * u2 - 0.5 * u, -u2 + 1.0, 0.5 * u2 + 0.5 * u, 0.0),
                0: (0.0, 1.0 - u, u, 0.0)}[support]
-    return [((i - (n_half - 1)) * delta, w) for i, w in zip(index, weights)]
+    return list(zip(index, weights))
 
 
 def wave_steps(time_max: float, time_step: float) -> int:

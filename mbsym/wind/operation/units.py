@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-from ..offshore.operating import SEA_INPUT_UNITS
+from ..offshore.operating import SEA_INPUT_UNITS, sea_input_unit
 from ..structure.units import structural_input_unit
 
 __all__ = ["STATE_UNITS", "INPUT_UNITS", "state_units", "input_units", "RADIATION_UNIT"]
@@ -88,4 +88,4 @@ def input_units(inputs: Sequence[str], wind_units: Mapping[str, str] | None = No
 def _input_unit(name: str, wind: Mapping[str, str]) -> str:
     if name in wind:
         return wind[name]
-    return INPUT_UNITS.get(name) or structural_input_unit(name)
+    return INPUT_UNITS.get(name) or sea_input_unit(name) or structural_input_unit(name)

@@ -99,6 +99,26 @@ def write_deck(root: Path, variant: str) -> Path:
     return case / "fl_decay_a.fst"
 
 
+#: SeaState edits of the waves variant: JONSWAP (the deck's seeds), a kinematics grid over the columns (10 m
+#: apart), first-order kinematics only.
+WAVE_EDITS = {"WaveMod": "2", "WaveHs": "4.0", "WaveTp": "10.0", "X_HalfWidth": "60", "Y_HalfWidth": "60", "NX": "7",
+              "NY": "7", "WvDiffQTF": "False", "WvSumQTF": "False"}
+
+
+def wave_deck(fst: Path) -> Path:
+    """``fst`` (a :func:`write_deck` case) in the waves of :data:`WAVE_EDITS`."""
+    import re
+
+    path = fst.parent / "fl_decay_a_SeaState.dat"
+    text = path.read_text()
+    for key, value in WAVE_EDITS.items():
+        text, n = re.subn(rf"^\s*\S+(\s+{key}\b)", lambda m, v=value: f"{v:>12}{m.group(1)}", text, count=1,
+                          flags=re.M)
+        assert n == 1, key
+    path.write_text(text)
+    return fst
+
+
 @pytest.fixture(scope="module")
 def decks(tmp_path_factory):
     if not CASE.is_dir():
