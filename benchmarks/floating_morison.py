@@ -6,6 +6,8 @@ tests/wind/offshore/test_offshore_morison.py: ``columns``, ``braces``, ``growth`
 (tests/data/openfast_morison). Prints per deck the ε of surge, heave, pitch and TTDspFA against OpenFAST's
 run of the same deck, the wall time of the run and its ratio to the run without members, measured in
 the same process (the compiled model cached after the first run of each deck: the second of two runs is timed).
+Then ``columns`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first order) against OpenFAST's
+``waves`` run of ``columns``, their cost against the run without members in the same waves.
 
     python benchmarks/floating_morison.py
 """
@@ -49,7 +51,7 @@ def _run(fst: Path, out: Path) -> float:
 
 def main() -> int:
     from mbsym.wind.analysis.compare import error_metrics, read_csv
-    from tests.wind.offshore.test_offshore_morison import write_deck
+    from tests.wind.offshore.test_offshore_morison import wave_deck, write_deck
 
     root = Path(tempfile.mkdtemp(prefix="mbsym_morison_"))
     refs = {name: _reference(name) for name in ("columns", "braces", "growth")}
@@ -65,6 +67,15 @@ def main() -> int:
                 continue
             eps = [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] for c in CHANNELS]
             rows.append((variant, ref_name, *eps, wall, wall / base))
+    wave_base = None                # in JONSWAP waves (WAVE_EDITS): the members' drag in the waves' velocity
+    for variant in ("none", "columns"):
+        fst = wave_deck(write_deck(root / f"{variant}_waves", variant))
+        out = root / f"{variant}_waves.csv"
+        wall = _run(fst, out)
+        wave_base = wall if wave_base is None else wave_base
+        run, ref = read_csv(out), _reference("waves")
+        eps = [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] for c in CHANNELS]
+        rows.append((f"{variant} in waves", "waves", *eps, wall, wall / wave_base))
     print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | wall [s] | ratio to no members |")
     print("|---|---|---|---|---|---|---|---|")
     for variant, ref_name, *eps, wall, ratio in rows:
