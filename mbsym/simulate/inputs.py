@@ -161,6 +161,9 @@ class InputSignal:
         self.names = tuple(names)
         self._channels = tuple(channels)
         self.knots = knots
+        self._groups = _table_groups(self._channels)
+        grouped = {j for _, cols, _ in self._groups for j in cols}
+        self._single = tuple((j, ch) for j, ch in enumerate(self._channels) if j not in grouped)
 
     @property
     def n_u(self) -> int:
@@ -180,13 +183,40 @@ class InputSignal:
         """Inputs at the times ``t`` [s] (1-D), shape ``(len(t), n_u)``."""
         t = np.asarray(t, dtype=float).reshape(-1)
         out = np.empty((t.size, self.n_u))
-        for j, ch in enumerate(self._channels):
+        for j, ch in self._single:
             out[:, j] = ch.sample(t)
+        for grid, cols, values in self._groups:
+            out[:, cols] = _interp_columns(grid, values, t)
         return out
 
     def at(self, t: float) -> np.ndarray:
         """Inputs at one time ``t`` [s], shape ``(n_u,)`` (fast path for adaptive methods)."""
-        return np.array([ch.at(t) for ch in self._channels], dtype=float)
+        if not self._groups:
+            return np.array([ch.at(t) for ch in self._channels], dtype=float)
+        return self(np.array([t]))[0]
+
+
+#: Tables sharing one time grid are interpolated together from this many on (e.g. a floating platform's sea).
+_GROUP_MIN = 4
+
+
+def _table_groups(channels) -> tuple:
+    """``(grid, columns, values (len(grid), len(columns)))`` of the tables that share a grid array, when
+    :data:`_GROUP_MIN` or more do."""
+    by_grid: dict[int, list[int]] = {}
+    for j, ch in enumerate(channels):
+        if isinstance(ch, _Table):
+            by_grid.setdefault(id(ch.grid), []).append(j)
+    return tuple((channels[cols[0]].grid, np.array(cols), np.column_stack([channels[j].values for j in cols]))
+                 for cols in by_grid.values() if len(cols) >= _GROUP_MIN)
+
+
+def _interp_columns(grid: np.ndarray, values: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``np.interp`` of every column of ``values`` at ``t`` (inside the grid), with one search."""
+    t = np.clip(t, grid[0], grid[-1])                       # np.interp holds the end values
+    i = np.clip(np.searchsorted(grid, t, side="right") - 1, 0, grid.size - 2)
+    slope = (values[i + 1] - values[i]) / (grid[i + 1] - grid[i])[:, None]
+    return slope * (t - grid[i])[:, None] + values[i]
 
 
 def input_signal(inputs, names: Sequence[str], tmax: float) -> InputSignal:

@@ -119,6 +119,8 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     Returns
     -------
     LinearModel
+        Inputs: the model's, without the waves' velocity at Morison members (``MorisonU…``: their drag is
+        quadratic, so it has no first-order effect about a still-water trim).
         ``operating_point`` holds ``x``, ``u``, ``p``, ``xd`` (the trim residual, the azimuth
         row the rotor speed), ``y``, the wind speed, the regime and ``inflow``.
 
@@ -136,20 +138,24 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     default = ("RotSpeed", "GenSpeed", "BldPitch1", "GenPwr", "RtAeroFxh", "TTDspFA", "TwrBsMyt", "YawBrTAxp")
     names = tuple(outputs) if outputs is not None else tuple(n for n in default if n in dyn.output_names)
     lin = linearize_dynamics(dyn, point.state, point.inputs, dict(point.parameters), outputs=names)
+    # the waves' velocity at Morison members: quadratic drag, no first-order effect about a still-water trim
+    keep = [i for i, n in enumerate(dyn.inputs) if not n.startswith("MorisonU")]
+    inputs, input_units = tuple(dyn.inputs[i] for i in keep), tuple(dyn.input_units[i] for i in keep)
+    lin = {**lin, "B": np.asarray(lin["B"])[:, keep], "D": np.asarray(lin["D"])[:, keep]}
     eom = model.structure.eom
     M = structural_mass_matrix(trimmer, point)
     units = dict(zip(dyn.states, dyn.state_units))
-    op = {"x": point.state.copy(), "u": point.inputs.copy(), "p": dict(point.parameters), "xd": lin["xd"],
+    op = {"x": point.state.copy(), "u": np.asarray(point.inputs)[keep].copy(), "p": dict(point.parameters),
+          "xd": lin["xd"],
           "y": lin["y"], "wind_speed": point.wind_speed, "regime": point.regime,
           "q": point.state[:eom.n_q].copy(), "qd": point.state[eom.n_q:2 * eom.n_q].copy()}
     empty = np.zeros((0, 0))
     factors, si_units = zip(*(to_si(u) for u in lin["units"])) if names else ((), ())
     scale = np.asarray(factors, dtype=float).reshape(-1, 1)
     op["y"] = op["y"] * scale.reshape(-1)
-    result = LinearModel(M, empty, empty, np.zeros((0, dyn.n_u)), lin["A"], lin["B"], eom.coordinates, dyn.states,
-                         dyn.inputs, op, outputs=names, Cy=lin["C"] * scale, Dy=lin["D"] * scale,
-                         output_units=tuple(si_units), method="exact", units=units,
-                         input_units=tuple(dyn.input_units))
+    result = LinearModel(M, empty, empty, np.zeros((0, len(keep))), lin["A"], lin["B"], eom.coordinates, dyn.states,
+                         inputs, op, outputs=names, Cy=lin["C"] * scale, Dy=lin["D"] * scale,
+                         output_units=tuple(si_units), method="exact", units=units, input_units=input_units)
     if not keep_azimuth and "GeAz" in result.states:
         result = result.without_states(["GeAz"])
     return with_inflow(result, inflow)
