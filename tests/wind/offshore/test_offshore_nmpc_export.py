@@ -155,8 +155,8 @@ def test_exported_floating_nmpc_runs_in_openfast(setup, tmp_path):
     # The deck as shared, 120 s, its ServoDyn given the two paths of the CLI's JSON line and nothing else. Over
     # 30-120 s the NMPC must hold the operation ROSCO holds in OpenFAST's own run of the deck (fl_steady_13.csv,
     # same window): rotor speed within 0.05 rpm, power within 1 %, platform pitch within 0.05 deg and surge within
-    # 0.3 m of ROSCO's means (measured over 600 s: 7.565 rpm, 15.05 MW, 2.875 deg, 16.55 m against ROSCO's 7.56 rpm,
-    # 15.0 MW, 2.87 deg, 16.4 m), with no QP hold or fallback reported.
+    # 0.3 m of ROSCO's means (measured over 30-120 s: 7.564 rpm, 15.04 MW, 2.873 deg, 16.48 m against ROSCO's
+    # 7.559 rpm, 15.00 MW, 2.862 deg, 16.44 m), with no QP hold or fallback reported.
     import shutil
 
     from mbsym.cli import main
