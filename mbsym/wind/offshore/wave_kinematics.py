@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .excitation import catmull_rom
-from .waves import IncidentWaves, index_weights, wave_number
+from .waves import IncidentWaves, _grid_weights, index_weights, wave_number
 
 __all__ = ["WaveFlow", "wave_flow", "flow_input_names", "node_velocity"]
 
@@ -126,8 +126,7 @@ def _grid_depth(sea, water_depth: float) -> float:
 
 
 def _stencil(sea, depth: float, nz: int, x: float, y: float, z: float):
-    from .waves import _grid_weights
-
+    """``((x, w), (y, w), (z, w))`` of the grid nodes around a point with their GridInterp weights."""
     wx = [(p, w) for p, w in _grid_weights(x, float(sea.x_half_width), int(sea.nx)) if w != 0.0]
     wy = [(p, w) for p, w in _grid_weights(y, float(sea.y_half_width), int(sea.ny)) if w != 0.0]
     dtheta = math.pi / (2 * (nz - 1))
