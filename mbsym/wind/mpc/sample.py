@@ -25,7 +25,8 @@ amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
   multipliers shifted one stage: the next sample's warm start. The multipliers' guess makes qrqp
   start from the previous active set: 1.4 against 7.8 ms median per QP on the NREL 5 MW OCP
   (CasADi's virtual machine, same solutions; benchmarks/nmpc_acados.py measures the generated
-  step); its iterations are capped at :data:`QP_MAX_ITER` (a step stopped there is accepted when
+  step); its iterations are capped at :data:`QP_MAX_ITER` (:data:`QP_MAX_ITER_LARGE` for the floating
+  NMPC's larger OCP, :func:`qp_max_iter`; a step stopped there is accepted when
   it passes the violation test below: the bounded worst case of a real-time step; the QP is a
   part of its own because CasADi's generated code returns an error from a capped QP, which would
   end the enclosing Function before its step is computed). ``violation`` is the QP solution's largest bound or constraint
@@ -70,7 +71,7 @@ from ...exceptions import ControlDefinitionError
 from .estimator import control_values
 from .lidar_preview import LidarPreview, PreviewSettings
 
-__all__ = ["QP_ACCEPT", "QP_MAX_ITER", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
+__all__ = ["QP_ACCEPT", "QP_MAX_ITER", "QP_MAX_ITER_LARGE", "qp_max_iter", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
            "sample_functions"]
 
 #: Full Gauss–Newton iterations of the first sample (fixed work; see the module docstring).
@@ -82,6 +83,17 @@ STARTUP_ITERATIONS = 10
 #: benchmarks/nmpc_discon_export.py the first QP after the start-up, stopped at 8, was infeasible (violation
 #: 0.033: a fallback to the baseline); at 10 it converges. Each iteration costs ~0.33 ms.
 QP_MAX_ITER = 10
+#: The cap of OCPs with more than :data:`QP_CAP_STATES` states per stage (the floating NMPC's 11: the platform's surge
+#: and pitch): started in OpenFAST at 18 m/s from the deck's 13 m/s initial conditions, capped at 10 its first 39 QPs
+#: after the start-up failed (violation 0.01-0.25) until the baseline took over; in the mirror on those start
+#: measurements 15 and 20 converge, at 24 m/s 20 does (10: 10 holds).
+QP_MAX_ITER_LARGE = 20
+QP_CAP_STATES = 8
+
+
+def qp_max_iter(n_x: int) -> int:
+    """qrqp's iteration cap in the exported step of an OCP with ``n_x`` states per stage."""
+    return QP_MAX_ITER if n_x <= QP_CAP_STATES else QP_MAX_ITER_LARGE
 #: Largest accepted QP violation relative to ``1 + ‖Δw‖∞`` (:attr:`mbsym.control.qp.QPCall.FEAS_TOL`).
 QP_ACCEPT = 1e-6
 #: Wind step of the steady-estimate table of ``init`` [m/s].
@@ -101,7 +113,7 @@ class SampleFunctions:
     qp_data, qp, finish : casadi.Function
         The real-time iteration in three parts, as the library calls them (:meth:`rti`): the QP at the
         shifted plan (``(w, z, pitch, torque[, wind]) -> (h, g, a, lba, uba, lbx, ubx)``), the QP solver
-        (CasADi's ``qrqp`` conic, at most :data:`QP_MAX_ITER` iterations) and the step
+        (CasADi's ``qrqp`` conic, at most :func:`qp_max_iter` iterations) and the step
         (``(w, dw, lam, a, lba, uba, lbx, ubx) -> (w_next, rates, violation, lam_next)``).
     z0, P0 : ndarray
         The estimator's prior estimate (its start with ``initial="fixed"``) and covariance.
@@ -358,7 +370,7 @@ def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
         raise ControlDefinitionError("the exported NMPC needs an OCP without slacks or collocation variables (the "
                                      f"turbine NMPC's own); this one has {P.n_u - nc} extra stage variables.")
     prep = preparation_function(P)
-    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else QP_MAX_ITER},
+    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else qp_max_iter(P.n_x)},
                label="qp_qrqp" if startup else "nmpc_qp")
     bounds = [ca.DM(b) for b in P.bounds()]
     p = ca.DM(ctl._p)
