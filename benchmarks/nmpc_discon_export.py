@@ -1,6 +1,6 @@
 """The exported NMPC + EKF library (``mbsym export-discon --controller nmpc``): step time and a run inside OpenFAST.
 
-``python benchmarks/nmpc_discon_export.py loop [--seconds 20] [--pitch-acceleration 2]``: the library (built-in NREL 5 MW, 0.01 s) closed on
+``python benchmarks/nmpc_discon_export.py loop [--seconds 20] [--pitch-acceleration 2] [--estimator mhe]``: the library (built-in NREL 5 MW, 0.01 s) closed on
 mbsym's rotor-effective plant (GenDOF, TwFADOF1, TwSSDOF1, dynamic inflow) in mbsym's DISCON loop at 14 m/s
 (Kaimal, seed 3), each call timed; then the Python loop (:class:`TurbineLoop`: RTI driven from Python with hpipm,
 numpy EKF) on the same float32 measurements, its NMPC steps timed (``TurbineNMPC.step``, the EKF apart), in the
@@ -8,7 +8,8 @@ same process. Printed: the time per DISCON call at NMPC samples (EKF + RTI + bas
 call and the swap-array writes of ``DisconController.step``), at the other calls (the overhead floor), the Python
 RTI step, and the largest command differences. With ``--pitch-acceleration A`` a second library with
 ``NMPCTuning.estimated_wind(pitch_acceleration_scale=A deg/s²)`` runs the same, and the ratio of the two libraries'
-median calls at NMPC samples is printed.
+median calls at NMPC samples is printed; with ``--estimator mhe`` a second library with the MHE
+(``--estimator mhe``) runs the same, and the ratios of its median calls to the EKF library's.
 
 ``python benchmarks/nmpc_discon_export.py openfast [--case step_10_14] [--seconds 60] [--keep DIR]``: the deck of
 ``../shared/openfast/aero/openfast_inputs/<case>`` copied, ``mbsym export-discon <case>.fst --controller nmpc``,
@@ -34,9 +35,15 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parent), str(HERE.parent / "tests" / "wind" / "control")]
 
 
-def loop(seconds: float, pitch_acceleration: float | None = None) -> None:
-    """The default library; with ``pitch_acceleration`` [deg/s²] then the library with that term, same run."""
+def loop(seconds: float, pitch_acceleration: float | None = None, estimator: str = "ekf") -> None:
+    """The default library; with ``pitch_acceleration`` [deg/s²] then the library with that term, same run; with
+    ``estimator="mhe"`` then the library with the MHE, same run, and the ratios of its calls to the EKF library's."""
     base = _loop(seconds, None)
+    if estimator == "mhe":
+        print("\n-- with the MHE (window 20 intervals, one real-time iteration per 0.05 s) --")
+        other = _loop(seconds, None, "mhe")
+        print(f"ratio of the median calls (MHE / EKF library): NMPC samples {other[0] / base[0]:.2f}, estimator-only "
+              f"samples {other[1] / base[1]:.2f}")
     if pitch_acceleration is None:
         return
     import math
@@ -46,11 +53,19 @@ def loop(seconds: float, pitch_acceleration: float | None = None) -> None:
     tuning = NMPCTuning.estimated_wind(pitch_acceleration_scale=math.radians(pitch_acceleration))
     print(f"\n-- with a pitch-acceleration term, scale {pitch_acceleration:g} deg/s^2 --")
     other = _loop(seconds, tuning)
-    print(f"ratio of the library's median call at NMPC samples (with / without the term): {other / base:.2f}")
+    print(f"ratio of the library's median call at NMPC samples (with / without the term): {other[0] / base[0]:.2f}")
 
 
-def _loop(seconds: float, tuning) -> float:
-    """One library run (module docstring); returns the median DISCON call at NMPC samples [s]."""
+def _with_estimator(kind: str, est):
+    """``est`` (the test's EKF) or an MHE of the same model and prior (kind ``"mhe"``)."""
+    from mbsym.wind.mpc import TurbineEstimator
+
+    return est if kind == "ekf" else TurbineEstimator(est.prediction, kind, x0=est.x)
+
+
+def _loop(seconds: float, tuning, kind: str = "ekf") -> tuple[float, float]:
+    """One library run (module docstring); returns the median DISCON calls at NMPC samples and at the estimator's
+    other samples [s]."""
     from _mpc_setup import turbine
     from test_nmpc_export import LOOP_SI, _controllers, _wind
 
@@ -65,6 +80,7 @@ def _loop(seconds: float, tuning) -> float:
     t = turbine()
     wind = _wind(seconds)
     est, nmpc, x0 = _controllers(wind, tuning=tuning)
+    est = _with_estimator(kind, est)
     work = Path(tempfile.mkdtemp(prefix="mbsym_nmpc_lib_"))
     c0 = time.perf_counter()
     out = export_nmpc_discon(nmpc, est, BaselineController(t.deck.baseline_settings()), work, loop_dt=0.01)
@@ -88,6 +104,7 @@ def _loop(seconds: float, tuning) -> float:
     # the Python EKF starts where the library's does: the steady estimate at the hub wind of its first step call
     start = sample_functions(nmpc, est, 0.01, settings=t.deck.baseline_settings()).init(rows[1][1][4])
     est, nmpc, _ = _controllers(wind, z0=np.asarray(start, dtype=float).ravel(), tuning=tuning)
+    est = _with_estimator(kind, est)
     lp = TurbineLoop(t.plant, 0.01, nmpc=nmpc, estimator=est)
     xc = lp.controller().x0
     ref = []
@@ -96,21 +113,26 @@ def _loop(seconds: float, tuning) -> float:
         ref.append(u)
     ref, got, walls = np.array(ref), np.array([u for _, _, u in rows[1:]]), np.array(walls)
     k = np.arange(walls.size) - 1        # schedule index: 0 at the first step call
-    at_nmpc, other = walls[(k % 10 == 0) & (k > 0)], walls[(k % 10 != 0) & (k > 0)]
+    at_nmpc, other = walls[(k % 10 == 0) & (k > 0)], walls[(k % 5 != 0) & (k > 0)]
+    at_est = walls[(k % 5 == 0) & (k % 10 != 0) & (k > 0)]
     py = np.array(lp.controller_times[1:])
     ms = 1e3
     print(f"{seconds:g} s closed loop, {walls.size} DISCON calls, library messages: {messages or 'none'}")
-    print(f"DISCON call at NMPC samples (EKF + RTI + baseline): median {np.median(at_nmpc) * ms:.3f} ms, "
+    print(f"DISCON call at NMPC samples ({kind.upper()} + RTI + baseline): median {np.median(at_nmpc) * ms:.3f} ms, "
           f"max {np.max(at_nmpc) * ms:.3f} ms; first step call (start-up, 10 iterations) {walls[1] * ms:.3f} ms")
-    print(f"DISCON call at other samples (baseline, EKF every 5th): median {np.median(other) * ms:.3f} ms, "
+    print(f"DISCON call at the estimator's other samples (baseline + {kind.upper()}): median "
+          f"{np.median(at_est) * ms:.3f} ms, max {np.max(at_est) * ms:.3f} ms")
+    print(f"DISCON call at other samples (baseline): median {np.median(other) * ms:.3f} ms, "
           f"max {np.max(other) * ms:.3f} ms")
     print(f"Python TurbineNMPC.step (RTI, hpipm, compiled preparation): median {np.median(py) * ms:.3f} ms, "
           f"max {np.max(py) * ms:.3f} ms; ratio of medians (library call / Python step) "
           f"{np.median(at_nmpc) / np.median(py):.2f}")
+    pe = np.array(est.walls[1:])
+    print(f"Python TurbineEstimator.step ({kind.upper()}): median {np.median(pe) * ms:.3f} ms, max {np.max(pe) * ms:.3f} ms")
     print(f"max |Δ pitch| {np.max(np.abs(got[:, 0] - ref[:, 0])):.3g} rad, max |Δ torque|/torque "
           f"{np.max(np.abs(got[:, 1] - ref[:, 1]) / np.abs(ref[:, 1])):.3g}")
     shutil.rmtree(work, ignore_errors=True)
-    return float(np.median(at_nmpc))
+    return float(np.median(at_nmpc)), float(np.median(at_est))
 
 
 def openfast(case: str, seconds: float, keep: str | None) -> None:
@@ -175,13 +197,15 @@ def main() -> None:
     p.add_argument("--seconds", type=float, default=20.0)
     p.add_argument("--pitch-acceleration", type=float, metavar="DEG_S2",
                    help="then the library with NMPCTuning(pitch_acceleration_scale) in the same run, and the ratio")
+    p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf",
+                   help="mhe: then the library with the MHE in the same run, and the ratios")
     p = sub.add_parser("openfast")
     p.add_argument("--case", default="step_10_14")
     p.add_argument("--seconds", type=float, default=60.0)
     p.add_argument("--keep", metavar="DIR")
     args = parser.parse_args()
     if args.what == "loop":
-        loop(args.seconds, args.pitch_acceleration)
+        loop(args.seconds, args.pitch_acceleration, args.estimator)
     else:
         openfast(args.case, args.seconds, args.keep)
 

@@ -32,8 +32,10 @@ the controller's models are the deck's rotor-effective model with the DOFs they 
 TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsion where the deck has it).
 A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
 ``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py; a floating deck keeps
-``NMPCTuning.floating`` and the default ``EstimatorTuning``). ``--estimator mhe``
-is refused (exit status 2): the MHE solves an NLP at every sample, not a fixed amount of work.
+``NMPCTuning.floating`` and the default ``EstimatorTuning``). ``--estimator mhe`` exports the
+moving-horizon estimator of ``mbsym simulate DECK --controller nmpc --estimator mhe`` instead (the same
+tuning; a window of ``EstimatorTuning.window`` intervals, one Gauss–Newton QP per sample by qrqp, the EKF's
+estimate while the window fills or when a solve is rejected: :mod:`mbsym.wind.mpc.sample_mhe`).
 
 ``--preview`` (nmpc): ``lidar`` reads the deck's single-point lidar (InflowWind ``SensorType = 1``) from
 OpenFAST's extended swap records and previews the wind over the NMPC's horizon
@@ -61,8 +63,8 @@ def add_parser(sub) -> None:
     p.add_argument("--controller", required=True, choices=CONTROLLERS,
                    help="baseline (our ROSCO-scheme controller) or nmpc (the turbine NMPC with its EKF and the "
                         "baseline as fallback)")
-    p.add_argument("--estimator", choices=("ekf", "mhe"), help="the NMPC's estimator (nmpc only; default ekf; mhe "
-                                                               "is not exportable yet)")
+    p.add_argument("--estimator", choices=("ekf", "mhe"), help="the NMPC's estimator (nmpc only; default ekf; mhe: "
+                                                               "moving horizon, one real-time iteration per sample)")
     p.add_argument("--out", required=True, metavar="DIR", help="directory for the library, its input file and src/")
     p.add_argument("--discon-input", metavar="DISCON.IN", help="ROSCO controller input file instead of the deck's "
                                                                "(ServoDyn DLL_InFile)")
@@ -112,7 +114,7 @@ def _run_nmpc(args) -> int:
     """``--controller nmpc``: the NMPC with its EKF and the baseline as fallback (module docstring)."""
     import numpy as np
 
-    from ..exceptions import ControllerError, OptionError
+    from ..exceptions import OptionError
     from ..wind.control.baseline import BaselineController
     from ..wind.mpc import (
         PredictionModel,
@@ -126,10 +128,6 @@ def _run_nmpc(args) -> int:
     from .controller_model import controller_model, estimator_tuning, nmpc_tuning
     from .operate_mpc import _initial_estimate
 
-    if args.estimator == "mhe":
-        raise ControllerError("--estimator mhe is not exportable yet: the MHE solves a nonlinear program at every "
-                              "sample (no fixed amount of work to generate as C). Export --estimator ekf (the "
-                              "default).")
     wind0 = 10.0 if args.initial_wind is None else args.initial_wind
     if not (math.isfinite(wind0) and 3.0 <= wind0 <= 30.0):
         raise OptionError(f"--initial-wind must be a wind speed in [3, 30] m/s; got {wind0:g}.")
@@ -140,7 +138,8 @@ def _run_nmpc(args) -> int:
     model = controller_model(deck, say=lambda line: print(f"mbsym export-discon: {line}"))
     observed = estimation_model(model)
     field = full_field_wind(deck)
-    estimator = TurbineEstimator(observed, "ekf", tuning=estimator_tuning(observed, field=field),
+    kind = args.estimator or "ekf"
+    estimator = TurbineEstimator(observed, kind, compile=False, tuning=estimator_tuning(observed, field=field),
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
@@ -153,7 +152,8 @@ def _run_nmpc(args) -> int:
             "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning())" if floating else
             "the NMPC and EKF tunings for a rotor-averaged wind (NMPCTuning.full_field, EstimatorTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
-    print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its EKF ({estimator.dt:g} s) and "
+    what = "EKF" if kind == "ekf" else f"MHE, window {estimator.tuning.window} intervals,"
+    print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its {what} ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
     preview = _preview(args, deck)
     out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon",

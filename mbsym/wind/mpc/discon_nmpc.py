@@ -65,6 +65,7 @@ import numpy as np
 from ...exceptions import ControllerError
 from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
 from ..control.swap import MEASUREMENT_RECORDS
+from .discon_mhe import mhe_functions_of, mhe_part
 from .lidar_preview import preview_c
 from .sample import QP_ACCEPT, sample_functions
 
@@ -170,24 +171,25 @@ static int all_finite(const double *v, int n)
     for (i = 0; i < n; ++i) if (!isfinite(v[i])) return 0;
     return 1;
 }}
-
+{mhe_part}
 /* The estimator's start and restart: steady operation at the measured hub wind (record 27), or the fixed prior. */
 static void estimator_restart(const float *swap)
 {{
     double hub = (double)swap[26];
     memcpy(P, P0, sizeof P);
-    if (INIT_HUB_WIND && isfinite(hub)) {{
-        narg[0] = &hub; nres[0] = z;
-        if (nmpc_init(narg, nres, niw, nw, 0) == 0 && all_finite(z, NZ)) return;
-    }}
-    memcpy(z, Z0, sizeof z);
+    narg[0] = &hub; nres[0] = z;
+    if (!(INIT_HUB_WIND && isfinite(hub) && nmpc_init(narg, nres, niw, nw, 0) == 0 && all_finite(z, NZ)))
+        memcpy(z, Z0, sizeof z);
+#if MHE_ON
+    mhe_reset(z);
+#endif
 }}
 
 /* One loop sample: the baseline law, the EKF every KE samples, the NMPC every KN samples, the demands. */
 static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 {{
     double yv[NY], mean[2], flag, pitch, torque, el, since;
-    int r, accepted, warn = 0, note = 0;
+    int r, accepted, warn = 0, note = 0, fell = 0;
     if (run_law(swap, t, err, n_err)) return -1;                  /* baseline: held[] are its commands */
     if (init_call) {{               /* the initialization call (status 0): the baseline answers it, see the docs */
         init_call = 0;
@@ -209,9 +211,19 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
         if (n_acc > 0) {{ mean[0] = acc[0] / n_acc; mean[1] = acc[1] / n_acc; }}
         else {{ mean[0] = pitch; mean[1] = torque; }}
         flag = k_loop > 0 ? 1.0 : 0.0;
+#if MHE_ON
+        r = mhe_sample(yv, mean, flag, z_next, P_next, &fell);
+        if (fell) {{
+            note = 1;
+            snprintf(err, n_err, "the MHE's solve was rejected at t = %g s (violation %.3g): the EKF's estimate "
+                     "applied (%ld times so far)", t, mviol, mhe_failures);
+        }}
+#else
+        (void)fell;
         narg[0] = z; narg[1] = P; narg[2] = yv; narg[3] = mean; narg[4] = &flag;
         nres[0] = z_next; nres[1] = P_next;
         r = nmpc_ekf(narg, nres, niw, nw, 0);
+#endif
         if (r == 0 && all_finite(z_next, NZ) && all_finite(P_next, NZ * NZ) && z_next[NZ - 1] >= WIND_LO
             && z_next[NZ - 1] <= WIND_HI) {{
             memcpy(z, z_next, sizeof z); memcpy(P, P_next, sizeof P);
@@ -398,7 +410,7 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
                               f"got {baseline.dt:g} s{' with IPC' if baseline.ipc else ''}.")
     fns = sample_functions(nmpc, estimator, loop_dt, initial=initial, settings=baseline.settings, preview=preview)
     cc, out = prepare_export(name, compiler, out_dir, "exporting the NMPC")
-    gen = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init)
+    gen = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init, *mhe_functions_of(fns))
     fingerprint = hashlib.sha256("".join([baseline.function.serialize(), *(f.serialize() for f in gen),
                                           repr(float(loop_dt)), initial, repr(preview)]).encode()).hexdigest()[:16]
     law, _ = _write_sources(baseline, out / "src", name, fingerprint)
@@ -452,7 +464,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
     base = ca.Function(_LAW, [xs, ys], f(xs, ys), {"cse": True})        # as discon_export generates it
     measured = list(baseline.measurements)
     records = [MEASUREMENT_RECORDS[m][0] for m in measured]
-    gens = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init)
+    gens = (fns.ekf, fns.startup, fns.qp_data, fns.qp, fns.finish, fns.init, *mhe_functions_of(fns))
     common = dict(
         controller="nmpc", sample_time=float(fns.loop_dt), n_x=f.size1_in(0), n_y=len(measured), n_u=f.size1_out(1),
         fingerprint=fingerprint, ipc=0, law=_LAW, x0=_floats(baseline.x0),
@@ -472,7 +484,7 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
                 n_cs=fns.stage[2], n_stage=fns.horizon,
                 n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
                 n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1),
-                preview=preview_c(fns.preview, fns.nmpc_dt, fns.horizon))
+                preview=preview_c(fns.preview, fns.nmpc_dt, fns.horizon), mhe_part=mhe_part(fns))
     entry = ENTRY.replace("{start}", "nmpc_start();").replace("{sample}", "nmpc_sample").replace("{write}",
                                                                                                  "nmpc_write")
     return (HEAD + LAW + CHECK).format(**common) + NMPC_PART.format(**nmpc) + entry.format(**common)
@@ -492,7 +504,7 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
         f"{fingerprint:<24} Fingerprint  ! identity of the compiled controller (pairs this file with its library)",
         "! compiled in (export again to change):",
         f"!   NMPC: sample time {t.dt:g} s, horizon {t.horizon} stages, real-time iteration with qrqp; "
-        f"estimator: EKF at {e.dt:g} s",
+        f"estimator: {_estimator_label(estimator)} at {e.dt:g} s",
         "!   cost scales: " + ", ".join(f"{k} {getattr(t, k):g}" for k in (
             "speed_scale", "power_scale", "pitch_scale", "torque_scale", "tower_velocity_scale",
             "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "pitch_acceleration_scale",
@@ -516,6 +528,13 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
         + "; baseline: " + ", ".join(f"{m} ({MEASUREMENT_RECORDS[m][0]})" for m in baseline.measurements),
     ]
     return "\n".join(lines) + "\n"
+
+
+def _estimator_label(estimator) -> str:
+    """``EKF`` or ``MHE (window M intervals, one real-time iteration per sample)``."""
+    if estimator.kind == "mhe":
+        return f"MHE (window {estimator.tuning.window} intervals, one real-time iteration per sample with qrqp)"
+    return "EKF"
 
 
 def _nmpc_records(fns) -> dict[str, int]:

@@ -70,6 +70,7 @@ import numpy as np
 from ...exceptions import ControlDefinitionError
 from .estimator import control_values
 from .lidar_preview import LidarPreview, PreviewSettings
+from .sample_mhe import MHEMirror, small_solve
 
 __all__ = ["QP_ACCEPT", "QP_MAX_ITER", "QP_MAX_ITER_LARGE", "qp_max_iter", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
            "sample_functions"]
@@ -168,6 +169,7 @@ class SampleFunctions:
     stage: tuple = (0, 0, 0)
     rate_bounds: tuple = ()
     measurements: tuple = ("GenSpeed", "YawBrTAxp")
+    mhe: object = None
 
     def hold(self, w: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """After a failed QP: the stored (shifted) plan's first rates, clipped to their bounds, and the plan and
@@ -263,9 +265,11 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         raise UnsupportedFeatureError(f"the sampled loop (the exported NMPC) reads {list(known[0])} (land) or "
                                       f"{list(known[1])} (floating); this estimator measures "
                                       f"{list(estimator.measurements)}. Use the estimator of estimation_model(plant).")
-    if estimator.kind != "ekf":
-        raise ControlDefinitionError(f"only the EKF has a fixed-work sample; the estimator is {estimator.kind!r} "
-                                     "(the MHE solves an NLP per sample: not exportable yet).")
+    mhe = None
+    if estimator.kind == "mhe":                      # real-time iterations only (mhe_functions refuses others)
+        from .sample_mhe import mhe_functions
+
+        mhe = mhe_functions(estimator)
     if initial not in INITIAL_ESTIMATES:
         raise ControlDefinitionError(f"initial must be one of {list(INITIAL_ESTIMATES)}; got {initial!r}.")
     if nmpc.nmpc.solver != "rti":
@@ -284,12 +288,12 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
         raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
     on = preview is not None
     data, qp, finish = _rti_function(nmpc, estimator, startup=False, preview=on)
-    return SampleFunctions(ekf=_ekf_function(estimator), qp_data=data, qp=qp, finish=finish,
+    return SampleFunctions(ekf=_ekf_function(estimator), qp_data=data, qp=qp, finish=finish, mhe=mhe,
                            n_lam=finish.size1_in("lam"),
                            startup=_rti_function(nmpc, estimator, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
-                           z0=np.array(f.x, dtype=float),
-                           P0=np.array(f.P, dtype=float), n_w=nmpc.nmpc.transcription.problem.layout.n_w,
+                           z0=np.array(f._arrival[0] if mhe else f.x, dtype=float),
+                           P0=np.array(f._arrival[1] if mhe else f.P, dtype=float), n_w=nmpc.nmpc.transcription.problem.layout.n_w,
                            loop_dt=float(loop_dt), ke=ke, kn=kn, lead=tuple(float(v) for v in pred._lead),
                            limits=tuple(tuple(float(v) for v in b) for b in pred._demand_limits), init=init,
                            initial=initial, wind_range=(0.5 * float(grid[0]), 1.5 * float(grid[-1])),
@@ -330,7 +334,7 @@ def _ekf_function(estimator) -> ca.Function:
     # a fresh, uncompiled copy: the filter's own linearization may be a compiled library (no graph to generate)
     lin = EstimationModel(estimator.dynamics, dt=estimator.dt, measurements=m.measurements,
                           unknown_inputs=m.unknown_inputs, compile=False).linearization
-    f = estimator.filter
+    f = getattr(estimator.filter, "_ekf", estimator.filter)         # an MHE's own EKF
     n, ny, nu = m.n_z, m.n_y, len(m.known_inputs)
     z, y, u, flag = ca.MX.sym("z", n), ca.MX.sym("y", ny), ca.MX.sym("u", nu), ca.MX.sym("predict")
     P = ca.MX.sym("P", n, n)
@@ -342,18 +346,11 @@ def _ekf_function(estimator) -> ca.Function:
     R = ca.DM(f.R)
     S = ca.mtimes([H, Pp, H.T]) + R
     HP = ca.mtimes(H, Pp)
-    K = _solve_small(S, HP).T
+    K = small_solve(S, HP).T
     I_KH = ca.DM.eye(n) - ca.mtimes(K, H)
     z_new = zp + ca.mtimes(K, y - yh)
     P_new = ca.mtimes([I_KH, Pp, I_KH.T]) + ca.mtimes([K, R, K.T])
     return ca.Function("nmpc_ekf", [z, P, y, u, flag], [z_new, P_new], ["z", "P", "y", "u", "predict"], ["z_next", "P_next"])
-
-
-def _solve_small(S: ca.MX, B: ca.MX) -> ca.MX:
-    """``S⁻¹ B`` for a small dense ``S`` by an SX Function (expanded LU: plain arithmetic in C)."""
-    Ss, Bs = ca.SX.sym("S", *S.shape), ca.SX.sym("B", *B.shape)
-    solve = ca.Function("small_solve", [Ss, Bs], [ca.solve(Ss, Bs)])
-    return solve(S, B)
 
 
 def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
@@ -536,6 +533,7 @@ class SampledLoop:
         self.preview = None if functions.preview is None else LidarPreview(
             functions.preview, functions.nmpc_dt, functions.horizon, functions.wind_range)
         self.stage_winds: np.ndarray | None = None
+        self.mhe = None if functions.mhe is None else MHEMirror(functions.mhe, functions.z0, QP_ACCEPT)
 
     def step(self, t: float, gen_speed_rpm: float, accel: float, pitch: float, torque: float,
              hub_wind: float | None = None, lidar=None, more=()) -> tuple[float, float] | None:
@@ -559,17 +557,23 @@ class SampledLoop:
         self.k += 1
         if k == 0:
             self.z = f.restart(hub_wind)
+            self._restart_mhe()
         else:
             self._acc += (pitch, torque)
             self._n += 1
         restarted = False
         if k % f.ke == 0:
             mean = self._acc / self._n if self._n else np.array([pitch, torque])
-            z, P = f.ekf(self.z, self.P, [gen_speed_rpm, accel, *more], mean, 0.0 if k == 0 else 1.0)
+            y = [gen_speed_rpm, accel, *more]
+            if self.mhe is None:
+                z, P = f.ekf(self.z, self.P, y, mean, 0.0 if k == 0 else 1.0)
+            else:
+                z, P = self.mhe.step(y, mean, 0.0 if k == 0 else 1.0), self.mhe.P
             self.z, self.P = np.asarray(z).ravel(), np.asarray(P)
             self._acc[:], self._n = 0.0, 0
             if not (f.plausible(self.z) and np.all(np.isfinite(self.P))):
                 self.z, self.P = f.restart(hub_wind), f.P0.copy()
+                self._restart_mhe()
                 self.w = self._anchor = None
                 self._streak = 0
                 self.restarts.append(t)
@@ -605,6 +609,10 @@ class SampledLoop:
         el = t - t_a
         return (min(max(p_a + r[0] * (el + self.f.lead[0]), b0), b1),
                 min(max(q_a + r[1] * (el + self.f.lead[1]), q0), q1))
+
+    def _restart_mhe(self) -> None:
+        if self.mhe is not None:
+            self.mhe.restart(self.z)
 
     def _ramp_start(self, t: float, pitch: float, torque: float) -> tuple[float, float]:
         if self._anchor is None:

@@ -1,0 +1,313 @@
+"""The turbine MHE as CasADi Functions of fixed work: the estimator of an exported NMPC with ``--estimator mhe``.
+
+:class:`mbsym.control.MHE` with real-time iterations (its default solver) does a bounded amount of
+work per sample: an EKF step, the arrival cost's EKF update, and one Gauss–Newton QP over the
+window. :func:`mhe_functions` writes that sample as Functions with no Python in between, so it can
+be generated as C (:mod:`.discon_nmpc`) and mirrored in Python (:class:`MHEMirror`):
+
+- ``push(s, y, u, predict) -> (s_next, z_ekf)``: the EKF sample (:meth:`mbsym.control.EKF.step`),
+  then, with the window full, the arrival cost's update (its prior corrected with the dropped
+  measurement and propagated over the dropped interval, as :class:`~mbsym.control.MHE` does), then
+  the measurement ``y``, the known inputs ``u`` (mean measured pitch [rad] and torque [N m] of the
+  interval) and the EKF's estimate pushed into the window's buffers. ``s`` is the estimator's whole
+  memory (:attr:`MHEFunctions.n_s` values, layout in :func:`memory_layout`);
+- ``first(s) -> (W, z, violation)``: the first solve of a full window: the window from the EKF's
+  estimates, the noise fitted to their differences, then :data:`FIRST_ITERATIONS` full Gauss–Newton
+  steps (the Python MHE converges a line-search SQP there; measured agreement in the tests);
+- ``qp_data(W, s) -> (w0, h, g, a, lba, uba, lbx, ubx)``, ``qp``, ``finish(w0, dw, a, lba, uba, lbx, ubx)
+  -> (W, z, violation)``: one real-time iteration: the previous window shifted one interval (the new
+  last node predicted with the last inputs, zero noise), the QP there (scaled: every state by its
+  prior standard deviation), one ``qrqp`` solve, the full step. ``z`` is the window's last node:
+  the estimate. ``violation`` is the step's largest bound or constraint violation divided by
+  ``1 + ‖Δw‖∞`` (accepted up to :data:`~.sample.QP_ACCEPT`).
+
+While the window fills the estimate is the EKF's; a rejected solve falls back to the EKF's estimate
+and the next full window starts again with ``first`` (as :class:`~mbsym.control.MHE`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ControlDefinitionError
+
+__all__ = ["FIRST_ITERATIONS", "MHEFunctions", "MHEMirror", "memory_layout", "mhe_functions", "small_solve"]
+
+#: Full Gauss–Newton iterations of the first solve of a full window (fixed work).
+FIRST_ITERATIONS = 6
+#: qrqp's iteration cap in the real-time iteration (the MHE's QP has bounds on the wind only).
+MHE_QP_MAX_ITER = 20
+
+
+def memory_layout(n_z: int, n_u: int, n_y: int, window: int) -> dict[str, slice]:
+    """Where each part of the estimator's memory ``s`` sits: the EKF's estimate ``z`` and covariance ``P``
+    (column-major), the arrival cost's ``zbar`` and ``Pbar``, the window's inputs ``U`` (n_u × (M+1)),
+    measurements ``Y`` (n_y × (M+1)) and EKF estimates ``Z`` (n_z × (M+1)), oldest first, right-aligned
+    while the window fills, and ``count`` (samples in the window, at most M + 1)."""
+    sizes = (("z", n_z), ("P", n_z * n_z), ("zbar", n_z), ("Pbar", n_z * n_z), ("U", n_u * (window + 1)),
+             ("Y", n_y * (window + 1)), ("Z", n_z * (window + 1)), ("count", 1))
+    out, k = {}, 0
+    for name, n in sizes:
+        out[name] = slice(k, k + n)
+        k += n
+    return out
+
+
+@dataclass(frozen=True)
+class MHEFunctions:
+    """The Functions of :func:`mhe_functions` (module docstring) and their sizes."""
+
+    push: ca.Function
+    first: ca.Function
+    qp_data: ca.Function
+    qp: ca.Function
+    finish: ca.Function
+    window: int
+    n_s: int
+    n_W: int
+    s0_parts: tuple          # (P0 (n_z × n_z),): the prior covariance a (re)start puts in ``P`` and ``Pbar``
+    layout: dict
+
+    def start(self, z0: np.ndarray) -> np.ndarray:
+        """The memory of a (re)start at the estimate ``z0``: covariance and arrival prior ``P0``, empty window."""
+        P0 = self.s0_parts[0]
+        s = np.zeros(self.n_s)
+        L = self.layout
+        s[L["z"]], s[L["P"]] = z0, P0.reshape(-1, order="F")
+        s[L["zbar"]], s[L["Pbar"]] = z0, P0.reshape(-1, order="F")
+        return s
+
+    def functions(self) -> tuple:
+        """The Functions to generate, in the C wrapper's order."""
+        return self.push, self.first, self.qp_data, self.qp, self.finish
+
+
+def small_solve(S: ca.MX, B: ca.MX) -> ca.MX:
+    """``S⁻¹ B`` for a small dense ``S`` by an SX Function (expanded LU: plain arithmetic in C)."""
+    Ss, Bs = ca.SX.sym("S", *S.shape), ca.SX.sym("B", *B.shape)
+    return ca.Function("small_solve", [Ss, Bs], [ca.solve(Ss, Bs)])(S, B)
+
+
+def _ekf_parts(lin, Q: np.ndarray, R: np.ndarray, pr: ca.DM):
+    """``predict(z, P, u)`` and ``correct(z, P, y, u)`` as expressions (:class:`mbsym.control.EKF`, Joseph form)."""
+    def predict(z, P, u):
+        zn, F, _, _ = lin(z, u, pr)
+        return zn, ca.mtimes([F, P, F.T]) + ca.DM(Q)
+
+    def correct(z, P, y, u):
+        _, _, yh, H = lin(z, u, pr)
+        S = ca.mtimes([H, P, H.T]) + ca.DM(R)
+        K = small_solve(S, ca.mtimes(H, P)).T
+        I_KH = ca.DM.eye(z.size1()) - ca.mtimes(K, H)
+        return z + ca.mtimes(K, y - yh), ca.mtimes([I_KH, P, I_KH.T]) + ca.mtimes([K, ca.DM(R), K.T])
+
+    return predict, correct
+
+
+def mhe_functions(estimator) -> MHEFunctions:
+    """The fixed-work Functions of ``estimator`` (a :class:`~.estimator.TurbineEstimator` of kind ``"mhe"``).
+
+    Raises
+    ------
+    ControlDefinitionError
+        An estimator of another kind, or an MHE whose solver is not ``"rti"``.
+    """
+    from ...control import MHE, EstimationModel
+    from ...control.qp import conic, preparation_function
+
+    f = estimator.filter
+    if estimator.kind != "mhe" or not isinstance(f, MHE):
+        raise ControlDefinitionError(f"mhe_functions needs an MHE estimator; got {estimator.kind!r}.")
+    if f.solver != "rti":
+        raise ControlDefinitionError(f"only real-time iterations have a fixed-work sample; the MHE's solver is "
+                                     f"{f.solver!r}.")
+    m = estimator.model
+    # fresh, uncompiled copies: the filter's own Functions may be compiled libraries (no graph to generate)
+    model = EstimationModel(estimator.dynamics, dt=m.dt, measurements=m.measurements,
+                            unknown_inputs=m.unknown_inputs, compile=False)
+    bounds = {n: (float(lo), float(hi)) for n, lo, hi in zip(m.names, f._lb, f._ub) if np.isfinite([lo, hi]).any()}
+    twin = MHE(model, window=f.window, process_noise=f._ekf.Q, measurement_noise=f._ekf.R, x0=f._arrival[0],
+               P0=f._arrival[1], bounds=bounds, compile=False)
+    n, nu, ny, M = m.n_z, len(m.known_inputs), m.n_y, f.window
+    L = memory_layout(n, nu, ny, M)
+    n_s = L["count"].stop
+    P = twin._P
+    prep = preparation_function(P)
+    pr = ca.DM(m.p_rest)
+    predict, correct = _ekf_parts(model.linearization, f._ekf.Q, f._ekf.R, pr)
+    scale = np.concatenate([np.sqrt(np.diag(f._arrival[1])), np.ones(P.n_u)])      # prior sd; noise is unit
+    push = _push_function(L, n, nu, ny, M, predict, correct)
+    s = ca.MX.sym("s", n_s)
+    D, p = _window_data(s, L, n, nu, ny, M, pr)
+    bnds = [ca.DM(b) for b in P.bounds()]
+    col = np.concatenate([np.tile(scale, M), scale[:n]])
+    row = np.ones(prep.sparsity_out(2).size1())
+    for k in range(M):                      # the dynamics rows x_{k+1} - f(x_k, ξ_k), divided by x_{k+1}'s scale
+        r0 = k * (P.n_x + P.n_c)
+        row[r0:r0 + P.n_x] = 1.0 / scale[:n]
+    cs, rs, S, Rs = ca.DM(col), ca.DM(row), ca.diag(ca.DM(col)), ca.diag(ca.DM(row))
+
+    def qp_at(w):
+        H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bnds)
+        return ca.mtimes([S, H, S]), g * cs, ca.mtimes([Rs, A, S]), lba * rs, uba * rs, lbdw / cs, ubdw / cs
+
+    def step(w, dws, A, lba, uba, lbdw, ubdw):
+        dw = dws * cs
+        Ad = ca.mtimes(A, dws) / rs
+        viol = ca.mmax(ca.vertcat(0, lbdw * cs - dw, dw - ubdw * cs, lba / rs - Ad, Ad - uba / rs)) \
+            / (1 + ca.norm_inf(dw))
+        return w + dw, viol
+
+    n_W = P.layout.n_w
+    qp_first = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200}, label="mhe_qp_first")
+    w = _initial_window(twin, s, L, D, pr)
+    worst = ca.MX(0)
+    for _ in range(FIRST_ITERATIONS):
+        H, g, A, lba, uba, lbdw, ubdw = qp_at(w)
+        sol = qp_first(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw)
+        w, viol = step(w, sol["x"], A, lba, uba, lbdw, ubdw)
+        worst = ca.fmax(worst, viol)
+    first = ca.Function("mhe_first", [s], [w, w[n_W - n:], worst], ["s"], ["W", "z", "violation"])
+    W = ca.MX.sym("W", n_W)
+    w0 = _shifted_window(twin, W, D, pr)
+    data = ca.Function("mhe_qp_data", [W, s], [w0, *qp_at(w0)], ["W", "s"],
+                       ["w0", "h", "g", "a", "lba", "uba", "lbx", "ubx"])
+    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": MHE_QP_MAX_ITER}, label="mhe_qp")
+    dw = ca.MX.sym("dw", n_W)
+    A = ca.MX.sym("a", prep.sparsity_out(2))
+    n_a = prep.sparsity_out(2).size1()
+    lim = [ca.MX.sym(k, j) for k, j in (("lba", n_a), ("uba", n_a), ("lbx", n_W), ("ubx", n_W))]
+    w_next, viol = step(W, dw, A, *lim)
+    finish = ca.Function("mhe_finish", [W, dw, A, *lim], [w_next, w_next[n_W - n:], viol],
+                         ["w0", "dw", "a", "lba", "uba", "lbx", "ubx"], ["W", "z", "violation"])
+    return MHEFunctions(push=push, first=first, qp_data=data, qp=qp, finish=finish, window=M, n_s=n_s, n_W=n_W,
+                        s0_parts=(np.array(f._arrival[1], dtype=float),), layout=L)
+
+
+def _push_function(L, n, nu, ny, M, predict, correct) -> ca.Function:
+    """``(s, y, u, predict) -> (s_next, z_ekf)`` (module docstring)."""
+    s, y, u, flag = ca.MX.sym("s", L["count"].stop), ca.MX.sym("y", ny), ca.MX.sym("u", nu), ca.MX.sym("predict")
+    z, P = s[L["z"]], ca.reshape(s[L["P"]], n, n)
+    zp, Pp = predict(z, P, u)
+    z1, P1 = correct(ca.if_else(flag, zp, z), ca.if_else(flag, Pp, P), y, u)
+    U, Y = ca.reshape(s[L["U"]], nu, M + 1), ca.reshape(s[L["Y"]], ny, M + 1)
+    Z = ca.reshape(s[L["Z"]], n, M + 1)
+    count = s[L["count"]]
+    full = count >= M + 1
+    zb, Pb = s[L["zbar"]], ca.reshape(s[L["Pbar"]], n, n)
+    za, Pa = correct(zb, Pb, Y[:, 0], U[:, 0])                     # the dropped node's measurement
+    za, Pa = predict(za, Pa, U[:, 1] if M >= 1 else U[:, 0])       # the dropped interval's inputs
+    zb, Pb = ca.if_else(full, za, zb), ca.if_else(full, Pa, Pb)
+    s_next = ca.vertcat(z1, ca.vec(P1), zb, ca.vec(Pb), ca.vec(ca.horzcat(U[:, 1:], u)),
+                        ca.vec(ca.horzcat(Y[:, 1:], y)), ca.vec(ca.horzcat(Z[:, 1:], z1)), ca.fmin(count + 1, M + 1))
+    return ca.Function("mhe_push", [s, y, u, flag], [s_next, z1], ["s", "y", "u", "predict"], ["s_next", "z_ekf"])
+
+
+def _window_data(s, L, n, nu, ny, M, pr):
+    """The stage data ``D`` and parameters ``p`` of the MHE's problem from the memory (``MHE._parameters``)."""
+    U, Y = ca.reshape(s[L["U"]], nu, M + 1), ca.reshape(s[L["Y"]], ny, M + 1)
+    u_dyn = ca.horzcat(U[:, 1:], U[:, M:])                            # interval k: the inputs given with y_{k+1}
+    D = ca.vertcat(u_dyn, U, Y)
+    Pb = ca.reshape(s[L["Pbar"]], n, n)
+    info = _info(0.5 * (Pb + Pb.T))
+    L0 = _chol(0.5 * (info + info.T) + 1e-12 * ca.DM.eye(n))         # upper: L0ᵀ L0 = Pbar⁻¹
+    return D, ca.vertcat(pr, s[L["zbar"]], ca.vec(L0))
+
+
+def _info(P: ca.MX) -> ca.MX:
+    """``P⁻¹`` of a small dense matrix (expanded SX: plain arithmetic in C)."""
+    Ps = ca.SX.sym("P", *P.shape)
+    return ca.Function("small_inverse", [Ps], [ca.solve(Ps, ca.SX.eye(P.size1()))])(P)
+
+
+def _chol(A: ca.MX) -> ca.MX:
+    """Upper Cholesky factor ``R`` (``Rᵀ R = A``) of a small dense matrix (expanded SX)."""
+    As = ca.SX.sym("A", *A.shape)
+    return ca.Function("small_chol", [As], [ca.chol(As)])(A)
+
+
+def _initial_window(mhe, s, L, D, pr) -> ca.MX:
+    """The window from the EKF's estimates, the noise fitted to their differences (``MHE._initial_window``)."""
+    m = mhe.model
+    n, nu, M = m.n_z, len(m.known_inputs), mhe.window
+    Z = ca.reshape(s[L["Z"]], n, M + 1)
+    G_pinv = ca.DM(np.linalg.pinv(mhe._G)) if mhe._G.shape[1] else None
+    blocks = []
+    for k in range(M):
+        pred = m.step_function(Z[:, k], D[:nu, k], pr)
+        xi = ca.mtimes(G_pinv, Z[:, k + 1] - pred) if G_pinv is not None else ca.MX(0, 1)
+        blocks += [Z[:, k], xi]
+    return ca.vertcat(*blocks, Z[:, M])
+
+
+def _shifted_window(mhe, W, D, pr) -> ca.MX:
+    """The previous window one interval on: its last node predicted with the last inputs, zero noise."""
+    m = mhe.model
+    n, nu, M = m.n_z, len(m.known_inputs), mhe.window
+    nv = mhe._P.n_x + mhe._P.n_u
+    x_last = W[M * nv:]
+    x_new = m.step_function(x_last, D[:nu, M - 1], pr)
+    xi0 = ca.MX.zeros(nv - n, 1)
+    return ca.vertcat(W[nv:M * nv], x_last, xi0, x_new)
+
+
+class MHEMirror:
+    """The exported MHE's sample in Python (:class:`~.sample.SampledLoop`'s estimator with an MHE).
+
+    Parameters
+    ----------
+    functions : MHEFunctions
+    z0 : array
+        The (re)start estimate.
+    accept : float
+        Largest accepted violation of a solve (:data:`~.sample.QP_ACCEPT`).
+
+    Attributes
+    ----------
+    z : ndarray
+        The current estimate.
+    failures : int
+        Rejected MHE solves (the EKF's estimate applied instead).
+    """
+
+    def __init__(self, functions: MHEFunctions, z0, accept: float) -> None:
+        self.f, self.accept = functions, float(accept)
+        self.restart(z0)
+        self.failures = 0
+
+    def restart(self, z0) -> None:
+        """Start again at ``z0`` with the prior covariance and an empty window."""
+        self.s = self.f.start(np.asarray(z0, dtype=float).ravel())
+        self.W: np.ndarray | None = None
+        self.z = np.asarray(z0, dtype=float).ravel().copy()
+
+    @property
+    def P(self) -> np.ndarray:
+        """The EKF's covariance."""
+        n = self.z.size
+        return self.s[self.f.layout["P"]].reshape(n, n, order="F")
+
+    def step(self, y, u, predict: float) -> np.ndarray:
+        """One estimator sample (module docstring); the estimate."""
+        f = self.f
+        s, z_ekf = f.push(self.s, y, u, predict)
+        self.s, z_ekf = np.asarray(s).ravel(), np.asarray(z_ekf).ravel()
+        if self.s[f.layout["count"]][0] < f.window + 1:
+            self.z = z_ekf
+            return self.z.copy()
+        if self.W is None:
+            W, z, viol = f.first(self.s)
+        else:
+            w0, h, g, a, lba, uba, lbx, ubx = f.qp_data(self.W, self.s)
+            sol = f.qp(h=h, g=g, a=a, lba=lba, uba=uba, lbx=lbx, ubx=ubx)
+            W, z, viol = f.finish(w0, sol["x"], a, lba, uba, lbx, ubx)
+        W, z = np.asarray(W).ravel(), np.asarray(z).ravel()
+        if np.all(np.isfinite(W)) and float(viol) <= self.accept:
+            self.W, self.z = W, z
+        else:
+            self.failures += 1
+            self.W, self.z = None, z_ekf
+        return self.z.copy()
