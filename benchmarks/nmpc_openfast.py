@@ -22,7 +22,8 @@ the peaks of power and rotor speed; each as a ratio to ROSCO's, checked against 
 (``mbsym simulate ff14_flex.fst --controller discon|baseline``), with the same measures beside OpenFAST's: the
 plant gap.
 
-Run: ``python benchmarks/nmpc_openfast.py run [--case ff14_flex] [--seconds 660] [--work DIR] [--mbsym-plant]``
+Run: ``python benchmarks/nmpc_openfast.py run [--case ff14_flex] [--seconds 660] [--work DIR] [--mbsym-plant]
+[--estimator ekf|mhe]``
 (``plant --work DIR`` adds the mbsym plant runs to a finished ``run``)
 (needs ../shared, ``../shared/tools/openfast/openfast`` and a C compiler; 5-8 min wall for 660 s of OpenFAST, the
 mbsym plant with the library from Python about 1x real time), then ``report --work DIR`` prints the table again
@@ -136,7 +137,7 @@ def _add_lidar(fst: Path) -> None:
 
 
 def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | None, mbsym_plant: bool,
-        rosco_out: str | None = None, preview: str = "none") -> None:
+        rosco_out: str | None = None, preview: str = "none", estimator: str = "ekf") -> None:
     if not (SHARED / "tools" / "openfast" / "openfast").is_file():
         sys.exit(f"needs {SHARED / 'tools' / 'openfast' / 'openfast'}")
     work.mkdir(parents=True, exist_ok=True)
@@ -144,8 +145,9 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
     if preview == "lidar":
         _add_lidar(fst)
     c0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "mbsym", "export-discon", str(fst), "--controller", "nmpc", "--out",
-                           str(work / "lib")], capture_output=True, text=True, cwd=HERE.parent)
+    proc = subprocess.run([sys.executable, "-m", "mbsym", "export-discon", str(fst), "--controller", "nmpc",
+                           "--estimator", estimator, "--out", str(work / "lib")], capture_output=True, text=True,
+                          cwd=HERE.parent)
     if proc.returncode != 0:
         sys.exit(f"mbsym export-discon failed: {proc.stderr.strip()}")
     lib = json.loads(proc.stdout.strip().splitlines()[-1])
@@ -167,7 +169,7 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
     else:
         runs["OpenFAST + ROSCO"] = {"file": str(ref_csv), "wall_s": None}
     meta = {"case": case, "seconds": seconds, "bts": bts, "export_wall_s": export_wall, "runs": runs,
-            "library": lib, "fst": str(fst), "preview": preview}
+            "library": lib, "fst": str(fst), "preview": preview, "estimator": estimator}
     (work / "metrics.json").write_text(json.dumps(meta, indent=1))
     if mbsym_plant:
         plant(work)
@@ -273,13 +275,14 @@ def main() -> None:
     p.add_argument("--rosco-out", help="an earlier ROSCO run (.out) of the same deck and wind, instead of a new one")
     p.add_argument("--preview", choices=("none", "lidar"), default="none",
                    help="lidar: add a 5-beam lidar 60 m upstream to the deck (LIDAR_KEYS); the export previews from it")
+    p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf", help="the exported NMPC's estimator")
     for name in ("plant", "report"):
         p = sub.add_parser(name)
         p.add_argument("--work", default="/tmp/mbsym_nmpc_openfast")
     args = parser.parse_args()
     if args.what == "run":
         run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant, args.rosco_out,
-            args.preview)
+            args.preview, args.estimator)
     elif args.what == "plant":
         plant(Path(args.work))
     else:

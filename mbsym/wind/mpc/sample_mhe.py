@@ -255,21 +255,17 @@ def _window_data(s, L, n, nu, ny, M, pr):
     u_dyn = ca.horzcat(U[:, 1:], U[:, M:])                            # interval k: the inputs given with y_{k+1}
     D = ca.vertcat(u_dyn, U, Y)
     Pb = ca.reshape(s[L["Pbar"]], n, n)
-    info = _info(0.5 * (Pb + Pb.T))
-    L0 = _chol(0.5 * (info + info.T) + 1e-12 * ca.DM.eye(n))         # upper: L0ᵀ L0 = Pbar⁻¹
-    return D, ca.vertcat(pr, s[L["zbar"]], ca.vec(L0))
+    return D, ca.vertcat(pr, s[L["zbar"]], ca.vec(_arrival_root(0.5 * (Pb + Pb.T))))
 
 
-def _info(P: ca.MX) -> ca.MX:
-    """``P⁻¹`` of a small dense matrix (expanded SX: plain arithmetic in C)."""
+def _arrival_root(P: ca.MX) -> ca.MX:
+    """``L0`` with ``L0ᵀ L0 = P⁻¹`` (the arrival cost's weight): ``C⁻ᵀ`` of the Cholesky factor ``P = Cᵀ C``
+    (expanded SX: plain arithmetic in C). The Python MHE takes the Cholesky factor of ``P⁻¹`` itself; the QP sees
+    ``L0ᵀ L0`` only, and inverting the triangular factor keeps a floating estimator's covariance (variances from
+    1e-8 to 1e16: the waves' moment in N m) finite, where inverting ``P`` first did not."""
     Ps = ca.SX.sym("P", *P.shape)
-    return ca.Function("small_inverse", [Ps], [ca.solve(Ps, ca.SX.eye(P.size1()))])(P)
-
-
-def _chol(A: ca.MX) -> ca.MX:
-    """Upper Cholesky factor ``R`` (``Rᵀ R = A``) of a small dense matrix (expanded SX)."""
-    As = ca.SX.sym("A", *A.shape)
-    return ca.Function("small_chol", [As], [ca.chol(As)])(A)
+    C = ca.chol(Ps)
+    return ca.Function("arrival_root", [Ps], [ca.solve(C.T, ca.SX.eye(P.size1()))])(P)
 
 
 def _initial_window(mhe, s, L, D, pr) -> ca.MX:
