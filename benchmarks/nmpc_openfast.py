@@ -27,7 +27,7 @@ Run: ``python benchmarks/nmpc_openfast.py run [--case ff14_flex] [--seconds 660]
 (``plant --work DIR`` adds the mbsym plant runs to a finished ``run``)
 (needs ../shared, ``../shared/tools/openfast/openfast`` and a C compiler; 5-8 min wall for 660 s of OpenFAST, the
 mbsym plant with the library from Python about 1x real time), then ``report --work DIR`` prints the table again
-and draws ``benchmarks/figures/nmpc_openfast_<case>[_<bts stem>].png``; ``run`` writes ``DIR/metrics.json``.
+and draws ``benchmarks/figures/nmpc_openfast_<case>[_<bts stem>][_lidar][_mhe].png``; ``run`` writes ``DIR/metrics.json``.
 """
 
 from __future__ import annotations
@@ -226,12 +226,13 @@ def report(work: Path) -> None:
         print("plant gap (mbsym blade plant baseline / OpenFAST ROSCO): " + ", ".join(
             f"{k} {table['mbsym blade plant + baseline'][k] / ref[k]:.3f}" for k in ref))
     (work / "table.json").write_text(json.dumps({"table": table, "targets_met": verdict}, indent=1))
+    estimator = meta.get("estimator", "ekf")
     tag = meta["case"] + (f"_{Path(meta['bts']).stem}" if meta["bts"] else "") + \
-        ("_lidar" if meta.get("preview") == "lidar" else "")
-    _figure(tag, data, table, seconds)
+        ("_lidar" if meta.get("preview") == "lidar" else "") + ("_mhe" if estimator == "mhe" else "")
+    _figure(tag, data, table, seconds, estimator.upper())
 
 
-def _figure(case: str, data, table, seconds: float) -> None:
+def _figure(case: str, data, table, seconds: float, estimator: str = "EKF") -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -252,7 +253,7 @@ def _figure(case: str, data, table, seconds: float) -> None:
     axes[-1].set_xlabel("time [s]")
     r = table["OpenFAST + NMPC"]
     ref = table["OpenFAST + ROSCO"]
-    fig.suptitle(f"{case}: exported NMPC + EKF{' + lidar preview' if case.endswith('_lidar') else ''} vs ROSCO 2.10.6 inside OpenFAST v5\n(NMPC/ROSCO: tower FA DEL "
+    fig.suptitle(f"{case}: exported NMPC + {estimator}{' + lidar preview' if '_lidar' in case else ''} vs ROSCO 2.10.6 inside OpenFAST v5\n(NMPC/ROSCO: tower FA DEL "
                  f"{r['DEL TwrBsMyt'] / ref['DEL TwrBsMyt']:.2f}, speed RMS {r['speed RMS error'] / ref['speed RMS error']:.2f}, "
                  f"pitch rate {r['pitch-rate RMS'] / ref['pitch-rate RMS']:.2f}, energy {r['energy'] / ref['energy']:.3f})",
                  fontsize=9)
