@@ -218,9 +218,6 @@ def test_cli_contract_builtin_turbine(compiler, tmp_path, capsys):
     assert tmp_path.joinpath("x", "baseline_discon.so").samefile(result["library"])
     assert open(result["input"]).read() == open(export_discon(
         BaselineController(nrel5mw_baseline_settings(DT)), tmp_path / "y")["input"]).read()   # same law
-    code, out, err = _cli(["export-discon", "--controller", "nmpc", "--estimator", "mhe", "--out",
-                           str(tmp_path / "z")], capsys)
-    assert code == 2 and "mhe is not exportable yet" in err and not (tmp_path / "z").exists()
     code, out, err = _cli(["export-discon", "--controller", "baseline", "--estimator", "ekf", "--out",
                            str(tmp_path / "z")], capsys)
     assert code == 2 and "--estimator ekf belongs to --controller nmpc" in err
