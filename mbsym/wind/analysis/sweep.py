@@ -282,9 +282,10 @@ def _operating(deck, axes, winds, *, tmax, dt_out, controller, discon, discon_in
     chans = _channels(channels, dyn.output_names)
     samples = math.ceil(tmax / runner_controller["dt"] - 1e-9)
     if compile is None:
-        from ..operation.simulation import COMPILE_FROM_SAMPLES
+        from ..operation.simulation import _compile_pays_off
 
-        compile = samples > COMPILE_FROM_SAMPLES and _can_compile()
+        x_start = dyn.state_vector(model.initial_state(10.0))
+        compile = _compile_pays_off(dyn, samples, x_start, None, runs=len(_grid(axes, winds))) and _can_compile()
     runner = _runner(model, runner_controller, tmax, dt_out, bool(compile))
     runner.channels, runner.del_channels = chans, _channels(del_channels, dyn.output_names)
     runner.wohler = _wohler(wohler)

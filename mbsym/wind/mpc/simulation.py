@@ -70,7 +70,8 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     p : dict, optional, keyword-only
         Plant parameters by name.
     compile : bool, optional, keyword-only
-        Compile the plant step (default: from :data:`~mbsym.wind.operation.simulation.COMPILE_FROM_SAMPLES`).
+        Compile the plant step (default: as :func:`~mbsym.wind.operation.simulation.simulate_turbine` decides, from
+        the run's samples and the plant's cost in CasADi's virtual machine).
     progress : optional
         As in :func:`mbsym.simulate`.
 
@@ -94,8 +95,6 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
 
     wait_for_compilations()           # the solvers' libraries (compiled in the background): not inside a step's time
     dyn = model.dynamics()
-    if compile is None:
-        compile = _compile_pays_off(tmax / loop.dt)
     t0 = time.perf_counter()
     if model.aero == "blade":        # its wind inputs, held aerodynamics and every channel: simulate_turbine's loop
         from ..operation.simulation import simulate_turbine
@@ -108,6 +107,8 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
     else:
         u0 = float(np.asarray(wind(0.0), dtype=float).reshape(-1)[0])
         x0 = dyn.state_vector(model.initial_state(u0) if x0 is None else x0)
+        if compile is None:
+            compile = _compile_pays_off(dyn, tmax / loop.dt, x0, p)
         meas = measurement_dynamics(model, loop.measurements)
         inputs: dict[str, Any] = {"Wind1VelX": wind, **held_commands(model, x0)}
         if model.platform is not None:              # the deck's sea (HydroDyn's excitation series), as simulate_turbine

@@ -109,7 +109,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         aerodynamics the deck's ElastoDyn Method with a CasADi controller, else ``"rk4-held"``; see the module
         docstring) with ``dt = controller.dt``; ``accuracy``
         asks for the accuracy-driven sub-steps instead (CasADi-Function controllers only); ``compile`` defaults to compiling runs of more than
-        :data:`COMPILE_FROM_SAMPLES` controller samples.
+        :data:`COMPILE_FROM_SAMPLES` controller samples, and shorter ones whose virtual-machine time would exceed
+        the compilation's (a large plant: :func:`_compile_pays_off`).
 
     Returns
     -------
@@ -161,7 +162,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
                                                 f"{unstable}; use 'abm4-held' or 'rk4-held', or a shorter sample time.")
             options.update(method=method or _default_method(model, controller, dt), dt=step)
         if compile is None:
-            options["compile"] = _compile_pays_off(tmax / controller.dt)
+            options["compile"] = _compile_pays_off(dyn, tmax / controller.dt, x0, p)
     else:
         options.update(method=method, dt=dt, accuracy=accuracy)
     in_loop = controller is not None and controller.is_function and options.get("method") in HELD_METHODS \
@@ -332,13 +333,31 @@ def _with_channels(res, dyn, p, compile, n_meas: int):
 #: Controller samples from which compiling the closed loop (~15 s once, then cached on disk) pays off against
 #: CasADi's virtual machine (~1-2 ms per sample of the NREL 5 MW with three DOFs).
 COMPILE_FROM_SAMPLES = 2000
+#: Right-hand-side evaluations per controller sample assumed for the virtual machine's cost (one RK4 step).
+RHS_PER_SAMPLE = 4
 
 
-def _compile_pays_off(samples: float) -> bool:
+def _compile_pays_off(dyn, samples: float, x0, p, runs: int = 1) -> bool:
+    """Whether to compile the closed loop: more than :data:`COMPILE_FROM_SAMPLES` samples, or fewer whose right-hand
+    sides would take longer in CasADi's virtual machine than compiling takes (:func:`mbsym.codegen.
+    estimate_compile_seconds`; one evaluation timed). A large plant needs the second: the floating IEA 15 MW with
+    blade-element aerodynamics and UA takes 0.58 s per evaluation in the virtual machine (1.65 s per sample of
+    0.025 s measured: 3 s of `--controller discon` ran 198 s), so the sample count alone left runs of up to 50 s
+    there to the virtual machine (~66 min instead of a few minutes of compiling). ``runs``: runs of ``samples`` each
+    sharing the compiled loop (a sweep's cases)."""
+    import time
+
     from ... import codegen
 
-    return samples > COMPILE_FROM_SAMPLES and codegen.compiler_command() is not None and \
-        not codegen.compile_disabled()
+    if codegen.compiler_command() is None or codegen.compile_disabled():
+        return False
+    if samples > COMPILE_FROM_SAMPLES:
+        return True
+    u0, pv = np.zeros(dyn.n_u), dyn.parameter_vector(p)
+    t0 = time.perf_counter()
+    dyn.rhs(np.asarray(x0, dtype=float), u0, pv)
+    vm = (time.perf_counter() - t0) * RHS_PER_SAMPLE * samples * runs
+    return vm > codegen.estimate_compile_seconds(dyn.rhs)
 
 
 def _wind_at(wind, t: float) -> float:
