@@ -4,13 +4,12 @@
 wrapper of :mod:`.discon_nmpc` calls ``mhe_sample`` where it would call the EKF and ``mhe_reset``
 where it restarts the estimator. Without an MHE the part only defines ``MHE_ON 0``.
 
-``mhe_sample`` mirrors :meth:`~.sample_mhe.MHEMirror.step`: ``mhe_push`` (the EKF, the arrival cost,
-the window's buffers), then with a full window ``mhe_first`` (no window yet) or the real-time
-iteration ``mhe_rti`` (the QP's KKT system without its bounds), and where that leaves a bound the
-same steps with the bounds (``mhe_window0`` or ``mhe_shift``, then ``mhe_qp_data``, ``mhe_qp`` (qrqp;
-its return code is not an error: a capped QP is judged by its step's violation), ``mhe_finish``). A rejected solve gives the EKF's estimate and is counted
-(``mhe_failures``), and the next full window starts with ``mhe_first`` again.
-"""
+``mhe_sample`` mirrors :meth:`~.sample_mhe.MHEMirror.step`: ``mhe_push`` (the EKF, the arrival cost, the window's
+buffers), then with a full window ``mhe_first`` (no window yet) or the real-time iteration ``mhe_rti`` (the QP's KKT
+system without its bounds), and where that leaves a bound the same steps with the bounds (``mhe_window0`` or
+``mhe_shift``, then ``mhe_qp_data``, ``mhe_qp`` (qrqp; its return code is not an error: a capped QP is judged by its
+step's violation), ``mhe_finish``). A rejected solve gives the EKF's estimate and is counted (``mhe_failures``), and
+the next full window starts with ``mhe_first`` again."""
 
 from __future__ import annotations
 
@@ -140,7 +139,8 @@ def mhe_part(fns) -> str:
     L = m.layout
     n_a = m.qp.sparsity_in(2).size1()
     return MHE_PART.format(first_iterations=FIRST_ITERATIONS, n_s=m.n_s, n_w=m.n_W, n_a=n_a,
-                           i_count=L["count"].start, full=m.window + 1, nnz_h=m.qp.sparsity_in(0).nnz(), nnz_a=m.qp.sparsity_in(2).nnz(), i_z=L["z"].start,
+                           i_count=L["count"].start, full=m.window + 1, nnz_h=m.qp.sparsity_in(0).nnz(),
+                           nnz_a=m.qp.sparsity_in(2).nnz(), i_z=L["z"].start,
                            i_p=L["P"].start, i_zbar=L["zbar"].start, i_pbar=L["Pbar"].start)
 
 

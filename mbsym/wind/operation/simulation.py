@@ -108,9 +108,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         As in :func:`mbsym.simulate`. With a controller, the default is ``method="rk4"`` (with blade-element
         aerodynamics the deck's ElastoDyn Method with a CasADi controller, else ``"rk4-held"``; see the module
         docstring) with ``dt = controller.dt``; ``accuracy``
-        asks for the accuracy-driven sub-steps instead (CasADi-Function controllers only); ``compile`` defaults to compiling runs of more than
-        :data:`COMPILE_FROM_SAMPLES` controller samples, and shorter ones whose virtual-machine time would exceed
-        the compilation's (a large plant: :func:`_compile_pays_off`).
+        asks for the accuracy-driven sub-steps instead (CasADi-Function controllers only); ``compile`` defaults
+        to compiling runs of more than :data:`COMPILE_FROM_SAMPLES` controller samples, and shorter ones whose
+        virtual-machine time would exceed the compilation's (a large plant: :func:`_compile_pays_off`).
 
     Returns
     -------

@@ -1,19 +1,19 @@
 """The exported NMPC with its MHE (``mbsym.wind.mpc.sample_mhe``, ``export-discon --estimator mhe``).
 
-Reference: :class:`mbsym.control.MHE` as :class:`TurbineEstimator` runs it (real-time iterations driven from
-Python: hpipm, its first solve a line-search SQP converged to 1e-8, the EKFs in numpy): an independent path to the
-same estimates. The exported MHE is the same algorithm as fixed-work CasADi Functions (the EKF and the arrival
-cost's update in the graph, :data:`FIRST_ITERATIONS` full Gauss–Newton steps for the first window, then one qrqp
-QP per sample), then generated C behind the swap-array wrapper.
+Reference: :class:`mbsym.control.MHE` as :class:`TurbineEstimator` runs it (real-time iterations driven from Python:
+hpipm, its first solve a line-search SQP converged to 1e-8, the EKFs in numpy): an independent path to the same
+estimates. The exported MHE is the same algorithm as fixed-work CasADi Functions (the EKF and the arrival cost's
+update in the graph, :data:`FIRST_ITERATIONS` full Gauss–Newton steps for the first window, then one QP per sample,
+from its KKT system, with qrqp where a bound is active), then generated C behind the swap-array wrapper.
 
-Tolerances. The first full window: the Python MHE stops its SQP when a step is below 1e-8 (1 + ‖w‖∞), about
-2e-7 here (the wind, ~18 m/s, dominates ‖w‖∞), and Gauss–Newton converges linearly, so its estimate is a few
-1e-6 from the converged one the exported six full steps reach (observed 4.5e-6 m/s on the side-side velocity,
-2.8e-6 of that state's largest value): 1e-4 of each state's largest value. Then every sample both sides solve the
-same QP, hpipm and qrqp each to about 1e-8 of its solution, and the real-time iteration contracts the first
-difference within ten samples: from the tenth sample after the first solve on, 1e-6 relative (observed 1.3e-8). Through the library the commands are float32 (test_nmpc_export.py's module docstring): pitch
-1e-6 relative plus 1e-8 rad, torque 1e-6 relative (observed 8.1e-9 rad and 5.1e-8 over 10 s).
-"""
+Tolerances. The first full window: the Python MHE stops its SQP when a step is below 1e-8 (1 + ‖w‖∞), about 2e-7
+here (the wind, ~18 m/s, dominates ‖w‖∞), and Gauss–Newton converges linearly, so its estimate is a few 1e-6 from
+the converged one the exported six full steps reach (observed 4.5e-6 m/s on the side-side velocity, 2.8e-6 of that
+state's largest value): 1e-4 of each state's largest value. Then every sample both sides solve the same QP, hpipm to
+about 1e-8 of its solution, the KKT solve exactly, and the real-time iteration contracts the first difference within
+ten samples: from the tenth sample after the first solve on, 1e-6 relative (observed 1.3e-8). Through the library
+the commands are float32 (test_nmpc_export.py's module docstring): pitch 1e-6 relative plus 1e-8 rad, torque 1e-6
+relative (observed 8.1e-9 rad and 5.1e-8 over 10 s)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""When ``simulate_turbine`` compiles the closed loop by default (``mbsym.wind.operation.simulation._compile_pays_off``).
+"""When ``simulate_turbine`` compiles the closed loop by default.
+
+``mbsym.wind.operation.simulation._compile_pays_off``.
 
 The rule: more than ``COMPILE_FROM_SAMPLES`` controller samples, or fewer whose right-hand sides would take longer in
 CasADi's virtual machine (one evaluation timed, ``RHS_PER_SAMPLE`` per sample, times the runs) than compiling is
