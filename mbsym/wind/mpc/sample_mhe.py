@@ -124,7 +124,7 @@ def mhe_functions(estimator) -> MHEFunctions:
         An estimator of another kind, or an MHE whose solver is not ``"rti"``.
     """
     from ...control import MHE, EstimationModel
-    from ...control.qp import conic, preparation_function
+    from ...control.qp import preparation_function
 
     f = estimator.filter
     if estimator.kind != "mhe" or not isinstance(f, MHE):

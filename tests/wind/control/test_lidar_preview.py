@@ -218,18 +218,14 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
     import sys
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from _mpc_setup import turbine
-    from test_nmpc_export import LOOP_SI, T_RUN, _controllers, _wind
+    from _mpc_setup import library_closed_loop, turbine
+    from test_nmpc_export import T_RUN, _controllers, _wind
 
     from mbsym.codegen import compiler_command
-    from mbsym.simulate.api import simulate
-    from mbsym.simulate.controller import DiscreteController
-    from mbsym.wind.control import BaselineController, DisconController
-    from mbsym.wind.mpc import LOOP_CHANNELS, measurement_dynamics
+    from mbsym.wind.control import BaselineController
     from mbsym.wind.mpc.discon_nmpc import export_nmpc_discon
     from mbsym.wind.mpc.lidar_preview import PreviewSettings
     from mbsym.wind.mpc.sample import SampledLoop, sample_functions
-    from mbsym.wind.operation.controllers import ACTUATED, held_commands
 
     if compiler_command() is None:
         pytest.skip("no C compiler (gcc/cc, $CC): the NMPC cannot be exported here")
@@ -242,27 +238,14 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
     offsets = np.array([0.0, 0.3, -0.2, 0.5, -0.4])
 
     def run(with_lidar):
-        rows, seen = [], []
+        seen = []
 
         def lidar(tt):
             s = float(wind(tt + 4.0)) + offsets
             seen.append(np.asarray(s, dtype=np.float32).astype(float))
             return s, np.zeros((5, 3))
 
-        with DisconController(lib["library"], lib["input"], dt=0.01, individual_pitch=False,
-                              lidar=lidar if with_lidar else None) as h:
-            step = h.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
-
-            def law(tt, xc, y):
-                y32 = np.asarray(y * np.asarray(LOOP_SI), dtype=np.float32).astype(float)
-                u = step(tt, y32)
-                rows.append((tt, y32, u))
-                return xc, u
-
-            ctrl = DiscreteController(law, 0.01, np.zeros(0), measurements=LOOP_CHANNELS, actuates=ACTUATED)
-            simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), T_RUN, x0=x0, controller=ctrl, method="rk4",
-                     dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
-            messages = list(h.messages)
+        rows, _, messages = library_closed_loop(lib, wind, T_RUN, x0, lidar=lidar if with_lidar else None)
         return rows, seen, messages
 
     rows, seen, messages = run(True)

@@ -208,30 +208,16 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc_with_its_mhe(libra
     # numpy EKFs) fed the same float32 measurements, the estimators started where the library starts its own (the
     # steady estimate at the hub wind of the first step call). With the wind bounded below by 14.2 m/s the library
     # takes its bounded path (qrqp) at more than 10 samples. Tolerance: module docstring.
-    from mbsym.simulate.api import simulate
-    from mbsym.simulate.controller import DiscreteController
-    from mbsym.wind.control import DisconController
-    from mbsym.wind.mpc import LOOP_CHANNELS, NMPCTuning, TurbineLoop, TurbineNMPC, measurement_dynamics
+    from _mpc_setup import library_closed_loop
+
+    from mbsym.wind.mpc import NMPCTuning, TurbineLoop, TurbineNMPC
     from mbsym.wind.mpc.sample import SampledLoop, sample_functions
-    from mbsym.wind.operation.controllers import ACTUATED, held_commands
 
     t, seconds = turbine(), 10.0
     wind = _wind(seconds)
     x0, observed, z0 = _start(wind)
-    rows = []
-    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
-        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
-
-        def law(tt, xc, y):
-            y32 = np.asarray(y * np.asarray(LOOP_SI), dtype=F32).astype(float)
-            u = step(tt, y32)
-            rows.append((tt, y32, u))
-            return xc, u
-
-        ctrl = DiscreteController(law, 0.01, np.zeros(0), measurements=LOOP_CHANNELS, actuates=ACTUATED)
-        res = simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), seconds, x0=x0, controller=ctrl, method="rk4",
-                       dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
-        assert not any("rejected" in m or "failed" in m or "fallback" in m for m in lib.messages), lib.messages
+    rows, res, messages = library_closed_loop(library, wind, seconds, x0)
+    assert not any("rejected" in m or "failed" in m or "fallback" in m for m in messages), messages
 
     def nmpc():
         return TurbineNMPC(t.prediction, t.setpoints, tuning=NMPCTuning.estimated_wind(), references=t.references,

@@ -159,12 +159,10 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(which, request):
     # 27), the Function the library generates. Tolerance: module docstring. ~2 min with the export (60 s of
     # gcc -O2 on 6.6 MB of generated C). Also with a pitch-acceleration term: the library's OCP then carries the
     # rates applied before as a state, which it takes from its own shifted plan.
+    from _mpc_setup import library_closed_loop
+
+    from mbsym.wind.mpc import TurbineLoop
     from mbsym.wind.mpc.sample import sample_functions
-    from mbsym.simulate.api import simulate
-    from mbsym.simulate.controller import DiscreteController
-    from mbsym.wind.control import DisconController
-    from mbsym.wind.mpc import LOOP_CHANNELS, TurbineLoop, measurement_dynamics
-    from mbsym.wind.operation.controllers import ACTUATED, held_commands
 
     library = request.getfixturevalue(which)
     tuning = _pitch_acceleration_tuning() if which == "library_pitch_acceleration" else None
@@ -172,21 +170,8 @@ def test_library_in_mbsyms_discon_loop_equals_the_python_nmpc(which, request):
     assert library["controller"] == "nmpc" and library["sample_time_s"] == 0.01
     t = turbine()
     wind = _wind(T_RUN)
-    rows = []
-    with DisconController(library["library"], library["input"], dt=0.01, individual_pitch=False) as lib:
-        step = lib.callable(LOOP_CHANNELS, ("BlPitchCom1", "GenTqCom"))
-
-        def law(tt, xc, y):
-            y32 = np.asarray(y * np.asarray(LOOP_SI), dtype=F32).astype(float)
-            u = step(tt, y32)
-            rows.append((tt, y32, u))
-            return xc, u
-
-        est, nmpc, x0 = _controllers(wind, tuning=tuning)
-        ctrl = DiscreteController(law, 0.01, np.zeros(0), measurements=LOOP_CHANNELS, actuates=ACTUATED)
-        res = simulate(measurement_dynamics(t.plant, LOOP_CHANNELS), T_RUN, x0=x0, controller=ctrl, method="rk4",
-                       dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
-        assert not any("fallback" in m or "failed" in m for m in lib.messages), lib.messages
+    rows, res, messages = library_closed_loop(library, wind, T_RUN, _controllers(wind, tuning=tuning)[2])
+    assert not any("fallback" in m or "failed" in m for m in messages), messages
     # the library answers its initialization call (status 0, t = 0) with the baseline and starts at the next call
     est0, nmpc0, _ = _controllers(wind, tuning=tuning)
     start = sample_functions(nmpc0, est0, 0.01, settings=t.deck.baseline_settings()).init(rows[1][1][4])

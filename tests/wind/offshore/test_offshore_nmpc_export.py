@@ -84,17 +84,15 @@ def library(setup, tmp_path_factory):
     return export_nmpc_discon(nmpc, est, baseline, tmp_path_factory.mktemp("fl_nmpc"), loop_dt=deck.controller_dt)
 
 
-def test_library_in_mbsyms_discon_loop_equals_its_mirror_and_the_python_nmpc(setup, library):
+def _closed_loop(library, model, dt: float, seconds: float):
+    """The library closed on the plant in mbsym's DISCON loop from the steady guess at :data:`WIND` (float32 swap
+    array): every call's ``(t, measurements in SI as float32, commands)`` and the result; no hold, fallback or
+    rejected estimator solve reported."""
     from mbsym.simulate.controller import DiscreteController
     from mbsym.wind.control import DisconController
-    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
-    from mbsym.wind.mpc.sample import SampledLoop, sample_functions
     from mbsym.wind.operation import simulate_turbine
     from mbsym.wind.operation.steady import steady_guess
 
-    deck, model, settings, controllers, _ = setup
-    dt, seconds = deck.controller_dt, 10.0
-    x0 = steady_guess(model, WIND).state
     rows = []
     with DisconController(library["library"], library["input"], dt=dt, individual_pitch=False) as lib:
         step = lib.callable(CHANNELS, ("BlPitchCom1", "GenTqCom"))
@@ -106,8 +104,21 @@ def test_library_in_mbsyms_discon_loop_equals_its_mirror_and_the_python_nmpc(set
             return xc, u
 
         ctrl = DiscreteController(law, dt, np.zeros(0), measurements=CHANNELS, actuates=("BlPitchCom", "GenTqCom"))
-        res = simulate_turbine(model, WIND, seconds, controller=ctrl, x0=x0)
-        assert not any("fallback" in m or "failed" in m for m in lib.messages), lib.messages
+        res = simulate_turbine(model, WIND, seconds, controller=ctrl, x0=steady_guess(model, WIND).state)
+        bad = [m for m in lib.messages if "fallback" in m or "failed" in m or "rejected" in m]
+        assert not bad, bad
+    return rows, res
+
+
+def test_library_in_mbsyms_discon_loop_equals_its_mirror_and_the_python_nmpc(setup, library):
+    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
+    from mbsym.wind.mpc.sample import SampledLoop, sample_functions
+    from mbsym.wind.operation.steady import steady_guess
+
+    deck, model, settings, controllers, _ = setup
+    dt, seconds = deck.controller_dt, 10.0
+    x0 = steady_guess(model, WIND).state
+    rows, res = _closed_loop(library, model, dt, seconds)
     # the mirror from the first step call (call 0 is the initialization call, answered by the baseline)
     est, nmpc = controllers()
     mirror = SampledLoop(sample_functions(nmpc, est, dt, settings=settings))
@@ -149,14 +160,10 @@ def test_library_with_the_mhe_equals_its_mirror(setup, tmp_path):
     # and moment with prior standard deviations of 1e6 N and 1e8 N m beside 0.1 m), which the arrival cost's weight
     # must keep finite (an inverse of the covariance taken first gave NaN there: every solve rejected). The library
     # in mbsym's DISCON loop, 10 s, against its mirror on the same float32 measurements; tolerance: module docstring.
-    from mbsym.simulate.controller import DiscreteController
     from mbsym.cli.operate_mpc import _initial_estimate
-    from mbsym.wind.control import DisconController
     from mbsym.wind.mpc import TurbineEstimator, estimation_model
     from mbsym.wind.mpc.discon_nmpc import export_nmpc_discon
     from mbsym.wind.mpc.sample import SampledLoop, sample_functions
-    from mbsym.wind.operation import simulate_turbine
-    from mbsym.wind.operation.steady import steady_guess
 
     deck, model, settings, controllers, baseline = setup
     dt = deck.controller_dt
@@ -167,19 +174,7 @@ def test_library_with_the_mhe_equals_its_mirror(setup, tmp_path):
                                 x0=_initial_estimate(model, observed, lambda t: WIND, settings))
 
     lib = export_nmpc_discon(controllers()[1], mhe(), baseline, tmp_path / "lib", loop_dt=dt)
-    rows = []
-    with DisconController(lib["library"], lib["input"], dt=dt, individual_pitch=False) as dll:
-        step = dll.callable(CHANNELS, ("BlPitchCom1", "GenTqCom"))
-
-        def law(t, xc, y):
-            y32 = np.asarray(np.asarray(y) * np.asarray(SI), dtype=F32).astype(float)
-            u = step(t, y32)
-            rows.append((t, y32, u))
-            return xc, u
-
-        ctrl = DiscreteController(law, dt, np.zeros(0), measurements=CHANNELS, actuates=("BlPitchCom", "GenTqCom"))
-        simulate_turbine(model, WIND, 10.0, controller=ctrl, x0=steady_guess(model, WIND).state)
-        assert not any("rejected" in m or "failed" in m or "fallback" in m for m in dll.messages), dll.messages
+    rows, _ = _closed_loop(lib, model, dt, 10.0)
     mirror = SampledLoop(sample_functions(controllers()[1], mhe(), dt, settings=settings))
     got = np.array([u for _, _, u in rows[1:]])
     ref = np.array([mirror.step(t - rows[1][0], y[0] * 30.0 / math.pi, y[6], y[2], y[5], hub_wind=y[4],
