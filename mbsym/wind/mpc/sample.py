@@ -70,10 +70,11 @@ import numpy as np
 from ...exceptions import ControlDefinitionError
 from .estimator import control_values
 from .lidar_preview import LidarPreview, PreviewSettings
-from .sample_mhe import MHEMirror, small_solve
+from .sample_ekf import INIT_STEP, ekf_function, init_function
+from .sample_mhe import MHEMirror
 
-__all__ = ["QP_ACCEPT", "QP_MAX_ITER", "QP_MAX_ITER_LARGE", "qp_max_iter", "STARTUP_ITERATIONS", "INIT_STEP", "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop",
-           "sample_functions"]
+__all__ = ["QP_ACCEPT", "QP_MAX_ITER", "QP_MAX_ITER_LARGE", "qp_max_iter", "STARTUP_ITERATIONS", "INIT_STEP",
+           "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop", "sample_functions"]
 
 #: Full Gauss–Newton iterations of the first sample (fixed work; see the module docstring).
 STARTUP_ITERATIONS = 10
@@ -97,8 +98,6 @@ def qp_max_iter(n_x: int) -> int:
     return QP_MAX_ITER if n_x <= QP_CAP_STATES else QP_MAX_ITER_LARGE
 #: Largest accepted QP violation relative to ``1 + ‖Δw‖∞`` (:attr:`mbsym.control.qp.QPCall.FEAS_TOL`).
 QP_ACCEPT = 1e-6
-#: Wind step of the steady-estimate table of ``init`` [m/s].
-INIT_STEP = 1.0
 #: How the estimator starts (module docstring).
 INITIAL_ESTIMATES = ("hub-wind", "fixed")
 
@@ -283,12 +282,12 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     f = estimator.filter
     pred = nmpc.prediction
     grid = np.asarray(nmpc.references.winds, dtype=float)
-    init = _init_function(estimator, grid, settings)
+    init = init_function(estimator, grid, settings)
     if preview is not None and not isinstance(preview, PreviewSettings):
         raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
     on = preview is not None
     data, qp, finish = _rti_function(nmpc, estimator, startup=False, preview=on)
-    return SampleFunctions(ekf=_ekf_function(estimator), qp_data=data, qp=qp, finish=finish, mhe=mhe,
+    return SampleFunctions(ekf=ekf_function(estimator), qp_data=data, qp=qp, finish=finish, mhe=mhe,
                            n_lam=finish.size1_in("lam"),
                            startup=_rti_function(nmpc, estimator, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
@@ -311,46 +310,6 @@ def _rate_bounds(nmpc) -> tuple:
     """Bounds of the NMPC's rates (pitch [rad/s], torque [N m/s])."""
     P, nc = nmpc.nmpc.transcription.problem, nmpc.nmpc.transcription.n_controls
     return tuple((float(P.lbu[i]), float(P.ubu[i])) for i in range(nc))
-
-
-def _init_function(estimator, grid: np.ndarray, settings) -> ca.Function:
-    """``wind -> z``: steady estimates every :data:`INIT_STEP` m/s over ``grid``'s range, interpolated linearly."""
-    from .estimator import steady_estimate
-
-    lo, hi = float(grid[0]), float(grid[-1])
-    winds = np.unique(np.append(np.arange(lo, hi, INIT_STEP), hi))
-    table = np.array([estimator.complete(steady_estimate(estimator.prediction, u, settings=settings)) for u in winds])
-    wind = ca.MX.sym("wind")
-    w = ca.fmin(ca.fmax(wind, lo), hi)
-    rows = [ca.interpolant(f"init_{i}", "linear", [winds], table[:, i])(w) for i in range(table.shape[1] - 1)]
-    return ca.Function("nmpc_init", [wind], [ca.vertcat(*rows, w)], ["wind"], ["z"])
-
-
-def _ekf_function(estimator) -> ca.Function:
-    """``(z, P, y, u, predict) -> (z, P)``: :meth:`mbsym.control.EKF.step` as one Function."""
-    from ...control import EstimationModel
-
-    m = estimator.model
-    # a fresh, uncompiled copy: the filter's own linearization may be a compiled library (no graph to generate)
-    lin = EstimationModel(estimator.dynamics, dt=estimator.dt, measurements=m.measurements,
-                          unknown_inputs=m.unknown_inputs, compile=False).linearization
-    f = getattr(estimator.filter, "_ekf", estimator.filter)         # an MHE's own EKF
-    n, ny, nu = m.n_z, m.n_y, len(m.known_inputs)
-    z, y, u, flag = ca.MX.sym("z", n), ca.MX.sym("y", ny), ca.MX.sym("u", nu), ca.MX.sym("predict")
-    P = ca.MX.sym("P", n, n)
-    pr = ca.DM(m.p_rest)
-    zn, F, _, _ = lin(z, u, pr)
-    zp = ca.if_else(flag, zn, z)
-    Pp = ca.if_else(flag, ca.mtimes([F, P, F.T]) + ca.DM(f.Q), P)
-    _, _, yh, H = lin(zp, u, pr)
-    R = ca.DM(f.R)
-    S = ca.mtimes([H, Pp, H.T]) + R
-    HP = ca.mtimes(H, Pp)
-    K = small_solve(S, HP).T
-    I_KH = ca.DM.eye(n) - ca.mtimes(K, H)
-    z_new = zp + ca.mtimes(K, y - yh)
-    P_new = ca.mtimes([I_KH, Pp, I_KH.T]) + ca.mtimes([K, R, K.T])
-    return ca.Function("nmpc_ekf", [z, P, y, u, flag], [z_new, P_new], ["z", "P", "y", "u", "predict"], ["z_next", "P_next"])
 
 
 def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
