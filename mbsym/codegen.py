@@ -31,6 +31,7 @@ Measured on the CI machine kind (paper45 turbine, 3 DOFs): the RK4 step of
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import shlex
@@ -41,7 +42,7 @@ import warnings
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Iterator, Sequence
 
 import casadi as ca
 
@@ -409,6 +410,31 @@ def _fallback(f: ca.Function, key: str, t0: float, message: str, warn: bool) -> 
     return CompiledFunction(f, False, False, key, None, time.perf_counter() - t0, message)
 
 
+#: Compilations estimated to take longer than this [s] are announced to :func:`announcing`'s callback.
+ANNOUNCE_FROM_S = 20.0
+_ANNOUNCE: list = []
+
+
+@contextlib.contextmanager
+def announcing(say: Callable[[str], None]) -> Iterator[None]:
+    """Within the block, say ``compiling <name> to C (~N s estimated, once: cached on disk)`` through ``say`` before
+    a compilation estimated (:func:`estimate_compile_seconds`) to take more than :data:`ANNOUNCE_FROM_S` (a
+    command line's way to explain a long silence; libraries found in the cache are not announced)."""
+    _ANNOUNCE.append(say)
+    try:
+        yield
+    finally:
+        _ANNOUNCE.remove(say)
+
+
+def _announce(f: ca.Function) -> None:
+    if not _ANNOUNCE:
+        return
+    seconds = estimate_compile_seconds(f)
+    if seconds > ANNOUNCE_FROM_S:
+        _ANNOUNCE[-1](f"compiling {f.name()} to C (~{seconds:.0f} s estimated, once: cached on disk)")
+
+
 def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, compiler: str | None = None,
                      directory: str | os.PathLike | None = None, jacobian: bool = False) -> CompiledFunction:
     """Compile ``f`` to C and load it, through the disk cache; fall back to ``f`` itself.
@@ -468,6 +494,7 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
             library.unlink(missing_ok=True)        # exists but does not load (truncated, other ABI): rebuild once
     import subprocess
 
+    _announce(f)
     try:
         _build(f, cc, flags, library, jacobian)
     except (OSError, subprocess.SubprocessError, RuntimeError) as exc:

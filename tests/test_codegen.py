@@ -63,6 +63,24 @@ def test_disk_cache_is_reused():
     assert clear_disk_cache() == 1 and not first.library.exists()
 
 
+@needs_cc
+def test_long_compilations_are_announced(monkeypatch):
+    # Within `announcing`, a compilation estimated beyond ANNOUNCE_FROM_S is said before it starts (the threshold
+    # lowered to below any estimate here); a library found in the disk cache is not announced, nor anything outside.
+    import mbsym.codegen as codegen
+
+    monkeypatch.setattr(codegen, "ANNOUNCE_FROM_S", -1.0)
+    said = []
+    with codegen.announcing(said.append):
+        compile_function(_nonlinear())
+        compile_function(_nonlinear())                     # the cached library: nothing to say
+    assert said == [f"compiling nonlinear_test to C (~{codegen.estimate_compile_seconds(_nonlinear()):.0f} s "
+                    "estimated, once: cached on disk)"]
+    clear_disk_cache()
+    compile_function(_nonlinear())
+    assert len(said) == 1
+
+
 def test_key_covers_graph_flags_and_compiler():
     f = _nonlinear()
     x = ca.SX.sym("x")

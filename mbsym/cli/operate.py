@@ -33,7 +33,9 @@ with SPEC ``steady:U``, ``step:U0:U1:T``, ``kaimal:U:TI:SEED`` (also ``ramp:…`
   "blade-speed"); with the
   baseline controller the aerodynamics are evaluated every 2 deg of rotor rotation (``--aero-dt``
   overrides; :func:`mbsym.wind.operation.simulation.default_aero_dt`);
-  compiled to C from 2000 controller samples on (``--compile`` forces it).
+  compiled to C from 2000 controller samples on, and for shorter runs whose plant would take longer in
+  CasADi's virtual machine than compiling (a blade-element floating deck: from a few seconds of simulated time;
+  a compilation estimated beyond 20 s is announced on stderr); ``--compile`` forces it.
 * ``--tmax`` defaults to the deck's TMax (built-in: the length of a tabulated wind, else 60 s);
   ``--dt`` is the output spacing (default: the deck's DT_Out; built-in 0.05 s).
 """
@@ -170,15 +172,17 @@ def run_operation(args: argparse.Namespace) -> int:
     _note_outlist(deck, dyn)
     printer = ProgressPrinter(sys.stderr)
     try:
+        from ..codegen import announcing
         from ..wind.operation.simulation import simulate_turbine
 
-        if loop is not None:
-            from ..wind.mpc.simulation import simulate_with_loop
+        with announcing(lambda line: print(f"mbsym simulate: {line}", file=sys.stderr, flush=True)):
+            if loop is not None:
+                from ..wind.mpc.simulation import simulate_with_loop
 
-            result = simulate_with_loop(model, wind, tmax, loop, x0=x0, t_out=t_out, progress=printer, **options)
-        else:
-            result = simulate_turbine(model, wind, tmax, controller=controller, x0=x0, t_out=t_out,
-                                      progress=printer, **options)
+                result = simulate_with_loop(model, wind, tmax, loop, x0=x0, t_out=t_out, progress=printer, **options)
+            else:
+                result = simulate_turbine(model, wind, tmax, controller=controller, x0=x0, t_out=t_out,
+                                          progress=printer, **options)
     except SimulationInterrupted as exc:
         printer.close()
         print(f"mbsym simulate: {exc} (of {tmax:g} s); nothing written", file=sys.stderr)
