@@ -1,8 +1,8 @@
-"""Export the turbine NMPC with its EKF as a self-contained Bladed-style ``DISCON`` library.
+"""Export the turbine NMPC with its EKF (or MHE) as a self-contained Bladed-style ``DISCON`` library.
 
 :func:`export_nmpc_discon` generates C for the fixed-work Functions of :mod:`.sample` (the EKF
-sample, the first sample's start-up iterations and one real-time iteration with CasADi's ``qrqp``, warm-started
-from the previous sample's multipliers)
+sample, or the MHE's of :mod:`.sample_mhe` with its C part :mod:`.discon_mhe`; the first sample's start-up
+iterations and one real-time iteration with CasADi's ``qrqp``, warm-started from the previous sample's multipliers)
 and for the baseline controller's law (the fallback), and compiles them with a hand-written
 wrapper (:mod:`mbsym.wind.control._discon_c`'s parts and :data:`NMPC_PART`) into one shared
 library linked against ``libm`` only: no Python, numpy or CasADi at run time, fixed (static) memory.
@@ -368,7 +368,7 @@ def export_nmpc_discon(nmpc, estimator, baseline, out_dir, *, loop_dt: float, na
     nmpc : TurbineNMPC
         Solver ``"rti"``.
     estimator : TurbineEstimator
-        Kind ``"ekf"``.
+        Kind ``"ekf"``, or ``"mhe"`` (its real-time iterations, :mod:`.sample_mhe`).
     baseline : BaselineController
         Without IPC, sample time ``loop_dt``: the fallback law.
     out_dir : str or Path

@@ -4,6 +4,8 @@
 :class:`~.estimator.TurbineEstimator` into Functions with no Python in between, each a fixed
 amount of work, so they can be generated as C (:mod:`.discon_nmpc`):
 
+- with an MHE instead of the EKF, its sample (:mod:`.sample_mhe`: the EKF, the arrival cost, one QP over the
+  window);
 - ``ekf(z, P, y, u, predict) -> (z, P)``: one EKF sample, exactly :meth:`mbsym.control.EKF.step`:
   the time update over the last estimator interval with the mean measured pitch and torque ``u``
   (skipped when ``predict`` is 0, the first sample), then the measurement update with ``y`` =
@@ -143,6 +145,9 @@ class SampleFunctions:
     measurements : tuple of str
         What ``ekf``'s ``y`` holds, in the estimator's units: ``GenSpeed`` [rpm], ``YawBrTAxp`` [m/s²], and on a
         floating platform ``NcIMURAys`` [deg/s²], ``PtfmPitch`` [deg], ``PtfmSurge`` [m].
+    mhe : MHEFunctions or None
+        With an MHE estimator (:mod:`.sample_mhe`), its Functions; the estimator's sample is then the MHE's
+        (``ekf`` stays for reference; ``z0``, ``P0`` are the MHE's prior).
     """
 
     ekf: ca.Function
@@ -229,7 +234,7 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     nmpc : TurbineNMPC
         Solver ``"rti"`` (its QP solver is replaced by ``qrqp`` here).
     estimator : TurbineEstimator
-        Kind ``"ekf"``.
+        Kind ``"ekf"``, or ``"mhe"`` with real-time iterations (:mod:`.sample_mhe`).
     loop_dt : float
         Loop sample time [s]; the estimator's and the NMPC's sample times are multiples of it, the
         NMPC's of the estimator's.
@@ -291,8 +296,9 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
                            n_lam=finish.size1_in("lam"),
                            startup=_rti_function(nmpc, estimator, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
-                           z0=np.array(f._arrival[0] if mhe else f.x, dtype=float),
-                           P0=np.array(f._arrival[1] if mhe else f.P, dtype=float), n_w=nmpc.nmpc.transcription.problem.layout.n_w,
+                           z0=np.array(f._arrival[0] if mhe else f.x, dtype=float),      # an MHE's prior
+                           P0=np.array(f._arrival[1] if mhe else f.P, dtype=float),
+                           n_w=nmpc.nmpc.transcription.problem.layout.n_w,
                            loop_dt=float(loop_dt), ke=ke, kn=kn, lead=tuple(float(v) for v in pred._lead),
                            limits=tuple(tuple(float(v) for v in b) for b in pred._demand_limits), init=init,
                            initial=initial, wind_range=(0.5 * float(grid[0]), 1.5 * float(grid[-1])),
