@@ -43,7 +43,8 @@ __all__ = ["FIRST_ITERATIONS", "MHEFunctions", "MHEMirror", "memory_layout", "mh
 
 #: Full Gauss–Newton iterations of the first solve of a full window (fixed work).
 FIRST_ITERATIONS = 6
-#: qrqp's iteration cap in the real-time iteration (the MHE's QP has bounds on the wind only).
+#: qrqp's iteration cap where the window's QP is solved with its bounds (a cold start: one iteration per bound that
+#: becomes active, at most one per window node for the wind's).
 MHE_QP_MAX_ITER = 50
 
 
@@ -76,12 +77,12 @@ class MHEFunctions:
     window: int
     n_s: int
     n_W: int
-    s0_parts: tuple          # (P0 (n_z × n_z),): the prior covariance a (re)start puts in ``P`` and ``Pbar``
+    P0: np.ndarray           # the prior covariance a (re)start puts in ``P`` and ``Pbar`` (n_z × n_z)
     layout: dict
 
     def start(self, z0: np.ndarray) -> np.ndarray:
         """The memory of a (re)start at the estimate ``z0``: covariance and arrival prior ``P0``, empty window."""
-        P0 = self.s0_parts[0]
+        P0 = self.P0
         s = np.zeros(self.n_s)
         L = self.layout
         s[L["z"]], s[L["P"]] = z0, P0.reshape(-1, order="F")
@@ -194,7 +195,7 @@ def mhe_functions(estimator) -> MHEFunctions:
     window0 = ca.Function("mhe_window0", [s], [_initial_window(twin, s, L, D, pr)], ["s"], ["w0"])
     return MHEFunctions(push=push, first=first, rti=rti, shift=shift, window0=window0,
                         **_bounded_parts(P, prep, qp_at, step, n, s), window=M, n_s=n_s, n_W=n_W,
-                        s0_parts=(np.array(f._arrival[1], dtype=float),), layout=L)
+                        P0=np.array(f._arrival[1], dtype=float), layout=L)
 
 
 def _bounded_parts(P, prep, qp_at, step, n: int, s: ca.MX) -> dict:
