@@ -425,17 +425,21 @@ def output_folder(args) -> Path:
 
 
 def _for_plant(controller, handle, model, kind, args, deck):
-    """The controller wired to a blade-element plant (root moments, azimuth, per-blade pitch) or a floating one
-    (the nacelle's pitching acceleration for the floating feedback), else as built."""
+    """The controller wired to the plant: a DISCON library always gets every record the plant measures (the
+    measured torque, record 23, and the tower-top acceleration, 53, as ServoDyn fills them; with a blade-element
+    plant the root moments, azimuth and per-blade pitch; with a floating one the platform's motion); the
+    baseline is rewired for a blade-element or floating plant, else as built."""
     from ..wind.control import BaselineController
     from ..wind.operation.controllers import baseline_in_loop, discon_in_loop
 
-    if controller is None or (model.aero != "blade" and getattr(model, "platform", None) is None):
+    if controller is None:
         return controller
-    if kind == "baseline":
-        settings = deck.baseline_settings(discon_in=args.discon_input)
-        return baseline_in_loop(BaselineController(settings), model=model)
-    return discon_in_loop(handle, model=model)
+    if kind != "baseline":
+        return discon_in_loop(handle, model=model)
+    if model.aero != "blade" and getattr(model, "platform", None) is None:
+        return controller
+    settings = deck.baseline_settings(discon_in=args.discon_input)
+    return baseline_in_loop(BaselineController(settings), model=model)
 
 
 def _series(result, dyn):

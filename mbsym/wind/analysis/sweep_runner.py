@@ -158,10 +158,11 @@ class ClosedLoopRunner:
         controller = prep["law"]
         if c["kind"] == "discon":
             from ..control.discon import DisconController
-            from ..operation.controllers import discon_in_loop
+            from ..operation.controllers import SI_FACTORS, discon_in_loop
 
             handle = DisconController(c["library"], c["input"], dt=c["dt"], n_blades=c["n_blades"])
-            controller = discon_in_loop(handle)
+            # every channel the plant measures that has a swap record (23 GenTq, 53 YawBrTAxp as ServoDyn fills them)
+            controller = discon_in_loop(handle, measurements=[m for m in n["measurements"] if m in SI_FACTORS])
         try:
             res = simulate(prep["measured"] if controller is not None else prep["full"], self.tmax, x0=wc.x0,
                            inputs=inputs, p=p, controller=controller, method="rk4", dt=c["dt"], t_out=t_out,

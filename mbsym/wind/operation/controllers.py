@@ -17,6 +17,7 @@ samples (zero-order hold, as ServoDyn holds a DISCON library's commands).
 from __future__ import annotations
 
 import math
+from typing import Sequence
 
 import casadi as ca
 import numpy as np
@@ -118,7 +119,8 @@ def _plant_commands(u, commands: tuple[str, ...], model) -> tuple:
                           "pitch control needs a plant with pitch='individual'.")
 
 
-def discon_in_loop(controller: DisconController, *, name: str = "discon", model=None) -> DiscreteController:
+def discon_in_loop(controller: DisconController, *, name: str = "discon", model=None,
+                   measurements: Sequence[str] | None = None) -> DiscreteController:
     """A DISCON library as a :class:`DiscreteController` (a Python call per sample).
 
     The library is initialized at the first sample (t = 0) and keeps its state; use a new
@@ -126,11 +128,21 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon", model=
     blade-element ``model`` the library also receives the blade-root moments (records 30-32), the azimuth
     (60) and every blade's pitch (4, 33, 34); with ``pitch='individual'`` its pitch demands per blade
     (records 42-44) drive the blades. With a ``model`` it also receives :data:`DISCON_MEASUREMENTS` where the
-    model measures them (:func:`measurement_names`; records 23 and 53, as from ServoDyn).
+    model measures them (:func:`measurement_names`; records 23 and 53, as from ServoDyn). ``measurements``: the
+    channels to give it instead (names of :data:`SI_FACTORS`), for a caller with the plant's measurement names but
+    not the model (a sweep's worker).
     """
     if not isinstance(controller, DisconController):
         raise TypeError(f"controller must be a DisconController; got {type(controller).__name__}.")
-    measured = measurement_names(model) if model is not None else MEASUREMENTS
+    if measurements is not None:
+        measured = tuple(measurements)
+        unknown = [m for m in measured if m not in SI_FACTORS]
+        if unknown:
+            from ...exceptions import OptionError
+
+            raise OptionError(f"discon_in_loop: no swap record for {unknown}; known channels: {list(SI_FACTORS)}.")
+    else:
+        measured = measurement_names(model) if model is not None else MEASUREMENTS
     individual = getattr(model, "pitch", "collective") == "individual"
     n = model.turbine.number_of_blades if individual else 1
     commands = tuple(f"BlPitchCom{k + 1}" for k in range(n)) + ("GenTqCom",)
