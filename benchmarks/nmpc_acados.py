@@ -116,14 +116,15 @@ static const double *narg[{n_arg}];
 static double *nres[{n_res}];
 static casadi_int niw[{n_iw}];
 static double nw[{n_work}];
+static const double SETTINGS[] = {{{settings}}};
 {rti_part}
 __attribute__((visibility("default"))) int bench_rti(const double *w, const double *z, double pitch, double torque,
         const double *lam, double *w_next, double *rates, double *viol, double *lam_next)
-{{ return rti_parts(w, z, pitch, torque, 0, lam, w_next, rates, viol, lam_next); }}
+{{ return rti_parts(w, z, pitch, torque, SETTINGS, 0, lam, w_next, rates, viol, lam_next); }}
 __attribute__((visibility("default"))) int bench_startup(const double *z, double pitch, double torque,
         double *w_next, double *rates, double *viol, double *lam_next)
 {{
-    narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
+    narg[0] = z; narg[1] = &pitch; narg[2] = &torque; narg[3] = SETTINGS;
     nres[0] = w_next; nres[1] = rates; nres[2] = viol; nres[3] = lam_next;
     return nmpc_startup(narg, nres, niw, nw, 0);
 }}
@@ -153,7 +154,8 @@ def run_generated(steps: int) -> dict:
     cg.generate(str(folder) + os.sep)
     (folder / "driver.c").write_text(DRIVER.format(
         n_w=fns.n_w, n_lam=fns.n_lam, n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
-        n_iw=max(max(g.sz_iw() for g in gens), 1), n_work=max(g.sz_w() for g in gens), rti_part=rti_part(fns)))
+        n_iw=max(max(g.sz_iw() for g in gens), 1), n_work=max(g.sz_w() for g in gens), rti_part=rti_part(fns),
+        settings=", ".join(repr(float(v)) for v in fns.layout.exported)))
     _compile(compiler_command(), [folder / "rti_gen.c", folder / "driver.c"], folder / "rti.so")  # the export's flags
     lib = ctypes.CDLL(str(folder / "rti.so"))
     build = time.perf_counter() - t0

@@ -7,14 +7,15 @@ commands held between samples. Fixed memory: every array is static and sized at 
 
 The template is assembled from parts that other exported controllers reuse (the NMPC's wrapper,
 :mod:`mbsym.wind.mpc.discon_nmpc`): :data:`HEAD` (constants, static arrays, messages, the input
-file), :data:`LAW` (the law called on the swap records, its commands written), :data:`CHECK` (the
+file: its three common keys, a controller's own through the hooks ``input_begin``, ``input_key`` and
+``input_end``; :data:`NO_KEYS` the hooks of a controller with none), :data:`LAW` (the law called on the swap records, its commands written), :data:`CHECK` (the
 interface records) and :data:`ENTRY` (the ``DISCON`` entry point with its decimation, calling a
 sample function that may warn: ``aviFAIL = 1``).
 """
 
 from __future__ import annotations
 
-__all__ = ["WRAPPER", "HEAD", "LAW", "CHECK", "ENTRY"]
+__all__ = ["WRAPPER", "HEAD", "NO_KEYS", "LAW", "CHECK", "ENTRY"]
 
 #: The C before the controller law: includes, constants, static arrays, messages and the input file.
 HEAD = r"""/* DISCON entry point of an mbsym-exported controller ({controller}); written by mbsym export-discon.
@@ -83,11 +84,18 @@ static int fail(float *swap, int *status, char *msg, const char *text)
     return -1;
 }}
 
-/* The input file: lines "value  Key  ! comment"; keys Controller, SampleTime, Fingerprint. */
+/* The controller's own keys (input_begin resets them, input_key reads one: 1 read, -1 error in err; input_end
+ * checks them together): defined by each exported controller after this part. */
+static void input_begin(void);
+static int input_key(const char *file, const char *value, const char *key, char *err, size_t n_err);
+static int input_end(const char *file, char *err, size_t n_err);
+
+/* The input file: lines "value  Key  ! comment"; keys Controller, SampleTime, Fingerprint and the controller's own
+ * (input_key); an unknown or repeated key is an error. */
 static int read_input(float *swap, const char *infile, char *err, size_t n_err)
 {{
-    char name[1024], line[512], value[256], key[64];
-    int length = (int)swap[49], i, got_kind = 0, got_dt = 0, got_id = 0;
+    char name[1024], line[512], value[256], key[64], seen[64][64];
+    int length = (int)swap[49], i, got_kind = 0, got_dt = 0, got_id = 0, n_seen = 0;
     FILE *f;
     if (infile == NULL) {{ snprintf(err, n_err, "no input file name (accINFILE is NULL)"); return -1; }}
     if (length < 1 || length > (int)sizeof name) length = (int)sizeof name;
@@ -100,8 +108,15 @@ static int read_input(float *swap, const char *infile, char *err, size_t n_err)
                  "next to the library by mbsym export-discon", name);
         return -1;
     }}
+    input_begin();
     while (fgets(line, sizeof line, f) != NULL) {{
         if (sscanf(line, "%255s %63s", value, key) != 2 || value[0] == '!' || value[0] == '#') continue;
+        for (i = 0; i < n_seen; ++i) {{
+            if (strcmp(seen[i], key) == 0) {{
+                snprintf(err, n_err, "%s: key %s is given twice", name, key); fclose(f); return -1;
+            }}
+        }}
+        if (n_seen < 64) strcpy(seen[n_seen++], key);
         if (strcmp(key, "Controller") == 0) {{
             got_kind = 1;
             if (strcmp(value, CONTROLLER) != 0) {{
@@ -123,6 +138,8 @@ static int read_input(float *swap, const char *infile, char *err, size_t n_err)
                          "belongs to another export", name, value, FINGERPRINT);
                 fclose(f); return -1;
             }}
+        }} else if (input_key(name, value, key, err, n_err) < 0) {{
+            fclose(f); return -1;
         }}
     }}
     fclose(f);
@@ -131,8 +148,23 @@ static int read_input(float *swap, const char *infile, char *err, size_t n_err)
                  got_kind ? "" : " Controller", got_dt ? "" : " SampleTime", got_id ? "" : " Fingerprint");
         return -1;
     }}
-    return 0;
+    return input_end(name, err, n_err);
 }}
+
+"""
+
+#: The input-file hooks of a controller with no keys of its own (the baseline: every setting compiled in).
+NO_KEYS = r"""static void input_begin(void) {{ }}
+
+static int input_key(const char *file, const char *value, const char *key, char *err, size_t n_err)
+{{
+    (void)value;
+    snprintf(err, n_err, "%s: unknown key '%s'; this library reads Controller, SampleTime and Fingerprint (every "
+             "setting of the law is compiled in)", file, key);
+    return -1;
+}}
+
+static int input_end(const char *file, char *err, size_t n_err) {{ (void)file; (void)err; (void)n_err; return 0; }}
 
 """
 
@@ -271,5 +303,5 @@ EXPORT void DISCON(float *avrSWAP, int *aviFAIL, const char *accINFILE, char *av
 """
 
 #: The baseline controller's whole wrapper.
-WRAPPER = (HEAD + LAW + CHECK + ENTRY).replace("{start}", "memcpy(xc, X0, sizeof xc);").replace(
+WRAPPER = (HEAD + NO_KEYS + LAW + CHECK + ENTRY).replace("{start}", "memcpy(xc, X0, sizeof xc);").replace(
     "{sample}", "run_law").replace("{write}", "write_commands")

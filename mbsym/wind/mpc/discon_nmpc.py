@@ -49,8 +49,8 @@ and gives the NMPC the stage winds of :class:`~.lidar_preview.LidarPreview`. Wit
 it says so once (``aviFAIL = 1``) and holds the estimate over the horizon.
 
 **Input file**: ``Controller`` (``nmpc``), ``SampleTime`` [s] and ``Fingerprint``, checked as for
-the baseline export; the horizon, sample times, cost scales and limits compiled into the library
-are listed in it as comments (changing them means exporting again).
+the baseline export; the run-time settings (cost scales, limits, preview source) read at the first call, and
+the compiled-in horizon, sample times and estimator, checked (:mod:`.runtime_settings`).
 """
 
 from __future__ import annotations
@@ -67,6 +67,7 @@ from ..control._discon_c import CHECK, ENTRY, HEAD, LAW
 from ..control.swap import MEASUREMENT_RECORDS
 from .discon_mhe import mhe_functions_of, mhe_part
 from .lidar_preview import preview_c
+from .runtime_settings import input_lines, settings_c
 from .sample import QP_ACCEPT, sample_functions
 
 __all__ = ["NMPC_PART", "NMPC_RECORDS", "RTI_PART", "export_nmpc_discon", "rti_part"]
@@ -105,8 +106,6 @@ int nmpc_finish(const double** arg, double** res, casadi_int* iw, double* w, int
 static const double Z0[NZ] = {{{z0}}};
 static const double P0[NZ * NZ] = {{{p0}}};
 static const double LEAD[2] = {{{lead}}};
-static const double LIMITS[4] = {{{limits}}};
-static const double RATE_LIM[4] = {{{rate_limits}}};
 static double z[NZ], P[NZ * NZ], z_next[NZ], P_next[NZ * NZ], plan[NW], plan_next[NW], rates[2], viol;
 static double lam[NLAM], lam_next[NLAM];
 
@@ -117,11 +116,11 @@ static const double *narg[{n_arg}];
 static double *nres[{n_res}];
 static casadi_int niw[{n_iw}];
 static double nw[{n_w_work}];
-
+{settings_part}
 {rti_part}
 static int nmpc_rti(const double *wind_or_null, double pitch, double torque)
 {{
-    return rti_parts(plan, z, pitch, torque, wind_or_null, lam, plan_next, rates, &viol, lam_next);
+    return rti_parts(plan, z, pitch, torque, settings, wind_or_null, lam, plan_next, rates, &viol, lam_next);
 }}
 
 static double clip(double v, double lo, double hi) {{ return v < lo ? lo : (v > hi ? hi : v); }}
@@ -240,7 +239,7 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
     }}
 #if PV_ON
     if (k_loop % KN == 0) {{                /* the lidar's sample and the stage winds (after the EKF) */
-        if (pv_push(swap, (double)k_loop * SAMPLE_TIME) && !pv_missing) {{
+        if (pv_use && pv_push(swap, (double)k_loop * SAMPLE_TIME) && !pv_missing) {{
             pv_missing = 1;
             note = 1;
             snprintf(err, n_err, "no single-point lidar of %d beams in the extended swap records (2001: 1, 2002: %d; "
@@ -259,9 +258,9 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
 #endif
         }} else {{
             nres[0] = plan_next; nres[1] = rates; nres[2] = &viol; nres[3] = lam_next;
-            narg[0] = z; narg[1] = &pitch; narg[2] = &torque;
+            narg[0] = z; narg[1] = &pitch; narg[2] = &torque; narg[3] = settings;
 #if PV_ON
-            narg[3] = windv;
+            narg[4] = windv;
 #endif
             r = nmpc_startup(narg, nres, niw, nw, 0);
         }}
@@ -330,11 +329,12 @@ RTI_PART = r"""
 static double lam_qp[NLAM], qh[{nnz_h}], qg[NW], qa[{nnz_a}], qlba[NLAM - NW], quba[NLAM - NW], qlbx[NW], qubx[NW];
 static double qdw[NW], qcost;
 
-static int rti_parts(const double *w_in, const double *z_in, double pitch, double torque, const double *wind,
-                     const double *lam_in, double *w_next, double *rates_out, double *viol_out, double *lam_out)
+static int rti_parts(const double *w_in, const double *z_in, double pitch, double torque, const double *set,
+                     const double *wind, const double *lam_in, double *w_next, double *rates_out, double *viol_out,
+                     double *lam_out)
 {{
     int r;
-    narg[0] = w_in; narg[1] = z_in; narg[2] = &pitch; narg[3] = &torque; narg[4] = wind;
+    narg[0] = w_in; narg[1] = z_in; narg[2] = &pitch; narg[3] = &torque; narg[4] = set; narg[5] = wind;
     nres[0] = qh; nres[1] = qg; nres[2] = qa; nres[3] = qlba; nres[4] = quba; nres[5] = qlbx; nres[6] = qubx;
     r = nmpc_qp_data(narg, nres, niw, nw, 0);
     if (r) return r;
@@ -343,7 +343,7 @@ static int rti_parts(const double *w_in, const double *z_in, double pitch, doubl
     nres[0] = qdw; nres[1] = &qcost; nres[2] = lam_qp + NW; nres[3] = lam_qp;
     (void)nmpc_qp(narg, nres, niw, nw, 0);
     narg[0] = w_in; narg[1] = qdw; narg[2] = lam_qp; narg[3] = qa; narg[4] = qlba; narg[5] = quba; narg[6] = qlbx;
-    narg[7] = qubx;
+    narg[7] = qubx; narg[8] = set;
     nres[0] = w_next; nres[1] = rates_out; nres[2] = viol_out; nres[3] = lam_out;
     return nmpc_finish(narg, nres, niw, nw, 0);
 }}
@@ -479,8 +479,8 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
                 z0=_floats(fns.z0),
                 init_hub_wind=int(fns.initial == "hub-wind"), wind_lo=float(fns.wind_range[0]),
                 wind_hi=float(fns.wind_range[1]),
-                p0=_floats(fns.P0), lead=_floats(fns.lead), limits=_floats([v for b in fns.limits for v in b]),
-                rate_limits=_floats([v for b in fns.rate_bounds for v in b]), n_xs=fns.stage[0], n_us=fns.stage[1],
+                p0=_floats(fns.P0), lead=_floats(fns.lead), settings_part=settings_c(fns.layout),
+                n_xs=fns.stage[0], n_us=fns.stage[1],
                 n_cs=fns.stage[2], n_stage=fns.horizon,
                 n_arg=max(g.sz_arg() for g in gens), n_res=max(g.sz_res() for g in gens),
                 n_iw=max(max(g.sz_iw() for g in gens), 1), n_w_work=max(max(g.sz_w() for g in gens), 1),
@@ -491,26 +491,19 @@ def _wrapper_text(baseline, fns, fingerprint: str) -> str:
 
 
 def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns) -> str:
-    t, e = nmpc.tuning, estimator.tuning
+    e = estimator.tuning
     from ..control.discon_export import EXPORT_HEADER, SETTINGS_COMMENT, _absolute
 
     lines = [
         f"{EXPORT_HEADER}, written by mbsym export-discon (value  Key  ! comment)",
         f"{SETTINGS_COMMENT}{_absolute(baseline.settings.source or 'settings given in Python')}",
-        "! the NMPC, its EKF and the fallback baseline are compiled into the library; these values are checked",
+        "! the NMPC's model, its estimator and the fallback baseline are compiled into the library",
         f"{'nmpc':<24} Controller   ! controller kind",
         f"{float(loop_dt)!r:<24} SampleTime   ! library (loop) sample time [s]; the communication interval must "
         "divide it",
         f"{fingerprint:<24} Fingerprint  ! identity of the compiled controller (pairs this file with its library)",
-        "! compiled in (export again to change):",
-        f"!   NMPC: sample time {t.dt:g} s, horizon {t.horizon} stages, real-time iteration with qrqp; "
-        f"estimator: {_estimator_label(estimator)} at {e.dt:g} s",
-        "!   cost scales: " + ", ".join(f"{k} {getattr(t, k):g}" for k in (
-            "speed_scale", "power_scale", "pitch_scale", "torque_scale", "tower_velocity_scale",
-            "tower_moment_scale", "pitch_rate_scale", "torque_rate_scale", "pitch_acceleration_scale",
-            "terminal_factor"))
-        + f", power_reference {t.power_reference}",
-        "!   limits: " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in nmpc.prediction.plant.bounds().items()),
+        *input_lines(fns.layout),
+        f"!   NMPC: real-time iteration with qrqp; estimator: {_estimator_label(estimator)}",
         f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}"
         + (f"; blade-passing ripple states, walks {e.harmonic_speed_walk:g} rpm, {e.harmonic_accel_walk:g} m/s^2"
            if e.blade_passing else ""),

@@ -162,7 +162,8 @@ class LidarPreview:
 
 
 #: The same preview in C (the exported library, :mod:`.discon_nmpc`): ``PV_ON`` 0 compiles nothing. Reads the
-#: extended swap records 129 (array size), 2001 (sensor type, must be 1), 2002 (beams) and 2005.. (speeds).
+#: extended swap records 129 (array size), 2001 (sensor type, must be 1), 2002 (beams) and 2005.. (speeds). The focal
+#: distance ``pv_dist`` and the advection filter's ``pv_tadv`` are run-time settings (:mod:`.runtime_settings`).
 PREVIEW_C = r"""
 /* ---- the lidar preview (mbsym.wind.mpc.lidar_preview: the same arithmetic in Python) ---- */
 #define PV_ON {on}
@@ -171,8 +172,6 @@ PREVIEW_C = r"""
 #define PV_M {m}
 #define PV_NB {n_beams}
 #define PV_N {horizon}
-#define PV_DIST {distance!r}
-#define PV_TADV {advection!r}
 #define PV_DT {dt!r}
 static double pv_raw[PV_M], pv_a[PV_CAP], pv_v[PV_CAP], pv_ubar, windv[PV_N + 1];
 static long pv_count;
@@ -194,12 +193,12 @@ static int pv_push(const float *swap, double t)
     }}
     if (n == 0) return 0;
     mean /= n;
-    pv_ubar = k == 0 ? mean : pv_ubar + (mean - pv_ubar) * (PV_DT / PV_TADV);
+    pv_ubar = k == 0 ? mean : pv_ubar + (mean - pv_ubar) * (PV_DT / pv_tadv);
     pv_raw[k % PV_M] = mean;
     used = k + 1 < PV_M ? k + 1 : PV_M;
     for (i = 0; i < used; ++i) avg += pv_raw[(k - i) % PV_M];
     avg /= used;
-    a = t + PV_DIST / (pv_ubar > 1.0 ? pv_ubar : 1.0) - 0.5 * (PV_M - 1) * PV_DT;
+    a = t + pv_dist / (pv_ubar > 1.0 ? pv_ubar : 1.0) - 0.5 * (PV_M - 1) * PV_DT;
     if (k > 0 && a < pv_a[(k - 1) % PV_CAP] + 1e-9) a = pv_a[(k - 1) % PV_CAP] + 1e-9;
     pv_a[k % PV_CAP] = a;
     pv_v[k % PV_CAP] = avg;
@@ -241,5 +240,4 @@ def preview_c(settings: PreviewSettings | None, dt: float, horizon: int) -> str:
     if settings is None:
         return "\n#define PV_ON 0\n"
     return PREVIEW_C.format(on=1, capacity=CAPACITY, m=settings.samples(dt), n_beams=settings.n_beams,
-                            horizon=int(horizon), distance=float(settings.distance),
-                            advection=float(settings.advection_time), dt=float(dt))
+                            horizon=int(horizon), dt=float(dt))

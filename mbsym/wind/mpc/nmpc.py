@@ -246,6 +246,10 @@ class TurbineNMPC:
     ocp : mbsym.control.OCP
     nmpc : mbsym.control.NMPC
     references : ReferenceTable
+    residual_scales : tuple of (tuple of str, tuple of str)
+        The :class:`NMPCTuning` field whose scale weights each least-squares residual row of the OCP: its stage rows
+        (tracked terms, then the pitch-acceleration term) and its terminal rows (each also weighted by
+        ``terminal_factor``). An exported NMPC's run-time cost scales act on these rows (:mod:`.runtime_settings`).
     """
 
     CONTROLS = ("BlPitchRate", "GenTqRate")
@@ -297,8 +301,11 @@ class TurbineNMPC:
             ocp.track(final, terminal=True)
         ocp.bound("BlPitchRate", *b["BlPitch_d"]).bound("GenTqRate", *b["GenTq_d"])
         ocp.bound("x:BlPitch", *b["BlPitch"]).bound("x:GenTq", *b["GenTq"])
+        stage_rows = [TRACKED[k] for k in terms]
         if not math.isinf(t.pitch_acceleration_scale):
             ocp.penalize_rates({"BlPitchRate": _weight(t.pitch_acceleration_scale)})
+            stage_rows.append("pitch_acceleration_scale")
+        self.residual_scales = (tuple(stage_rows), tuple(TRACKED[k] for k in final))
         return ocp
 
     @property

@@ -70,34 +70,15 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import ControlDefinitionError
-from .estimator import control_values
 from .lidar_preview import LidarPreview, PreviewSettings
+from .runtime_settings import RuntimeLayout, RuntimeSettings, runtime_layout
 from .sample_ekf import INIT_STEP, ekf_function, init_function
 from .sample_mhe import MHEMirror
+from .sample_rti import QP_MAX_ITER, QP_MAX_ITER_LARGE, STARTUP_ITERATIONS, qp_max_iter, rti_function
 
 __all__ = ["QP_ACCEPT", "QP_MAX_ITER", "QP_MAX_ITER_LARGE", "qp_max_iter", "STARTUP_ITERATIONS", "INIT_STEP",
            "INITIAL_ESTIMATES", "SampleFunctions", "SampledLoop", "sample_functions"]
 
-#: Full Gauss–Newton iterations of the first sample (fixed work; see the module docstring).
-STARTUP_ITERATIONS = 10
-#: qrqp's iteration cap in the exported step (bounds its worst case). Warm-started from the previous active set,
-#: qrqp reaches the QP's solution within a few iterations and may spend more fixing multiplier signs: on the
-#: NREL 5 MW OCP (300 samples at 14 m/s) 3 QPs needed more than 8 (up to 15); stopped at 8 their steps were
-#: primal feasible to 5e-15 and within 3e-7 of the converged step (measured). But in the 20 s loop of
-#: benchmarks/nmpc_discon_export.py the first QP after the start-up, stopped at 8, was infeasible (violation
-#: 0.033: a fallback to the baseline); at 10 it converges. Each iteration costs ~0.33 ms.
-QP_MAX_ITER = 10
-#: The cap of OCPs with more than :data:`QP_CAP_STATES` states per stage (the floating NMPC's 11: the platform's surge
-#: and pitch): started in OpenFAST at 18 m/s from the deck's 13 m/s initial conditions, capped at 10 its first 39 QPs
-#: after the start-up failed (violation 0.01-0.25) until the baseline took over; in the mirror on those start
-#: measurements 15 and 20 converge, at 24 m/s 20 does (10: 10 holds).
-QP_MAX_ITER_LARGE = 20
-QP_CAP_STATES = 8
-
-
-def qp_max_iter(n_x: int) -> int:
-    """qrqp's iteration cap in the exported step of an OCP with ``n_x`` states per stage."""
-    return QP_MAX_ITER if n_x <= QP_CAP_STATES else QP_MAX_ITER_LARGE
 #: Largest accepted QP violation relative to ``1 + ‖Δw‖∞`` (:attr:`mbsym.control.qp.QPCall.FEAS_TOL`).
 QP_ACCEPT = 1e-6
 #: How the estimator starts (module docstring).
@@ -148,6 +129,9 @@ class SampleFunctions:
     mhe : MHEFunctions or None
         With an MHE estimator (:mod:`.sample_mhe`), its Functions; the estimator's sample is then the MHE's
         (``ekf`` stays for reference; ``z0``, ``P0`` are the MHE's prior).
+    layout : RuntimeLayout
+        The run-time settings (:mod:`.runtime_settings`): ``qp_data``, ``startup`` and ``finish`` take a settings
+        vector (``layout.exported``: the exported ones; :meth:`RuntimeLayout.settings` for others).
     """
 
     ekf: ca.Function
@@ -174,12 +158,14 @@ class SampleFunctions:
     rate_bounds: tuple = ()
     measurements: tuple = ("GenSpeed", "YawBrTAxp")
     mhe: object = None
+    layout: RuntimeLayout | None = None
 
-    def hold(self, w: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """After a failed QP: the stored (shifted) plan's first rates, clipped to their bounds, and the plan and
-        multipliers shifted one more stage (the library's hold, :data:`HOLD_MAX`)."""
+    def hold(self, w: np.ndarray, lam: np.ndarray, rate_bounds: tuple | None = None) -> tuple:
+        """After a failed QP: the stored (shifted) plan's first rates, clipped to their bounds (default the
+        exported ones), and the plan and multipliers shifted one more stage (the library's hold)."""
         nx, nu, nc = self.stage
-        rates = np.array([min(max(w[nx + i], lo), hi) for i, (lo, hi) in enumerate(self.rate_bounds)])
+        bounds = self.rate_bounds if rate_bounds is None else rate_bounds
+        rates = np.array([min(max(w[nx + i], lo), hi) for i, (lo, hi) in enumerate(bounds)])
         block, n = nx + nu, self.horizon
         w = w.copy()
         w[: (n - 1) * block] = w[block: n * block]
@@ -189,17 +175,19 @@ class SampleFunctions:
         lam[self.n_w: self.n_w + (n - 1) * (nx + nc)] = lam[self.n_w + nx + nc: self.n_w + n * (nx + nc)]
         return rates, w, lam
 
-    def rti(self, w, z, pitch: float, torque: float, *rest) -> tuple:
+    def rti(self, w, z, pitch: float, torque: float, *rest, settings=None) -> tuple:
         """One real-time iteration ``(w_next, rates, violation, lam_next)`` from the plan ``w``, the estimate,
         the measured pitch [rad] and torque [N m], (with a preview) the stage winds, and the multipliers
         ``lam``: :attr:`qp_data`, :attr:`qp` and :attr:`finish` in turn, as the library calls them. A QP
-        stopped at its iteration cap is used as it is (its step is judged by the violation)."""
+        stopped at its iteration cap is used as it is (its step is judged by the violation). ``settings``: a
+        settings vector (default the exported one, :mod:`.runtime_settings`)."""
         *extra, lam = rest
-        h, g, a, lba, uba, lbx, ubx = self.qp_data(w, z, pitch, torque, *extra)
+        s = self.layout.exported if settings is None else settings
+        h, g, a, lba, uba, lbx, ubx = self.qp_data(w, z, pitch, torque, s, *extra)
         n_w = self.n_w
         sol = self.qp(h=h, g=g, a=a, lba=lba, uba=uba, lbx=lbx, ubx=ubx, lam_x0=lam[:n_w], lam_a0=lam[n_w:])
         lam_qp = ca.vertcat(sol["lam_x"], sol["lam_a"])
-        return self.finish(w, sol["x"], lam_qp, a, lba, uba, lbx, ubx)
+        return self.finish(w, sol["x"], lam_qp, a, lba, uba, lbx, ubx, s)
 
     def restart(self, hub_wind: float | None) -> np.ndarray:
         """The estimate the estimator (re)starts from at the measured hub wind [m/s] (``initial="hub-wind"``)."""
@@ -291,10 +279,11 @@ def sample_functions(nmpc, estimator, loop_dt: float, *, initial: str = "hub-win
     if preview is not None and not isinstance(preview, PreviewSettings):
         raise TypeError(f"preview must be a PreviewSettings or None; got {type(preview).__name__}.")
     on = preview is not None
-    data, qp, finish = _rti_function(nmpc, estimator, startup=False, preview=on)
+    layout = runtime_layout(nmpc, estimator, preview)
+    data, qp, finish = rti_function(nmpc, estimator, layout, startup=False, preview=on)
     return SampleFunctions(ekf=ekf_function(estimator), qp_data=data, qp=qp, finish=finish, mhe=mhe,
-                           n_lam=finish.size1_in("lam"),
-                           startup=_rti_function(nmpc, estimator, startup=True, preview=on),
+                           n_lam=finish.size1_in("lam"), layout=layout,
+                           startup=rti_function(nmpc, estimator, layout, startup=True, preview=on),
                            preview=preview, nmpc_dt=float(nmpc.dt), horizon=int(nmpc.horizon),
                            z0=np.array(f._arrival[0] if mhe else f.x, dtype=float),      # an MHE's prior
                            P0=np.array(f._arrival[1] if mhe else f.P, dtype=float),
@@ -318,155 +307,15 @@ def _rate_bounds(nmpc) -> tuple:
     return tuple((float(P.lbu[i]), float(P.ubu[i])) for i in range(nc))
 
 
-def _rti_function(nmpc, estimator, *, startup: bool, preview: bool = False):
-    """``startup``: ``(z, pitch, torque[, wind]) -> (w, rates, violation, lam)``; else the real-time iteration's
-    three parts ``(qp_data, qp, finish)`` (module docstring)."""
-    from ...control.nlp import split_w
-    from ...control.qp import conic, preparation_function
-
-    ctl = nmpc.nmpc
-    tr = ctl.transcription
-    P = tr.problem
-    L, nc = P.layout, tr.n_controls
-    if P.n_u != nc:
-        raise ControlDefinitionError("the exported NMPC needs an OCP without slacks or collocation variables (the "
-                                     f"turbine NMPC's own); this one has {P.n_u - nc} extra stage variables.")
-    prep = preparation_function(P)
-    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else qp_max_iter(P.n_x)},
-               label="qp_qrqp" if startup else "nmpc_qp")
-    bounds = [ca.DM(b) for b in P.bounds()]
-    p = ca.DM(ctl._p)
-    z, pitch, torque = ca.MX.sym("z", len(estimator.names)), ca.MX.sym("pitch"), ca.MX.sym("torque")
-    x0 = ca.vertcat(*control_values(estimator.names, z, pitch, torque, tr.dynamics.states,
-                                    estimator.rigid_speed_weight))
-    if preview:
-        wind = ca.MX.sym("wind", P.N + 1)
-        ws = ca.MX.sym("ws")
-        column = ca.Function("stage_column", [ws], [_stage_column(nmpc, ws)])
-        D = column.map(P.N + 1)(wind.T)
-    else:
-        D = ca.repmat(_stage_column(nmpc, z[estimator.names.index("Wind1VelX")]), 1, P.N + 1)
-    n_a = prep.sparsity_out(2).size1()
-
-    n_prev = P.n_x - x0.size1()            # the previous rates of the rate-penalized controls (augmented state)
-
-    col, row = _qp_scaling(nmpc, prep, bounds, p, n_prev)
-    S, Rs = ca.diag(ca.DM(col)), ca.diag(ca.DM(row))
-    cs, rs = ca.DM(col), ca.DM(row)
-
-    def qp_data(w):             # the QP in the scaled step dw / col, its rows divided by row (_qp_scaling)
-        H, g, A, lba, uba, lbdw, ubdw, _, _ = prep(w, D, p, *bounds)
-        x_w = w[L.x_index(0)]
-        fixed = ca.vertcat(x0, x_w[x0.size1():]) - x_w     # the plan's own previous rates: those last applied
-        lbdw, ubdw = ca.vertcat(fixed, lbdw[P.n_x:]), ca.vertcat(fixed, ubdw[P.n_x:])
-        return (ca.mtimes([S, H, S]), g * cs, ca.mtimes([Rs, A, S]), lba * rs, uba * rs, lbdw / cs, ubdw / cs)
-
-    def finish(w, dws, lam, A, lba, uba, lbdw, ubdw):   # violation of the unscaled QP
-        dw = dws * cs
-        Ad = ca.mtimes(A, dws) / rs
-        viol = ca.mmax(ca.vertcat(0, lbdw * cs - dw, dw - ubdw * cs, lba / rs - Ad, Ad - uba / rs)) \
-            / (1 + ca.norm_inf(dw))
-        return w + dw, viol, lam
-
-    def ending(w, viol, lam):
-        X, U, xN = split_w(P, w)
-        rates = ca.fmin(ca.fmax(U[:nc, 0], ca.DM(P.lbu[:nc])), ca.DM(P.ubu[:nc]))
-        Xs = ca.horzcat(X[:, 1:], xN, xN) if P.N > 1 else ca.horzcat(xN, xN)
-        Us = ca.horzcat(U[:, 1:], U[:, -1:]) if P.N > 1 else U
-        shifted = ca.vertcat(ca.vec(ca.vertcat(Xs[:, : P.N], Us)), Xs[:, P.N])
-        lam_next = ca.vertcat(_shift_stages(lam[:L.n_w], P.N, P.n_x + P.n_u),
-                              _shift_stages(lam[L.n_w:], P.N, P.n_x + P.n_c))
-        return [shifted, rates, viol, lam_next]
-
-    outs = ["w_next", "rates", "violation", "lam_next"]
-    extra, extra_names = ([wind], ["wind"]) if preview else ([], [])
-    if startup:
-        u0 = np.clip(np.zeros(nc), P.lbu[:nc], P.ubu[:nc])
-        xa = ca.vertcat(x0, ca.DM.zeros(n_prev))         # no rate applied before the first sample
-        w = ca.vertcat(ca.repmat(ca.vertcat(xa, u0), P.N, 1), xa)
-        lam = ca.MX(L.n_w + n_a, 1)
-        worst = ca.MX(0)
-        for _ in range(STARTUP_ITERATIONS):
-            H, g, A, lba, uba, lbdw, ubdw = qp_data(w)
-            sol = qp(h=H, g=g, a=A, lba=lba, uba=uba, lbx=lbdw, ubx=ubdw, lam_x0=lam[:L.n_w], lam_a0=lam[L.n_w:])
-            w, viol, lam = finish(w, sol["x"], ca.vertcat(sol["lam_x"], sol["lam_a"]), A, lba, uba, lbdw, ubdw)
-            worst = ca.fmax(worst, viol)
-        return ca.Function("nmpc_startup", [z, pitch, torque, *extra], ending(w, worst, lam),
-                           ["z", "pitch", "torque", *extra_names], outs)
-    w_in = ca.MX.sym("w", L.n_w)
-    data = ca.Function("nmpc_qp_data", [w_in, z, pitch, torque, *extra], list(qp_data(w_in)),
-                       ["w", "z", "pitch", "torque", *extra_names], ["h", "g", "a", "lba", "uba", "lbx", "ubx"])
-    dw, lam_in = ca.MX.sym("dw", L.n_w), ca.MX.sym("lam", L.n_w + n_a)
-    A = ca.MX.sym("a", prep.sparsity_out(2))
-    lim = [ca.MX.sym(n, k) for n, k in (("lba", n_a), ("uba", n_a), ("lbx", L.n_w), ("ubx", L.n_w))]
-    end = ca.Function("nmpc_finish", [w_in, dw, lam_in, A, *lim], ending(*finish(w_in, dw, lam_in, A, *lim)),
-                      ["w", "dw", "lam", "a", "lba", "uba", "lbx", "ubx"], outs)
-    return data, qp, end
-
-
-def _qp_scaling(nmpc, prep, bounds, p, n_prev: int) -> tuple[np.ndarray, np.ndarray]:
-    """Constant column and row scales of the exported QP: ``col`` = 1/sqrt of the Hessian's diagonal (1 where it is
-    zero), each dynamics row divided by the ``col`` of the state it defines (its identity block stays one), at the
-    NMPC's steady reference at the middle of its wind table (Gauss–Newton: the diagonal hardly moves with the
-    operating point). qrqp's tolerances are absolute: on the IEA 15 MW (torque ~2e7 N m, its rate's Hessian
-    ~1e-10) the unscaled QP stopped warm-started at a non-optimal point, 71 kN m off hpipm's (measured)."""
-    P = nmpc.nmpc.transcription.problem
-    grid = np.asarray(nmpc.references.winds, dtype=float)
-    wind = 0.5 * (grid[0] + grid[-1])
-    xs = np.concatenate([nmpc.references.state(wind), np.zeros(n_prev)])
-    u0 = np.clip(np.zeros(P.n_u), P.lbu[:P.n_u], P.ubu[:P.n_u])
-    w = np.concatenate([np.tile(np.concatenate([xs, u0]), P.N), xs])
-    ws = ca.MX.sym("ws")
-    column = ca.Function("stage_column", [ws], [_stage_column(nmpc, ws)])
-    stages = np.tile(np.asarray(column(wind), dtype=float), (1, P.N + 1))
-    h = np.asarray(ca.diag(prep(w, stages, p, *bounds)[0]), dtype=float).ravel()
-    col = np.where(h > 0.0, 1.0 / np.sqrt(np.where(h > 0.0, h, 1.0)), 1.0)
-    row = np.ones(prep.sparsity_out(2).size1())
-    nv = P.n_x + P.n_u
-    for k in range(P.N):                      # rows x_{k+1} - F(x_k, u_k): divided by x_{k+1}'s scale
-        r0 = k * (P.n_x + P.n_c)
-        row[r0:r0 + P.n_x] = 1.0 / col[(k + 1) * nv:(k + 1) * nv + P.n_x]
-    return col, row
-
-
-def _shift_stages(v: ca.MX, n_stages: int, block: int) -> ca.MX:
-    """``v`` = N blocks of ``block`` then a terminal part, moved one stage earlier (the last block repeated, the
-    terminal part kept): the shifted plan's multipliers, the next QP's active-set guess."""
-    if n_stages < 2:
-        return v
-    return ca.vertcat(v[block:n_stages * block], v[(n_stages - 1) * block:n_stages * block], v[n_stages * block:])
-
-
-def _stage_column(nmpc, wind: ca.MX) -> ca.MX:
-    """The stage parameters of one stage at the wind (disturbances, then references): :meth:`TurbineNMPC.step`."""
-    tr = nmpc.nmpc.transcription
-    table = nmpc.references
-    grid = np.asarray(table.winds, dtype=float)
-    w = ca.fmin(ca.fmax(wind, grid[0]), grid[-1])          # np.interp holds the end values beyond the grid
-    rows = []
-    for name in tr.disturbances:
-        if name != "Wind1VelX":
-            raise ControlDefinitionError(f"the exported NMPC knows the disturbance Wind1VelX only; got {name!r}.")
-        rows.append(wind)
-    for name in tr.references:
-        if name in nmpc._tracked:
-            channel = name.split(":")[-1]
-            if channel == "GenPwr" and nmpc.tuning.power_reference == "rated":
-                rows.append(ca.MX(nmpc.setpoints.rated_power / 1e3))
-                continue
-            interp = ca.interpolant(f"ref_{channel}", "linear", [grid], np.asarray(table.channels[channel], float))
-            rows.append(interp(w))
-        else:
-            rows.append(ca.MX(float(tr.default_references[name])))
-    return ca.vertcat(*rows)
-
-
 class SampledLoop:
     """The Functions of :func:`sample_functions` on :class:`~.loop.TurbineLoop`'s schedule (module docstring).
 
     Parameters
     ----------
     functions : SampleFunctions
+    settings : dict, optional
+        Run-time settings by input-file key (:meth:`~.runtime_settings.RuntimeLayout.settings`, as the library reads
+        them from its input file; default the exported ones).
 
     Attributes
     ----------
@@ -482,8 +331,9 @@ class SampledLoop:
         from there to the next NMPC sample (:meth:`step` returns None), then the start-up iterations.
     """
 
-    def __init__(self, functions: SampleFunctions) -> None:
+    def __init__(self, functions: SampleFunctions, settings: dict | None = None) -> None:
         self.f = functions
+        self.settings: RuntimeSettings = functions.layout.settings(settings)
         self.k = 0
         self.z, self.P = functions.z0.copy(), functions.P0.copy()
         self.w: np.ndarray | None = None
@@ -496,7 +346,7 @@ class SampledLoop:
         self.failures: list[float] = []
         self._streak = 0
         self.preview = None if functions.preview is None else LidarPreview(
-            functions.preview, functions.nmpc_dt, functions.horizon, functions.wind_range)
+            self.settings.preview or functions.preview, functions.nmpc_dt, functions.horizon, functions.wind_range)
         self.stage_winds: np.ndarray | None = None
         self.mhe = None if functions.mhe is None else MHEMirror(functions.mhe, functions.z0, QP_ACCEPT)
 
@@ -545,20 +395,21 @@ class SampledLoop:
                 restarted = True
         extra = []
         if self.preview is not None and k % f.kn == 0:     # the library's clock: k loop samples from 0
-            if lidar is not None:
+            if lidar is not None and self.settings.preview is not None:     # PreviewSource none: no lidar
                 self.preview.push(k * f.loop_dt, lidar)
             self.stage_winds = self.preview.horizon(k * f.loop_dt, float(self.z[-1]))
             extra = [self.stage_winds]
         if k % f.kn == 0 and not restarted:
             c0 = time.perf_counter()
-            out = f.startup(self.z, pitch, torque, *extra) if self.w is None else \
-                f.rti(self.w, self.z, pitch, torque, *extra, self.lam)
+            s = self.settings.vector
+            out = f.startup(self.z, pitch, torque, s, *extra) if self.w is None else \
+                f.rti(self.w, self.z, pitch, torque, *extra, self.lam, settings=s)
             self.rti_walls.append(time.perf_counter() - c0)
             w, rates, viol, lam = (np.asarray(v).ravel() for v in out)
             if np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT:
                 self.w, self.lam, self._streak = w, lam, 0
             elif self.w is not None and self._streak < f.horizon - 1:         # hold the previous plan
-                rates, self.w, self.lam = f.hold(self.w, self.lam)
+                rates, self.w, self.lam = f.hold(self.w, self.lam, self.settings.rate_bounds)
                 self._streak += 1
                 self.holds.append(t)
             else:                                                              # the library's baseline
@@ -570,7 +421,7 @@ class SampledLoop:
         if self._anchor is None:
             return None
         t_a, p_a, q_a, r = self._anchor
-        (b0, b1), (q0, q1) = self.f.limits
+        (b0, b1), (q0, q1) = self.settings.limits
         el = t - t_a
         return (min(max(p_a + r[0] * (el + self.f.lead[0]), b0), b1),
                 min(max(q_a + r[1] * (el + self.f.lead[1]), q0), q1))
@@ -583,6 +434,6 @@ class SampledLoop:
         if self._anchor is None:
             return pitch, torque
         t_a, p_a, q_a, r = self._anchor
-        (b0, b1), (q0, q1) = self.f.limits
+        (b0, b1), (q0, q1) = self.settings.limits
         return min(max(p_a + r[0] * (t - t_a), b0), b1), min(max(q_a + r[1] * (t - t_a), q0), q1)
 

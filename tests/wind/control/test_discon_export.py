@@ -171,9 +171,16 @@ def test_bad_input_is_reported_not_crashed(collective, decimated, tmp_path):
     fail, msg = raw.call(0, 0.0, decimated[1]["input"])                 # another export's input file
     assert fail == -1 and "SampleTime is '0.04' s" in msg
     edited = tmp_path / "edited.IN"
-    edited.write_text(open(out["input"]).read().replace("Fingerprint", "Fingerprnt"))
+    text = open(out["input"]).read()
+    edited.write_text(text.replace("Fingerprint", "Fingerprnt"))                   # nothing given is ignored
+    fail, msg = raw.call(0, 0.0, edited)
+    assert fail == -1 and "unknown key 'Fingerprnt'" in msg and "every setting of the law is compiled in" in msg
+    edited.write_text("".join(line for line in text.splitlines(True) if "Fingerprint" not in line))
     fail, msg = raw.call(0, 0.0, edited)
     assert fail == -1 and "missing key(s) Fingerprint" in msg
+    edited.write_text(text + "baseline Controller\n")
+    fail, msg = raw.call(0, 0.0, edited)
+    assert fail == -1 and "key Controller is given twice" in msg
     assert raw.call(0, 0.0, out["input"], r3=0.003)[1].find("not a multiple of the communication interval") > 0
     assert "record 10" in raw.call(0, 0.0, out["input"], r3=DT, r10=1.0)[1]
     fail, msg = raw.call(0, 0.0, out["input"], r10=0.0, y=(np.nan, 1.267, 0.1, 5e6, 14.0))

@@ -225,15 +225,16 @@ def _fault_run(library, faults: range, channel: int, value: float, calls: int = 
     return np.array(got), np.array(expected, dtype=F32).astype(float), np.array(measured), messages
 
 
-def _mirror(measured):
-    """The library's Python mirror (:class:`SampledLoop` on the Functions the library is generated from) on the
-    same float32 measurements: its commands from call 1 on (call 0 is the initialization call)."""
+def _mirror(measured, settings=None):
+    """The library's Python mirror (:class:`SampledLoop` on the Functions the library is generated from, with the
+    run-time ``settings``) on the same float32 measurements: its commands from call 1 on (call 0 is the
+    initialization call)."""
     from mbsym.wind.control import BaselineController
     from mbsym.wind.mpc.sample import SampledLoop, sample_functions
 
     est, nmpc, _ = _controllers(_wind(T_RUN))
-    settings = BaselineController(turbine().deck.baseline_settings()).settings
-    loop = SampledLoop(sample_functions(nmpc, est, 0.01, settings=settings))
+    baseline = BaselineController(turbine().deck.baseline_settings()).settings
+    loop = SampledLoop(sample_functions(nmpc, est, 0.01, settings=baseline), settings)
     out = [loop.step(0.01 * k, y[0] * 30.0 / math.pi, y[6], y[2], y[5], hub_wind=y[4])
            for k, y in enumerate(measured[1:], start=1)]
     return out, loop
@@ -379,3 +380,35 @@ def test_library_runs_the_turbine_from_mbsym_simulate(library, tmp_path, capsys)
     rows = list(csv.reader(out.open()))
     speed = np.array([float(r[rows[0].index("RotSpeed_[rpm]")]) for r in rows[1:] if r])
     assert np.all(np.abs(speed - 12.1) < 1.0), (speed.min(), speed.max())
+
+
+@pytest.mark.slow
+def test_library_reads_its_run_time_settings_as_its_mirror_does(library, tmp_path):
+    # The exported library with its input file edited (cost scales, a narrowed pitch-rate bound, the terminal
+    # factor), closed on the plant in mbsym's DISCON loop for 10 s, against its Python mirror (SampledLoop with the
+    # same settings) fed the same float32 measurements: tolerance as in the module docstring. The edits change the
+    # commands (the test can fail if the library ignored them).
+    from _mpc_setup import library_closed_loop
+
+    changes = {"SpeedScale": "8.0", "PitchRateMin": "-0.1", "PitchRateMax": "0.1", "TerminalFactor": "2"}
+    lines = []
+    for line in Path(library["input"]).read_text().splitlines(True):
+        parts = line.split()
+        lines.append(f"{changes[parts[1]]:<24} {parts[1]} ! edited\n" if len(parts) > 1 and parts[1] in changes
+                     else line)
+    edited = tmp_path / "edited.IN"
+    edited.write_text("".join(lines))
+    wind = _wind(T_RUN)
+    x0 = _controllers(wind)[2]
+    runs = {}
+    for which, infile in (("exported", library["input"]), ("edited", str(edited))):
+        rows, _, messages = library_closed_loop({**library, "input": infile}, wind, T_RUN, x0)
+        assert not any("fallback" in m or "failed" in m for m in messages), messages
+        runs[which] = rows
+    mirror, _ = _mirror([y for _, y, _ in runs["edited"]], changes)
+    ref = np.array(mirror, dtype=float)
+    got = np.array([u for _, _, u in runs["edited"][1:]])
+    assert np.allclose(got[:, 0], ref[:, 0], rtol=1e-6, atol=1e-8), np.max(np.abs(got[:, 0] - ref[:, 0]))
+    assert np.allclose(got[:, 1], ref[:, 1], rtol=1e-6), np.max(np.abs(got[:, 1] - ref[:, 1]))
+    before = np.array([u for _, _, u in runs["exported"][1:]])
+    assert np.max(np.abs(got[:, 0] - before[:, 0])) > math.radians(0.1)
