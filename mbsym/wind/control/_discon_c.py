@@ -8,7 +8,8 @@ commands held between samples. Fixed memory: every array is static and sized at 
 The template is assembled from parts that other exported controllers reuse (the NMPC's wrapper,
 :mod:`mbsym.wind.mpc.discon_nmpc`): :data:`HEAD` (constants, static arrays, messages, the input
 file: its three common keys, a controller's own through the hooks ``input_begin``, ``input_key`` and
-``input_end``; :data:`NO_KEYS` the hooks of a controller with none), :data:`LAW` (the law called on the swap records, its commands written), :data:`CHECK` (the
+``input_end``; :data:`NO_KEYS` the hooks of a controller with none), :data:`LAW` (the law called on
+the swap records, its commands written), :data:`CHECK` (the
 interface records) and :data:`ENTRY` (the ``DISCON`` entry point with its decimation, calling a
 sample function that may warn: ``aviFAIL = 1``).
 """

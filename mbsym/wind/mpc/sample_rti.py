@@ -56,8 +56,8 @@ def rti_function(nmpc, estimator, layout, *, startup: bool, preview: bool = Fals
                                      f"turbine NMPC's own); this one has {P.n_u - nc} extra stage variables.")
     Pw = weighted_problem(P, layout)
     prep = preparation_function(Pw)
-    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2), {"max_iter": 200 if startup else qp_max_iter(P.n_x)},
-               label="qp_qrqp" if startup else "nmpc_qp")
+    qp = conic("qrqp", P, prep.sparsity_out(0), prep.sparsity_out(2),
+               {"max_iter": 200 if startup else qp_max_iter(P.n_x)}, label="qp_qrqp" if startup else "nmpc_qp")
     p = ca.DM(ctl._p)
     s = ca.MX.sym("settings", layout.exported.size)
     bounds = symbolic_bounds(P, layout, s)
