@@ -5,7 +5,9 @@ Python at run time) that OpenFAST's ServoDyn loads as it loads ROSCO's. Here bot
 controller beside them, drive the built-in NREL 5 MW (rotor-effective aerodynamics, tower and generator DOFs) for
 30 s of a 14 m/s Kaimal wind through the same swap array OpenFAST would use; the table shows what each controller
 does (rotor speed about rated, pitch activity, tower-base load) and what it costs (wall time of the run, every
-library call from Python). The NMPC's figures inside OpenFAST: benchmarks/README.md, "The NMPC judged inside
+library call from Python). A last run retunes the EKF library without compiling: its input file edited (the
+tower-velocity scale halved, the pitch-rate scale doubled: more tower damping for more pitch activity), the run-time
+settings of docs/discon_export.md, "The NMPC's input file". The NMPC's figures inside OpenFAST: benchmarks/README.md, "The NMPC judged inside
 OpenFAST".
 
 Run: ``python examples/nmpc_discon_export.py [--seconds 30] [--out DIR]`` (needs a C compiler; the two exports
@@ -45,6 +47,18 @@ def export(kind: str, out: Path) -> dict:
     return json.loads(buf.getvalue().strip().splitlines()[-1])
 
 
+def retuned(lib: dict, changes: dict, out: Path) -> dict:
+    """``lib`` with a copy of its input file whose run-time settings ``changes`` (key -> factor) are scaled."""
+    lines = []
+    for line in Path(lib["input"]).read_text().splitlines(True):
+        parts = line.split()
+        if len(parts) > 1 and parts[1] in changes:
+            line = f"{float(parts[0]) * changes[parts[1]]!r:<24} {parts[1]} ! edited\n"
+        lines.append(line)
+    out.write_text("".join(lines))
+    return {**lib, "input": str(out)}
+
+
 def measures(res, seconds: float) -> dict:
     """Rotor speed range [rpm], pitch-rate RMS [deg/s], tower-base fore-aft moment std [MN m] after 5 s."""
     t = np.asarray(res.t)
@@ -75,6 +89,9 @@ def main() -> int:
         runs[f"NMPC + {kind.upper()} (library)"] = export(kind, out / kind)
         print(f"exported the NMPC with its {kind.upper()} in {time.perf_counter() - c0:.0f} s: "
               f"{runs[f'NMPC + {kind.upper()} (library)']['library']}")
+    runs["NMPC + EKF, input file edited"] = retuned(runs["NMPC + EKF (library)"],
+                                                    {"TowerVelocityScale": 0.5, "PitchRateScale": 2.0},
+                                                    out / "ekf" / "retuned.IN")
     print(f"\n{args.seconds:g} s at 14 m/s (Kaimal, TI 14 %), after 5 s; rated rotor speed 12.1 rpm")
     print(f"{'controller':<32} {'rpm min':>8} {'rpm max':>8} {'pitch rate':>11} {'TwrBsMyt std':>13} {'wall':>7}")
     print(f"{'':<32} {'':>8} {'':>8} {'[deg/s]':>11} {'[MN m]':>13} {'[s]':>7}")

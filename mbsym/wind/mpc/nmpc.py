@@ -44,7 +44,8 @@ __all__ = ["NMPCTuning", "TurbineNMPC", "TRACKED"]
 #: Channels the NMPC tracks (the reference table's names) and the cost scale of each in NMPCTuning.
 TRACKED = {"GenSpeed": "speed_scale", "GenPwr": "power_scale", "BldPitch1": "pitch_scale", "y:GenTq": "torque_scale",
            "QD_TFA1": "tower_velocity_scale", "QD_P": "platform_pitch_rate_scale",
-           "TwrBsMyt": "tower_moment_scale", "BlPitchRate": "pitch_rate_scale", "GenTqRate": "torque_rate_scale"}
+           "TwrBsMyt": "tower_moment_scale", "TTDspFA": "tower_deflection_scale", "BlPitchRate": "pitch_rate_scale",
+           "GenTqRate": "torque_rate_scale"}
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,10 @@ class NMPCTuning:
         Tower-top fore-aft velocity [m/s].
     tower_moment_scale : float
         Tower-base fore-aft moment about its steady value [kN m].
+    tower_deflection_scale : float
+        Tower-top fore-aft displacement ``TTDspFA`` about its steady value at the stage's wind [m] (default: no
+        term). Unlike the moment, which carries the thrust's changes at once, the deflection is the thrust seen
+        through the tower's own dynamics: its 3P content (above the first tower mode) is small.
     platform_pitch_rate_scale : float
         A floating platform's pitch rate ``QD_P`` [rad/s] (no term on land).
     pitch_rate_scale : float
@@ -97,6 +102,7 @@ class NMPCTuning:
     power_scale: float = 400.0
     tower_velocity_scale: float = 0.05
     tower_moment_scale: float = math.inf
+    tower_deflection_scale: float = math.inf
     platform_pitch_rate_scale: float = math.inf
     pitch_scale: float = math.inf
     torque_scale: float = math.inf

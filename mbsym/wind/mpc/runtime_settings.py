@@ -45,6 +45,7 @@ __all__ = ["SCALE_KEYS", "LIMIT_KEYS", "RuntimeLayout", "RuntimeSettings", "runt
 SCALE_KEYS = {"speed_scale": ("SpeedScale", "rpm"), "power_scale": ("PowerScale", "kW"),
               "pitch_scale": ("PitchScale", "deg"), "torque_scale": ("TorqueScale", "kN m"),
               "tower_velocity_scale": ("TowerVelocityScale", "m/s"), "tower_moment_scale": ("TowerMomentScale", "kN m"),
+              "tower_deflection_scale": ("TowerDeflectionScale", "m"),
               "platform_pitch_rate_scale": ("PlatformPitchRateScale", "rad/s"),
               "pitch_rate_scale": ("PitchRateScale", "rad/s"), "torque_rate_scale": ("TorqueRateScale", "N m/s"),
               "pitch_acceleration_scale": ("PitchAccelerationScale", "rad/s^2"),
