@@ -126,11 +126,14 @@ def test_settings_at_run_time_equal_an_export_with_them(which):
     from mbsym.wind.mpc.sample import sample_functions
 
     est, _ = _estimator(_wind(1.0))
-    tuning = {"speed_scale": 8.0, "tower_velocity_scale": 0.1, "terminal_factor": 2.0, "pitch_rate_scale": 0.02}
-    exported = sample_functions(_nmpc(), est, 0.01)
-    if which == "scales":
-        other, changes = sample_functions(_nmpc(tuning), est, 0.01), NEW_SCALES
+    if which == "scales":           # with the tower-deflection term of the cost too
+        exported = sample_functions(_nmpc({"tower_deflection_scale": 0.05}), est, 0.01)
+        tuning = {"speed_scale": 8.0, "tower_velocity_scale": 0.1, "terminal_factor": 2.0, "pitch_rate_scale": 0.02,
+                  "tower_deflection_scale": 0.02}
+        other, changes = sample_functions(_nmpc(tuning), est, 0.01), {**NEW_SCALES, "TowerDeflectionScale": 0.02}
+        assert "tower_deflection_scale" in exported.layout.scales
     else:
+        exported = sample_functions(_nmpc(), est, 0.01)
         other = sample_functions(_nmpc(rate_bounds=((-0.03, 0.03), (-15000.0, 15000.0))), est, 0.01)
         changes = RATES
     got = _steps(exported, exported.layout.settings(changes).vector)
