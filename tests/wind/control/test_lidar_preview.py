@@ -237,7 +237,7 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
     lib = export_nmpc_discon(nmpc, est, baseline, tmp_path, loop_dt=0.01, preview=settings)
     offsets = np.array([0.0, 0.3, -0.2, 0.5, -0.4])
 
-    def run(with_lidar):
+    def run(with_lidar, infile=None):
         seen = []
 
         def lidar(tt):
@@ -245,7 +245,8 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
             seen.append(np.asarray(s, dtype=np.float32).astype(float))
             return s, np.zeros((5, 3))
 
-        rows, _, messages = library_closed_loop(lib, wind, T_RUN, x0, lidar=lidar if with_lidar else None)
+        rows, _, messages = library_closed_loop({**lib, "input": infile or lib["input"]}, wind, T_RUN, x0,
+                                                lidar=lidar if with_lidar else None)
         return rows, seen, messages
 
     rows, seen, messages = run(True)
@@ -268,6 +269,25 @@ def test_library_with_lidar_preview_equals_its_python_mirror(tmp_path):
     pitch = np.array([u[0] for _, _, u in rows])
     pitch0 = np.array([u[0] for _, _, u in plain])
     assert np.max(np.abs(pitch - pitch0)) > math.radians(0.1)
+    # run-time settings (docs/discon_export.md): the lidar's records there but PreviewSource none is the run without
+    # them (no message); a focal distance edited in the input file is what the mirror does with it
+    text = Path(lib["input"]).read_text()
+    for changes in ({"PreviewSource": "none"}, {"LidarDistance": "80.0"}):
+        edited = tmp_path / "edited.IN"
+        edited.write_text("".join(f"{changes[line.split()[1]]} {line.split()[1]}\n"
+                                  if len(line.split()) > 1 and line.split()[1] in changes else line
+                                  for line in text.splitlines(True)))
+        rows_e, seen_e, messages = run(True, str(edited))
+        assert not any("lidar" in m for m in messages), messages
+        if "PreviewSource" in changes:
+            assert np.array_equal([u for _, _, u in rows_e], [u for _, _, u in plain])
+            continue
+        mirror = SampledLoop(mirror.f, changes)
+        got = np.array([u for _, _, u in rows_e[1:]])
+        ref = np.array([mirror.step(tt, y[0] * 30.0 / math.pi, y[6], y[2], y[5], hub_wind=y[4], lidar=s)
+                        for (tt, y, _), s in zip(rows_e[1:], seen_e[1:])], dtype=float)
+        assert np.max(np.abs(got[:, 0] - ref[:, 0]) - 1e-6 * np.abs(ref[:, 0])) < 1e-8
+        assert np.max(np.abs(got[:, 0] - pitch[1:])) > math.radians(0.01)      # the distance changes the commands
 
 
 def test_turbine_loop_refuses_a_lidar_it_cannot_use():
