@@ -41,6 +41,10 @@ estimate while the window fills or when a solve is rejected: :mod:`mbsym.wind.mp
 OpenFAST's extended swap records and previews the wind over the NMPC's horizon
 (:mod:`mbsym.wind.mpc.lidar_preview`; OpenFAST v5 always fills those records: its ServoDyn hard-codes
 ``EXavrSWAP = True``). ``auto`` (the default) does so when the deck has a lidar, ``none`` never.
+
+The NMPC's input file holds its **run-time settings**: the cost scales, the limits of the demands and their rates
+(narrowed within the exported ones) and the preview source, read at the first call; editing them retunes the
+library without exporting again (:mod:`mbsym.wind.mpc.runtime_settings`, docs/discon_export.md).
 """
 
 from __future__ import annotations
@@ -57,7 +61,9 @@ CONTROLLERS = ("baseline", "nmpc")
 
 def add_parser(sub) -> None:
     p = sub.add_parser("export-discon", help="compile a controller into a DISCON library (.so) and its input file "
-                                             "for OpenFAST/ServoDyn", description=__doc__.split("\n\n")[0])
+                                             "for OpenFAST/ServoDyn", description=__doc__.split("\n\n")[0],
+                       epilog="nmpc: the input file's cost scales, limits and preview source are read at run time; "
+                              "edit them to retune without exporting again (docs/discon_export.md).")
     p.add_argument("deck", nargs="?", help="main OpenFAST input file (.fst) whose ServoDyn DISCON.IN and controller "
                                            "sample time configure the controller; default: built-in NREL 5 MW")
     p.add_argument("--controller", required=True, choices=CONTROLLERS,
