@@ -131,8 +131,10 @@ class RuntimeLayout:
         ControlDefinitionError
             An unknown key, a value out of its range, a compiled-in key with another value, crossed limits.
         """
+        if changes is not None and not isinstance(changes, Mapping):
+            raise TypeError(f"run-time settings are a dict of input-file key -> value; got {type(changes).__name__}.")
         v = self.exported.copy()
-        preview = self.preview
+        use, lidar = self.preview is not None, {}
         keys = self.keys
         fixed = {k: (val, how) for k, val, how in self.fixed}
         for key, value in (changes or {}).items():
@@ -141,14 +143,12 @@ class RuntimeLayout:
                     raise ControlDefinitionError(f"{key} is {value!r}; this library is compiled for {fixed[key][0]} "
                                                  f"({fixed[key][1]}).")
             elif key == "PreviewSource":
-                preview = self._source(value)
+                use = self._source(value)
             elif key in ("LidarDistance", "LidarAdvectionTime") and self.preview is not None:
                 x = _number(key, value)
                 if not (math.isfinite(x) and x > 0):
                     raise ControlDefinitionError(f"{key} is {value!r}; expected a finite number > 0.")
-                field = "distance" if key == "LidarDistance" else "advection_time"
-                if preview is not None:
-                    preview = dataclasses.replace(preview, **{field: x})
+                lidar["distance" if key == "LidarDistance" else "advection_time"] = x
             elif key in keys:
                 i = keys.index(key)
                 v[i] = _number(key, value)
@@ -164,14 +164,15 @@ class RuntimeLayout:
             if not lim[a] < lim[b]:
                 raise ControlDefinitionError(f"{LIMIT_KEYS[a][0]} {lim[a]:g} must be below {LIMIT_KEYS[b][0]} "
                                              f"{lim[b]:g}.")
-        return RuntimeSettings(v, preview)
+        return RuntimeSettings(v, dataclasses.replace(self.preview, **lidar) if use else None)
 
-    def _source(self, value) -> object:
+    def _source(self, value) -> bool:
+        """Whether ``PreviewSource`` ``value`` uses the lidar."""
         if value not in PREVIEW_SOURCES or (value == "lidar" and self.preview is None):
             raise ControlDefinitionError(f"PreviewSource is {value!r}; this library reads "
                                          f"{'lidar or none' if self.preview is not None else 'none'}"
                                          f"{'' if self.preview is not None else ' (export with --preview lidar)'}.")
-        return self.preview if value == "lidar" else None
+        return value == "lidar"
 
 
 def _number(key: str, value) -> float:

@@ -254,8 +254,9 @@ def test_the_library_and_its_mirror_read_the_same_files_the_same_way(preview, tm
     assert r == 0, err
     assert np.array_equal(out, mine.vector) and not np.array_equal(out, layout.exported)
     assert use == 0 and mine.preview is None
-    if preview:
+    if preview:           # in any order of the keys
         assert pv[0] == 80.0 and layout.settings({"LidarDistance": 80}).preview.distance == 80.0
+        assert layout.settings({"LidarDistance": 80, "PreviewSource": "lidar"}).preview.distance == 80.0
     bad = BAD + ([] if preview else [({"PreviewSource": "lidar"}, "PreviewSource is 'lidar'"),
                                      ({"LidarDistance": "80"}, "'LidarDistance'")])
     for change, words in bad:
