@@ -23,7 +23,10 @@ the peaks of power and rotor speed; each as a ratio to ROSCO's, checked against 
 plant gap.
 
 Run: ``python benchmarks/nmpc_openfast.py run [--case ff14_flex] [--seconds 660] [--work DIR] [--mbsym-plant]
-[--estimator ekf|mhe]``
+[--estimator ekf|mhe] [--tuning FIELD=VALUE ...] [--set KEY=VALUE ...]``
+(``--tuning``: an ``NMPCTuning`` field changed in the tuning the export gives the deck, e.g.
+``tower_deflection_scale=0.05`` to compile a term in; ``--set``: a run-time setting of the library's input file
+edited before the OpenFAST run, e.g. ``TowerDeflectionScale=0.02``, docs/discon_export.md)
 (``plant --work DIR`` adds the mbsym plant runs to a finished ``run``)
 (needs ../shared, ``../shared/tools/openfast/openfast`` and a C compiler; 5-8 min wall for 660 s of OpenFAST, the
 mbsym plant with the library from Python about 1x real time), then ``report --work DIR`` prints the table again
@@ -34,7 +37,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import shutil
 import subprocess
 import sys
@@ -136,8 +138,51 @@ def _add_lidar(fst: Path) -> None:
         _set(ifw, key, value)
 
 
+def _export(fst: Path, out: Path, estimator: str, tuning: dict) -> dict:
+    """``mbsym export-discon FST --controller nmpc --estimator E --out OUT`` (in this process, the deck's tuning with
+    ``tuning``'s fields changed); its JSON line."""
+    import contextlib
+    import io
+
+    import mbsym.cli.controller_model as cm
+    from mbsym.cli import main as cli
+
+    deck_tuning = cm.nmpc_tuning
+
+    def changed(prediction, **options):
+        return deck_tuning(prediction, **options).replace(**tuning)
+
+    buf = io.StringIO()
+    cm.nmpc_tuning = changed
+    try:
+        with contextlib.redirect_stdout(buf):
+            code = cli(["export-discon", str(fst), "--controller", "nmpc", "--estimator", estimator, "--out", str(out)])
+    finally:
+        cm.nmpc_tuning = deck_tuning
+    if code != 0:
+        sys.exit(f"mbsym export-discon failed (exit {code})")
+    return json.loads(buf.getvalue().strip().splitlines()[-1])
+
+
+def _edited(infile: str, settings: dict) -> str:
+    """A copy of the library's input file with the run-time ``settings`` (key -> value) written in."""
+    path = Path(infile).with_suffix(".set.IN")
+    lines, done = [], set()
+    for line in Path(infile).read_text().splitlines(True):
+        parts = line.split()
+        if len(parts) > 1 and parts[1] in settings:
+            line, _ = f"{settings[parts[1]]:<24} {parts[1]} ! set by nmpc_openfast.py --set\n", done.add(parts[1])
+        lines.append(line)
+    missing = set(settings) - done
+    if missing:
+        sys.exit(f"--set {sorted(missing)}: not keys of {infile}")
+    path.write_text("".join(lines))
+    return str(path)
+
+
 def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | None, mbsym_plant: bool,
-        rosco_out: str | None = None, preview: str = "none", estimator: str = "ekf") -> None:
+        rosco_out: str | None = None, preview: str = "none", estimator: str = "ekf", tuning: dict | None = None,
+        settings: dict | None = None) -> None:
     if not (SHARED / "tools" / "openfast" / "openfast").is_file():
         sys.exit(f"needs {SHARED / 'tools' / 'openfast' / 'openfast'}")
     work.mkdir(parents=True, exist_ok=True)
@@ -145,13 +190,18 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
     if preview == "lidar":
         _add_lidar(fst)
     c0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "mbsym", "export-discon", str(fst), "--controller", "nmpc",
-                           "--estimator", estimator, "--out", str(work / "lib")], capture_output=True, text=True,
-                          cwd=HERE.parent)
-    if proc.returncode != 0:
-        sys.exit(f"mbsym export-discon failed: {proc.stderr.strip()}")
-    lib = json.loads(proc.stdout.strip().splitlines()[-1])
+    if tuning:
+        lib = _export(fst, work / "lib", estimator, tuning)
+    else:
+        proc = subprocess.run([sys.executable, "-m", "mbsym", "export-discon", str(fst), "--controller", "nmpc",
+                               "--estimator", estimator, "--out", str(work / "lib")], capture_output=True, text=True,
+                              cwd=HERE.parent)
+        if proc.returncode != 0:
+            sys.exit(f"mbsym export-discon failed: {proc.stderr.strip()}")
+        lib = json.loads(proc.stdout.strip().splitlines()[-1])
     export_wall = time.perf_counter() - c0
+    if settings:
+        lib["input"] = _edited(lib["input"], settings)
     out, wall = _openfast(fst, seconds, lib["library"], lib["input"], bts)
     runs = {"OpenFAST + NMPC": {"file": str(out), "wall_s": wall}}
     ref_csv = SHARED / "openfast" / "aero" / f"{case}.csv"
@@ -169,7 +219,8 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
     else:
         runs["OpenFAST + ROSCO"] = {"file": str(ref_csv), "wall_s": None}
     meta = {"case": case, "seconds": seconds, "bts": bts, "export_wall_s": export_wall, "runs": runs,
-            "library": lib, "fst": str(fst), "preview": preview, "estimator": estimator}
+            "library": lib, "fst": str(fst), "preview": preview, "estimator": estimator, "tuning": tuning or {},
+            "settings": settings or {}}
     (work / "metrics.json").write_text(json.dumps(meta, indent=1))
     if mbsym_plant:
         plant(work)
@@ -228,7 +279,8 @@ def report(work: Path) -> None:
     (work / "table.json").write_text(json.dumps({"table": table, "targets_met": verdict}, indent=1))
     estimator = meta.get("estimator", "ekf")
     tag = meta["case"] + (f"_{Path(meta['bts']).stem}" if meta["bts"] else "") + \
-        ("_lidar" if meta.get("preview") == "lidar" else "") + ("_mhe" if estimator == "mhe" else "")
+        ("_lidar" if meta.get("preview") == "lidar" else "") + ("_mhe" if estimator == "mhe" else "") + \
+        ("_tuned" if meta.get("tuning") or meta.get("settings") else "")
     _figure(tag, data, table, seconds, estimator.upper())
 
 
@@ -277,13 +329,19 @@ def main() -> None:
     p.add_argument("--preview", choices=("none", "lidar"), default="none",
                    help="lidar: add a 5-beam lidar 60 m upstream to the deck (LIDAR_KEYS); the export previews from it")
     p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf", help="the exported NMPC's estimator")
+    p.add_argument("--tuning", nargs="*", default=[], metavar="FIELD=VALUE",
+                   help="NMPCTuning fields changed in the deck's tuning at export (floats)")
+    p.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", dest="settings",
+                   help="run-time settings written into the library's input file before the run")
     for name in ("plant", "report"):
         p = sub.add_parser(name)
         p.add_argument("--work", default="/tmp/mbsym_nmpc_openfast")
     args = parser.parse_args()
     if args.what == "run":
+        tuning = {k: float(v) for k, v in (a.split("=", 1) for a in args.tuning)}
+        settings = dict(a.split("=", 1) for a in args.settings)
         run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant, args.rosco_out,
-            args.preview, args.estimator)
+            args.preview, args.estimator, tuning, settings)
     elif args.what == "plant":
         plant(Path(args.work))
     else:
