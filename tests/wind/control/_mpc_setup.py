@@ -66,3 +66,24 @@ def library_closed_loop(library: dict, wind, seconds: float, x0, lidar=None):
                        dt=0.01, inputs={"Wind1VelX": wind, **held_commands(t.plant, x0)}, compile=True)
         messages = list(lib.messages)
     return rows, res, messages
+
+
+def recorded_loop(nmpc, estimator, wind, seconds: float, x0):
+    """The Python loop (TurbineLoop: the NMPC's own RTI, the estimator in numpy) closed on the built-in turbine's
+    plant: every loop sample's ``(t, measurements in loop units, commands)``."""
+    import numpy as np
+
+    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
+
+    t = turbine()
+    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=estimator)
+    law, rows = loop.law, []
+
+    def recording(tt, xc, y):
+        xn, u = law(tt, xc, y)
+        rows.append((tt, np.array(y, dtype=float), np.array(u, dtype=float)))
+        return xn, u
+
+    loop.law = recording
+    simulate_with_loop(t.plant, wind, seconds, loop, x0=x0, compile=True)
+    return rows

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _mpc_setup import turbine
+from _mpc_setup import recorded_loop, turbine
 
 from mbsym.codegen import compiler_command
 
@@ -66,22 +66,9 @@ def _controllers(wind, qp_solver="hpipm", z0=None, tuning=None):
 
 def _recorded_loop(seconds, tuning=None):
     """The Python loop closed on the plant; every loop sample's measurements (loop units) and commands."""
-    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
-
-    t = turbine()
     wind = _wind(seconds)
     est, nmpc, x0 = _controllers(wind, tuning=tuning)
-    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est)
-    law, rows = loop.law, []
-
-    def recording(tt, xc, y):
-        xn, u = law(tt, xc, y)
-        rows.append((tt, np.array(y, dtype=float), np.array(u, dtype=float)))
-        return xn, u
-
-    loop.law = recording
-    simulate_with_loop(t.plant, wind, seconds, loop, x0=x0, compile=True)
-    return rows
+    return recorded_loop(nmpc, est, wind, seconds, x0)
 
 
 def _pitch_acceleration_tuning():

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from _mpc_setup import turbine
+from _mpc_setup import recorded_loop, turbine
 
 from mbsym.codegen import compiler_command
 from mbsym.exceptions import ControlDefinitionError
@@ -62,21 +62,9 @@ def _estimator(wind):
 def _python_loop(nmpc):
     """The Python loop (TurbineLoop: hpipm RTI, numpy EKF) closed on the plant: every sample's measurements and
     commands."""
-    from mbsym.wind.mpc import TurbineLoop, simulate_with_loop
-
-    t, wind = turbine(), _wind(T_RUN)
+    wind = _wind(T_RUN)
     est, x0 = _estimator(wind)
-    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est)
-    law, rows = loop.law, []
-
-    def recording(tt, xc, y):
-        xn, u = law(tt, xc, y)
-        rows.append((tt, np.array(y, dtype=float), np.array(u, dtype=float)))
-        return xn, u
-
-    loop.law = recording
-    simulate_with_loop(t.plant, wind, T_RUN, loop, x0=x0, compile=True)
-    return rows
+    return recorded_loop(nmpc, est, wind, T_RUN, x0)
 
 
 def _sampled(rows, settings):
