@@ -19,7 +19,9 @@ and surge standard deviations, tower-base fore-aft and side-side DEL (rainflow, 
 DEL (m = 10), rotor-speed RMS error about the rated 7.56 rpm, RMS pitch rate, energy, peaks of power and rotor
 speed, fairlead-1 tension standard deviation; each NMPC / ROSCO.
 
-Run: ``python benchmarks/floating_nmpc_openfast.py [--wind 13 --seed 1 --hs 4 --tp 10] [--work DIR] [--plot F]``
+Run: ``python benchmarks/floating_nmpc_openfast.py [--wind 13 --seed 1 --hs 4 --tp 10] [--work DIR] [--plot F]
+[--set KEY=VALUE ...]`` (``--set``: run-time settings written into the library's input file before the run, e.g.
+``PlatformPitchRateScale=0.001``; docs/discon_export.md)
 (needs ../shared, the OpenFAST and TurbSim binaries, a C compiler and the ROSCO library, ``--rosco-lib``, default
 the test cache's ``~/.cache/mbsym/rosco/2.10.6/rosco/lib/libdiscon.so``). About 7 min TurbSim, 1 min export, then
 both OpenFAST runs side by side (4-6 min on 2 cores).
@@ -29,7 +31,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import re
 import shutil
 import subprocess
@@ -152,6 +153,8 @@ def main() -> None:
     p.add_argument("--rosco-lib", default=str(ROSCO_LIB))
     p.add_argument("--plot", help="figure path (.png)")
     p.add_argument("--reuse", action="store_true", help="report the runs already in --work (no export, no OpenFAST)")
+    p.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", dest="settings",
+                   help="run-time settings written into the library's input file before the run")
     args = p.parse_args()
     if args.reuse:
         return report(Path(args.work), args, {"rosco": None, "nmpc": None}, None, None)
@@ -161,6 +164,10 @@ def main() -> None:
     work = Path(args.work)
     cases = prepare(work, args)
     lib, export_wall = export(cases["nmpc"], work / "lib")
+    if args.settings:
+        from nmpc_openfast import _edited
+
+        lib["input"] = _edited(lib["input"], dict(a.split("=", 1) for a in args.settings))
     srv = cases["nmpc"].parent / "fl_steady_13_SrvD.dat"
     _set(srv, "DLL_FileName", f'"{lib["library"]}"')
     _set(srv, "DLL_InFile", f'"{lib["input"]}"')
