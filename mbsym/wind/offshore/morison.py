@@ -1,9 +1,9 @@
-"""Viscous drag on a floating platform's strip-theory members, as HydroDyn v5 computes it (``NMembers > 0``).
+"""Viscous drag on a floating platform's Morison members, as HydroDyn v5 computes it (``NMembers > 0``).
 
-HydroDyn's Morison members are cylinders between joints. A member modelled by potential flow (``PropPot =
-TRUE``) gets from strip theory only its **viscous drag** (its buoyancy, added mass and wave inertia are in the
-WAMIT data); this module models that drag in still water and in first-order waves, with HydroDyn v5.0.0's
-conventions (read for the
+HydroDyn's Morison members are cylinders between joints. Every member gets its **viscous drag** from strip theory;
+a member modelled by potential flow (``PropPot = TRUE``) only that (its buoyancy, added mass and wave inertia are in
+the WAMIT data), one that is not (``PropPot = FALSE``) also those, from :mod:`.strip_theory`. This module models
+the drag in still water and in first-order waves, with HydroDyn v5.0.0's conventions (read for the
 facts in ``Morison.f90``: ``Morison_GenerateSimulationNodes``, ``SetMemberProperties_Cyl``, ``Morison_CalcOutput``,
 ``LumpDistrHydroLoads``):
 
@@ -42,8 +42,7 @@ kinematics at its undisplaced position (``WaveDisp = 0``; zero above the still-w
 grid as HydroDyn reads it (:mod:`.wave_kinematics`); the model takes it as inputs (:meth:`MorisonDrag.load`'s
 ``flow``), fed from tables like the excitation.
 
-**Refused** (:func:`morison_problems`): members not modelled by potential flow (``PropPot = FALSE``: their
-buoyancy, added mass and wave inertia), rectangular members (``MSecGeom = 2``), filled members (``NFillGroups``:
+**Refused** (:func:`morison_problems`): rectangular members (``MSecGeom = 2``), filled members (``NFillGroups``:
 their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), a current with members, waves with the
 members' displaced positions (``WaveDisp = 1``) or with second-order kinematics (``WvDiffQTF``, ``WvSumQTF``),
 wave stretching (``WaveStMod > 0``), members below the seabed.
@@ -179,12 +178,9 @@ def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[
     out = []
     lines = dict(zip([int(r[0]) for r in members], hd.tables["members"].lines))
     for row in members:
-        ident, where = int(row[0]), f"member {int(row[0])} (line {lines[int(row[0])]})"
+        where = f"member {int(row[0])} (line {lines[int(row[0])]})"
         if int(row[5]) != 1:
             out.append(f"{where}: MSecGeom = {int(row[5])} (rectangular members are not modelled)")
-        if not row[10]:
-            out.append(f"{where}: PropPot = FALSE (strip-theory buoyancy, added mass and wave inertia are not "
-                       "modelled; only the viscous drag of potential-flow members)")
         if int(row[8]) not in (1, 2, 3):
             out.append(f"{where}: MCoefMod = {int(row[8])} (1 simple, 2 depth-based, 3 member-based coefficients)")
         if not row[7] > 0:
@@ -295,29 +291,47 @@ def _lookup(table: dict, key: int, what: str):
     return table[key]
 
 
-def _coefficients(mode: int, tables: dict, ident: int):
-    """``(s, z, growth) -> (Cd, AxCd)`` per node of a member (``MCoefMod`` 1 simple, 2 depth-based, 3 member-based;
-    ``s`` the fraction along the member from joint 1, ``z`` the height [m], ``growth`` where marine growth is):
-    the marine-growth coefficients where the node has growth, as HydroDyn's ``SetExternalHydroCoefs_Cyl``."""
+#: Columns of each coefficient in HydroDyn's cylinder tables: (plain, marine growth); member-based: end 1, end 2 of
+#: each (plain ones first, then the growth ones).
+_SIMPLE = {"Cd": (0, 1), "Ca": (2, 3), "Cp": (4, 5), "AxCd": (6, 7), "AxCa": (8, 9), "AxCp": (10, 11), "Cb": (12, 13)}
+_DEPTH = {name: (a + 1, b + 1) for name, (a, b) in _SIMPLE.items()}
+_MEMBER = {name: 1 + 4 * k for k, name in enumerate(_SIMPLE)}
+
+
+def member_coefficients(mode: int, tables: dict, ident: int):
+    """``(s, z, growth) -> {name: values}`` per node of a member, ``name`` in Cd, Ca, Cp, AxCd, AxCa, AxCp, Cb
+    (``MCoefMod`` 1 simple, 2 depth-based, 3 member-based; ``s`` the fraction along the member from joint 1, ``z``
+    the height [m], ``growth`` where marine growth is): the marine-growth coefficients where the node has growth,
+    as HydroDyn's ``SetExternalHydroCoefs_Cyl``."""
     if mode == 1:
         if not tables["simple"]:
             raise ParameterError(f"HydroDyn member {ident}: MCoefMod = 1 needs the simple coefficient table.")
         row = tables["simple"][0]
-        return lambda s, z, mg: (np.where(mg, row[1], row[0]), np.where(mg, row[7], row[6]))
+        return lambda s, z, mg: {n: np.where(mg, float(row[b]), float(row[a])) for n, (a, b) in _SIMPLE.items()}
     if mode == 2:
         rows = tables["depth"]
         if not rows:
             raise ParameterError(f"HydroDyn member {ident}: MCoefMod = 2 needs the depth-based coefficient table "
                                  "(NCoefDpthCyl > 0).")
-        return lambda s, z, mg: tuple(np.array([_depth_value(rows, zi, c + (1 if g else 0)) for zi, g in zip(z, mg)])
-                                      for c in (1, 7))
+        return lambda s, z, mg: {n: np.array([_depth_value(rows, zi, b if g else a) for zi, g in zip(z, mg)])
+                                 for n, (a, b) in _DEPTH.items()}
     row = _lookup(tables["member"], ident, "member-based coefficients of member")
 
-    def along(a, b, s):
-        return row[a] + s * (row[b] - row[a])
+    def along(a, s):
+        return float(row[a]) + s * (float(row[a + 1]) - float(row[a]))
 
-    return lambda s, z, mg: (np.where(mg, along(3, 4, s), along(1, 2, s)), np.where(mg, along(15, 16, s),
-                                                                                   along(13, 14, s)))
+    return lambda s, z, mg: {n: np.where(mg, along(a + 2, s), along(a, s)) for n, a in _MEMBER.items()}
+
+
+def _coefficients(mode: int, tables: dict, ident: int):
+    """``(s, z, growth) -> (Cd, AxCd)`` per node of a member (:func:`member_coefficients`)."""
+    every = member_coefficients(mode, tables, ident)
+
+    def drag(s, z, mg):
+        c = every(s, z, mg)
+        return c["Cd"], c["AxCd"]
+
+    return drag
 
 
 def _depth_value(rows: list, z: float, column: int) -> float:

@@ -45,6 +45,7 @@ import numpy as np
 
 from ...exceptions import ModelWarning, UnsupportedFeatureError
 from .excitation import EXCITATION_CHANNELS
+from .strip_theory import WAVE_INERTIA_INPUTS, WAVE_INERTIA_UNITS
 from .wave_kinematics import flow_input_names
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
@@ -70,6 +71,8 @@ def sea_input_unit(name: str) -> str:
     """The unit of a sea input (:data:`SEA_INPUT_UNITS`; ``m/s`` for the waves' velocity at a Morison point), or ""."""
     if name in SEA_INPUT_UNITS:
         return SEA_INPUT_UNITS[name]
+    if name in WAVE_INERTIA_UNITS:
+        return WAVE_INERTIA_UNITS[name]
     return "m/s" if re.fullmatch(r"MorisonU\d+[xyz]i", name) else ""
 
 
@@ -160,10 +163,12 @@ class FloatingPlatform:
     def sea_inputs(self) -> tuple[str, ...]:
         """:data:`SEA_INPUTS`, with the state-space excitation the elevation ``Tc`` ahead
         (:data:`ELEVATION_AHEAD`), with Morison members in waves the water's velocity at them
-        (:func:`~.wave_kinematics.flow_input_names`)."""
+        (:func:`~.wave_kinematics.flow_input_names`), with strip-theory members in waves their wave inertia
+        (:data:`~.strip_theory.WAVE_INERTIA_INPUTS`)."""
         flow = getattr(self.hydro, "flow", None)
         return SEA_INPUTS + ((ELEVATION_AHEAD,) if self.excitation_fit is not None else ()) + \
-            (flow_input_names(flow.n_points) if flow is not None else ())
+            (flow_input_names(flow.n_points) if flow is not None else ()) + \
+            (WAVE_INERTIA_INPUTS if getattr(self.hydro, "strip_waves", None) is not None else ())
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -202,6 +207,9 @@ class FloatingPlatform:
         flow = getattr(self.hydro, "flow", None)
         if flow is not None:
             tables.update(flow.tables(t))
+        inertia = getattr(self.hydro, "strip_waves", None)
+        if inertia is not None:
+            tables.update(inertia.tables(t))
         return tables
 
     @cached_property
@@ -227,8 +235,11 @@ class FloatingPlatform:
             excitation = excitation + ca.mtimes(ca.DM(fit.C), xe)
             xe_dot = ca.mtimes(ca.DM(fit.A), xe) + ca.DM(fit.B) * sea[len(SEA_INPUTS)]
         n_sea = len(SEA_INPUTS) + (1 if self.excitation_fit is not None else 0)
-        flow = sea[n_sea:] if sea.numel() > n_sea else None    # the waves' velocity at the Morison members
-        hydro = self.hydro.load(qp, vp, flow) + excitation   # hydrostatics, additional loads, members' drag
+        n_strip = len(WAVE_INERTIA_INPUTS) if getattr(self.hydro, "strip_waves", None) is not None else 0
+        n_flow = sea.numel() - n_sea - n_strip
+        flow = sea[n_sea:n_sea + n_flow] if n_flow else None    # the waves' velocity at the Morison members
+        strip = sea[n_sea + n_flow:] if n_strip else None        # the strip-theory members' wave inertia
+        hydro = self.hydro.load(qp, vp, flow, strip) + excitation   # hydrostatics, additional loads, members
         if self.radiation is not None:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr[:nr])
             xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr[:nr])
@@ -279,7 +290,7 @@ class FloatingPlatform:
         from dataclasses import replace
 
         mooring = None if self.mooring is None else self.mooring.with_dynamics(None, self.mooring.water_density)
-        hydro = replace(self.hydro, waves=None, excitation_fit=None, flow=None)
+        hydro = replace(self.hydro, waves=None, excitation_fit=None, flow=None, strip_waves=None)
         return FloatingPlatform(hydro, mooring, None, self.mooring_steps)
 
     def __repr__(self) -> str:

@@ -44,6 +44,7 @@ from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
+from .strip_theory import StripTheory, StripWaves, strip_problems, strip_theory, strip_waves
 from .wave_kinematics import WaveFlow, wave_flow
 from .waves import incident_waves
 
@@ -59,7 +60,7 @@ class PlatformHydrodynamics:
     hydrostatics : PlatformHydrostatics
     additional : AdditionalLoads
     added_mass : (6, 6) ndarray
-        A∞ [kg, kg m, kg m²] about the WAMIT reference point.
+        A∞ [kg, kg m, kg m²] about the WAMIT reference point, with the strip-theory members' added mass.
     wamit : WamitHydrodynamics
         The dimensional WAMIT data (A(ω), B(ω), excitation).
     notes : tuple of str
@@ -72,6 +73,11 @@ class PlatformHydrodynamics:
         The members' viscous drag (:mod:`.morison`).
     flow : WaveFlow or None
         The waves' velocity at the members (:mod:`.wave_kinematics`; None in still water or without members).
+    strip : StripTheory or None
+        The buoyancy of the members not modelled by potential flow (``PropPot = FALSE``, :mod:`.strip_theory`);
+        their added mass is in :attr:`added_mass`.
+    strip_waves : StripWaves or None
+        Their wave inertia (None in still water or without them).
     """
 
     hydrostatics: PlatformHydrostatics
@@ -83,16 +89,24 @@ class PlatformHydrodynamics:
     excitation_fit: ExcitationFit | None = None
     morison: MorisonDrag | None = None
     flow: WaveFlow | None = None
+    strip: StripTheory | None = None
+    strip_waves: StripWaves | None = None
 
-    def load(self, q, qd, flow=None):
+    def load(self, q, qd, flow=None, strip=None):
         """Load at the reference point, inertial axes [N, N m]: hydrostatics and buoyancy, the additional
-        loads and the members' viscous drag (:mod:`.morison`) in the water's velocity ``flow`` at the
-        members (``3 morison.n_flow`` values [m/s]; default still water); no radiation memory, no excitation."""
+        loads, the members' viscous drag (:mod:`.morison`) in the water's velocity ``flow`` at the
+        members (``3 morison.n_flow`` values [m/s]; default still water) and the strip-theory members'
+        buoyancy and wave inertia (``strip``: the 15 values of
+        :data:`~.strip_theory.WAVE_INERTIA_INPUTS`; default none); no radiation memory, no excitation."""
         x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
         out = _in(self.hydrostatics.load(x), 6, "q") + _in(self.additional.load(x, v), 6, "qd")
         if self.morison is not None:
             out = out + _in(self.morison.load(x, v, flow), 6, "qd")
-        return _out(out, q, qd, flow)
+        if self.strip is not None:
+            out = out + _in(self.strip.load(x), 6, "q")
+            if strip is not None:
+                out = out + _in(self.strip.wave_load(x, strip), 6, "strip")
+        return _out(out, q, qd, flow, strip)
 
     def added_mass_load(self, qdd):
         """``−A∞ a`` [N, N m] for the reference point's acceleration ``a`` (translational, angular) [m/s², rad/s²]."""
@@ -112,7 +126,7 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None, water_depth: float | N
         out.append(f"NBody = {hd.n_bodies}, NAddDOF = {list(hd.n_additional_dofs)} (one rigid body only)")
     if hd.reference_rotation and any(hd.reference_rotation):
         out.append("PtfmRefztRot /= 0 (a rotated WAMIT body frame)")
-    out += morison_problems(hd, sea, water_depth=water_depth)
+    out += morison_problems(hd, sea, water_depth=water_depth) + strip_problems(hd)
     if sea is not None and sea.msl_to_swl not in (0.0, "default"):
         out.append(f"MSL2SWL = {sea.msl_to_swl} (HydroDyn requires 0 with potential flow)")
     if sea is not None and sea.wave_model != 0:
@@ -229,8 +243,16 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
             raise ParameterError(f"{hd.path}: the waves' velocity at the Morison members needs the water depth; give "
                                  "water_depth (the .fst's WtrDpth).")
         flow = wave_flow(waves.waves, sea, morison.flow_points())
-    return PlatformHydrodynamics(statics, extra, wamit.added_mass_infinite[:6, :6], wamit, tuple(notes), waves, fit,
-                                 morison, flow)
+    strip = strip_theory(hd, water_density=rho, gravity=float(gravity), reference=platform_reference)
+    added = wamit.added_mass_infinite[:6, :6] + (0.0 if strip is None else strip.added_mass)
+    inertia = None
+    if strip is not None and waves is not None:
+        if depth is None:
+            raise ParameterError(f"{hd.path}: the waves' kinematics at the strip-theory members need the water depth; "
+                                 "give water_depth (the .fst's WtrDpth).")
+        inertia = strip_waves(strip, waves.waves, sea)
+    return PlatformHydrodynamics(statics, extra, added, wamit, tuple(notes), waves, fit, morison, flow, strip,
+                                 inertia)
 
 
 def _depth(sea: SeaStateInput | None, water_depth: float | None) -> float | None:

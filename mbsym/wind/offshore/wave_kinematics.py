@@ -34,7 +34,8 @@ import numpy as np
 from .excitation import catmull_rom
 from .waves import IncidentWaves, _grid_weights, index_weights, wave_number
 
-__all__ = ["WaveFlow", "wave_flow", "flow_input_names", "node_velocity"]
+__all__ = ["WaveFlow", "wave_flow", "flow_input_names", "node_velocity", "node_acceleration_pressure",
+           "wave_acceleration_pressure"]
 
 #: κh above which SeaState switches to its deep-water forms of the depth functions.
 _DEEP = 89.4
@@ -86,6 +87,33 @@ def node_velocity(waves: IncidentWaves, x: float, y: float, z: float) -> np.ndar
                             waves.series(1j * c * sh)])
 
 
+def node_acceleration_pressure(waves: IncidentWaves, x: float, y: float, z: float, water_density: float) -> np.ndarray:
+    """``(N + 1, 4)`` acceleration [m/s²] and dynamic pressure [Pa] at a point ``z ≤ 0`` on ``waves.times()``, exact
+    (no grid): SeaState's ``iω`` times the velocity, and ``ρ g C E cosh κ(z + h) / cosh κh`` (its deep-water form
+    ``e^{κz} + e^{−κ(z + 2h)}`` beyond κh = 89.4)."""
+    omega = waves.frequencies
+    beta = waves.headings()
+    h = waves.water_depth
+    kappa = np.array([wave_number(w, waves.gravity, h) if w > 0 else 0.0 for w in omega])
+    ch, sh = _depth_functions(kappa, z, h)
+    e = waves.spectrum * np.exp(-1j * kappa * (x * np.cos(beta) + y * np.sin(beta)))
+    c = 1j * omega * omega * e
+    return np.column_stack([waves.series(np.cos(beta) * c * ch), waves.series(np.sin(beta) * c * ch),
+                            waves.series(1j * c * sh),
+                            waves.series(water_density * waves.gravity * e * _pressure_depth(kappa, z, h))])
+
+
+def _pressure_depth(kappa: np.ndarray, z: float, h: float) -> np.ndarray:
+    """``cosh κ(z+h) / cosh κh`` (SeaState's ``COSHNumOvrCOSHDen``; 1 at κ = 0)."""
+    out = np.ones_like(kappa)
+    for i, k in enumerate(kappa):
+        if k <= 0.0:
+            continue
+        out[i] = math.exp(k * z) + math.exp(-k * (z + 2 * h)) if k * h > _DEEP else \
+            math.cosh(k * (z + h)) / math.cosh(k * h)
+    return out
+
+
 def _depth_functions(kappa: np.ndarray, z: float, h: float) -> tuple[np.ndarray, np.ndarray]:
     """``cosh κ(z+h) / sinh κh`` and ``sinh κ(z+h) / sinh κh`` (SeaState's deep-water forms beyond κh = 89.4;
     0 and 1 at κ = 0, where ω = 0 zeroes the velocity)."""
@@ -103,19 +131,34 @@ def _depth_functions(kappa: np.ndarray, z: float, h: float) -> tuple[np.ndarray,
 def wave_flow(waves: IncidentWaves, sea, points: np.ndarray) -> WaveFlow:
     """:class:`WaveFlow` at ``points`` (n, 3) [m, undisplaced, inertial; z relative to the still-water level] read
     off SeaState's kinematics grid (module docstring); points above the water get zero."""
+    return WaveFlow(waves, _on_grid(waves, sea, points, lambda x, y, z: node_velocity(waves, x, y, z), 3))
+
+
+def wave_acceleration_pressure(waves: IncidentWaves, sea, points: np.ndarray,
+                               water_density: float) -> tuple[np.ndarray, np.ndarray]:
+    """The waves' acceleration ``(N + 1, n, 3)`` [m/s²] and dynamic pressure ``(N + 1, n)`` [Pa] at ``points``
+    (as :func:`wave_flow`) on ``waves.times()``, read off SeaState's grid."""
+    out = _on_grid(waves, sea, points,
+                   lambda x, y, z: node_acceleration_pressure(waves, x, y, z, water_density), 4)
+    return out[:, :, :3], out[:, :, 3]
+
+
+def _on_grid(waves: IncidentWaves, sea, points: np.ndarray, at, width: int) -> np.ndarray:
+    """``(N + 1, n, width)``: ``at(x, y, z)`` on SeaState's grid nodes around each point, interpolated as GridInterp
+    does; zero above the water."""
     depth = _grid_depth(sea, waves.water_depth)
     nz = int(sea.nz)
     cache: dict[tuple[float, float, float], np.ndarray] = {}
-    out = np.zeros((waves.n_steps + 1, len(points), 3))
+    out = np.zeros((waves.n_steps + 1, len(points), width))
     for j, (x, y, z) in enumerate(np.asarray(points, dtype=float)):
         if z > 0.0:
             continue
         for (xi, a), (yi, b), (zi, c) in _stencil(sea, depth, nz, x, y, z):
             key = (xi, yi, zi)
             if key not in cache:
-                cache[key] = node_velocity(waves, xi, yi, zi)
+                cache[key] = at(xi, yi, zi)
             out[:, j] += a * b * c * cache[key]
-    return WaveFlow(waves, out)
+    return out
 
 
 def _grid_depth(sea, water_depth: float) -> float:

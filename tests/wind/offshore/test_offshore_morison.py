@@ -42,10 +42,28 @@ _BRACES = [(-5, 0, -12), (-46.75, 0, -6), (2.5, 4.33, -12), (23.375, 40.49, -6),
            (23.375, -40.49, -6)]
 
 
+#: Strip-theory members (``PropPot = FALSE``) added to the shared ``fl_decay_a`` (the ``none`` deck of
+#: test_offshore_morison.write_deck): joints (x, y, z) [m] with axial coefficient set 2, property sets (D [m]), members.
+STRIP_JOINTS = [(-30, 20, -25), (30, 20, -25), (10, -35, -30), (10, 25, -18), (-20, -20, -35), (-20, -20, -15)]
+STRIP_SECTION = {
+    "NAxCoef": ["1  0.00 0.00 1.00 0 0.00 1.00", "2  0.00 1.00 1.00 0 0.00 1.00"],
+    "NJoints": [f"{n + 1}  {x} {y} {z}  2  0" for n, (x, y, z) in enumerate(STRIP_JOINTS)],
+    "NPropSetsCyl": ["1  3.0  0.05", "2  2.0  0.05", "3  4.0  0.05"],
+    "NMembers": ["1  1  2  1  1  1  0  2.0  1  1  FALSE", "2  3  4  1  2  1  0  2.0  1  1  FALSE",
+                 "3  5  6  3  3  1  0  1.0  1  1  FALSE"],
+}
+#: SimplCd … SimplCbMG: no drag; C_a = C_p = 1, axial C_a = C_p = 1, C_b = 1.
+STRIP_COEFFICIENTS = "0.0 0.0 1.0 1.0 1.0 1.0 0.0 0.0 1.0 1.0 1.0 1.0 1.0 1.0"
+#: AddF0's heave force: about the members' buoyancy (ρ g ΣV, 9.8 MN), so the platform floats near its draft.
+STRIP_PRELOAD = -9.84e6
+
+
 def _member_section(variant: str) -> dict[str, list[str]]:
     """Rows of the Morison tables of a variant (the count key → its rows; ``none``: the deck's, no members)."""
     if variant == "none":
         return {}
+    if variant == "strip":
+        return {key: list(rows) for key, rows in STRIP_SECTION.items()}
     if variant == "growth":                      # columns; outer ones depth-based; marine growth from 0 to -20 m
         rows = _member_section("columns")
         rows["NMembers"] = [r if r.startswith("1 ") else r.replace("  1.0  1  0  TRUE", "  1.0  2  0  TRUE")
@@ -70,8 +88,9 @@ def _member_section(variant: str) -> dict[str, list[str]]:
 
 
 def write_deck(root: Path, variant: str) -> Path:
-    """A copy of the shared ``fl_decay_a`` with ``AddBQuad`` = 0 and drag-only members (``columns`` or
-    ``braces``; ``none``: no members); the OpenFAST references were run on decks written by this function (their
+    """A copy of the shared ``fl_decay_a`` with ``AddBQuad`` = 0 and drag-only members (``columns``, ``braces`` or
+    ``growth``; ``none``: no members) or submerged strip-theory members (``strip``, test_offshore_strip_theory.py);
+    the OpenFAST references were run on decks written by this function (their
     README)."""
     for folder in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi"):
         shutil.copytree(FLOATING / folder, root / folder, ignore=shutil.ignore_patterns("linearizations"))
@@ -94,7 +113,10 @@ def write_deck(root: Path, variant: str) -> Path:
     k = next(j for j, line in enumerate(lines) if line.split()[:1] == ["SimplCd"])
     axial = "1.0 1.0" if variant == "braces" else "0.0 0.0"
     mg = "0.8" if variant == "growth" else "0.6"
-    lines[k + 2] = f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
+    lines[k + 2] = STRIP_COEFFICIENTS if variant == "strip" else f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
+    if variant == "strip":
+        k = next(j for j, line in enumerate(lines) if "AddF0" in line)
+        lines[k + 2] = f"{STRIP_PRELOAD:.6e}"
     path.write_text("\n".join(lines) + "\n")
     return case / "fl_decay_a.fst"
 
@@ -206,7 +228,7 @@ def test_unmodelled_member_settings_are_named(decks):
     broken = decks["braces"].parent / "broken_HydroDyn.dat"
     broken.write_text(text.replace("4  4  1  0  2.0  3  0  TRUE", "4  4  2  0  2.0  3  0  FALSE"))
     problems = morison_problems(read_hydrodyn(broken))
-    assert any("PropPot = FALSE" in p for p in problems) and any("MSecGeom = 2" in p for p in problems)
+    assert any("MSecGeom = 2" in p for p in problems)     # PropPot = FALSE: test_offshore_strip_theory.py
     growth = (decks["growth"].parent / "fl_decay_a_HydroDyn.dat").read_text()
     short = decks["braces"].parent / "short_HydroDyn.dat"
     short.write_text(growth.replace("15.0 0.5 0.8", "10.0 0.5 0.8"))

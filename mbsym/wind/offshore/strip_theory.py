@@ -1,0 +1,300 @@
+"""Buoyancy, added mass and wave inertia of a platform's strip-theory members (HydroDyn ``PropPot = FALSE``).
+
+A Morison member not modelled by potential flow gets all its hydrodynamics from strip theory; its viscous drag is
+:mod:`.morison`'s (as for every member), the rest is here, with HydroDyn v5.0.0's conventions (read for the facts
+in ``Morison.f90``: ``Morison_CalcOutput``, ``getElementHstLds_Mod1``, ``Morison_Init``'s joint terms,
+``LumpDistrHydroLoads``; ``Waves.f90`` for the kinematics):
+
+* **Buoyancy** (``MHstLMod`` 1 or 2; 0: none). For a member below the still-water level HydroDyn's side loads
+  (per frustum element, ``ρ g [V e_z − π (r₂² z₂ − r₁² z₁) k]`` and its moment) and its two end plates'
+  pressure sum to Archimedes' force ``ρ g V e_z`` through the volume's centroid, at the **displaced** position;
+  ``V`` with the radii scaled by ``√C_b`` (the node's buoyancy coefficient). So the members add
+  ``F = ρ g ΣV e_z`` at the displaced centroid ``R c`` of their volumes: ``M = (R c) × F``.
+* **Added mass** (sides, ``AMMod`` 0: the nodes below the still-water level undisplaced). Per unit length at a
+  node of radius ``R`` on axis ``k``: ``m = ρ π R² [C_a (I − k kᵀ) + 2 C_{a,ax} |dR/dl| k kᵀ]`` times the strip
+  ``Δl`` (half of each neighbouring element), applied at the node with the moment ``(h k) × F`` of its strip's
+  centroid offset ``h`` (as :mod:`.morison`); the node's acceleration is the platform's at that point.
+  **End plates** at each joint of strip-theory members: ``A_end = ρ C_{a,ax,J} V_n V_nᵀ / |V_n|`` with
+  ``V_n = Σ ± (2π/3) R³ k`` (``−`` where a member starts, ``+`` where it ends). Both are constant (undisplaced
+  axes), so they join A∞ in the **mass matrix** as a 6 × 6 block about the reference point (the centripetal part
+  of a node's acceleration, second order in the rates, is left out: what the mass matrix holds of A∞ too).
+* **Wave inertia** (first-order waves; SeaState's acceleration ``a_w`` and dynamic pressure ``p`` at the
+  **undisplaced** nodes, ``WaveDisp = 0``): per unit length
+  ``f = ρ π R² [(C_a + C_p)(I − k kᵀ) + 2 C_{a,ax} |dR/dl| k kᵀ] a_w + 2 C_{p,ax} π R (dR/dl) p k``, lumped as
+  the added mass; at the joints ``F = −C_{p,ax,J} A_n p + A_end a_w`` with ``A_n = Σ ± π R² k``. Summed over the
+  points ``P`` (platform axes from the reference point) the load about the displaced reference point is
+  ``F = Σ F_i``, ``M = Σ (R p_i) × F_i + Σ (h_i k_i) × F_i``: with ``S = Σ p_i F_iᵀ`` it is
+  ``M₀ + ε:((R − I) S)`` (``M₀`` the undisplaced moment), exact in the rotation. The model takes ``F``, ``M₀`` and
+  ``S`` as 15 inputs (:data:`WAVE_INERTIA_INPUTS`), tabulated from the sea like the excitation.
+
+**Refused** (:func:`strip_problems`): strip-theory members that reach the still-water level (their waterline's
+buoyancy, HydroDyn's partially wetted elements), members with marine growth (its mass and weight), filled members
+and rectangular ones (:mod:`.morison`). A member must stay submerged over the motion: its buoyancy is its whole
+volume's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from ...exceptions import ParameterError
+from ._casadi import _in, _out, euler_zyx
+from .excitation import catmull_rom
+from .morison import _lookup, _rows, marine_growth, member_coefficients
+from .wave_kinematics import wave_acceleration_pressure
+
+__all__ = ["StripTheory", "StripWaves", "strip_theory", "strip_waves", "strip_problems", "WAVE_INERTIA_INPUTS",
+           "WAVE_INERTIA_UNITS"]
+
+#: The inputs of the strip-theory members' wave inertia: force, undisplaced moment, first moments ``S_ab = Σ p_a F_b``.
+WAVE_INERTIA_INPUTS = ("StripWvsFxi", "StripWvsFyi", "StripWvsFzi", "StripWvsMxi", "StripWvsMyi", "StripWvsMzi",
+                       *(f"StripWvsS{a}{b}" for a in "xyz" for b in "xyz"))
+#: Their units.
+WAVE_INERTIA_UNITS = {n: ("N" if n[7] == "F" else "N m") for n in WAVE_INERTIA_INPUTS}
+
+
+@dataclass(frozen=True, eq=False)
+class StripTheory:
+    """The strip-theory members of a platform (module docstring), SI units, about the reference point.
+
+    Attributes
+    ----------
+    volume : float
+        Buoyancy volume ``ΣV`` (radii scaled by ``√C_b``; members with ``MHstLMod = 0`` left out) [m³].
+    centroid : ndarray (3,)
+        Its centroid, platform axes from the reference point [m].
+    added_mass : ndarray (6, 6)
+        Sides and end plates [kg, kg m, kg m²] (inertial axes, undisplaced).
+    points : ndarray (n, 3)
+        Where the wave inertia acts: the strip nodes, then the joints (platform axes from the reference point).
+    axis, offset : ndarray (n, 3), (n,)
+        Unit axis ``k`` and strip centroid offset ``h`` [m] (joints: zero).
+    inertia : ndarray (n, 3, 3)
+        ``f = inertia @ a_w + pressure · p`` at each point [kg, for a_w in m/s²].
+    pressure : ndarray (n, 3)
+        [m²], for ``p`` in Pa.
+    water_density, gravity : float
+    reference : ndarray (3,)
+        The reference point's undisplaced position [m].
+    """
+
+    volume: float
+    centroid: np.ndarray
+    added_mass: np.ndarray
+    points: np.ndarray
+    axis: np.ndarray
+    offset: np.ndarray
+    inertia: np.ndarray
+    pressure: np.ndarray
+    water_density: float
+    gravity: float
+    reference: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    @property
+    def buoyancy(self) -> float:
+        """``ρ g ΣV`` [N]."""
+        return self.water_density * self.gravity * self.volume
+
+    def wave_points(self) -> np.ndarray:
+        """``(n, 3)`` undisplaced absolute positions [m] where the waves' kinematics enter."""
+        return self.points + np.asarray(self.reference, dtype=float)
+
+    def load(self, q):
+        """Buoyancy at the reference point, inertial axes [N, N m], for the platform DOFs ``q`` [m, rad]."""
+        x = _in(q, 6, "q")
+        force = ca.vertcat(0.0, 0.0, self.buoyancy)
+        arm = ca.mtimes(euler_zyx(x[3:6]), ca.DM(self.centroid))
+        return _out(ca.vertcat(force, ca.cross(arm, force)), q)
+
+    def wave_load(self, q, terms):
+        """The wave inertia at the reference point [N, N m] from the 15 :data:`WAVE_INERTIA_INPUTS` values."""
+        x, w = _in(q, 6, "q"), _in(terms, 15, "terms")
+        S = ca.reshape(w[6:15], 3, 3).T                      # row a, column b: Σ p_a F_b
+        D = euler_zyx(x[3:6]) - ca.DM.eye(3)
+        T = ca.mtimes(D, S)                                  # Σ ((R − I) p) F^T
+        extra = ca.vertcat(T[1, 2] - T[2, 1], T[2, 0] - T[0, 2], T[0, 1] - T[1, 0])
+        return _out(ca.vertcat(w[0:3], w[3:6] + extra), q, terms)
+
+    def wave_terms(self, acceleration: np.ndarray, pressure: np.ndarray) -> np.ndarray:
+        """``(T, 15)`` values of :data:`WAVE_INERTIA_INPUTS` from the waves' acceleration ``(T, n, 3)`` [m/s²] and
+        dynamic pressure ``(T, n)`` [Pa] at :meth:`wave_points`."""
+        f = np.einsum("nij,tnj->tni", self.inertia, acceleration) + pressure[:, :, None] * self.pressure[None]
+        force = f.sum(axis=1)
+        arm = self.points + self.offset[:, None] * self.axis
+        moment = np.cross(arm[None], f).sum(axis=1)
+        first = np.einsum("na,tnb->tab", self.points, f).reshape(len(f), 9)
+        return np.hstack([force, moment, first])
+
+
+@dataclass(frozen=True, eq=False)
+class StripWaves:
+    """The strip-theory members' wave inertia on the waves' time grid.
+
+    Attributes
+    ----------
+    waves : IncidentWaves
+    values : ndarray (N + 1, 15)
+        :data:`WAVE_INERTIA_INPUTS` on ``waves.times()`` (the last sample repeats the first).
+    """
+
+    waves: object
+    values: np.ndarray
+
+    def tables(self, t: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Input tables ``name → (t, values)`` on the times ``t`` [s] (periodic cubic in time, as HydroDyn reads
+        the kinematics: the terms are linear in them)."""
+        values = catmull_rom(self.values, self.waves.time_step, np.atleast_1d(np.asarray(t, dtype=float)))
+        return {name: (t, values[:, j]) for j, name in enumerate(WAVE_INERTIA_INPUTS)}
+
+
+def strip_waves(strip: StripTheory, waves, sea) -> StripWaves:
+    """:class:`StripWaves` of a sea (:class:`~.waves.IncidentWaves` and its SeaState input, whose grid the
+    kinematics are read off, :func:`~.wave_kinematics.wave_acceleration_pressure`)."""
+    acceleration, pressure = wave_acceleration_pressure(waves, sea, strip.wave_points(), strip.water_density)
+    return StripWaves(waves, strip.wave_terms(acceleration, pressure))
+
+
+def strip_problems(hd) -> list[str]:
+    """What of a HydroDyn deck's strip-theory members (``PropPot = FALSE``) is not modelled, one phrase each."""
+    members = _rows(hd, "members")
+    if not members:
+        return []
+    lines = dict(zip([int(r[0]) for r in members], hd.tables["members"].lines))
+    joints = {int(r[0]): float(r[3]) for r in _rows(hd, "joints")}
+    growth = _rows(hd, "marine_growth")
+    out = []
+    for row in members:
+        if row[10]:
+            continue
+        where = f"member {int(row[0])} (line {lines[int(row[0])]})"
+        z = [joints.get(int(row[j]), float("nan")) for j in (1, 2)]
+        if not max(z) < 0.0:
+            out.append(f"{where}: PropPot = FALSE and it reaches the still-water level (z = {z[0]:g}, {z[1]:g} m): "
+                       "the buoyancy, added mass and wave inertia of surface-piercing strip-theory members are not "
+                       "modelled; only of members below it")
+        elif _growth_along(growth, min(z), max(z)):
+            out.append(f"{where}: PropPot = FALSE with marine growth (its mass and weight are not modelled)")
+        if int(row[9]) not in (0, 1, 2):
+            out.append(f"{where}: MHstLMod = {int(row[9])} (0, 1 or 2)")
+    return out
+
+
+def _growth_along(rows: list, low: float, high: float) -> bool:
+    heights = [low, high] + [float(r[0]) for r in rows if low <= float(r[0]) <= high]
+    return any(marine_growth(rows, z) > 0.0 for z in heights)
+
+
+def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.0, 0.0)) -> StripTheory | None:
+    """The :class:`StripTheory` of a HydroDyn input's ``PropPot = FALSE`` members (None without them).
+
+    Parameters
+    ----------
+    hd : HydroDynInput
+        Checked first by :func:`strip_problems` and :func:`~.morison.morison_problems`.
+    water_density, gravity : float, keyword-only
+        [kg/m³], [m/s²].
+    reference : sequence of 3 floats, optional, keyword-only
+        The platform reference point's undisplaced position [m].
+    """
+    members = [r for r in _rows(hd, "members") if not r[10]]
+    if not members:
+        return None
+    rho, ref = float(water_density), np.asarray(reference, dtype=float)
+    joints = {int(r[0]): (np.array(r[1:4], dtype=float), int(r[4])) for r in _rows(hd, "joints")}
+    props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
+    axial = {int(r[0]): r for r in _rows(hd, "axial_coefficients")}
+    tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
+              "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
+              "depth": _rows(hd, "depth_cylinder_coefficients")}
+    parts, ends = [], {}
+    for row in members:
+        ident = int(row[0])
+        (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
+        r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
+        coefficients = member_coefficients(int(row[8]), tables, ident)
+        parts.append(_member(p1 - ref, p2 - ref, r1, r2, float(row[7]), coefficients, int(row[9]) != 0, rho))
+        k = (p2 - p1) / np.linalg.norm(p2 - p1)
+        ends.setdefault(int(row[1]), []).append((-k, r1))
+        ends.setdefault(int(row[2]), []).append((k, r2))
+    joint = _joints(ends, joints, axial, ref, rho)
+    volume = sum(p["volume"] for p in parts)
+    moment = sum(p["volume"] * p["centroid"] for p in parts) if volume > 0 else np.zeros(3)
+    added = sum(p["added_mass"] for p in parts) + joint["added_mass"]
+    cat = {key: np.concatenate([p[key] for p in parts] + [joint[key]]) for key in
+           ("points", "axis", "offset", "inertia", "pressure")}
+    return StripTheory(float(volume), moment / volume if volume > 0 else np.zeros(3), added, **cat,
+                       water_density=rho, gravity=float(gravity), reference=ref)
+
+
+def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, coefficients, buoyant: bool,
+            rho: float) -> dict:
+    """One submerged member's volume, added mass and wave-inertia points (module docstring); points relative to
+    the reference point."""
+    span = p2 - p1
+    length = float(np.linalg.norm(span))
+    if length <= 0:
+        raise ParameterError(f"HydroDyn member from {p1.tolist()} to {p2.tolist()} has zero length.")
+    n = math.ceil(length / div)
+    dl, k = length / n, span / length
+    s = np.arange(n + 1) / n
+    pts = p1 + s[:, None] * span
+    radius = r1 + s * (r2 - r1)
+    c = coefficients(s, pts[:, 2], np.zeros(n + 1, dtype=bool))
+    slope = np.diff(radius) / dl
+    signed = np.concatenate([[slope[0]], 0.5 * (slope[:-1] + slope[1:]), [slope[-1]]])
+    absolute = np.concatenate([[abs(slope[0])], 0.5 * (np.abs(slope[:-1]) + np.abs(slope[1:])), [abs(slope[-1])]])
+    left = np.r_[0.0, np.full(n, 0.5 * dl)]
+    right = np.r_[np.full(n, 0.5 * dl), 0.0]
+    strip, offset = left + right, 0.5 * (right - left)
+    kk = np.outer(k, k)
+    area = math.pi * radius ** 2
+    side = rho * area[:, None, None] * (c["Ca"][:, None, None] * (np.eye(3) - kk)
+                                        + (2.0 * c["AxCa"] * absolute)[:, None, None] * kk)
+    wave = rho * area[:, None, None] * ((c["Ca"] + c["Cp"])[:, None, None] * (np.eye(3) - kk)
+                                        + (2.0 * c["AxCa"] * absolute)[:, None, None] * kk)
+    added = sum(_point_mass(strip[i] * side[i], pts[i], offset[i] * k) for i in range(n + 1))
+    rb = radius * np.sqrt(c["Cb"])
+    a, b = rb[:-1], rb[1:]
+    vol = math.pi * dl * (a ** 2 + a * b + b ** 2) / 3.0 if buoyant else np.zeros(n)
+    first = math.pi * dl ** 2 * (a ** 2 + 2 * a * b + 3 * b ** 2) / 12.0
+    centre = pts[:-1] + np.divide(first, np.where(vol > 0, vol, 1.0))[:, None] * k
+    total = float(np.sum(vol))
+    return {"volume": total, "centroid": (vol @ centre / total) if total > 0 else np.zeros(3), "added_mass": added,
+            "points": pts, "axis": np.tile(k, (n + 1, 1)), "offset": offset,
+            "inertia": strip[:, None, None] * wave,
+            "pressure": (strip * 2.0 * c["AxCp"] * math.pi * radius * signed)[:, None] * k}
+
+
+def _joints(ends: dict, joints: dict, axial: dict, ref: np.ndarray, rho: float) -> dict:
+    """The end plates at the joints of strip-theory members (module docstring)."""
+    pts, mass, pressure, added = [], [], [], np.zeros((6, 6))
+    for ident, plates in ends.items():
+        position, axial_id = joints[ident]
+        row = _lookup(axial, axial_id, f"joint {ident}: axial coefficients")
+        vn = sum(2.0 * math.pi / 3.0 * r ** 3 * n for n, r in plates)
+        an = sum(math.pi * r ** 2 * n for n, r in plates)
+        size = float(np.linalg.norm(vn))
+        m = rho * float(row[2]) / size * np.outer(vn, vn) if size > 1e-12 * sum(r ** 3 for _, r in plates) \
+            else np.zeros((3, 3))
+        pts.append(position - ref)
+        mass.append(m)
+        pressure.append(-float(row[3]) * an)
+        added = added + _point_mass(m, position - ref, np.zeros(3))
+    return {"points": np.array(pts).reshape(-1, 3), "axis": np.zeros((len(pts), 3)), "offset": np.zeros(len(pts)),
+            "inertia": np.array(mass).reshape(-1, 3, 3), "pressure": np.array(pressure).reshape(-1, 3),
+            "added_mass": added}
+
+
+def _cross(v: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _point_mass(m: np.ndarray, p: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """6 × 6 added mass about the reference of ``F = −m a_p`` at ``p`` with moment arm ``p + h`` (a_p: the
+    acceleration of the point p, ``a − [p]× α``)."""
+    P, H = _cross(p), _cross(p + h)
+    return np.block([[m, -m @ P], [H @ m, -H @ m @ P]])
