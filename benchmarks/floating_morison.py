@@ -1,13 +1,15 @@
-"""Free decays of the floating IEA 15 MW with drag-only Morison members: accuracy against OpenFAST and cost.
+"""Free decays of the floating IEA 15 MW with Morison members: accuracy against OpenFAST and cost.
 
 The shared ``fl_decay_a`` with ``AddBQuad`` zeroed and members added (``write_deck`` of
-tests/wind/offshore/test_offshore_morison.py: ``columns``, ``braces``, ``growth``; ``none`` without members), run 300 s with
+tests/wind/offshore/test_offshore_morison.py: drag-only ``columns``, ``braces``, ``growth``; strip-theory ``strip``
+(submerged) and ``piercing`` (two more through the surface); ``none`` without members), run 300 s with
 ``mbsym simulate`` (the default path) beside the OpenFAST v5.0.0 runs of the same decks
 (tests/data/openfast_morison). Prints per deck the ε of surge, heave, pitch and TTDspFA against OpenFAST's
 run of the same deck, the wall time of the run and its ratio to the run without members, measured in
 the same process (the compiled model cached after the first run of each deck: the second of two runs is timed).
-Then ``columns`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first order) against OpenFAST's
-``waves`` run of ``columns``, their cost against the run without members in the same waves.
+Then ``columns``, ``piercing`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first order) against
+OpenFAST's ``waves`` run of ``columns`` and ``piercing_waves`` of ``piercing``, their cost against the run without
+members in the same waves. ε also of roll for the strip-theory decks (they roll).
 
     python benchmarks/floating_morison.py
 """
@@ -27,7 +29,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 DATA = HERE.parent / "tests" / "data" / "openfast_morison"
-CHANNELS = ("PtfmSurge", "PtfmHeave", "PtfmPitch", "TTDspFA")
+CHANNELS = ("PtfmSurge", "PtfmHeave", "PtfmPitch", "TTDspFA", "PtfmRoll")
 
 
 def _reference(name: str) -> dict[str, np.ndarray]:
@@ -49,14 +51,21 @@ def _run(fst: Path, out: Path) -> float:
     return time.perf_counter() - t0
 
 
+def _eps(run, ref: dict) -> list:
+    """ε of :data:`CHANNELS` against an OpenFAST reference (None where it lacks the channel)."""
+    from mbsym.wind.analysis.compare import error_metrics
+
+    return [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] if c in ref else None for c in CHANNELS]
+
+
 def main() -> int:
-    from mbsym.wind.analysis.compare import error_metrics, read_csv
+    from mbsym.wind.analysis.compare import read_csv
     from tests.wind.offshore.test_offshore_morison import wave_deck, write_deck
 
     root = Path(tempfile.mkdtemp(prefix="mbsym_morison_"))
-    refs = {name: _reference(name) for name in ("columns", "braces", "growth")}
+    refs = {name: _reference(name) for name in ("columns", "braces", "growth", "strip", "piercing")}
     rows, base = [], None
-    for variant in ("none", "columns", "braces", "growth"):
+    for variant in ("none", "columns", "braces", "growth", "strip", "piercing"):
         fst = write_deck(root / variant, variant)
         out = root / f"{variant}.csv"
         wall = _run(fst, out)
@@ -65,21 +74,19 @@ def main() -> int:
         for ref_name, ref in refs.items():
             if variant != "none" and ref_name != variant:
                 continue
-            eps = [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] for c in CHANNELS]
-            rows.append((variant, ref_name, *eps, wall, wall / base))
+            rows.append((variant, ref_name, *_eps(run, ref), wall, wall / base))
     wave_base = None                # in JONSWAP waves (WAVE_EDITS): the members' drag in the waves' velocity
-    for variant in ("none", "columns"):
+    for variant, ref_name in (("none", "waves"), ("columns", "waves"), ("piercing", "piercing_waves")):
         fst = wave_deck(write_deck(root / f"{variant}_waves", variant))
         out = root / f"{variant}_waves.csv"
         wall = _run(fst, out)
         wave_base = wall if wave_base is None else wave_base
-        run, ref = read_csv(out), _reference("waves")
-        eps = [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] for c in CHANNELS]
-        rows.append((f"{variant} in waves", "waves", *eps, wall, wall / wave_base))
-    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | wall [s] | ratio to no members |")
-    print("|---|---|---|---|---|---|---|---|")
+        run = read_csv(out)
+        rows.append((f"{variant} in waves", ref_name, *_eps(run, _reference(ref_name)), wall, wall / wave_base))
+    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | ε roll | wall [s] | ratio to no members |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for variant, ref_name, *eps, wall, ratio in rows:
-        print(f"| {variant} | {ref_name} | " + " | ".join(f"{100 * e:.2f} %" for e in eps)
+        print(f"| {variant} | {ref_name} | " + " | ".join("-" if e is None else f"{100 * e:.2f} %" for e in eps)
               + f" | {wall:.2f} | {ratio:.2f} |")
     return 0
 

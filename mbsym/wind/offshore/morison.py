@@ -282,6 +282,8 @@ def morison_drag(hd, *, water_density: float, reference=(0.0, 0.0, 0.0),
     if strips is None:
         strips = {"points": np.zeros((0, 3)), "axis": np.zeros((0, 3))} | {k: np.zeros(0) for k in
                                                                            ("length", "offset", "drag", "taper")}
+    dragging = (strips["drag"] != 0) | (strips["taper"] != 0)       # nodes without drag need no flow input
+    strips = {key: value[dragging] for key, value in strips.items()}
     return MorisonDrag(**strips, **end, water_density=float(water_density), reference=ref)
 
 

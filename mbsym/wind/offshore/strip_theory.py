@@ -45,6 +45,7 @@ from ...exceptions import ParameterError
 from ._casadi import _in, _out, euler_zyx
 from .excitation import catmull_rom
 from .morison import _lookup, _rows, marine_growth, member_coefficients
+from .waterline import element_buoyancy
 from .wave_kinematics import wave_acceleration_pressure
 
 __all__ = ["StripTheory", "StripWaves", "strip_theory", "strip_waves", "strip_problems", "WAVE_INERTIA_INPUTS",
@@ -55,6 +56,8 @@ WAVE_INERTIA_INPUTS = ("StripWvsFxi", "StripWvsFyi", "StripWvsFzi", "StripWvsMxi
                        *(f"StripWvsS{a}{b}" for a in "xyz" for b in "xyz"))
 #: Their units.
 WAVE_INERTIA_UNITS = {n: ("N" if n[7] == "F" else "N m") for n in WAVE_INERTIA_INPUTS}
+#: A strip-theory member crossing the still-water level must rise at least this sine of its angle to the surface.
+_STEEP = 0.2
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,9 +67,14 @@ class StripTheory:
     Attributes
     ----------
     volume : float
-        Buoyancy volume ``ΣV`` (radii scaled by ``√C_b``; members with ``MHstLMod = 0`` left out) [m³].
+        Buoyancy volume ``ΣV`` of the members below the still-water level (radii scaled by ``√C_b``; members with
+        ``MHstLMod = 0`` left out) [m³].
     centroid : ndarray (3,)
         Its centroid, platform axes from the reference point [m].
+    elements : ndarray (m, 8)
+        The elements of the members that reach the still-water level, buoyed element by element at their displaced
+        position (:func:`~.waterline.element_buoyancy`): node 1 (3), node 2 (3) in platform axes from the reference
+        point [m], their ``√C_b``-scaled radii (2) [m].
     added_mass : ndarray (6, 6)
         Sides and end plates [kg, kg m, kg m²] (inertial axes, undisplaced).
     points : ndarray (n, 3)
@@ -93,11 +101,12 @@ class StripTheory:
     water_density: float
     gravity: float
     reference: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    elements: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))
 
     @property
     def buoyancy(self) -> float:
-        """``ρ g ΣV`` [N]."""
-        return self.water_density * self.gravity * self.volume
+        """The members' buoyancy in the undisplaced position [N]."""
+        return float(self.load(np.zeros(6))[2])
 
     def wave_points(self) -> np.ndarray:
         """``(n, 3)`` undisplaced absolute positions [m] where the waves' kinematics enter."""
@@ -106,9 +115,17 @@ class StripTheory:
     def load(self, q):
         """Buoyancy at the reference point, inertial axes [N, N m], for the platform DOFs ``q`` [m, rad]."""
         x = _in(q, 6, "q")
-        force = ca.vertcat(0.0, 0.0, self.buoyancy)
-        arm = ca.mtimes(euler_zyx(x[3:6]), ca.DM(self.centroid))
-        return _out(ca.vertcat(force, ca.cross(arm, force)), q)
+        rot = euler_zyx(x[3:6])
+        rho_g = self.water_density * self.gravity
+        volume, first = self.volume, self.volume * ca.mtimes(rot, ca.DM(self.centroid))
+        height = self.reference[2] + x[2]
+        for e in self.elements:
+            a, b = ca.mtimes(rot, ca.DM(e[0:3])), ca.mtimes(rot, ca.DM(e[3:6]))
+            v, vc = element_buoyancy(a, b, height + a[2], height + b[2], float(e[6]), float(e[7]),
+                                     float(np.linalg.norm(e[3:6] - e[0:3])))
+            volume, first = volume + v, first + vc
+        force = ca.vertcat(0.0, 0.0, rho_g * volume)
+        return _out(ca.vertcat(force, ca.cross(rho_g * first, ca.DM([0.0, 0.0, 1.0]))), q)
 
     def wave_load(self, q, terms):
         """The wave inertia at the reference point [N, N m] from the 15 :data:`WAVE_INERTIA_INPUTS` values."""
@@ -164,19 +181,22 @@ def strip_problems(hd) -> list[str]:
     if not members:
         return []
     lines = dict(zip([int(r[0]) for r in members], hd.tables["members"].lines))
-    joints = {int(r[0]): float(r[3]) for r in _rows(hd, "joints")}
+    joints = {int(r[0]): np.array(r[1:4], dtype=float) for r in _rows(hd, "joints")}
     growth = _rows(hd, "marine_growth")
     out = []
     for row in members:
         if row[10]:
             continue
         where = f"member {int(row[0])} (line {lines[int(row[0])]})"
-        z = [joints.get(int(row[j]), float("nan")) for j in (1, 2)]
-        if not max(z) < 0.0:
-            out.append(f"{where}: PropPot = FALSE and it reaches the still-water level (z = {z[0]:g}, {z[1]:g} m): "
-                       "the buoyancy, added mass and wave inertia of surface-piercing strip-theory members are not "
-                       "modelled; only of members below it")
-        elif _growth_along(growth, min(z), max(z)):
+        ends = [joints.get(int(row[j]), np.full(3, np.nan)) for j in (1, 2)]
+        z = [float(e[2]) for e in ends]
+        span = float(np.linalg.norm(ends[1] - ends[0]))
+        if max(z) >= 0.0 and span > 0 and abs(z[1] - z[0]) < _STEEP * span:
+            out.append(f"{where}: PropPot = FALSE, crossing or touching the still-water level at "
+                       f"{math.degrees(math.asin(min(abs(z[1] - z[0]) / span, 1.0))):.1f} deg to it (z = {z[0]:g}, "
+                       f"{z[1]:g} m): the waterline of a strip-theory member lying within "
+                       f"{math.degrees(math.asin(_STEEP)):.1f} deg of the surface is not modelled")
+        if _growth_along(growth, min(z), max(z)):
             out.append(f"{where}: PropPot = FALSE with marine growth (its mass and weight are not modelled)")
         if int(row[9]) not in (0, 1, 2):
             out.append(f"{where}: MHstLMod = {int(row[9])} (0, 1 or 2)")
@@ -216,7 +236,8 @@ def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.
         (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
         r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
         coefficients = member_coefficients(int(row[8]), tables, ident)
-        parts.append(_member(p1 - ref, p2 - ref, r1, r2, float(row[7]), coefficients, int(row[9]) != 0, rho))
+        parts.append(_member(p1 - ref, p2 - ref, r1, r2, float(row[7]), coefficients, int(row[9]) != 0, rho,
+                             float(ref[2])))
         k = (p2 - p1) / np.linalg.norm(p2 - p1)
         ends.setdefault(int(row[1]), []).append((-k, r1))
         ends.setdefault(int(row[2]), []).append((k, r2))
@@ -227,13 +248,15 @@ def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.
     cat = {key: np.concatenate([p[key] for p in parts] + [joint[key]]) for key in
            ("points", "axis", "offset", "inertia", "pressure")}
     return StripTheory(float(volume), moment / volume if volume > 0 else np.zeros(3), added, **cat,
-                       water_density=rho, gravity=float(gravity), reference=ref)
+                       water_density=rho, gravity=float(gravity), reference=ref,
+                       elements=np.vstack([p["elements"] for p in parts]))
 
 
 def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, coefficients, buoyant: bool,
-            rho: float) -> dict:
-    """One submerged member's volume, added mass and wave-inertia points (module docstring); points relative to
-    the reference point."""
+            rho: float, z0: float = 0.0) -> dict:
+    """One member's buoyancy, added mass and wave-inertia points (module docstring); ``p1``, ``p2`` relative to the
+    reference point, ``z0`` its height [m]. A member below the still-water level gives a constant volume and
+    centroid, one reaching it its elements (:func:`~.waterline.element_buoyancy`)."""
     span = p2 - p1
     length = float(np.linalg.norm(span))
     if length <= 0:
@@ -243,30 +266,50 @@ def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, co
     s = np.arange(n + 1) / n
     pts = p1 + s[:, None] * span
     radius = r1 + s * (r2 - r1)
-    c = coefficients(s, pts[:, 2], np.zeros(n + 1, dtype=bool))
+    z = pts[:, 2] + z0
+    c = coefficients(s, z, np.zeros(n + 1, dtype=bool))
     slope = np.diff(radius) / dl
     signed = np.concatenate([[slope[0]], 0.5 * (slope[:-1] + slope[1:]), [slope[-1]]])
     absolute = np.concatenate([[abs(slope[0])], 0.5 * (np.abs(slope[:-1]) + np.abs(slope[1:])), [abs(slope[-1])]])
-    left = np.r_[0.0, np.full(n, 0.5 * dl)]
-    right = np.r_[np.full(n, 0.5 * dl), 0.0]
+    left, right = _wet_lengths(z, dl)
     strip, offset = left + right, 0.5 * (right - left)
+    keep = (z <= 0.0) & (strip > 0)
     kk = np.outer(k, k)
     area = math.pi * radius ** 2
     side = rho * area[:, None, None] * (c["Ca"][:, None, None] * (np.eye(3) - kk)
                                         + (2.0 * c["AxCa"] * absolute)[:, None, None] * kk)
     wave = rho * area[:, None, None] * ((c["Ca"] + c["Cp"])[:, None, None] * (np.eye(3) - kk)
                                         + (2.0 * c["AxCa"] * absolute)[:, None, None] * kk)
-    added = sum(_point_mass(strip[i] * side[i], pts[i], offset[i] * k) for i in range(n + 1))
+    added = sum((_point_mass(strip[i] * side[i], pts[i], offset[i] * k) for i in np.flatnonzero(keep)),
+                np.zeros((6, 6)))
+    out = {"volume": 0.0, "centroid": np.zeros(3), "elements": np.zeros((0, 8)), "added_mass": added,
+           "points": pts[keep], "axis": np.tile(k, (int(keep.sum()), 1)), "offset": offset[keep],
+           "inertia": (strip[:, None, None] * wave)[keep],
+           "pressure": ((strip * 2.0 * c["AxCp"] * math.pi * radius * signed)[:, None] * k)[keep]}
+    if not buoyant:
+        return out
     rb = radius * np.sqrt(c["Cb"])
     a, b = rb[:-1], rb[1:]
-    vol = math.pi * dl * (a ** 2 + a * b + b ** 2) / 3.0 if buoyant else np.zeros(n)
+    if max(z[0], z[-1]) >= 0.0:
+        out["elements"] = np.column_stack([pts[:-1], pts[1:], a, b])
+        return out
+    vol = math.pi * dl * (a ** 2 + a * b + b ** 2) / 3.0
     first = math.pi * dl ** 2 * (a ** 2 + 2 * a * b + 3 * b ** 2) / 12.0
-    centre = pts[:-1] + np.divide(first, np.where(vol > 0, vol, 1.0))[:, None] * k
-    total = float(np.sum(vol))
-    return {"volume": total, "centroid": (vol @ centre / total) if total > 0 else np.zeros(3), "added_mass": added,
-            "points": pts, "axis": np.tile(k, (n + 1, 1)), "offset": offset,
-            "inertia": strip[:, None, None] * wave,
-            "pressure": (strip * 2.0 * c["AxCp"] * math.pi * radius * signed)[:, None] * k}
+    centre = pts[:-1] + (first / vol)[:, None] * k
+    out["volume"], out["centroid"] = float(np.sum(vol)), vol @ centre / float(np.sum(vol))
+    return out
+
+
+def _wet_lengths(z: np.ndarray, dl: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each node's wet length toward node 1 and toward the last node (HydroDyn at the undisplaced heights ``z``:
+    half of a wet neighbouring element, the wet part of one crossing the still-water level)."""
+    wet = z <= 0.0
+    left, right = np.zeros(z.size), np.zeros(z.size)
+    for j in range(z.size - 1):
+        for node, other, side in ((j, j + 1, right), (j + 1, j, left)):
+            if wet[node]:
+                side[node] = 0.5 * dl if wet[other] else dl * z[node] / (z[node] - z[other])
+    return left, right
 
 
 def _joints(ends: dict, joints: dict, axial: dict, ref: np.ndarray, rho: float) -> dict:
@@ -274,6 +317,8 @@ def _joints(ends: dict, joints: dict, axial: dict, ref: np.ndarray, rho: float) 
     pts, mass, pressure, added = [], [], [], np.zeros((6, 6))
     for ident, plates in ends.items():
         position, axial_id = joints[ident]
+        if position[2] > 0.0:                               # out of the water (undisplaced): HydroDyn's nodeInWater
+            continue
         row = _lookup(axial, axial_id, f"joint {ident}: axial coefficients")
         vn = sum(2.0 * math.pi / 3.0 * r ** 3 * n for n, r in plates)
         an = sum(math.pi * r ** 2 * n for n, r in plates)

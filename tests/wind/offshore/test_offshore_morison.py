@@ -52,18 +52,29 @@ STRIP_SECTION = {
     "NMembers": ["1  1  2  1  1  1  0  2.0  1  1  FALSE", "2  3  4  1  2  1  0  2.0  1  1  FALSE",
                  "3  5  6  3  3  1  0  1.0  1  1  FALSE"],
 }
+#: ``piercing``: the ``strip`` members and two more through the still-water level (a vertical column, D 6 m, and an
+#: inclined tapered member, D 2.5 → 2 m).
+PIERCING_JOINTS = [(25, -25, -18), (25, -25, 10), (-35, -5, -12), (-30, 5, 10)]
+PIERCING_SECTION = {
+    "NAxCoef": STRIP_SECTION["NAxCoef"],
+    "NJoints": STRIP_SECTION["NJoints"] + [f"{n + 7}  {x} {y} {z}  2  0" for n, (x, y, z) in enumerate(PIERCING_JOINTS)],
+    "NPropSetsCyl": STRIP_SECTION["NPropSetsCyl"] + ["4  6.0  0.05", "5  2.5  0.05", "6  2.0  0.05"],
+    "NMembers": STRIP_SECTION["NMembers"] + ["4  7  8  4  4  1  0  1.0  1  1  FALSE",
+                                             "5  9  10  5  6  1  0  1.0  1  1  FALSE"],
+}
 #: SimplCd … SimplCbMG: no drag; C_a = C_p = 1, axial C_a = C_p = 1, C_b = 1.
 STRIP_COEFFICIENTS = "0.0 0.0 1.0 1.0 1.0 1.0 0.0 0.0 1.0 1.0 1.0 1.0 1.0 1.0"
-#: AddF0's heave force: about the members' buoyancy (ρ g ΣV, 9.8 MN), so the platform floats near its draft.
-STRIP_PRELOAD = -9.84e6
+#: AddF0's heave force: about the members' buoyancy (ρ g ΣV: 9.8 MN, with the ``piercing`` ones 15.6 MN), so the
+#: platform floats near its draft.
+STRIP_PRELOAD = {"strip": -9.84e6, "piercing": -1.56e7}
 
 
 def _member_section(variant: str) -> dict[str, list[str]]:
     """Rows of the Morison tables of a variant (the count key → its rows; ``none``: the deck's, no members)."""
     if variant == "none":
         return {}
-    if variant == "strip":
-        return {key: list(rows) for key, rows in STRIP_SECTION.items()}
+    if variant in ("strip", "piercing"):
+        return {key: list(rows) for key, rows in (STRIP_SECTION if variant == "strip" else PIERCING_SECTION).items()}
     if variant == "growth":                      # columns; outer ones depth-based; marine growth from 0 to -20 m
         rows = _member_section("columns")
         rows["NMembers"] = [r if r.startswith("1 ") else r.replace("  1.0  1  0  TRUE", "  1.0  2  0  TRUE")
@@ -89,7 +100,8 @@ def _member_section(variant: str) -> dict[str, list[str]]:
 
 def write_deck(root: Path, variant: str) -> Path:
     """A copy of the shared ``fl_decay_a`` with ``AddBQuad`` = 0 and drag-only members (``columns``, ``braces`` or
-    ``growth``; ``none``: no members) or submerged strip-theory members (``strip``, test_offshore_strip_theory.py);
+    ``growth``; ``none``: no members) or strip-theory members (``strip``: submerged; ``piercing``: two more through the surface;
+    test_offshore_strip_theory.py);
     the OpenFAST references were run on decks written by this function (their
     README)."""
     for folder in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi"):
@@ -113,10 +125,11 @@ def write_deck(root: Path, variant: str) -> Path:
     k = next(j for j, line in enumerate(lines) if line.split()[:1] == ["SimplCd"])
     axial = "1.0 1.0" if variant == "braces" else "0.0 0.0"
     mg = "0.8" if variant == "growth" else "0.6"
-    lines[k + 2] = STRIP_COEFFICIENTS if variant == "strip" else f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
-    if variant == "strip":
+    strip = variant in STRIP_PRELOAD
+    lines[k + 2] = STRIP_COEFFICIENTS if strip else f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
+    if strip:
         k = next(j for j, line in enumerate(lines) if "AddF0" in line)
-        lines[k + 2] = f"{STRIP_PRELOAD:.6e}"
+        lines[k + 2] = f"{STRIP_PRELOAD[variant]:.6e}"
     path.write_text("\n".join(lines) + "\n")
     return case / "fl_decay_a.fst"
 

@@ -132,10 +132,14 @@ def test_unmodelled_strip_members_are_named(tmp_path):
     path = fst.parent / "fl_decay_a_HydroDyn.dat"
     assert strip_problems(read_hydrodyn(path)) == []
     text = path.read_text()
-    piercing = path.with_name("piercing_HydroDyn.dat")
+    piercing = path.with_name("piercing_HydroDyn.dat")          # the vertical member 3 up through the surface
     piercing.write_text(text.replace("-20 -20 -15  2  0", "-20 -20 5  2  0"))
-    problems = strip_problems(read_hydrodyn(piercing))
-    assert len(problems) == 1 and "member 3" in problems[0] and "still-water level" in problems[0]
+    assert strip_problems(read_hydrodyn(piercing)) == []
+    flat = path.with_name("flat_HydroDyn.dat")                  # member 1 rising 10 m over 60 m through it
+    flat.write_text(text.replace("1  -30 20 -25  2  0", "1  -30 20 -5  2  0").replace("2  30 20 -25  2  0",
+                                                                                          "2  30 20 5  2  0"))
+    problems = strip_problems(read_hydrodyn(flat))
+    assert len(problems) == 1 and "member 1" in problems[0] and "9.5 deg" in problems[0]
     growth = path.with_name("growth_HydroDyn.dat")
     lines = text.splitlines()
     k = next(j for j, line in enumerate(lines) if line.split()[1:2] == ["NMGDepths"])
@@ -146,7 +150,7 @@ def test_unmodelled_strip_members_are_named(tmp_path):
     from mbsym.wind.offshore.platform import platform_hydrodynamics
 
     with pytest.raises(UnsupportedFeatureError, match="still-water level"):
-        platform_hydrodynamics(piercing, water_density=RHO, gravity=G)
+        platform_hydrodynamics(flat, water_density=RHO, gravity=G)
 
 
 @needs_deck
@@ -164,39 +168,116 @@ def test_the_deck_members_buoyancy_as_hydrodyn_sums_it(tmp_path):
 
 
 @needs_deck
-def test_decay_with_strip_members_matches_openfast(tmp_path):
-    """300 s of the decay on mbsym's default path against OpenFAST's with the same strip-theory members: ε ≤ 1.5 % on
-    surge, heave, roll and pitch (module docstring)."""
+@pytest.mark.parametrize("q, expected", [
+    ((10.0, 0.0, 1.5, 0.0, 4.0, 0.0), (1.9635685e8, -1.236424e8, -2.27832e8)),
+    ((10.0, 0.0, 1.5, 3.0, 4.0, 0.0), (1.9673237e8, -2.322889e8, -2.3659253e8)),
+])
+def test_waterline_buoyancy_of_the_piercing_deck_as_hydrodyn_applies_it(tmp_path, q, expected):
+    """The ``piercing`` deck's hydrostatic load (WAMIT's and the members', two of them cut by the surface) at a
+    displaced position, against HydroDyn's in OpenFAST v5.0.0 with every DOF held at that position (``HydroFzi``,
+    ``HydroMxi``, ``HydroMyi`` at t = 0; 8 digits printed; its horizontal forces and yaw moment are zero too)."""
+    from mbsym.wind.offshore.platform import platform_hydrodynamics
+
+    case = write_deck(tmp_path, "piercing").parent
+    hydro = platform_hydrodynamics(case / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=9.81,
+                                   seastate=case / "fl_decay_a_SeaState.dat", water_depth=200.0)
+    x = np.array(q) * np.r_[1, 1, 1, np.pi / 180, np.pi / 180, np.pi / 180]
+    load = hydro.load(x, np.zeros(6))
+    assert np.allclose(load[[2, 3, 4]], expected, rtol=2e-7)
+    assert np.allclose(load[[0, 1, 5]], 0.0, atol=1e-6)
+
+
+def _eps(run, ref, channel: str) -> float:
+    from mbsym.wind.analysis.compare import error_metrics
+
+    return error_metrics(run.time, run.channel(channel), ref["Time"], ref[channel])[0]
+
+
+@needs_deck
+@pytest.mark.parametrize("variant, bounds", [
+    ("strip", {"PtfmSurge": 0.015, "PtfmHeave": 0.015, "PtfmRoll": 0.015, "PtfmPitch": 0.015}),
+    ("piercing", {"PtfmSurge": 0.015, "PtfmHeave": 0.015, "PtfmRoll": 0.03, "PtfmPitch": 0.015}),
+])
+def test_decay_with_strip_members_matches_openfast(tmp_path, variant, bounds):
+    """300 s of the decay on mbsym's default path against OpenFAST's with the same strip-theory members (module
+    docstring): submerged ones (``strip``), and with two through the surface (``piercing``: the platform settles at
+    −2.5° roll and −3.3° pitch). Measured ε: strip 0.36–0.59 %; piercing 0.6–0.7 %, roll 1.9 % (bound 3 %: its
+    roll–yaw coupling, docs/offshore.md §2c)."""
     from mbsym.cli import main
-    from mbsym.wind.analysis.compare import error_metrics, read_csv
+    from mbsym.wind.analysis.compare import read_csv
 
-    ref = _reference("strip")
+    ref = _reference(variant)
     out = tmp_path / "run.csv"
-    assert main(["simulate", str(write_deck(tmp_path / "deck", "strip")), "--tmax", "300", "--out", str(out)]) == 0
+    assert main(["simulate", str(write_deck(tmp_path / "deck", variant)), "--tmax", "300", "--out", str(out)]) == 0
     run = read_csv(out)
-    for channel in ("PtfmSurge", "PtfmHeave", "PtfmRoll", "PtfmPitch"):
-        eps, _ = error_metrics(run.time, run.channel(channel), ref["Time"], ref[channel])
-        assert eps <= 0.015, (channel, eps)
-
+    for channel, bound in bounds.items():
+        assert _eps(run, ref, channel) <= bound, (channel, _eps(run, ref, channel))
 
 
 @needs_deck
 def test_strip_members_in_waves_match_openfast(tmp_path):
-    """The same deck in JONSWAP waves (test_offshore_morison.WAVE_EDITS: Hs 4 m, Tp 10 s), 300 s: the members' wave
-    inertia (off the kinematics grid at their undisplaced nodes) carries 130 % of the RMS of OpenFAST's HydroFyi and
-    5 % of HydroFxi and HydroFzi. Measured ε: motions 0.5–0.75 %, HydroFxi 0.14 %, HydroFzi 0.26 %; bounds 1.5 % and
-    1 %."""
+    """The ``piercing`` deck in JONSWAP waves (test_offshore_morison.WAVE_EDITS: Hs 4 m, Tp 10 s), 300 s: the
+    members' wave inertia (off the kinematics grid at their undisplaced wet nodes) is 130 % of the RMS of OpenFAST's
+    HydroFyi and 5 % of HydroFxi, HydroFzi on the ``strip`` deck. Measured ε: surge, heave, pitch 0.55–0.76 %, roll
+    2.0 %, HydroFxi 0.16 %, HydroFzi 0.27 %; bounds 1.5 % (roll 3 %) and 1 %."""
     from mbsym.cli import main
-    from mbsym.wind.analysis.compare import error_metrics, read_csv
+    from mbsym.wind.analysis.compare import read_csv
 
     from .test_offshore_morison import wave_deck
 
-    ref = _reference("strip_waves")
+    ref = _reference("piercing_waves")
     out = tmp_path / "run.csv"
-    fst = wave_deck(write_deck(tmp_path / "deck", "strip"))
+    fst = wave_deck(write_deck(tmp_path / "deck", "piercing"))
     assert main(["simulate", str(fst), "--tmax", "300", "--out", str(out)]) == 0
     run = read_csv(out)
-    for channel, bound in (("PtfmSurge", 0.015), ("PtfmHeave", 0.015), ("PtfmRoll", 0.015), ("PtfmPitch", 0.015),
+    for channel, bound in (("PtfmSurge", 0.015), ("PtfmHeave", 0.015), ("PtfmRoll", 0.03), ("PtfmPitch", 0.015),
                            ("HydroFxi", 0.01), ("HydroFzi", 0.01)):
-        eps, _ = error_metrics(run.time, run.channel(channel), ref["Time"], ref[channel])
-        assert eps <= bound, (channel, eps)
+        assert _eps(run, ref, channel) <= bound, (channel, _eps(run, ref, channel))
+
+
+def _submerged_numeric(p1, p2, r1, r2, slices=20000):
+    """``(V, V c)`` below z = 0 of the frustum from p1 to p2 by integrating circular segments along its axis
+    (each cross-section a disk perpendicular to the axis, cut by the plane along a chord)."""
+    p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
+    length = np.linalg.norm(p2 - p1)
+    k = (p2 - p1) / length
+    w = np.array([0.0, 0.0, 1.0]) - k[2] * k
+    sin = np.linalg.norm(w)
+    up = w / sin if sin > 0 else np.zeros(3)
+    volume, first = 0.0, np.zeros(3)
+    ds = length / slices
+    for s in (np.arange(slices) + 0.5) * ds:
+        centre, r = p1 + s * k, r1 + (r2 - r1) * s / length
+        d = -centre[2] / sin if sin > 0 else (np.inf if centre[2] < 0 else -np.inf)
+        if d <= -r:
+            continue
+        if d >= r:
+            area, offset = math.pi * r * r, 0.0
+        else:
+            area = r * r * math.acos(-d / r) + d * math.sqrt(r * r - d * d)
+            offset = -2.0 / 3.0 * (r * r - d * d) ** 1.5 / area
+        volume += area * ds
+        first += area * ds * (centre + offset * up)
+    return volume, first
+
+
+@pytest.mark.parametrize("p1, p2, r1, r2", [
+    ((3, -2, -12), (3, -2, 8), 2.0, 2.0),                       # vertical cylinder through the surface
+    ((0, 0, -10), (6, 2, 7), 1.5, 1.5),                         # inclined cylinder (~20 deg from vertical)
+    ((-4, 1, -9), (2, 5, 6), 2.5, 1.2),                         # inclined cone
+    ((2, 5, 6), (-4, 1, -9), 1.2, 2.5),                         # the same, node 2 under water
+    ((0, 0, -20), (4, 3, -6), 1.0, 1.6),                        # submerged
+    ((0, 0, 2), (1, 1, 9), 1.0, 1.0),                           # dry
+])
+def test_cut_element_is_archimedes_of_its_submerged_part(p1, p2, r1, r2):
+    """The element's buoyancy volume and its first moment against a numerical integration of the frustum below the
+    still-water plane (to the integration's 1e-6)."""
+    import casadi as ca
+
+    from mbsym.wind.offshore.waterline import element_buoyancy
+
+    a, b = ca.DM(p1), ca.DM(p2)
+    v, vc = element_buoyancy(a, b, a[2], b[2], r1, r2, float(np.linalg.norm(np.subtract(p2, p1))))
+    volume, first = _submerged_numeric(p1, p2, r1, r2)
+    assert float(v) == pytest.approx(volume, rel=1e-6, abs=1e-9)
+    assert np.allclose(np.array(vc).ravel(), first, rtol=1e-6, atol=1e-6 * max(volume, 1.0))
