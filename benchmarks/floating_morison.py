@@ -2,14 +2,15 @@
 
 The shared ``fl_decay_a`` with ``AddBQuad`` zeroed and members added (``write_deck`` of
 tests/wind/offshore/test_offshore_morison.py: drag-only ``columns``, ``braces``, ``growth``; strip-theory ``strip``
-(submerged) and ``piercing`` (two more through the surface); ``none`` without members), run 300 s with
+(submerged), ``piercing`` (two more through the surface), ``strip_growth_uniform`` (with marine growth) and
+``morison_only`` (``PotMod`` 0: the VolturnUS-S as strip-theory members); ``none`` without members), run 300 s with
 ``mbsym simulate`` (the default path) beside the OpenFAST v5.0.0 runs of the same decks
 (tests/data/openfast_morison). Prints per deck the ε of surge, heave, pitch and TTDspFA against OpenFAST's
 run of the same deck, the wall time of the run and its ratio to the run without members, measured in
 the same process (the compiled model cached after the first run of each deck: the second of two runs is timed).
-Then ``columns``, ``piercing`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first order) against
-OpenFAST's ``waves`` run of ``columns`` and ``piercing_waves`` of ``piercing``, their cost against the run without
-members in the same waves. ε also of roll for the strip-theory decks (they roll).
+Then ``columns``, ``piercing``, ``morison_only`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first
+order) against OpenFAST's ``waves`` run of ``columns`` and ``<deck>_waves`` of the others, their cost against the run
+without members in the same waves. ε also of roll for the strip-theory decks (they roll).
 
     python benchmarks/floating_morison.py
 """
@@ -63,9 +64,10 @@ def main() -> int:
     from tests.wind.offshore.test_offshore_morison import wave_deck, write_deck
 
     root = Path(tempfile.mkdtemp(prefix="mbsym_morison_"))
-    refs = {name: _reference(name) for name in ("columns", "braces", "growth", "strip", "piercing")}
+    decks = ("columns", "braces", "growth", "strip", "piercing", "strip_growth_uniform", "morison_only")
+    refs = {name: _reference(name) for name in decks}
     rows, base = [], None
-    for variant in ("none", "columns", "braces", "growth", "strip", "piercing"):
+    for variant in ("none", *decks):
         fst = write_deck(root / variant, variant)
         out = root / f"{variant}.csv"
         wall = _run(fst, out)
@@ -76,7 +78,8 @@ def main() -> int:
                 continue
             rows.append((variant, ref_name, *_eps(run, ref), wall, wall / base))
     wave_base = None                # in JONSWAP waves (WAVE_EDITS): the members' drag in the waves' velocity
-    for variant, ref_name in (("none", "waves"), ("columns", "waves"), ("piercing", "piercing_waves")):
+    for variant, ref_name in (("none", "waves"), ("columns", "waves"), ("piercing", "piercing_waves"),
+                              ("morison_only", "morison_only_waves")):
         fst = wave_deck(write_deck(root / f"{variant}_waves", variant))
         out = root / f"{variant}_waves.csv"
         wall = _run(fst, out)

@@ -348,16 +348,16 @@ def _depth_value(rows: list, z: float, column: int) -> float:
     return rows[below][column] * (1.0 - s) + rows[above][column] * s
 
 
-def marine_growth(rows: list, z: float) -> float:
-    """HydroDyn's marine-growth thickness at height ``z`` [m] (``SetNodeMG``: linear between the first row of the
-    table at or below ``z`` and the last at or above it; zero outside the table)."""
+def marine_growth(rows: list, z: float, column: int = 1) -> float:
+    """HydroDyn's marine-growth thickness [m] (``column`` 1) or density [kg/m³] (2) at height ``z`` (``SetNodeMG``:
+    linear between the first row of the table at or below ``z`` and the last at or above it; zero outside it)."""
     below = next((k for k, r in enumerate(rows) if r[0] <= z), None)
     above = max((k for k, r in enumerate(rows) if r[0] >= z), default=None)
     if below is None or above is None:
         return 0.0
     span = rows[below][0] - rows[above][0]
     s = 0.0 if abs(span) < 1e-9 else (rows[below][0] - z) / span
-    return float(rows[below][1] * (1.0 - s) + rows[above][1] * s)
+    return float(rows[below][column] * (1.0 - s) + rows[above][column] * s)
 
 
 def _strips(p1: np.ndarray, p2: np.ndarray, ref: np.ndarray, r1: float, r2: float, div: float, coefficients,

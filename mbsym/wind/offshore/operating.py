@@ -295,8 +295,10 @@ class FloatingPlatform:
 
     def __repr__(self) -> str:
         sea = "still water" if self.waves is None else self.waves.waves.description
+        strip = getattr(self.hydro, "strip", None)
+        buoyancy = self.hydro.hydrostatics.buoyancy + (0.0 if strip is None else strip.buoyancy)
         return (f"FloatingPlatform(radiation states={self.n_radiation}, mooring lines={self.n_lines}, "
-                f"buoyancy={self.hydro.hydrostatics.buoyancy / 1e6:.2f} MN, {sea})")
+                f"buoyancy={buoyancy / 1e6:.2f} MN, {sea})")
 
 
 def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatform | None:
@@ -373,12 +375,18 @@ def deck_radiation(hydrodyn_file) -> str:
     """
     from ..deck.hydrodyn import read_hydrodyn
 
-    return {0: "none", 1: "fit", 2: "ss"}[int(read_hydrodyn(Path(hydrodyn_file)).radiation_model)]
+    hd = read_hydrodyn(Path(hydrodyn_file))
+    if hd.potential_model == 0:            # no potential flow: HydroDyn has no radiation either
+        return "none"
+    return {0: "none", 1: "fit", 2: "ss"}[int(hd.radiation_model)]
 
 
 def _radiation(hydro: PlatformHydrodynamics, model: str, hydrodyn_file) -> RadiationStateSpace | None:
     if model == "none":
         return None
+    if hydro.wamit is None:
+        raise UnsupportedFeatureError(f"{hydrodyn_file}: radiation={model!r} needs WAMIT data; the deck has PotMod = 0 "
+                                      "(strip theory only, no radiation). Use radiation='none' or None.")
     if model == "fit":
         from .radiation_fit import fit_radiation_cached
 

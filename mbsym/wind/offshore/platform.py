@@ -15,9 +15,10 @@ redimensionalized with the ``.fst``'s water density and gravity:
   (:class:`~.excitation.WaveExcitation`, from :func:`~.waves.incident_waves`).
 
 **Modelled**: still water or first-order waves (``WaveMod`` 1, ``1P#``, 2, 3, 5; ``ExctnMod`` 1 at the
-undisplaced position), first-order potential flow, one rigid body, the viscous drag of its potential-flow
-members (:mod:`.morison`) in still water or in the waves' velocity at their undisplaced nodes
-(:mod:`.wave_kinematics`). What the deck asks for beyond that
+undisplaced position), first-order potential flow (``PotMod`` 1) or none (0: the members carry the platform), one
+rigid body, the viscous drag of its Morison members (:mod:`.morison`) in still water or in the waves' velocity at
+their undisplaced nodes (:mod:`.wave_kinematics`), the buoyancy, added mass, marine growth and wave inertia of the
+members without potential flow (:mod:`.strip_theory`). What the deck asks for beyond that
 is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
 :mod:`.operating` as states), second-order forces (refused with waves; zero in still water), a current
@@ -46,7 +47,7 @@ from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
 from .strip_theory import StripTheory, StripWaves, strip_problems, strip_theory, strip_waves
 from .wave_kinematics import WaveFlow, wave_flow
-from .waves import incident_waves
+from .waves import grid_elevation, incident_waves
 
 __all__ = ["PlatformHydrodynamics", "platform_hydrodynamics"]
 
@@ -120,8 +121,10 @@ class PlatformHydrodynamics:
 
 def _refuse(hd: HydroDynInput, sea: SeaStateInput | None, water_depth: float | None = None) -> list[str]:
     out = []
-    if hd.potential_model != 1:
-        out.append(f"PotMod = {hd.potential_model} (only 1, WAMIT potential flow, is modelled)")
+    if hd.potential_model not in (0, 1):
+        out.append(f"PotMod = {hd.potential_model} (0, strip theory only, and 1, WAMIT potential flow, are modelled)")
+    if hd.potential_model == 0 and not any(not r[10] for r in hd.tables["members"].rows):
+        out.append("PotMod = 0 without members modelled by strip theory (PropPot = FALSE): nothing would float it")
     if hd.n_bodies != 1 or any(hd.n_additional_dofs):
         out.append(f"NBody = {hd.n_bodies}, NAddDOF = {list(hd.n_additional_dofs)} (one rigid body only)")
     if hd.reference_rotation and any(hd.reference_rotation):
@@ -134,17 +137,22 @@ def _refuse(hd: HydroDynInput, sea: SeaStateInput | None, water_depth: float | N
     return out
 
 
+def _potential(hd: HydroDynInput) -> bool:
+    """Whether the deck has a potential-flow body (``PotMod = 1``; with 0 its WAMIT keys are unused)."""
+    return hd.potential_model != 0
+
+
 def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
     """What is not modelled of a deck with waves (the sea itself is checked by :func:`~.waves.incident_waves`)."""
     out = []
-    if hd.excitation_model == 2 and sea.direction_model and int(sea.n_directions) > 1:
+    if _potential(hd) and hd.excitation_model == 2 and sea.direction_model and int(sea.n_directions) > 1:
         out.append("ExctnMod = 2 with directional spreading (the .ssexctn fit is for one heading; use ExctnMod 1)")
-    if hd.excitation_model and hd.excitation_displaced:
+    if _potential(hd) and hd.excitation_model and hd.excitation_displaced:
         out.append(f"ExctnDisp = {hd.excitation_displaced} (excitation at the displaced platform; use 0)")
     if hd.yaw_model or hd.reference_yaw:
         out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
                    "(a yawed reference frame; use 0 and 0)")
-    if hd.second_order:
+    if _potential(hd) and hd.second_order:
         out.append(f"second-order wave forces {hd.second_order} (mean and slow drift are not modelled; set them to 0)")
     if sea.current_model and sea.wave_current_model:
         out.append(f"WvCrntMod = {sea.wave_current_model} with a current (wave-current interaction; use 0)")
@@ -156,6 +164,8 @@ def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     if sea is not None and sea.current_model != 0:
         out.append(f"CurrMod = {sea.current_model}: the current is not modelled (in HydroDyn it loads Morison members "
                    "only, and MoorDyn's line drag; neither is modelled here)")
+    if not _potential(hd):
+        return out + _unused_without_potential_flow(hd)
     if hd.radiation_model != 0:
         out.append(f"RdtnMod = {hd.radiation_model}: the radiation memory (wave-radiation damping) is not modelled "
                    "yet; only the infinite-frequency added mass acts, so free decays are less damped than HydroDyn's")
@@ -167,6 +177,17 @@ def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     if sea is not None and sea.wave_model != 0 and hd.excitation_model == 0:
         out.append("ExctnMod = 0: the waves exert no force on the platform (only Wave1Elev shows them)")
     return out
+
+
+def _unused_without_potential_flow(hd: HydroDynInput) -> list[str]:
+    """The additional loads a ``PotMod = 0`` deck gives: HydroDyn does not apply them (only with WAMIT data)."""
+    given = [name for name, value in (("AddF0", hd.add_force), ("AddCLin", hd.add_stiffness),
+                                      ("AddBLin", hd.add_damping), ("AddBQuad", hd.add_quadratic_damping))
+             if np.any(np.asarray(value, dtype=float) != 0)]
+    if not given:
+        return []
+    return [f"{', '.join(given)} with PotMod = 0: HydroDyn applies the additional loads only with potential flow "
+            "(PotMod = 1), so they act neither in OpenFAST nor here"]
 
 
 def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, seastate=None,
@@ -223,19 +244,12 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         rho = float(sea.water_density)
     if not (math.isfinite(rho) and rho > 0 and math.isfinite(gravity) and gravity > 0):
         raise ParameterError(f"water density {rho} kg/m^3 and gravity {gravity} m/s^2 must be finite and > 0.")
-    wamit = read_wamit(hd.potential_files[0]).redimensionalize(rho, float(gravity), hd.wamit_length[0])
-    if wamit.added_mass_infinite is None:
-        raise UnsupportedFeatureError(f"{hd.potential_files[0]}.1 has no infinite-frequency rows (period 0); HydroDyn "
-                                      "needs them too. Rerun WAMIT with the infinite-frequency limit.")
-    statics = PlatformHydrostatics(wamit.restoring[:6, :6], rho, float(gravity), hd.displaced_volume[0],
-                                   (hd.buoyancy_center_x[0], hd.buoyancy_center_y[0]),
-                                   (hd.reference_x[0], hd.reference_y[0], hd.reference_z[0]))
-    extra = AdditionalLoads(hd.add_force, hd.add_stiffness, hd.add_damping, hd.add_quadratic_damping)
+    wamit, statics, infinite, extra = _potential_flow(hd, rho, float(gravity))
     notes = _notes(hd, sea)
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=2)
     waves = _waves(hd, sea, wamit, float(gravity), water_depth)
-    fit = _excitation_fit(hd, sea) if waves is not None and hd.excitation_model == 2 else None
+    fit = _excitation_fit(hd, sea) if waves is not None and wamit is not None and hd.excitation_model == 2 else None
     morison = morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth)
     flow = None
     if morison is not None and morison.n_flow and waves is not None:
@@ -244,7 +258,7 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
                                  "water_depth (the .fst's WtrDpth).")
         flow = wave_flow(waves.waves, sea, morison.flow_points())
     strip = strip_theory(hd, water_density=rho, gravity=float(gravity), reference=platform_reference)
-    added = wamit.added_mass_infinite[:6, :6] + (0.0 if strip is None else strip.added_mass)
+    added = infinite + (0.0 if strip is None else strip.added_mass)
     inertia = None
     if strip is not None and waves is not None:
         if depth is None:
@@ -253,6 +267,25 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         inertia = strip_waves(strip, waves.waves, sea)
     return PlatformHydrodynamics(statics, extra, added, wamit, tuple(notes), waves, fit, morison, flow, strip,
                                  inertia)
+
+
+def _potential_flow(hd: HydroDynInput, rho: float, gravity: float):
+    """``(wamit, hydrostatics, A∞, additional loads)`` of the potential-flow body; with ``PotMod = 0`` none of them
+    act (HydroDyn applies ``AddF0`` … ``AddBQuad`` only with WAMIT data): no WAMIT data, zero hydrostatics, A∞ and
+    additional loads (the members carry the platform, :mod:`.strip_theory`)."""
+    if hd.potential_model == 0:
+        zero = np.zeros((6, 6))
+        return (None, PlatformHydrostatics(zero, rho, gravity, 0.0),
+                zero, AdditionalLoads(np.zeros(6), zero, zero, zero))
+    wamit = read_wamit(hd.potential_files[0]).redimensionalize(rho, gravity, hd.wamit_length[0])
+    if wamit.added_mass_infinite is None:
+        raise UnsupportedFeatureError(f"{hd.potential_files[0]}.1 has no infinite-frequency rows (period 0); HydroDyn "
+                                      "needs them too. Rerun WAMIT with the infinite-frequency limit.")
+    statics = PlatformHydrostatics(wamit.restoring[:6, :6], rho, gravity, hd.displaced_volume[0],
+                                   (hd.buoyancy_center_x[0], hd.buoyancy_center_y[0]),
+                                   (hd.reference_x[0], hd.reference_y[0], hd.reference_z[0]))
+    extra = AdditionalLoads(hd.add_force, hd.add_stiffness, hd.add_damping, hd.add_quadratic_damping)
+    return wamit, statics, wamit.added_mass_infinite[:6, :6], extra
 
 
 def _depth(sea: SeaStateInput | None, water_depth: float | None) -> float | None:
@@ -285,6 +318,8 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
                                  "water_depth (the .fst's WtrDpth).")
         depth = math.inf
     waves = incident_waves(sea, gravity=gravity, water_depth=depth)
+    if wamit is None:                     # PotMod = 0: the sea acts on the members only
+        return WaveExcitation(waves, np.zeros((waves.n_steps + 1, 6)), grid_elevation(waves, sea, *point))
     excitation = wave_excitation(wamit, waves, elevation_point=tuple(point), sea=sea)
     if hd.excitation_model != 1:          # 0: no excitation; 2: HydroDyn's state space makes it (operating.py)
         excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)

@@ -5,11 +5,17 @@ A Morison member not modelled by potential flow gets all its hydrodynamics from 
 in ``Morison.f90``: ``Morison_CalcOutput``, ``getElementHstLds_Mod1``, ``Morison_Init``'s joint terms,
 ``LumpDistrHydroLoads``; ``Waves.f90`` for the kinematics):
 
-* **Buoyancy** (``MHstLMod`` 1 or 2; 0: none). For a member below the still-water level HydroDyn's side loads
-  (per frustum element, ``ρ g [V e_z − π (r₂² z₂ − r₁² z₁) k]`` and its moment) and its two end plates'
-  pressure sum to Archimedes' force ``ρ g V e_z`` through the volume's centroid, at the **displaced** position;
-  ``V`` with the radii scaled by ``√C_b`` (the node's buoyancy coefficient). So the members add
-  ``F = ρ g ΣV e_z`` at the displaced centroid ``R c`` of their volumes: ``M = (R c) × F``.
+* **Buoyancy** (``MHstLMod`` 1 or 2; 0: none) at the **displaced** position, the radii (with marine growth)
+  scaled by ``√C_b`` (the node's buoyancy coefficient). HydroDyn's side loads per element
+  (``ρ g [V e_z − π (r₂² z₂ − r₁² z₁) k]`` and its moment when submerged) and the end plates' pressure sum to
+  Archimedes' force ``ρ g V_s e_z`` through the centroid of the volume below the still-water plane. A member below
+  it adds a constant volume at its displaced centroid ``R c``: ``M = (R c) × F``; a member reaching it is buoyed
+  element by element (:mod:`.waterline`).
+* **Marine growth** (the ``MGDpth`` table at each node's undisplaced height): it thickens the radius of every term
+  (and picks the ``…MG`` coefficients), and its own mass — the shell between the bare and the grown radius, each
+  linear along an element at the lower node's density, and ``ρ_MG t |A_n|`` on each joint's end plates with
+  HydroDyn's plate inertia — is a rigid body on the platform: its 6 × 6 mass matrix joins the added mass, its
+  weight the buoyancy (at its displaced centroid).
 * **Added mass** (sides, ``AMMod`` 0: the nodes below the still-water level undisplaced). Per unit length at a
   node of radius ``R`` on axis ``k``: ``m = ρ π R² [C_a (I − k kᵀ) + 2 C_{a,ax} |dR/dl| k kᵀ]`` times the strip
   ``Δl`` (half of each neighbouring element), applied at the node with the moment ``(h k) × F`` of its strip's
@@ -27,10 +33,11 @@ in ``Morison.f90``: ``Morison_CalcOutput``, ``getElementHstLds_Mod1``, ``Morison
   ``M₀ + ε:((R − I) S)`` (``M₀`` the undisplaced moment), exact in the rotation. The model takes ``F``, ``M₀`` and
   ``S`` as 15 inputs (:data:`WAVE_INERTIA_INPUTS`), tabulated from the sea like the excitation.
 
-**Refused** (:func:`strip_problems`): strip-theory members that reach the still-water level (their waterline's
-buoyancy, HydroDyn's partially wetted elements), members with marine growth (its mass and weight), filled members
-and rectangular ones (:mod:`.morison`). A member must stay submerged over the motion: its buoyancy is its whole
-volume's.
+**Refused** (:func:`strip_problems`): members crossing the still-water level within 11.5° of it (the cut's
+formulas fail as the axis lies in the plane), ``MHstLMod`` other than 0–2, filled members and rectangular ones
+(:mod:`.morison`). Not modelled: an end plate cut by the surface (an element's whole volume counts from the moment
+its node is under water; HydroDyn warns that its own load there "potentially has large error"), the marine growth's
+and the added mass's centripetal and gyroscopic terms (second order in the rates).
 """
 
 from __future__ import annotations
@@ -75,8 +82,13 @@ class StripTheory:
         The elements of the members that reach the still-water level, buoyed element by element at their displaced
         position (:func:`~.waterline.element_buoyancy`): node 1 (3), node 2 (3) in platform axes from the reference
         point [m], their ``√C_b``-scaled radii (2) [m].
+    growth_mass : float
+        The marine growth's mass on the members' sides and end plates [kg] (its 6 × 6 mass matrix is in
+        :attr:`added_mass`, its weight in :meth:`load`).
+    growth_centroid : ndarray (3,)
+        Its centroid, platform axes from the reference point [m].
     added_mass : ndarray (6, 6)
-        Sides and end plates [kg, kg m, kg m²] (inertial axes, undisplaced).
+        Sides and end plates [kg, kg m, kg m²] (inertial axes, undisplaced), with the marine growth's own mass.
     points : ndarray (n, 3)
         Where the wave inertia acts: the strip nodes, then the joints (platform axes from the reference point).
     axis, offset : ndarray (n, 3), (n,)
@@ -102,6 +114,8 @@ class StripTheory:
     gravity: float
     reference: np.ndarray = field(default_factory=lambda: np.zeros(3))
     elements: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))
+    growth_mass: float = 0.0
+    growth_centroid: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def buoyancy(self) -> float:
@@ -113,7 +127,8 @@ class StripTheory:
         return self.points + np.asarray(self.reference, dtype=float)
 
     def load(self, q):
-        """Buoyancy at the reference point, inertial axes [N, N m], for the platform DOFs ``q`` [m, rad]."""
+        """Buoyancy and the marine growth's weight at the reference point, inertial axes [N, N m], for the platform
+        DOFs ``q`` [m, rad]."""
         x = _in(q, 6, "q")
         rot = euler_zyx(x[3:6])
         rho_g = self.water_density * self.gravity
@@ -124,8 +139,10 @@ class StripTheory:
             v, vc = element_buoyancy(a, b, height + a[2], height + b[2], float(e[6]), float(e[7]),
                                      float(np.linalg.norm(e[3:6] - e[0:3])))
             volume, first = volume + v, first + vc
-        force = ca.vertcat(0.0, 0.0, rho_g * volume)
-        return _out(ca.vertcat(force, ca.cross(rho_g * first, ca.DM([0.0, 0.0, 1.0]))), q)
+        weight = self.growth_mass * self.gravity
+        first = rho_g * first - weight * ca.mtimes(rot, ca.DM(self.growth_centroid))
+        force = ca.vertcat(0.0, 0.0, rho_g * volume - weight)
+        return _out(ca.vertcat(force, ca.cross(first, ca.DM([0.0, 0.0, 1.0]))), q)
 
     def wave_load(self, q, terms):
         """The wave inertia at the reference point [N, N m] from the 15 :data:`WAVE_INERTIA_INPUTS` values."""
@@ -182,7 +199,6 @@ def strip_problems(hd) -> list[str]:
         return []
     lines = dict(zip([int(r[0]) for r in members], hd.tables["members"].lines))
     joints = {int(r[0]): np.array(r[1:4], dtype=float) for r in _rows(hd, "joints")}
-    growth = _rows(hd, "marine_growth")
     out = []
     for row in members:
         if row[10]:
@@ -196,16 +212,9 @@ def strip_problems(hd) -> list[str]:
                        f"{math.degrees(math.asin(min(abs(z[1] - z[0]) / span, 1.0))):.1f} deg to it (z = {z[0]:g}, "
                        f"{z[1]:g} m): the waterline of a strip-theory member lying within "
                        f"{math.degrees(math.asin(_STEEP)):.1f} deg of the surface is not modelled")
-        if _growth_along(growth, min(z), max(z)):
-            out.append(f"{where}: PropPot = FALSE with marine growth (its mass and weight are not modelled)")
         if int(row[9]) not in (0, 1, 2):
             out.append(f"{where}: MHstLMod = {int(row[9])} (0, 1 or 2)")
     return out
-
-
-def _growth_along(rows: list, low: float, high: float) -> bool:
-    heights = [low, high] + [float(r[0]) for r in rows if low <= float(r[0]) <= high]
-    return any(marine_growth(rows, z) > 0.0 for z in heights)
 
 
 def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.0, 0.0)) -> StripTheory | None:
@@ -230,6 +239,7 @@ def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.
     tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
               "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
               "depth": _rows(hd, "depth_cylinder_coefficients")}
+    growth = _rows(hd, "marine_growth")
     parts, ends = [], {}
     for row in members:
         ident = int(row[0])
@@ -237,23 +247,27 @@ def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.
         r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
         coefficients = member_coefficients(int(row[8]), tables, ident)
         parts.append(_member(p1 - ref, p2 - ref, r1, r2, float(row[7]), coefficients, int(row[9]) != 0, rho,
-                             float(ref[2])))
+                             float(ref[2]), growth))
         k = (p2 - p1) / np.linalg.norm(p2 - p1)
-        ends.setdefault(int(row[1]), []).append((-k, r1))
-        ends.setdefault(int(row[2]), []).append((k, r2))
+        for joint_id, sign, point, r in ((int(row[1]), -1.0, p1, r1), (int(row[2]), 1.0, p2, r2)):
+            t, density = marine_growth(growth, point[2]), marine_growth(growth, point[2], 2)
+            ends.setdefault(joint_id, []).append((sign * k, r + t, t, density))
     joint = _joints(ends, joints, axial, ref, rho)
     volume = sum(p["volume"] for p in parts)
     moment = sum(p["volume"] * p["centroid"] for p in parts) if volume > 0 else np.zeros(3)
+    mass = sum(p["growth_mass"] for p in parts) + joint["growth_mass"]
+    first = sum(p["growth_first"] for p in parts) + joint["growth_first"]
     added = sum(p["added_mass"] for p in parts) + joint["added_mass"]
     cat = {key: np.concatenate([p[key] for p in parts] + [joint[key]]) for key in
            ("points", "axis", "offset", "inertia", "pressure")}
     return StripTheory(float(volume), moment / volume if volume > 0 else np.zeros(3), added, **cat,
                        water_density=rho, gravity=float(gravity), reference=ref,
-                       elements=np.vstack([p["elements"] for p in parts]))
+                       elements=np.vstack([p["elements"] for p in parts]), growth_mass=float(mass),
+                       growth_centroid=first / mass if mass > 0 else np.zeros(3))
 
 
 def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, coefficients, buoyant: bool,
-            rho: float, z0: float = 0.0) -> dict:
+            rho: float, z0: float = 0.0, growth: list = ()) -> dict:
     """One member's buoyancy, added mass and wave-inertia points (module docstring); ``p1``, ``p2`` relative to the
     reference point, ``z0`` its height [m]. A member below the still-water level gives a constant volume and
     centroid, one reaching it its elements (:func:`~.waterline.element_buoyancy`)."""
@@ -265,9 +279,11 @@ def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, co
     dl, k = length / n, span / length
     s = np.arange(n + 1) / n
     pts = p1 + s[:, None] * span
-    radius = r1 + s * (r2 - r1)
     z = pts[:, 2] + z0
-    c = coefficients(s, z, np.zeros(n + 1, dtype=bool))
+    thickness = np.array([marine_growth(growth, zi) for zi in z])
+    bare = r1 + s * (r2 - r1)
+    radius = bare + thickness
+    c = coefficients(s, z, thickness > 0)
     slope = np.diff(radius) / dl
     signed = np.concatenate([[slope[0]], 0.5 * (slope[:-1] + slope[1:]), [slope[-1]]])
     absolute = np.concatenate([[abs(slope[0])], 0.5 * (np.abs(slope[:-1]) + np.abs(slope[1:])), [abs(slope[-1])]])
@@ -282,7 +298,10 @@ def _member(p1: np.ndarray, p2: np.ndarray, r1: float, r2: float, div: float, co
                                         + (2.0 * c["AxCa"] * absolute)[:, None, None] * kk)
     added = sum((_point_mass(strip[i] * side[i], pts[i], offset[i] * k) for i in np.flatnonzero(keep)),
                 np.zeros((6, 6)))
-    out = {"volume": 0.0, "centroid": np.zeros(3), "elements": np.zeros((0, 8)), "added_mass": added,
+    density = np.array([marine_growth(growth, zi, 2) for zi in z])
+    shell = _growth_shell(pts, k, bare, radius, density, dl)
+    out = {"volume": 0.0, "centroid": np.zeros(3), "elements": np.zeros((0, 8)), "added_mass": added + shell[0],
+           "growth_mass": shell[1], "growth_first": shell[2],
            "points": pts[keep], "axis": np.tile(k, (int(keep.sum()), 1)), "offset": offset[keep],
            "inertia": (strip[:, None, None] * wave)[keep],
            "pressure": ((strip * 2.0 * c["AxCp"] * math.pi * radius * signed)[:, None] * k)[keep]}
@@ -315,15 +334,18 @@ def _wet_lengths(z: np.ndarray, dl: float) -> tuple[np.ndarray, np.ndarray]:
 def _joints(ends: dict, joints: dict, axial: dict, ref: np.ndarray, rho: float) -> dict:
     """The end plates at the joints of strip-theory members (module docstring)."""
     pts, mass, pressure, added = [], [], [], np.zeros((6, 6))
+    growth_mass, growth_first = 0.0, np.zeros(3)
     for ident, plates in ends.items():
         position, axial_id = joints[ident]
+        vn = sum(2.0 * math.pi / 3.0 * r ** 3 * n for n, r, _, _ in plates)
+        an = sum(math.pi * r ** 2 * n for n, r, _, _ in plates)
+        plate = _growth_plate(plates, an, position - ref)
+        added, growth_mass, growth_first = added + plate[0], growth_mass + plate[1], growth_first + plate[2]
         if position[2] > 0.0:                               # out of the water (undisplaced): HydroDyn's nodeInWater
             continue
         row = _lookup(axial, axial_id, f"joint {ident}: axial coefficients")
-        vn = sum(2.0 * math.pi / 3.0 * r ** 3 * n for n, r in plates)
-        an = sum(math.pi * r ** 2 * n for n, r in plates)
         size = float(np.linalg.norm(vn))
-        m = rho * float(row[2]) / size * np.outer(vn, vn) if size > 1e-12 * sum(r ** 3 for _, r in plates) \
+        m = rho * float(row[2]) / size * np.outer(vn, vn) if size > 1e-12 * sum(p[1] ** 3 for p in plates) \
             else np.zeros((3, 3))
         pts.append(position - ref)
         mass.append(m)
@@ -331,7 +353,57 @@ def _joints(ends: dict, joints: dict, axial: dict, ref: np.ndarray, rho: float) 
         added = added + _point_mass(m, position - ref, np.zeros(3))
     return {"points": np.array(pts).reshape(-1, 3), "axis": np.zeros((len(pts), 3)), "offset": np.zeros(len(pts)),
             "inertia": np.array(mass).reshape(-1, 3, 3), "pressure": np.array(pressure).reshape(-1, 3),
-            "added_mass": added}
+            "added_mass": added, "growth_mass": growth_mass, "growth_first": growth_first}
+
+
+#: Gauss–Legendre nodes and weights on [0, 1]: exact for the shell's polynomials in s (degree ≤ 6).
+_GAUSS = tuple(np.polynomial.legendre.leggauss(4))
+
+
+def _rigid(mass: float, first: np.ndarray, inertia: np.ndarray) -> np.ndarray:
+    """6 × 6 mass matrix about the reference of a rigid body of ``mass``, first moment ``first`` (= mass × centroid)
+    and inertia tensor ``inertia`` about the reference point."""
+    F = _cross(first)
+    return np.block([[mass * np.eye(3), -F], [F, inertia]])
+
+
+def _growth_shell(pts: np.ndarray, k: np.ndarray, bare: np.ndarray, outer: np.ndarray, density: np.ndarray,
+                  dl: float) -> tuple[np.ndarray, float, np.ndarray]:
+    """The marine growth on a member's sides (HydroDyn's ``MarineGrowthPartSegmentCyl``: the shell between the bare
+    and the grown radius, each linear along an element, at its lower node's density): its 6 × 6 mass matrix about
+    the reference, mass [kg] and first moment [kg m], integrated over thin annular disks."""
+    total, first, inertia = 0.0, np.zeros(3), np.zeros((3, 3))
+    kk = np.outer(k, k)
+    x, w = _GAUSS
+    for j in range(len(pts) - 1):
+        if density[j] <= 0 or (outer[j] <= bare[j] and outer[j + 1] <= bare[j + 1]):
+            continue
+        for xi, wi in zip(0.5 * (x + 1.0), 0.5 * w):
+            ro = outer[j] + xi * (outer[j + 1] - outer[j])
+            ri = bare[j] + xi * (bare[j + 1] - bare[j])
+            dm = density[j] * math.pi * (ro * ro - ri * ri) * wi * dl
+            p = pts[j] + xi * dl * k
+            square = ro * ro + ri * ri
+            total += dm
+            first = first + dm * p
+            inertia = inertia + dm * (0.25 * square * (np.eye(3) - kk) + 0.5 * square * kk
+                                      + (p @ p) * np.eye(3) - np.outer(p, p))
+    return _rigid(total, first, inertia), total, first
+
+
+def _growth_plate(plates: list, an: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+    """The marine growth on a joint's end plates (HydroDyn's ``Mass_MG_End``, ``I_MG_End``): mass
+    ``ρ_MG t |A_n|`` at the joint and the inertia ``ρ_MG t |I_n| (¼ (I − n nᵀ) + ½ n nᵀ)``, ``I_n = Σ ± π R⁴ k``
+    (the grown radii), ``n`` along it."""
+    t, density = plates[0][2], plates[0][3]
+    if t <= 0 or density <= 0:
+        return np.zeros((6, 6)), 0.0, np.zeros(3)
+    mass = density * t * float(np.linalg.norm(an))
+    i_n = sum(math.pi * r ** 4 * n for n, r, _, _ in plates)
+    size = float(np.linalg.norm(i_n))
+    n = i_n / size if size > 0 else np.array([0.0, 0.0, 1.0])
+    own = density * t * size * (0.25 * (np.eye(3) - np.outer(n, n)) + 0.5 * np.outer(n, n))
+    return _rigid(mass, mass * p, own + mass * ((p @ p) * np.eye(3) - np.outer(p, p))), mass, mass * p
 
 
 def _cross(v: np.ndarray) -> np.ndarray:

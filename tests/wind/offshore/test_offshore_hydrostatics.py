@@ -160,10 +160,10 @@ def test_unmodelled_settings_are_refused(tmp_path):
         platform_hydrodynamics(CASE / "fl_decay_a_HydroDyn.dat", water_density=RHO, gravity=G,
                                seastate=tmp_path / "sea.dat")
     hd = (CASE / "fl_decay_a_HydroDyn.dat").read_text().replace("0           NMembers", "1           NMembers")
-    hd = hd.replace("(switch)   (switch)  (flag)   \n", "(switch)   (switch)  (flag)   \n1 1 2 1 1 1 0 1 1 1 FALSE\n")
+    hd = hd.replace("(switch)   (switch)  (flag)   \n", "(switch)   (switch)  (flag)   \n1 1 2 1 1 2 0 1 1 1 FALSE\n")
     hd = hd.replace('"../../IEA-15-240-RWT-UMaineSemi/', f'"{CASE}/../../IEA-15-240-RWT-UMaineSemi/')
     (tmp_path / "hd.dat").write_text(hd)
-    with pytest.raises(UnsupportedFeatureError, match=r"member 1 \(line \d+\): PropPot = FALSE"):
+    with pytest.raises(UnsupportedFeatureError, match=r"member 1 \(line \d+\): MSecGeom = 2"):
         platform_hydrodynamics(tmp_path / "hd.dat", water_density=RHO, gravity=G)
     current = (CASE / "fl_decay_a_SeaState.dat").read_text().replace("           0     CurrMod", "           1     CurrMod")
     (tmp_path / "current.dat").write_text(current)

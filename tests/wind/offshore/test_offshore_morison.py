@@ -62,19 +62,45 @@ PIERCING_SECTION = {
     "NMembers": STRIP_SECTION["NMembers"] + ["4  7  8  4  4  1  0  1.0  1  1  FALSE",
                                              "5  9  10  5  6  1  0  1.0  1  1  FALSE"],
 }
+#: ``morison_only``: no potential flow (``PotMod`` 0); the VolturnUS-S as strip-theory members: the centre column
+#: (D 10 m) and three outer columns (D 12.5 m, 51.75 m out), z −20 to +15 m, and three pontoons of the rectangles'
+#: area (D 10.55 m, centre at z −14.725 m) between the columns' walls; end plates with axial C_a 1 (set 2).
+_PONTOON_Z, _PONTOON_D = -14.725, 10.55
+MORISON_ONLY_SECTION = {
+    "NAxCoef": ["1  0.00 0.00 1.00 0 0.00 1.00", "2  0.00 1.00 1.00 0 0.00 1.00"],
+    "NJoints": [f"{n + 1}  {x} {y} {z}  2  0" for n, (x, y, z) in enumerate(
+        [(0, 0, -20), (0, 0, 15), (-51.75, 0, -20), (-51.75, 0, 15), (25.875, 44.81681, -20), (25.875, 44.81681, 15),
+         (25.875, -44.81681, -20), (25.875, -44.81681, 15)]
+        + [(c * r, s * r, _PONTOON_Z) for c, s in ((-1.0, 0.0), (0.5, 0.8660254), (0.5, -0.8660254))
+           for r in (5.0, 45.5)])],
+    "NPropSetsCyl": ["1  10.0  0.05", "2  12.5  0.05", f"3  {_PONTOON_D}  0.05"],
+    "NMembers": [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  {1 if m == 0 else 2}  {1 if m == 0 else 2}  1  0  1.0  1  1  FALSE"
+                 for m in range(4)]
+    + [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  3  3  1  0  2.0  1  1  FALSE" for m in range(4, 7)],
+}
+#: ``morison_only``'s coefficients: drag C_d 0.6, C_a = C_p = 1, axial C_a = C_p = 1, C_b = 1.
+MORISON_ONLY_COEFFICIENTS = "0.6 0.6 1.0 1.0 1.0 1.0 0.0 0.0 1.0 1.0 1.0 1.0 1.0 1.0"
 #: SimplCd … SimplCbMG: no drag; C_a = C_p = 1, axial C_a = C_p = 1, C_b = 1.
 STRIP_COEFFICIENTS = "0.0 0.0 1.0 1.0 1.0 1.0 0.0 0.0 1.0 1.0 1.0 1.0 1.0 1.0"
 #: AddF0's heave force: about the members' buoyancy (ρ g ΣV: 9.8 MN, with the ``piercing`` ones 15.6 MN), so the
 #: platform floats near its draft.
-STRIP_PRELOAD = {"strip": -9.84e6, "piercing": -1.56e7}
+STRIP_PRELOAD = {"strip": -9.84e6, "piercing": -1.56e7, "strip_growth": -9.84e6, "strip_growth_uniform": -9.84e6}
+#: ``strip_growth``: the ``strip`` members with marine growth 0.3 m at z = −10 m to 0.2 m at −40 m (1400 kg/m³);
+#: ``strip_growth_uniform``: 0.25 m at both (the decay: OpenFAST v5.0.0's own growth inertia goes wrong where the
+#: thickness varies along a member, docs/offshore.md §2c).
+STRIP_GROWTH = {"strip_growth": ["-10.0 0.3 1400", "-40.0 0.2 1400"],
+                "strip_growth_uniform": ["-10.0 0.25 1400", "-40.0 0.25 1400"]}
 
 
 def _member_section(variant: str) -> dict[str, list[str]]:
     """Rows of the Morison tables of a variant (the count key → its rows; ``none``: the deck's, no members)."""
     if variant == "none":
         return {}
-    if variant in ("strip", "piercing"):
-        return {key: list(rows) for key, rows in (STRIP_SECTION if variant == "strip" else PIERCING_SECTION).items()}
+    if variant == "morison_only":
+        return {key: list(rows) for key, rows in MORISON_ONLY_SECTION.items()}
+    if variant in STRIP_PRELOAD:
+        rows = {key: list(rows) for key, rows in (PIERCING_SECTION if variant == "piercing" else STRIP_SECTION).items()}
+        return rows | ({"NMGDepths": list(STRIP_GROWTH[variant])} if variant in STRIP_GROWTH else {})
     if variant == "growth":                      # columns; outer ones depth-based; marine growth from 0 to -20 m
         rows = _member_section("columns")
         rows["NMembers"] = [r if r.startswith("1 ") else r.replace("  1.0  1  0  TRUE", "  1.0  2  0  TRUE")
@@ -127,6 +153,10 @@ def write_deck(root: Path, variant: str) -> Path:
     mg = "0.8" if variant == "growth" else "0.6"
     strip = variant in STRIP_PRELOAD
     lines[k + 2] = STRIP_COEFFICIENTS if strip else f"0.6 {mg} 0.0 0.0 0.0 0.0 {axial} 0.0 0.0 0.0 0.0 0.0 0.0"
+    if variant == "morison_only":
+        lines[k + 2] = MORISON_ONLY_COEFFICIENTS
+        k = next(j for j, line in enumerate(lines) if line.split()[1:2] == ["PotMod"])
+        lines[k] = "0   PotMod   - strip theory only (morison_only)"
     if strip:
         k = next(j for j, line in enumerate(lines) if "AddF0" in line)
         lines[k + 2] = f"{STRIP_PRELOAD[variant]:.6e}"
