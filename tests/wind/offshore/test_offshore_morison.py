@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mbsym.exceptions import ParameterError, UnsupportedFeatureError
+from mbsym.exceptions import ParameterError
 from mbsym.wind.deck.hydrodyn import read_hydrodyn
 from mbsym.wind.offshore.morison import morison_drag, morison_problems
 
