@@ -86,7 +86,8 @@ def main() -> int:
         wave_base = wall if wave_base is None else wave_base
         run = read_csv(out)
         rows.append((f"{variant} in waves", ref_name, *_eps(run, _reference(ref_name)), wall, wall / wave_base))
-    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | ε roll | wall [s] | ratio to no members |")
+    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | ε roll | wall [s] "
+          "| ratio to no members |")
     print("|---|---|---|---|---|---|---|---|---|")
     for variant, ref_name, *eps, wall, ratio in rows:
         print(f"| {variant} | {ref_name} | " + " | ".join("-" if e is None else f"{100 * e:.2f} %" for e in eps)

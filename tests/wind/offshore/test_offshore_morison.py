@@ -57,7 +57,8 @@ STRIP_SECTION = {
 PIERCING_JOINTS = [(25, -25, -18), (25, -25, 10), (-35, -5, -12), (-30, 5, 10)]
 PIERCING_SECTION = {
     "NAxCoef": STRIP_SECTION["NAxCoef"],
-    "NJoints": STRIP_SECTION["NJoints"] + [f"{n + 7}  {x} {y} {z}  2  0" for n, (x, y, z) in enumerate(PIERCING_JOINTS)],
+    "NJoints": STRIP_SECTION["NJoints"] + [f"{n + 7}  {x} {y} {z}  2  0"
+                                           for n, (x, y, z) in enumerate(PIERCING_JOINTS)],
     "NPropSetsCyl": STRIP_SECTION["NPropSetsCyl"] + ["4  6.0  0.05", "5  2.5  0.05", "6  2.0  0.05"],
     "NMembers": STRIP_SECTION["NMembers"] + ["4  7  8  4  4  1  0  1.0  1  1  FALSE",
                                              "5  9  10  5  6  1  0  1.0  1  1  FALSE"],
@@ -74,7 +75,7 @@ MORISON_ONLY_SECTION = {
         + [(c * r, s * r, _PONTOON_Z) for c, s in ((-1.0, 0.0), (0.5, 0.8660254), (0.5, -0.8660254))
            for r in (5.0, 45.5)])],
     "NPropSetsCyl": ["1  10.0  0.05", "2  12.5  0.05", f"3  {_PONTOON_D}  0.05"],
-    "NMembers": [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  {1 if m == 0 else 2}  {1 if m == 0 else 2}  1  0  1.0  1  1  FALSE"
+    "NMembers": [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  {min(m, 1) + 1}  {min(m, 1) + 1}  1  0  1.0  1  1  FALSE"
                  for m in range(4)]
     + [f"{m + 1}  {2 * m + 1}  {2 * m + 2}  3  3  1  0  2.0  1  1  FALSE" for m in range(4, 7)],
 }
@@ -126,7 +127,8 @@ def _member_section(variant: str) -> dict[str, list[str]]:
 
 def write_deck(root: Path, variant: str) -> Path:
     """A copy of the shared ``fl_decay_a`` with ``AddBQuad`` = 0 and drag-only members (``columns``, ``braces`` or
-    ``growth``; ``none``: no members) or strip-theory members (``strip``: submerged; ``piercing``: two more through the surface;
+    ``growth``; ``none``: no members) or strip-theory members (``strip``: submerged; ``piercing``: two more through
+    the surface; ``strip_growth``/``strip_growth_uniform``: with marine growth; ``morison_only``: ``PotMod`` 0;
     test_offshore_strip_theory.py);
     the OpenFAST references were run on decks written by this function (their
     README)."""
