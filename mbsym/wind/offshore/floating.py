@@ -130,9 +130,11 @@ class FloatingStructure:
         us = ca.vertcat(*[values[name] for name in eom.inputs])
         S = ca.DM(select)
         f_m = eom.functions.mass_matrix
+        JS = ca.mtimes(loads["jac"], S)                 # A∞ with the exact angular acceleration J q̈ + b
         M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, us, p)) \
-            + ca.mtimes([S.T, ca.DM(platform.added_mass) + loads["mass"], S])
-        qdd = ca.solve(M, eom.functions.forcing(q, qd, us, p))
+            + ca.mtimes([JS.T, ca.DM(platform.added_mass), JS]) + ca.mtimes([S.T, loads["mass"], S])
+        forcing = eom.functions.forcing(q, qd, us, p) - ca.mtimes([JS.T, ca.DM(platform.added_mass), loads["bias"]])
+        qdd = ca.solve(M, forcing)
         xd = ca.vertcat(qd, qdd, loads["xr_dot"]) if nr else ca.vertcat(qd, qdd)
         f_y, names, units = channel_function(self.model)
         rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index]))

@@ -254,26 +254,18 @@ def morison_drag(hd, *, water_density: float, reference=(0.0, 0.0, 0.0),
     ParameterError
         A member naming a joint, property set or coefficient row that does not exist.
     """
-    members = _rows(hd, "members")
+    members = member_geometry(hd)
     if not members:
         return None
     joints = {int(r[0]): (np.array(r[1:4], dtype=float), int(r[4])) for r in _rows(hd, "joints")}
-    props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
     axial = {int(r[0]): (float(r[1]), int(r[4]) if len(r) > 4 else 0) for r in _rows(hd, "axial_coefficients")}
-    tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
-              "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
-              "depth": _rows(hd, "depth_cylinder_coefficients")}
     growth = _rows(hd, "marine_growth")
     ref = np.asarray(reference, dtype=float)
     nodes, ends = [], {}
-    for row in members:
-        ident = int(row[0])
-        (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
-        r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
-        coefficients = _coefficients(int(row[8]), tables, ident)
+    for row, p1, p2, r1, r2, every in members:
         if p1[2] > 0 and p2[2] > 0:                         # both ends dry: HydroDyn skips the member
             continue
-        nodes.append(_strips(p1, p2, ref, r1, r2, float(row[7]), coefficients, growth))
+        nodes.append(_strips(p1, p2, ref, r1, r2, float(row[7]), _drag_coefficients(every), growth))
         k = (p2 - p1) / np.linalg.norm(p2 - p1)
         ends.setdefault(int(row[1]), []).append(-math.pi * (r1 + marine_growth(growth, p1[2])) ** 2 * k)
         ends.setdefault(int(row[2]), []).append(math.pi * (r2 + marine_growth(growth, p2[2])) ** 2 * k)
@@ -325,15 +317,37 @@ def member_coefficients(mode: int, tables: dict, ident: int):
     return lambda s, z, mg: {n: np.where(mg, along(a + 2, s), along(a, s)) for n, a in _MEMBER.items()}
 
 
-def _coefficients(mode: int, tables: dict, ident: int):
-    """``(s, z, growth) -> (Cd, AxCd)`` per node of a member (:func:`member_coefficients`)."""
-    every = member_coefficients(mode, tables, ident)
+def _drag_coefficients(every):
+    """``(s, z, growth) -> (Cd, AxCd)`` of a member's :func:`member_coefficients`."""
 
     def drag(s, z, mg):
         c = every(s, z, mg)
         return c["Cd"], c["AxCd"]
 
     return drag
+
+
+def member_geometry(hd) -> list[tuple]:
+    """Each member of a HydroDyn input as ``(row, p1, p2, r1, r2, coefficients)``: its table row, its joints'
+    undisplaced positions [m], the radii of its two property sets [m] and its :func:`member_coefficients`.
+
+    Raises
+    ------
+    ParameterError
+        A member naming a joint, property set or coefficient row that does not exist.
+    """
+    joints = {int(r[0]): np.array(r[1:4], dtype=float) for r in _rows(hd, "joints")}
+    props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
+    tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
+              "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
+              "depth": _rows(hd, "depth_cylinder_coefficients")}
+    out = []
+    for row in _rows(hd, "members"):
+        ident = int(row[0])
+        p1, p2 = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
+        r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
+        out.append((row, p1, p2, r1, r2, member_coefficients(int(row[8]), tables, ident)))
+    return out
 
 
 def _depth_value(rows: list, z: float, column: int) -> float:

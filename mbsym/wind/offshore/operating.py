@@ -44,6 +44,7 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import ModelWarning, UnsupportedFeatureError
+from ._casadi import body_motion
 from .excitation import EXCITATION_CHANNELS
 from .strip_theory import WAVE_INERTIA_INPUTS, WAVE_INERTIA_UNITS
 from .wave_kinematics import flow_input_names
@@ -222,7 +223,10 @@ class FloatingPlatform:
         members' drag, radiation, mooring with its lines' drag); ``hydro``: HydroDyn's part of it (no mooring, no added
         mass); ``tension``: the fairlead tensions [N]; ``mass``: the mooring lines' mass and added mass on
         the platform DOFs (6 × 6, zero for quasi-static lines without ``dynamics``), which the operating
-        turbine adds to its mass matrix with A∞.
+        turbine adds to its mass matrix with A∞; ``jac``, ``bias``: the reference point's velocity and angular
+        velocity are ``jac q̇``, its accelerations ``jac q̈ + bias`` (:func:`~._casadi.body_motion`: the Euler
+        rates' angular velocity, as ElastoDyn gives HydroDyn), so A∞ enters the DOFs as ``jacᵀ A∞ jac`` and
+        ``−jacᵀ A∞ bias``; the water's loads see those velocities.
         """
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
         nr = self.n_radiation
@@ -239,11 +243,12 @@ class FloatingPlatform:
         n_flow = sea.numel() - n_sea - n_strip
         flow = sea[n_sea:n_sea + n_flow] if n_flow else None    # the waves' velocity at the Morison members
         strip = sea[n_sea + n_flow:] if n_strip else None        # the strip-theory members' wave inertia
-        hydro = self.hydro.load(qp, vp, flow, strip) + excitation   # hydrostatics, additional loads, members
+        body, jac, bias = body_motion(qp, vp)                   # HydroDyn's velocities: angular ones exact
+        hydro = self.hydro.load(qp, body, flow, strip) + excitation   # hydrostatics, additional loads, members
         if self.radiation is not None:
             hydro = hydro + ca.mtimes(ca.sparsify(ca.DM(self.radiation.C)), xr[:nr])
             xr_dot = (ca.mtimes(ca.sparsify(ca.DM(self.radiation.A)), xr[:nr])
-                      + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), vp))
+                      + ca.mtimes(ca.sparsify(ca.DM(self.radiation.B)), body))
         if self.excitation_fit is not None:
             xr_dot = ca.vertcat(xr_dot, xe_dot)
         sea = ca.vertcat(excitation, sea[6:])                  # the channels B1Wvs*: HydroDyn's total excitation
@@ -251,9 +256,10 @@ class FloatingPlatform:
         if self.mooring is not None:
             static, drag, mass, tension = self.mooring.line_loads(qp, vp, steps=self.mooring_steps)
             load = load + static + drag
-        return ca.Function("platform_loads", [qp, vp, xr, sea_in], [load, hydro, xr_dot, tension, mass, sea],
-                           ["qp", "vp", "xr", "sea"], ["load", "hydro", "xr_dot", "tension", "mass", "sea_out"],
-                           {"cse": True})
+        return ca.Function("platform_loads", [qp, vp, xr, sea_in],
+                           [load, hydro, xr_dot, tension, mass, sea, jac, bias],
+                           ["qp", "vp", "xr", "sea"],
+                           ["load", "hydro", "xr_dot", "tension", "mass", "sea_out", "jac", "bias"], {"cse": True})
 
     def loads(self, qp: Any, vp: Any, xr: Any, sea: Any = None) -> dict[str, Any]:
         """The outputs of :attr:`function` by name, for CasADi (SX or MX) or numeric arguments (``sea``
@@ -265,11 +271,11 @@ class FloatingPlatform:
     def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:
         """``(name, unit, expression)`` of the platform channels.
 
-        ``HydroFxi … HydroMzi``: HydroDyn's total load at the reference point (with ``−A∞ a``, ``ap`` the
-        platform DOF accelerations); ``FAIRTEN<k>`` [N]; ``B1WvsFxi … B1WvsMzi`` [N, N-m] and ``Wave1Elev`` [m]
+        ``HydroFxi … HydroMzi``: HydroDyn's total load at the reference point (with ``−A∞ a``, ``a`` the reference
+        point's acceleration from ``ap``, the platform DOF accelerations); ``FAIRTEN<k>`` [N]; ``B1WvsFxi … B1WvsMzi`` [N, N-m] and ``Wave1Elev`` [m]
         (the sea inputs).
         """
-        hydro = loads["hydro"] - ca.mtimes(ca.DM(self.added_mass), ap)
+        hydro = loads["hydro"] - ca.mtimes(ca.DM(self.added_mass), ca.mtimes(loads["jac"], ap) + loads["bias"])
         rows = [(n, u, hydro[k]) for k, (n, u) in enumerate(HYDRO_CHANNELS.items())]
         rows += [(f"FAIRTEN{k + 1}", "N", loads["tension"][k]) for k in range(self.n_lines)]
         sea = loads["sea_out"]

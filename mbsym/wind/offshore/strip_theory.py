@@ -51,7 +51,7 @@ import numpy as np
 from ...exceptions import ParameterError
 from ._casadi import _in, _out, euler_zyx
 from .excitation import catmull_rom
-from .morison import _lookup, _rows, marine_growth, member_coefficients
+from .morison import _lookup, _rows, marine_growth, member_geometry
 from .waterline import element_buoyancy
 from .wave_kinematics import wave_acceleration_pressure
 
@@ -229,23 +229,15 @@ def strip_theory(hd, *, water_density: float, gravity: float, reference=(0.0, 0.
     reference : sequence of 3 floats, optional, keyword-only
         The platform reference point's undisplaced position [m].
     """
-    members = [r for r in _rows(hd, "members") if not r[10]]
+    members = [m for m in member_geometry(hd) if not m[0][10]]
     if not members:
         return None
     rho, ref = float(water_density), np.asarray(reference, dtype=float)
     joints = {int(r[0]): (np.array(r[1:4], dtype=float), int(r[4])) for r in _rows(hd, "joints")}
-    props = {int(r[0]): float(r[1]) for r in _rows(hd, "cylinder_properties")}
     axial = {int(r[0]): r for r in _rows(hd, "axial_coefficients")}
-    tables = {"simple": _rows(hd, "simple_cylinder_coefficients"),
-              "member": {int(r[0]): r for r in _rows(hd, "member_cylinder_coefficients")},
-              "depth": _rows(hd, "depth_cylinder_coefficients")}
     growth = _rows(hd, "marine_growth")
     parts, ends = [], {}
-    for row in members:
-        ident = int(row[0])
-        (p1, _), (p2, _) = (_lookup(joints, int(row[j]), f"member {ident}: joint") for j in (1, 2))
-        r1, r2 = (0.5 * _lookup(props, int(row[j]), f"member {ident}: property set") for j in (3, 4))
-        coefficients = member_coefficients(int(row[8]), tables, ident)
+    for row, p1, p2, r1, r2, coefficients in members:
         parts.append(_member(p1 - ref, p2 - ref, r1, r2, float(row[7]), coefficients, int(row[9]) != 0, rho,
                              float(ref[2]), growth))
         k = (p2 - p1) / np.linalg.norm(p2 - p1)

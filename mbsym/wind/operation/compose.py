@@ -277,18 +277,29 @@ class Graph:
         f = self.eom.functions
         mass = f.mass_matrix
         M = mass(self.q, self.u_s, self.p_s) if mass.n_in() == 3 else mass(self.q, self.p_s)
+        F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
         if self.platform is not None:                  # A∞ on the platform DOFs (symbolic mass matrix)
-            select = self.platform_select
-            M = M + ca.sparsify(ca.DM(select.T @ self.platform.added_mass @ select))
+            select = ca.DM(self.platform_select)
+            added, bias = self._added_mass_terms(select)
+            M, F = M + added, F - bias
             lines = self.platform_terms.get("mass")        # mooring lines' mass on the platform DOFs (if any)
             if lines is not None and not (isinstance(lines, (ca.SX, ca.MX, ca.DM)) and lines.is_zero()):
-                M = M + ca.mtimes([ca.DM(select).T, lines, ca.DM(select)])
-        F = f.forcing(self.q, self.qd, self.u_s, self.p_s)
+                M = M + ca.mtimes([select.T, lines, select])
         if self.kind is ca.SX:
             return ca.solve(M, F)
         if not self._symmetric_added_mass():
             return ca.solve(M, F, "qr")        # WAMIT's A∞ as given, with its small asymmetry
         return spd_solve(M, F)                 # M is symmetric positive definite (mbsym.spd_solve)
+
+    def _added_mass_terms(self, select) -> tuple[Any, Any]:
+        """``Jᵀ A∞ J`` and ``Jᵀ A∞ b`` on the DOFs: HydroDyn's ``−A∞ a`` with ``a = J q̈ + b`` the reference point's
+        acceleration (``jac``, ``bias`` of the platform's loads: the Euler rates' angular acceleration, exact)."""
+        A = ca.DM(self.platform.added_mass)
+        jac, bias = self.platform_terms.get("jac"), self.platform_terms.get("bias")
+        if jac is None:                                # a platform object without them: small angles
+            return ca.sparsify(ca.mtimes([select.T, A, select])), ca.DM.zeros(select.size2())
+        JS = ca.mtimes(jac, select)
+        return ca.mtimes([JS.T, A, JS]), ca.mtimes([JS.T, A, bias])
 
     def _symmetric_added_mass(self) -> bool:
         """Whether the platform's A∞ (if any) is symmetric to rounding, so that M stays symmetric."""

@@ -83,9 +83,11 @@ def floating():
 def test_platform_loads_and_added_mass_drive_the_structure(floating):
     """The composed right-hand side equals an assembly done here with numpy: the structure's own mass matrix and
     forcing with the platform inputs set to the hydrodynamic and mooring loads computed separately (numbers
-    through PlatformHydrodynamics.load, MooringSystem.load and the lines' drag of MooringSystem.line_loads), A∞
-    and the lines' mass added to the platform block, then solved.
-    Without A∞ (or with the loads left at zero) the accelerations differ by far more than the tolerance."""
+    through PlatformHydrodynamics.load at the reference point's exact velocity, MooringSystem.load and the lines' drag
+    of MooringSystem.line_loads), A∞ as HydroDyn applies it (``−A∞ a``, ``a`` the point's exact acceleration: the
+    platform joint's Euler-rate angular velocity differentiated) and the lines' mass added, then solved.
+    Without A∞ (or with the loads left at zero) the accelerations differ by far more than the tolerance; the
+    small-angle form (``q̈`` for ``a``) differs measurably at this state."""
     import casadi as ca
 
     _, model = floating
@@ -106,7 +108,9 @@ def test_platform_loads_and_added_mass_drive_the_structure(floating):
     _, drag, line_mass, _ = platform.mooring.line_loads(qs, vs)        # the lines' drag and mass (MoorDyn deck)
     drag, line_mass = (np.asarray(v) for v in ca.Function("lines", [qs, vs], [drag, line_mass])(q[idx], qd[idx]))
     assert np.abs(drag).max() > 1e3 and np.abs(line_mass).max() > 1e5          # they are there and matter
-    load = platform.hydro.load(q[idx], qd[idx]) + platform.mooring.load(q[idx]) + drag.ravel()
+    J, bias = _body_jacobian(q[idx], qd[idx])
+    body = J @ qd[idx]                       # the reference point's velocity and (Euler-rate) angular velocity
+    load = platform.hydro.load(q[idx], body) + platform.mooring.load(q[idx]) + drag.ravel()
     rows = [eom.inputs.index(n) for n in platform.inputs]
     assert np.allclose(u_s[rows], load, rtol=1e-9, atol=1e-3)        # loads [N, N m] of order 1e5-1e9
     f = eom.functions
@@ -115,11 +119,32 @@ def test_platform_loads_and_added_mass_drive_the_structure(floating):
     F = np.asarray(f.forcing(q, qd, u_s, p_s)).ravel()
     S = np.zeros((6, nq))
     S[range(6), idx] = 1.0
-    expected = np.linalg.solve(M + S.T @ (platform.added_mass + line_mass) @ S, F)
+    JS, A = J @ S, platform.added_mass       # HydroDyn's −A∞ a with a = J q̈ + b the point's exact acceleration
+    expected = np.linalg.solve(M + JS.T @ A @ JS + S.T @ line_mass @ S, F - JS.T @ A @ bias)
     without = np.linalg.solve(M, F)
     scale = np.max(np.abs(expected))
     assert np.max(np.abs(qdd - expected)) < 1e-8 * scale
     assert np.max(np.abs(without - expected)) > 1e-3 * scale
+    small = np.linalg.solve(M + S.T @ (A + line_mass) @ S, F)       # the small-angle form it replaced
+    assert np.max(np.abs(small - expected)) > 1e-6 * scale
+
+
+def _body_jacobian(q: np.ndarray, qd: np.ndarray, h: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+    """``J`` with the platform reference point's velocity and angular velocity ``J q̇``, from the structure's own
+    platform joint (mbsym.wind.structure.platform: the Euler rates' ω), and ``b = J̇ q̇`` by central differences
+    along the motion."""
+    import casadi as ca
+
+    from mbsym.wind.structure.platform import platform_angular_velocity
+
+    def jac(angles):
+        T = np.column_stack([np.asarray(ca.evalf(platform_angular_velocity(list(angles), list(e)))).ravel()
+                             for e in np.eye(3)])
+        return np.block([[np.eye(3), np.zeros((3, 3))], [np.zeros((3, 3)), T]])
+
+    J = jac(q[3:6])
+    rate = (jac(q[3:6] + h * qd[3:6]) - jac(q[3:6] - h * qd[3:6])) / (2 * h)
+    return J, rate @ qd
 
 
 def test_fl_steady_13_trim_matches_openfast_means(floating):
