@@ -11,8 +11,8 @@ mass matrix. :meth:`FloatingStructure.dynamics` is an :class:`mbsym.Dynamics` (`
 floating deck without AeroDyn; :func:`mbsym.simulate` with :meth:`FloatingStructure.sea_tables` as inputs);
 :meth:`FloatingStructure.simulate` integrates with fixed-step RK4 in one CasADi ``mapaccum``.
 
-Approximations (those of :mod:`.operating`): the platform's translational and angular velocity and acceleration
-are the DOF rates (``q̇``, ``q̈`` of surge … yaw), exact at zero rotation and first order in the angles; the lines
+Approximations (those of :mod:`.operating`): the water's loads see the platform's exact velocity and acceleration
+(the Euler rates' angular velocity, :func:`~._casadi.body_motion`; A∞ as ``Jᵀ A∞ J`` and ``−Jᵀ A∞ b``); the lines
 are quasi-static, with their drag and inertia on that shape when the mooring has ``dynamics``
 (:mod:`.line_dynamics`); the excitation at the undisplaced platform.
 """

@@ -161,8 +161,8 @@ class AdditionalLoads:
         """Force and moment at the reference point, inertial axes [N, N m].
 
         ``qd`` holds the translational velocity and the angular velocity of the platform in
-        inertial axes [m/s, rad/s] (HydroDyn's mesh velocities; equal to the DOF rates for
-        small angles).
+        inertial axes [m/s, rad/s] (HydroDyn's mesh velocities; the operating turbine passes the
+        Euler rates' angular velocity, :func:`~._casadi.body_motion`).
         """
         x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
         rot = euler_zyx(x[3:6])

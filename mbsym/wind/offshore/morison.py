@@ -34,8 +34,8 @@ facts in ``Morison.f90``: ``Morison_GenerateSimulationNodes``, ``SetMemberProper
 
 The loads are summed about the displaced platform reference point in inertial axes, as the other platform loads
 (:class:`~.platform.PlatformHydrodynamics`), and enter HydroDyn's totals ``HydroFxi … HydroMzi``. The node
-velocity is ``q̇[0:3] + ω × (R p)`` with ``ω = q̇[3:6]`` (HydroDyn's mesh velocities; the DOF rates, exact for
-small angles, as :class:`~.hydrostatics.AdditionalLoads`).
+velocity is ``v + ω × (R p)`` with ``(v, ω)`` the reference point's velocity and angular velocity in inertial
+axes (HydroDyn's mesh velocities: the operating turbine passes the Euler rates' ``ω``, :func:`~._casadi.body_motion`).
 
 **In waves** the water's velocity ``u_water`` at every strip node and end plate is SeaState's first-order
 kinematics at its undisplaced position (``WaveDisp = 0``; zero above the still-water level), read off SeaState's

@@ -24,11 +24,11 @@ state vector and the channels of :meth:`FloatingPlatform.channel_rows` (``HydroF
 and the offshore room; :func:`floating_platform` builds the object from a deck's HydroDyn, SeaState
 and MoorDyn/MAP++ files.
 
-Approximations (stated in docs/offshore.md): the platform's velocity and acceleration are the DOF
-rates ``q̇``, ``q̈`` of surge … yaw (exact in translation; the angular ones are first order in the
-angles, as in :class:`~.floating.FloatingStructure`); the lines are quasi-static, with MoorDyn's drag and
+Approximations (stated in docs/offshore.md): the lines are quasi-static, with MoorDyn's drag and
 inertia on that shape when the mooring has ``dynamics`` (:mod:`.line_dynamics`); the wave excitation at the
-undisplaced platform (HydroDyn's ``ExctnDisp = 0``).
+undisplaced platform (HydroDyn's ``ExctnDisp = 0``). The water's loads see the platform's exact velocity and
+acceleration, as HydroDyn gets them from ElastoDyn: the Euler rates' angular velocity ``T(θ) θ̇`` and its
+derivative (:func:`~._casadi.body_motion`), so A∞ enters the DOFs as ``Jᵀ A∞ J`` with ``J = diag(I, T)``.
 """
 
 from __future__ import annotations
