@@ -21,7 +21,10 @@ facts in ``Waves.f90``, ``SeaState_Input.f90``, ``SeaSt_WaveField.f90`` and the 
 
 HydroDyn takes the kinematics of a node at its **undisplaced** position (``WaveDisp = 0``, ``WaveStMod = 0``)
 and zero above the still-water level; :class:`WaveFlow` holds them on the wave time grid for the wet strip
-nodes and end plates of :class:`~.morison.MorisonDrag`, and gives them as simulation input tables.
+nodes and end plates of :class:`~.morison.MorisonDrag`, and gives them as simulation input tables. The
+acceleration (``iω`` times the velocity's transfer functions) and the dynamic pressure
+(``ρ g C E cosh κ(z + h) / cosh κh``) are read off the same grid for the strip-theory members' wave inertia
+(:func:`wave_acceleration_pressure`, :mod:`.strip_theory`).
 """
 
 from __future__ import annotations
