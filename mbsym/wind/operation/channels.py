@@ -60,6 +60,7 @@ from typing import Any
 import casadi as ca
 
 from ..structure.elastodyn_nodes import rotor_mass_properties
+from ..structure.gearbox import generator_torque_at_shaft, has_losses
 from ..structure.load_cuts import reaction_rows
 
 __all__ = ["channel_rows", "OPERATION_CHANNELS"]
@@ -139,7 +140,11 @@ def _lss_torque(g) -> Any:
         return P["drivetrain_stiffness"] * g.q[i] + P["drivetrain_damping"] * g.qd[i]
     if model.spins_freely:                 # the generator's balance: N (T_gen + J_gen α_gen), α about the shaft
         gen = g.kinematics_with_accelerations("generator")
-        return model.gearbox_ratio * (g.X["GenTq"] + P["generator_inertia"] * ca.dot(gen["wd"], g.shaft_axis))
+        inertia, torque = P["generator_inertia"], g.X["GenTq"]
+        if has_losses(model.structure):    # through the lossy gearbox (structure.gearbox, rigid drivetrain)
+            eta = float(model.turbine.gearbox_efficiency)
+            inertia, torque = inertia / eta, generator_torque_at_shaft(torque, eta)
+        return model.gearbox_ratio * (torque + inertia * ca.dot(gen["wd"], g.shaft_axis))
     return g.torque
 
 

@@ -62,6 +62,7 @@ from ...exceptions import ParameterError
 from ...held import HeldPart
 from ..aero.rotor import RotorAero
 from ..deck.parameters import TurbineParameters
+from ..structure.gearbox import generator_torque_at_shaft, has_losses, hss_torque_for
 from ..structure.turbine import TurbineModel
 from .actuators import ActuatorSettings
 from .dynamic_inflow import DynamicInflow
@@ -346,7 +347,7 @@ class OperatingTurbine:
             x["GenTq"] = self.balancing_torque(np.array([x[s] for s in dyn.states]), wind_speed, p)
         if "DrTr" in coords and (wind_speed is not None or torque is not None):
             stiffness = dict(zip(dyn.parameters, dyn.parameter_vector(p)))["drivetrain_stiffness"]
-            x["DrTr"] = self.gearbox_ratio * x["GenTq"] / stiffness
+            x["DrTr"] = self.gearbox_ratio * generator_torque_at_shaft(x["GenTq"], self.gearbox_efficiency) / stiffness
         return np.array([x[s] for s in dyn.states])
 
     def _wake_equilibrium(self, x: dict, wind, p) -> dict[str, float]:
@@ -380,7 +381,13 @@ class OperatingTurbine:
         dyn = self.dynamics()
         q_aero = float(f(x, dyn.input_vector(self._wind_inputs(wind_speed)), dyn.parameter_vector(p)))
         a = self.actuators
-        return float(np.clip(q_aero / self.gearbox_ratio, a.torque_min, a.torque_max))
+        torque = hss_torque_for(q_aero, self.gearbox_ratio, self.gearbox_efficiency)
+        return float(np.clip(torque, a.torque_min, a.torque_max))
+
+    @property
+    def gearbox_efficiency(self) -> float:
+        """GBoxEff / 100 where the gearbox losses act (a generator DOF), else 1 (:mod:`..structure.gearbox`)."""
+        return float(self.turbine.gearbox_efficiency) if has_losses(self.structure) else 1.0
 
     def _part(self, key: str):
         self.dynamics()

@@ -74,7 +74,7 @@ def steady_guess(model, wind_speed: float, *, settings=None, p=None) -> SteadyGu
         beta_min = max(beta_min, float(np.interp(u, s.min_pitch_wind_speeds, s.min_pitch_schedule)))
     beta_min = float(np.clip(beta_min, par["pitch_min"], par["pitch_max"]))
     u_shaft = u * np.cos(model.rotor.shaft_tilt)
-    target = s.rated_power / par["generator_efficiency"]
+    target = s.rated_power / par["generator_efficiency"] / model.gearbox_efficiency     # aerodynamic power
     beta = beta_min
     if _power(model, u_shaft, omega, beta, par) > target:
         lo, hi = beta_min, par["pitch_max"]

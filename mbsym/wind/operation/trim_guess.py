@@ -77,6 +77,7 @@ def rotor_guess(model, control, regime, wind_speed: float, par: dict[str, float]
     """
     rotor = _Rotor(model, wind_speed, par)
     c, n = control, control.gearbox_ratio
+    nq = n / model.gearbox_efficiency              # the torque's ratio through a lossy gearbox (structure.gearbox)
     beta_min = float(c.min_pitch(wind_speed))
     w_min, w_rated = c.min_generator_speed / n, c.rated_generator_speed / n
     w_pitch = (c.pitch_reference_speed if c.pitch_control else c.rated_generator_speed) / n
@@ -90,30 +91,30 @@ def rotor_guess(model, control, regime, wind_speed: float, par: dict[str, float]
     if kind == ("track", "min"):
         if c.torque_mode == 2:
             w = float(np.clip(c.optimal_tsr * wind_speed / c.rotor_radius, w_min, w_rated))
-            return RotorGuess(w, beta, rotor.torque(w, beta) / n, True)
+            return RotorGuess(w, beta, rotor.torque(w, beta) / nq, True)
         law = lambda w: c.region2_gain * (w * n) ** 2 / c.generator_efficiency   # noqa: E731 (mode 3)
-        w, ok = _bisect(lambda w: rotor.torque(w, beta) - n * law(w), max(w_min, 1e-3), w_rated)
+        w, ok = _bisect(lambda w: rotor.torque(w, beta) - nq * law(w), max(w_min, 1e-3), w_rated)
         return RotorGuess(w, beta, law(w), ok)
     if kind[0] == "k2":
         law = lambda w: c.region2_gain * (w * n) ** 2        # noqa: E731
-        w, ok = _bisect(lambda w: rotor.torque(w, beta) - n * law(w), max(w_min, 1e-3), w_rated)
+        w, ok = _bisect(lambda w: rotor.torque(w, beta) - nq * law(w), max(w_min, 1e-3), w_rated)
         return RotorGuess(w, beta, law(w), ok)
     if kind[0] in ("hold_min", "hold_rated"):
         w = w_min if kind[0] == "hold_min" else w_rated
-        return RotorGuess(w, beta, rotor.torque(w, beta) / n, True)
+        return RotorGuess(w, beta, rotor.torque(w, beta) / nq, True)
     torque_at = {"upper": upper, "lower": lambda w: c.torque_min,
                  "arsat": lambda w: c.region25_torque_max}.get(kind[0], upper)
     if kind[1] == "track":
         w = w_pitch
         t = torque_at(w)
-        beta, ok = _bisect(lambda b: rotor.torque(w, b) - n * t, beta_min, pitch_hi)
+        beta, ok = _bisect(lambda b: rotor.torque(w, b) - nq * t, beta_min, pitch_hi)
         return RotorGuess(w, beta, t, ok)
     lo = max(w_min, 1e-3) if kind[0] == "lower" else min(w_rated, w_pitch)
     floats = kind[0] == "lower" or kind[1] == "max" or not c.pitch_control     # nothing caps the speed
     hi = 3.0 * max(w_pitch, w_rated) if floats else max(w_rated, w_pitch)
     if hi <= lo:
         hi = lo * 1.05
-    w, ok = _bisect(lambda w: rotor.torque(w, beta) - n * torque_at(w), lo, hi)
+    w, ok = _bisect(lambda w: rotor.torque(w, beta) - nq * torque_at(w), lo, hi)
     return RotorGuess(w, beta, torque_at(w), ok)
 
 

@@ -49,8 +49,7 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
 
     Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs), yaw-bearing
     friction (YawFrctMod != 0, with YawDOF),
-    platform products of inertia (with platform DOFs), gearbox losses (GBoxEff < 100 %,
-    with GenDOF: ElastoDyn's friction terms in the generator equation) and, for two-bladed
+    platform products of inertia (with platform DOFs) and, for two-bladed
     rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
     inertia (``Hubg1Iner = Hubg2Iner = (HubIner - HubMass (UndSling - HubCM)²) / cos² Delta3``
     about the shaft and the teeter axis; the template has HubIner about the shaft only).
@@ -70,9 +69,9 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
     --------
     >>> import dataclasses
     >>> from mbsym.wind import nrel5mw
-    >>> t = dataclasses.replace(nrel5mw(), gearbox_efficiency=0.95)
-    >>> unsupported_features(t, {"GenDOF": True})
-    ['GBoxEff = 95 % (gearbox friction in the generator-azimuth equation): set GBoxEff = 100 or disable GenDOF']
+    >>> t = dataclasses.replace(nrel5mw(), platform_xy_inertia=1e6)
+    >>> unsupported_features(t, {"PtfmRDOF": True})    # doctest: +ELLIPSIS
+    ['platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = [1000000.0, 0.0, 0.0] kg m^2): ...']
     """
     out = []
     on = {f for f, v in dofs.items() if v}
@@ -86,9 +85,6 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
     if platform and any(abs(x) > 0 for x in products):
         out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "
                    "set them to 0 or disable the platform DOFs")
-    if "GenDOF" in on and turbine.gearbox_efficiency < 1.0:
-        out.append(f"GBoxEff = {100 * turbine.gearbox_efficiency:.6g} % (gearbox friction in the generator-azimuth "
-                   "equation): set GBoxEff = 100 or disable GenDOF")
     friction = str(turbine.extra.get("YawFrctMod", "0")).strip()
     if "YawDOF" in on and friction not in ("0", "0.0"):
         out.append(f"YawFrctMod = {friction} (yaw-bearing friction on the yaw DOF): set YawFrctMod = 0 or disable "

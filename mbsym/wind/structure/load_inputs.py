@@ -1,6 +1,7 @@
 """The loads a :class:`~.turbine.TurbineModel` exposes as inputs, only where they can move an enabled DOF.
 
-- ``GenTq`` (on the generator, reacted on the nacelle) and ``RotTorq`` (on the rotor), with GenDOF or DrTrDOF;
+- ``GenTq`` (on the generator, reacted on the nacelle; through a lossy gearbox as :mod:`.gearbox` says) and
+  ``RotTorq`` (on the rotor), with GenDOF or DrTrDOF;
 - ``RotThrust`` along the shaft at the hub, and with ``hub_moments`` ``RotMomY``, ``RotMomZ``, ``RotFrcY``,
   ``RotFrcZ`` across it (shaft axes);
 - with ``blade_loads``, per blade ``k`` the root force ``B{k}AeroFx/Fy/Fz`` and moment ``B{k}AeroMx/My/Mz`` (blade
@@ -13,6 +14,7 @@
 from __future__ import annotations
 
 from .dof_tables import PLATFORM_FLAGS
+from .gearbox import add_gearbox_losses, generator_torque_at_shaft, has_losses
 from .tower_points import tower_coordinates
 
 __all__ = ["add_load_inputs", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS"]
@@ -29,9 +31,12 @@ def add_load_inputs(model, platform, shaft, hub) -> None:
     if "GeAz" in model.coords or "DrTr" in model.coords:
         tq_gen, tq_aero = sys.inputs("GenTq RotTorq")
         gen = model.bodies["generator"]
+        if has_losses(model) and "DrTr" not in model.coords:       # GBoxEff, rigid drivetrain (.gearbox)
+            tq_gen = generator_torque_at_shaft(tq_gen, model.turbine.gearbox_efficiency)
         sys.add_torque(gen, [-tq_gen, 0.0, 0.0], frame=shaft)       # HSS torque on the generator
         sys.add_torque(shaft, [tq_gen, 0.0, 0.0], frame=shaft)      # its reaction on the nacelle
         sys.add_torque(hub, [tq_aero, 0.0, 0.0], frame=shaft)       # aerodynamic torque on the rotor
+        add_gearbox_losses(model)                                   # GBoxEff with DrTrDOF (.gearbox)
     thrust = sys.inputs("RotThrust")
     if model.hub_moments:                                           # rotor moments and forces across the shaft
         my, mz, fy, fz = sys.inputs("RotMomY RotMomZ RotFrcY RotFrcZ")

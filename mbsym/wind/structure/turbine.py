@@ -80,6 +80,7 @@ from .mbc import BladeFrame
 from .named_parameters import blade_matrices, parameter_defaults, tower_matrices
 from .platform import PlatformJoint
 from .steps import elastodyn_steps
+from .gearbox import generator_inertia
 from .load_inputs import BLADE_LOAD_INPUTS, TOWER_LOAD_INPUTS, add_load_inputs
 
 __all__ = ["TurbineModel", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS", "BLADE_ROOT_FORCE_LOCKED", "BLADE_ROOT_LOCKED", "PlatformJoint", "NON_BLADE_DOFS", "SUPPORTED_DOFS", "BLADE_FLAGS", "MODELLED_DOFS",
@@ -496,7 +497,7 @@ class TurbineModel:
         t, p = self.turbine, self.p
         psi = self._azimuth()
         ratio = abs(t.gearbox_ratio)
-        gen = RigidBody("generator", mass=0.0, inertia=[p["generator_inertia"], 0.0, 0.0])
+        gen = RigidBody("generator", mass=0.0, inertia=[generator_inertia(self), 0.0, 0.0])   # GBoxEff
         hub = RigidBody("hub", mass=p["hub_mass"], com=[t.hub_cm, 0.0, 0.0], inertia=[p["hub_inertia"], 0.0, 0.0])
         if isinstance(psi, ca.SX):
             self._add(Revolute(shaft, gen, axis=[1, 0, 0], coordinate=psi, gear_ratio=ratio))
