@@ -72,8 +72,14 @@ def rosco_nrel5mw_deck(version: str = VERSION, *, fetch: bool = True) -> Path | 
     """The wheel's whole OpenFAST NREL 5 MW test case (``Examples/Test_Cases/NREL-5MW/NREL-5MW.fst`` with its
     ElastoDyn, ServoDyn, AeroDyn, InflowWind and airfoil files), extracted once into the cache; None if the
     wheel is not available (callers skip)."""
+    return rosco_test_case("NREL-5MW", "NREL-5MW.fst", version, fetch=fetch)
+
+
+def rosco_test_case(case: str, fst_name: str, version: str = VERSION, *, fetch: bool = True) -> Path | None:
+    """The ``.fst`` of the wheel's OpenFAST test case ``Examples/Test_Cases/<case>/`` (every file of the folder),
+    extracted once into the cache; None if the wheel is not available (callers skip)."""
     folder = cache_dir(version)
-    fst = folder / "deck" / "NREL-5MW" / "NREL-5MW.fst"
+    fst = folder / "deck" / case / fst_name
     if fst.is_file():
         return fst
     if rosco_library(version, fetch=fetch) is None:
@@ -81,10 +87,10 @@ def rosco_nrel5mw_deck(version: str = VERSION, *, fetch: bool = True) -> Path | 
     wheels = sorted(folder.glob(f"rosco-{version}-*.whl"))
     if not wheels:
         return None
-    prefix = "Examples/Test_Cases/NREL-5MW/"
+    prefix = f"Examples/Test_Cases/{case}/"
     (folder / "deck").mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory(dir=folder / "deck") as tmp, zipfile.ZipFile(wheels[-1]) as wheel:
         wheel.extractall(tmp, members=[n for n in wheel.namelist() if n.startswith(prefix)])
-        if not fst.parent.exists():
+        if not fst.parent.exists() and (Path(tmp) / prefix).is_dir():
             shutil.move(str(Path(tmp) / prefix), str(fst.parent))
     return fst if fst.is_file() else None
