@@ -21,7 +21,8 @@ their undisplaced nodes (:mod:`.wave_kinematics`), the buoyancy, added mass, mar
 members without potential flow (:mod:`.strip_theory`). What the deck asks for beyond that
 is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
-:mod:`.operating` as states), second-order forces (refused with waves; zero in still water), a current
+:mod:`.operating` as states), second-order forces (the full difference-frequency QTF, ``DiffQTF``, is modelled:
+:mod:`.second_order`; the others are refused with waves; all are zero in still water), a current
 (``CurrMod`` > 0: HydroDyn applies it to Morison members only; refused with members), SeaState's second-order
 elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
 first-order sea).
@@ -41,10 +42,12 @@ from ...exceptions import ModelWarning, ParameterError, UnsupportedFeatureError
 from ..deck.hydrodyn import HydroDynInput, read_hydrodyn
 from ..deck.seastate import SeaStateInput, read_seastate
 from ..deck.wamit import ExcitationFit, WamitHydrodynamics, read_wamit, read_wamit_ssexctn
+from ..deck.wamit_qtf import read_wamit_qtf
 from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
+from .second_order import difference_frequency_forces
 from .strip_theory import StripTheory, StripWaves, strip_problems, strip_theory, strip_waves
 from .wave_kinematics import WaveFlow, wave_flow
 from .waves import grid_elevation, incident_waves
@@ -152,8 +155,13 @@ def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
     if hd.yaw_model or hd.reference_yaw:
         out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
                    "(a yawed reference frame; use 0 and 0)")
-    if _potential(hd) and hd.second_order:
-        out.append(f"second-order wave forces {hd.second_order} (mean and slow drift are not modelled; set them to 0)")
+    other = {k: v for k, v in hd.second_order.items() if k != "DiffQTF"}
+    if _potential(hd) and other:
+        out.append(f"second-order wave forces {other} (the full difference-frequency QTF, DiffQTF, is modelled; the "
+                   "mean-drift-only, Newman and sum-frequency options are not: set them to 0)")
+    if _potential(hd) and hd.difference_qtf and sea.direction_model and int(sea.n_directions) > 1:
+        out.append("DiffQTF with directional spreading (the difference-frequency forces are modelled for a "
+                   "unidirectional sea; set WaveDirMod = 0)")
     if sea.current_model and sea.wave_current_model:
         out.append(f"WvCrntMod = {sea.wave_current_model} with a current (wave-current interaction; use 0)")
     return out
@@ -248,7 +256,7 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
     notes = _notes(hd, sea)
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=2)
-    waves = _waves(hd, sea, wamit, float(gravity), water_depth)
+    waves = _waves(hd, sea, wamit, float(gravity), water_depth, rho)
     fit = _excitation_fit(hd, sea) if waves is not None and wamit is not None and hd.excitation_model == 2 else None
     morison = morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth)
     flow = None
@@ -306,8 +314,9 @@ def _excitation_fit(hd: HydroDynInput, sea: SeaStateInput) -> ExcitationFit:
 
 
 def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
-           water_depth: float | None) -> WaveExcitation | None:
-    """The sea's excitation (zero force with ``ExctnMod = 0``), or None in still water."""
+           water_depth: float | None, rho: float) -> WaveExcitation | None:
+    """The sea's excitation (zero force with ``ExctnMod = 0``; with ``DiffQTF`` the difference-frequency forces of
+    :mod:`.second_order` added), or None in still water."""
     if sea is None or sea.wave_model == 0:
         return None
     depth = float(sea.water_depth) if sea.water_depth != "default" else water_depth
@@ -323,4 +332,10 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
     excitation = wave_excitation(wamit, waves, elevation_point=tuple(point), sea=sea)
     if hd.excitation_model != 1:          # 0: no excitation; 2: HydroDyn's state space makes it (operating.py)
         excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)
+    if hd.difference_qtf:                 # HydroDyn's WAMIT2: joins the excitation (B1WvsFxi = first + second order)
+        qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.difference_qtf}d")
+        qtf = qtf.redimensionalize(rho, gravity, hd.wamit_length[0])
+        second = difference_frequency_forces(qtf, waves, band=(float(sea.low_cutoff), float(sea.high_cutoff)),
+                                             difference_band=tuple(float(c) for c in sea.qtf_cutoffs[:2]))
+        excitation = WaveExcitation(excitation.waves, excitation.forces + second, excitation.elevation)
     return excitation

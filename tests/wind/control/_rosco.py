@@ -76,8 +76,9 @@ def rosco_nrel5mw_deck(version: str = VERSION, *, fetch: bool = True) -> Path | 
 
 
 def rosco_test_case(case: str, fst_name: str, version: str = VERSION, *, fetch: bool = True) -> Path | None:
-    """The ``.fst`` of the wheel's OpenFAST test case ``Examples/Test_Cases/<case>/`` (every file of the folder),
-    extracted once into the cache; None if the wheel is not available (callers skip)."""
+    """The ``.fst`` of the wheel's OpenFAST test case ``Examples/Test_Cases/<case>/`` (every file of the folder;
+    ``fst_name`` relative to it), extracted once into the cache; None if the wheel is not available (callers
+    skip)."""
     folder = cache_dir(version)
     fst = folder / "deck" / case / fst_name
     if fst.is_file():
@@ -91,6 +92,7 @@ def rosco_test_case(case: str, fst_name: str, version: str = VERSION, *, fetch: 
     (folder / "deck").mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory(dir=folder / "deck") as tmp, zipfile.ZipFile(wheels[-1]) as wheel:
         wheel.extractall(tmp, members=[n for n in wheel.namelist() if n.startswith(prefix)])
-        if not fst.parent.exists() and (Path(tmp) / prefix).is_dir():
-            shutil.move(str(Path(tmp) / prefix), str(fst.parent))
+        root = folder / "deck" / case
+        if not root.exists() and (Path(tmp) / prefix).is_dir():
+            shutil.move(str(Path(tmp) / prefix), str(root))
     return fst if fst.is_file() else None

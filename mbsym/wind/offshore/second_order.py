@@ -1,0 +1,123 @@
+"""Second-order difference-frequency wave forces from a full QTF, the way HydroDyn computes them (``DiffQTF``).
+
+HydroDyn (v5.0.0, ``WAMIT2.f90``: ``DiffQTF_InitCalc``, ``MnDrift_InitCalc``) turns the first-order sea into a
+force time series before the run, fixed at the platform's undisplaced position, that joins the first-order
+excitation (its ``B1WvsFxi`` … channels are their sum). With the sea's DFT ``C_k`` (:class:`~.waves.IncidentWaves`,
+SeaState's ``WaveElevC0``) and the amplitudes ``a_k = C_k / (N/2)`` at ``ω_k = k Δω``:
+
+* the mean drift ``F̄ = Σ_k Re Q(ω_k, ω_k) |a_k|²`` over the first-order band ``[WvLowCOff, WvHiCOff]``;
+* per difference frequency ``Ω_j = j Δω`` inside ``[WvLowCOffD, WvHiCOffD]``,
+  ``H_j = ½ Σ_k a_(j+k) conj(a_k) Q(ω_(j+k), ω_k)``;
+* ``F(t_n) = F̄ + 2 Σ_j 2 Re(H_j e^(i Ω_j t_n))`` on the sea's ``N`` samples (the unnormalized inverse FFT of
+  ``H``, doubled), periodic with the sea, read between samples like the first-order excitation.
+
+``Q`` is the QTF of the ``.NNd`` file (:func:`~mbsym.wind.deck.wamit_qtf.read_wamit_qtf`, redimensionalized),
+read bilinearly between its frequencies and zero outside their range (HydroDyn pads its grid with zeros there),
+at the waves' heading (minus ``PtfmRefY``) wrapped into the file's heading range by whole turns, bilinearly between
+its headings. Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the mean-drift-only,
+Newman and sum-frequency options (:mod:`.platform`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...exceptions import UnsupportedFeatureError
+from .waves import IncidentWaves
+
+__all__ = ["difference_frequency_forces", "qtf_at"]
+
+
+def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
+                                difference_band: tuple[float, float], heading: float | None = None) -> np.ndarray:
+    """HydroDyn's difference-frequency force series (module docstring), ``(N + 1, 6)`` [N, N m] on
+    ``waves.times()`` (last = first), inertial axes at the WAMIT reference point.
+
+    Parameters
+    ----------
+    qtf : QtfData
+        A redimensionalized difference-frequency QTF.
+    waves : IncidentWaves
+        A unidirectional sea.
+    band, difference_band : (float, float), keyword-only
+        ``(WvLowCOff, WvHiCOff)`` and ``(WvLowCOffD, WvHiCOffD)`` [rad/s].
+    heading : float, optional, keyword-only
+        The waves' heading as the platform sees it [rad] (default the sea's direction).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        A spread sea, a sum-frequency QTF, or a heading outside the file's headings.
+    """
+    if qtf.kind != "difference":
+        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; the difference-frequency forces need a "
+                                      "difference-frequency file (.NNd).")
+    if waves.directions is not None:
+        raise UnsupportedFeatureError("the difference-frequency forces are modelled for a unidirectional sea; the "
+                                      "sea is spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or DiffQTF = 0.")
+    beta = waves.direction if heading is None else heading
+    n_half = len(waves.spectrum) - 1
+    a = np.asarray(waves.spectrum, dtype=complex) / n_half
+    w = waves.frequencies
+    k = np.arange(1, n_half + 1)
+    in_band = k[(w[k] >= band[0]) & (w[k] <= band[1])]
+    mean = np.sum(qtf_at(qtf, w[in_band], w[in_band], beta).real * (np.abs(a[in_band]) ** 2)[:, None], axis=0)
+    live = k[(np.abs(a[k]) > 0) & (k < n_half)]
+    hi, lo = np.meshgrid(live, live, indexing="ij")
+    pair = hi > lo
+    hi, lo = hi[pair], lo[pair]
+    j = hi - lo
+    omega = j * waves.frequency_step
+    keep = (omega >= difference_band[0]) & (omega <= difference_band[1]) & (j < n_half)
+    hi, lo, j = hi[keep], lo[keep], j[keep]
+    terms = (a[hi] * np.conj(a[lo]))[:, None] * qtf_at(qtf, w[hi], w[lo], beta)
+    h = np.zeros((n_half + 1, 6), dtype=complex)
+    for m in range(6):
+        h[:, m] = 0.5 * (np.bincount(j, terms[:, m].real, n_half + 1) + 1j * np.bincount(j, terms[:, m].imag, n_half + 1))
+    series = 2.0 * waves.n_steps * np.fft.irfft(h, n=waves.n_steps, axis=0) + mean
+    return np.vstack([series, series[:1]])
+
+
+def qtf_at(qtf, omega1: np.ndarray, omega2: np.ndarray, heading: float) -> np.ndarray:
+    """``Q(ω1, ω2, β, β)`` ``(len(ω1), 6)`` [N/m², N m/m²]: bilinear in frequency, zero outside the file's
+    frequencies; at one heading β [rad], bilinear between the file's headings (module docstring)."""
+    plane = _heading_plane(qtf, heading)
+    f = qtf.frequencies
+    out = np.zeros((len(omega1), 6), dtype=complex)
+    w1, w2 = np.asarray(omega1, dtype=float), np.asarray(omega2, dtype=float)
+    inside = (w1 >= f[0]) & (w1 <= f[-1]) & (w2 >= f[0]) & (w2 <= f[-1])
+    if len(f) == 1:
+        out[inside] = plane[0, 0]
+        return out
+    i, t = _bracket(f, w1[inside])
+    m, u = _bracket(f, w2[inside])
+    t, u = t[:, None], u[:, None]
+    out[inside] = ((1 - t) * (1 - u) * plane[i, m] + t * (1 - u) * plane[i + 1, m]
+                   + (1 - t) * u * plane[i, m + 1] + t * u * plane[i + 1, m + 1])
+    return out
+
+
+def _bracket(grid: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    i = np.clip(np.searchsorted(grid, x, side="right") - 1, 0, len(grid) - 2)
+    return i, (x - grid[i]) / (grid[i + 1] - grid[i])
+
+
+def _heading_plane(qtf, heading: float) -> np.ndarray:
+    """``Q[:, :, β, β, :]`` at ``heading`` [rad]: the file's headings [deg] wrapped by whole turns, bilinear."""
+    heads = np.asarray(qtf.headings, dtype=float)
+    beta = math.degrees(heading)
+    beta -= 360.0 * math.floor((beta - heads[0]) / 360.0)
+    if len(heads) == 1:
+        if not (math.isclose(beta, heads[0], abs_tol=1e-6) or math.isclose(beta - 360.0, heads[0], abs_tol=1e-6)):
+            raise UnsupportedFeatureError(f"{qtf.source} holds the heading {heads[0]:g} deg only; the waves come from "
+                                          f"{math.degrees(heading):g} deg. Rerun WAMIT with that heading.")
+        return qtf.values[:, :, 0, 0, :]
+    if beta > heads[-1] + 1e-9:
+        raise UnsupportedFeatureError(f"{qtf.source} covers wave headings {heads[0]:g}..{heads[-1]:g} deg; the waves "
+                                      f"come from {math.degrees(heading):g} deg. Use a heading inside that range.")
+    (i,), (t,) = _bracket(heads, np.array([beta]))
+    v = qtf.values
+    return ((1 - t) ** 2 * v[:, :, i, i] + t * (1 - t) * (v[:, :, i + 1, i] + v[:, :, i, i + 1])
+            + t ** 2 * v[:, :, i + 1, i + 1])

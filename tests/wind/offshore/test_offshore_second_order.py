@@ -1,0 +1,153 @@
+"""Second-order difference-frequency wave forces from a full QTF (HydroDyn's ``DiffQTF``).
+
+References:
+- closed form: two wave components ``a_1``, ``a_2`` give ``F(t) = Re Q(ω1, ω1)|a_1|² + Re Q(ω2, ω2)|a_2|²
+  + 2 Re(a_2 conj(a_1) Q(ω2, ω1) e^{i(ω2 − ω1)t})`` (the difference-frequency QTF's definition in amplitude
+  products), to 1e-9 relative; a bilinear Q is read exactly between grid points;
+- OpenFAST v5.0.0 on the `rosco` 2.10.6 wheel's IEA 15 MW VolturnUS-S deck as shipped (DiffQTF 12, JONSWAP Hs
+  1.1 m, Tp 8.52 s; tests/data/openfast_qtf/README.md): HydroDyn's ``B1WvsF2xi`` … ``B1WvsM2zi`` and the total
+  ``B1WvsFxi``, ``B1WvsFzi``, ``B1WvsMyi`` on 0-60 s; measured when written: the second-order series within 3e-6
+  of their standard deviations (HydroDyn computes in single precision), the totals within 1e-6;
+- reader: a file giving one triangle is completed with the conjugate; a grid entry given by no row is an error
+  naming it, like HydroDyn's "too sparse".
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mbsym.exceptions import OpenFASTFormatError, UnsupportedFeatureError
+from mbsym.wind.deck.wamit_qtf import QtfData, read_wamit_qtf
+from mbsym.wind.offshore.second_order import difference_frequency_forces, qtf_at
+from mbsym.wind.offshore.waves import IncidentWaves
+
+DATA = Path(__file__).resolve().parents[2] / "data" / "openfast_qtf"
+
+
+def _bilinear_qtf() -> QtfData:
+    """Q(ω1, ω2) = (1 + 2 ω1 − ω2) + i (ω1 − ω2) on a 0.2 … 2 rad/s grid (bilinear: read exactly)."""
+    f = np.linspace(0.2, 2.0, 10)
+    w1, w2 = np.meshgrid(f, f, indexing="ij")
+    q = (1 + 2 * w1 - w2) + 1j * (w1 - w2)
+    values = np.repeat(q[:, :, None, None, None], 6, axis=4) * np.arange(1, 7)
+    return QtfData(f, np.array([0.0]), values, "difference", "bilinear")
+
+
+def test_two_components_closed_form():
+    n, dt = 64, 0.5
+    dw = 2 * math.pi / (n * dt)
+    spectrum = np.zeros(n // 2 + 1, dtype=complex)
+    k1, k2 = 5, 9
+    spectrum[k1], spectrum[k2] = 3.0 + 1.0j, -2.0 + 4.0j
+    waves = IncidentWaves(dt, spectrum, dw, 0.0, 200.0, 9.81)
+    qtf = _bilinear_qtf()
+    force = difference_frequency_forces(qtf, waves, band=(0.0, 10.0), difference_band=(0.0, 10.0))
+    a1, a2 = spectrum[k1] / (n // 2), spectrum[k2] / (n // 2)
+    w1, w2 = k1 * dw, k2 * dw
+    q = lambda x, y: (1 + 2 * x - y) + 1j * (x - y) # noqa: E731
+    t = waves.times()
+    expected = (q(w1, w1).real * abs(a1) ** 2 + q(w2, w2).real * abs(a2) ** 2
+                + 2 * np.real(a2 * np.conj(a1) * q(w2, w1) * np.exp(1j * (w2 - w1) * t)))
+    for m in range(6):
+        np.testing.assert_allclose(force[:, m], (m + 1) * expected, rtol=1e-9, atol=1e-12)
+    # outside the difference band only the mean drift is left
+    mean = difference_frequency_forces(qtf, waves, band=(0.0, 10.0), difference_band=(0.0, 0.5 * (w2 - w1)))
+    np.testing.assert_allclose(mean[:, 0], q(w1, w1).real * abs(a1) ** 2 + q(w2, w2).real * abs(a2) ** 2)
+    # zero outside the file's frequencies
+    assert np.all(qtf_at(qtf, np.array([0.1, 2.1]), np.array([1.0, 1.0]), 0.0) == 0)
+
+
+def test_spread_seas_and_other_headings_are_refused():
+    waves = IncidentWaves(0.5, np.ones(33, dtype=complex), 0.2, 0.0, 200.0, 9.81, directions=np.zeros(33))
+    with pytest.raises(UnsupportedFeatureError, match="unidirectional"):
+        difference_frequency_forces(_bilinear_qtf(), waves, band=(0, 9), difference_band=(0, 9))
+    waves = IncidentWaves(0.5, np.ones(33, dtype=complex), 0.2, math.radians(30.0), 200.0, 9.81)
+    with pytest.raises(UnsupportedFeatureError, match="heading 0 deg only"):
+        difference_frequency_forces(_bilinear_qtf(), waves, band=(0, 9), difference_band=(0, 9))
+
+
+def _write(path: Path, rows) -> Path:
+    path.write_text("\n".join(" ".join(f"{v:.6E}" if isinstance(v, float) else str(v) for v in r) for r in rows))
+    return path
+
+
+def test_reader_fills_the_conjugate_triangle_and_names_missing_entries(tmp_path):
+    periods = (10.0, 5.0)
+    rows = []
+    for i, p1 in enumerate(periods):
+        for p2 in periods[i:]:
+            for comp in range(1, 7):
+                re, im = comp * p1, comp * (p1 - p2)
+                rows.append((p1, p2, 0.0, 0.0, comp, abs(complex(re, im)), 0.0, re, im))
+    q = read_wamit_qtf(_write(tmp_path / "x.12d", rows))
+    assert q.kind == "difference" and np.allclose(q.frequencies, [2 * math.pi / 10, 2 * math.pi / 5])
+    # (ω for 10 s, ω for 5 s) given, the mirror is its conjugate
+    assert q.values[0, 1, 0, 0, 2] == pytest.approx(complex(30.0, 15.0))
+    assert q.values[1, 0, 0, 0, 2] == pytest.approx(complex(30.0, -15.0))
+    with pytest.raises(OpenFASTFormatError, match="too sparse"):
+        read_wamit_qtf(_write(tmp_path / "y.12d", [r for r in rows if not (r[0] == 5.0 and r[4] == 4)]))
+    with pytest.raises(OpenFASTFormatError, match="line 2: expected 9 numbers"):
+        read_wamit_qtf(_write(tmp_path / "z.12d", [rows[0], rows[1][:8]]))
+
+
+@pytest.fixture(scope="module")
+def stock_semi():
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "control"))
+    import _rosco
+
+    fst = _rosco.rosco_test_case("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi.fst")
+    if fst is None:
+        pytest.skip("the ROSCO 2.10.6 wheel is not cached and could not be fetched with pip")
+    return fst
+
+
+def test_stock_deck_forces_match_hydrodyn(stock_semi):
+    from mbsym.wind.analysis.compare import read_csv
+    from mbsym.wind.offshore.platform import platform_hydrodynamics
+
+    d = stock_semi.parent
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ph = platform_hydrodynamics(d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat", water_density=1025.0, gravity=9.81,
+                                    seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat", water_depth=200.0)
+    ref = read_csv(DATA / "umainesemi_stock_wvs.csv")
+    t = np.asarray(ref.time)
+    total = ph.waves.at(t)
+    qtf = read_wamit_qtf(d / "HydroData" / "IEA-15-240-RWT-UMaineSemi.12d").redimensionalize(1025.0, 9.81, 1.0)
+    sea = ph.waves.waves
+    second = difference_frequency_forces(qtf, sea, band=(0.111527, 3.2), difference_band=(0.0, 0.737863))
+    second = second[np.rint(t / sea.time_step).astype(int) % sea.n_steps]
+    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
+    for k, name in enumerate(names):
+        theirs = np.asarray(ref.channel(name))
+        assert np.max(np.abs(second[:, k] - theirs)) <= 1e-5 * np.std(theirs) + 1e-6, name
+    for k, name in ((0, "B1WvsFxi"), (2, "B1WvsFzi"), (4, "B1WvsMyi")):
+        theirs = np.asarray(ref.channel(name))
+        assert np.max(np.abs(total[:, k] - theirs)) <= 1e-5 * np.std(theirs), name
+    assert np.std(ref.channel("B1WvsF2xi")) > 0.01 * np.std(ref.channel("B1WvsFxi"))    # the term is there
+
+
+def test_other_second_order_options_are_refused(stock_semi, tmp_path):
+    import re
+
+    from mbsym.wind.offshore.platform import platform_hydrodynamics
+
+    d = stock_semi.parent
+    (tmp_path / "HydroData").symlink_to(d / "HydroData")
+    sea = tmp_path / "sea.dat"
+    sea.write_text((d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat").read_text())
+    text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
+    for key in ("SumQTF", "MnDrift", "NewmanApp"):
+        hd = tmp_path / f"hd_{key}.dat"
+        hd.write_text(re.sub(rf"^\s*\S+(\s+{key}\b)", r"12\1", text, count=1, flags=re.M))
+        with pytest.raises(UnsupportedFeatureError, match=f"{key}.*the full difference-frequency QTF, DiffQTF, is "
+                                                          "modelled"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            platform_hydrodynamics(hd, water_density=1025.0, gravity=9.81, seastate=sea, water_depth=200.0)
