@@ -56,7 +56,8 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
                                       "difference-frequency file (.NNd).")
     if waves.directions is not None:
         raise UnsupportedFeatureError("the difference-frequency forces are modelled for a unidirectional sea; the "
-                                      "sea is spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or DiffQTF = 0.")
+                                      "sea is spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or "
+                                      "DiffQTF = 0.")
     beta = waves.direction if heading is None else heading
     n_half = len(waves.spectrum) - 1
     a = np.asarray(waves.spectrum, dtype=complex) / n_half
@@ -75,7 +76,8 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
     terms = (a[hi] * np.conj(a[lo]))[:, None] * qtf_at(qtf, w[hi], w[lo], beta)
     h = np.zeros((n_half + 1, 6), dtype=complex)
     for m in range(6):
-        h[:, m] = 0.5 * (np.bincount(j, terms[:, m].real, n_half + 1) + 1j * np.bincount(j, terms[:, m].imag, n_half + 1))
+        real, imag = (np.bincount(j, part, n_half + 1) for part in (terms[:, m].real, terms[:, m].imag))
+        h[:, m] = 0.5 * (real + 1j * imag)
     series = 2.0 * waves.n_steps * np.fft.irfft(h, n=waves.n_steps, axis=0) + mean
     return np.vstack([series, series[:1]])
 
