@@ -165,15 +165,20 @@ class BEMRotor:
         ------
         ParameterError
             If the deck asks for a model this BEM does not reproduce (BEM_Mod = 2,
-            Wake_Mod = 3 (OLAF), multi-table airfoil interpolation).
+            Wake_Mod = 3 (OLAF), AFTabMod = 2 with several tables in an airfoil file).
         """
-        if aerodyn.wake_model not in (1, 2) or aerodyn.bem_model != 1 or \
-                aerodyn.airfoil_table_mode != 1:
+        if aerodyn.wake_model not in (1, 2) or aerodyn.bem_model != 1:
             raise ParameterError(
                 f"{aerodyn.source}: mbsym's BEM reproduces AeroDyn with Wake_Mod 1 or 2 (BEMT, "
-                f"DBEMT: same steady state), BEM_Mod = 1 and AFTabMod = 1; this deck has Wake_Mod = "
-                f"{aerodyn.wake_model}, BEM_Mod = {aerodyn.bem_model}, AFTabMod = "
-                f"{aerodyn.airfoil_table_mode}. Change the deck or compute the table elsewhere.")
+                f"DBEMT: same steady state) and BEM_Mod = 1; this deck has Wake_Mod = "
+                f"{aerodyn.wake_model}, BEM_Mod = {aerodyn.bem_model}. Change the deck or compute the table "
+                "elsewhere.")
+        several = [a.name for a in aerodyn.airfoils if a.n_tables > 1]
+        if aerodyn.airfoil_table_mode == 2 and several:
+            raise ParameterError(
+                f"{aerodyn.source}: AFTabMod = 2 interpolates the airfoil tables in Reynolds number and "
+                f"{', '.join(several[:3])} have several; mbsym's BEM reads one table per airfoil. Set AFTabMod = 1 "
+                "(the first table) or give one table per file.")
         b = aerodyn.blades[blade]
         return cls(n_blades=n_blades, hub_radius=float(hub_radius), precone=float(precone),
                    span=b.span, curve_ac=b.curve_ac, sweep_ac=b.sweep_ac,

@@ -149,7 +149,8 @@ class AeroDynInput(_Record):
     air_density, kinematic_viscosity : float or None
         AirDens [kg/m^3], KinVisc [m^2/s]; None if "default" (taken from the ``.fst``).
     airfoil_table_mode : int
-        AFTabMod (1 = first table only).
+        AFTabMod: 1 the first table of each airfoil file; 3 the table for UserProp 0 (no airfoil control); 2
+        (Reynolds-number interpolation) only with one table per file.
     airfoil_columns : tuple of int
         InCol_Alfa, InCol_Cl, InCol_Cd, InCol_Cm (1-based; Cm 0 = none).
     use_pitching_moment : bool
@@ -413,10 +414,18 @@ def read_aerodyn(path: str | Path, *, n_blades: int = 3) -> AeroDynInput:
     v = _read_main(deck, n_blades)
     deck.raise_problems()
     airfoils = []
+    user_prop = 0.0 if v["airfoil_table_mode"] == 3 else None      # AeroDyn's UserProp: 0 without airfoil control
     for j, name in enumerate(v["airfoil_files"]):
         line = deck.af_lines[j - 1][0] if j else deck.line_of("AFNames")
         airfoils.append(read_airfoil(_resolve_name(deck, name, line, "AFNames", "airfoil file"),
-                                     columns=v["airfoil_columns"]))
+                                     columns=v["airfoil_columns"], user_prop=user_prop))
+    several = [a.name for a in airfoils if a.n_tables > 1]
+    if v["airfoil_table_mode"] == 2 and several:
+        deck.problem(deck.line_of("AFTabMod"), "AFTabMod", f"2 interpolates the airfoil tables in Reynolds number; "
+                     f"{len(several)} airfoil files have several ({', '.join(several[:3])}"
+                     f"{', …' if len(several) > 3 else ''}) and mbsym reads one table per airfoil. Set AFTabMod = 1 "
+                     "(the first table) or give one table per file.")
+        deck.raise_problems()
     blades, cache = [], {}
     for k, name in enumerate(v["blade_files"], start=1):
         blade_path = _resolve(deck, f"ADBlFile({k})", f"blade {k} file").resolve()

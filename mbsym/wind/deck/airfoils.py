@@ -8,7 +8,8 @@ shape coordinates, not needed here), ``BL_file``, ``NumTabs``, then per table
 Cl, Cd and Cm are named by the AeroDyn main file (``InCol_Alfa`` ... ``InCol_Cm``;
 ``InCol_Cm = 0`` means no Cm column).
 
-mbsym reads the **first table** (what AeroDyn uses with ``AFTabMod = 1``); the
+mbsym reads the **first table** (what AeroDyn uses with ``AFTabMod = 1``), or with ``user_prop`` the table
+whose ``UserProp`` equals it (``AFTabMod = 3``, whose input is 0 without ServoDyn's airfoil control); the
 number of tables is kept in :attr:`AirfoilPolar.n_tables`.  The keys are read with
 the strict, line-numbered parser of :mod:`mbsym.wind.deck._format`; the table rows
 are read here.  Problems raise :class:`~mbsym.exceptions.OpenFASTFormatError`
@@ -65,7 +66,7 @@ class AirfoilPolar(_Record):
     interp_order : int
         1 (linear, AeroDyn's default) or 3 (cubic spline), as the file asks.
     n_tables : int
-        Number of tables in the file; only the first is kept (AFTabMod = 1).
+        Number of tables in the file; one is kept (:attr:`table`).
     source : str or None
         The file read (not compared by ``==``).
     ua : UACoefficients or None
@@ -74,6 +75,9 @@ class AirfoilPolar(_Record):
     constant_data : bool
         AeroDyn's ``ConstData``: fewer than 3 rows, or every row equal to the next in all
         coefficient columns (NWTC ``EqualRealNos`` in double precision, the shared OpenFAST build).
+    table : int
+        Which table of the file this is (0-based): the first (``AFTabMod = 1``), or the one for the airfoil
+        input ``UserProp`` (``AFTabMod = 3``).
     """
 
     name: str
@@ -87,6 +91,7 @@ class AirfoilPolar(_Record):
     source: str | None = field(default=None, compare=False)
     ua: UACoefficients | None = None
     constant_data: bool = False
+    table: int = 0
 
     def __post_init__(self) -> None:
         alpha = _readonly(self.alpha, f"AirfoilPolar({self.name}).alpha")
@@ -124,9 +129,18 @@ class AirfoilPolar(_Record):
 
 
 class _AirfoilDeck(_Deck):
-    """The keyed part of an airfoil file: everything up to the first ``NumAlf`` line."""
+    """The keyed part of an airfoil file: everything up to the first ``NumAlf`` line; with ``table = k`` the
+    tables before the k-th (0-based, each from its ``Re`` line) read as blank lines, so that the k-th is read as
+    the first with its own line numbers."""
+
+    def __init__(self, path: Path, table: int = 0) -> None:
+        self.table = table
+        super().__init__(path)
 
     def _parse(self, lines: list[str], specs: tuple) -> None:  # type: ignore[override]
+        if self.table:
+            starts = [i for i, text in enumerate(lines) if _key_of(text) == "re"]
+            lines = ["" if starts[0] <= i < starts[self.table] else text for i, text in enumerate(lines)]
         self.all_lines = lines
         self.numalf_index = next((i for i, text in enumerate(lines) if _key_of(text) == "numalf"),
                                  None)
@@ -137,9 +151,11 @@ class _AirfoilDeck(_Deck):
 def _key_of(text: str) -> str | None:
     """Canonical key of a ``<value> <Key> ! ...`` line, or None."""
     stripped = text.strip()
-    if not stripped or stripped.startswith(("!", "#", "-", "=")):
+    if not stripped or stripped.startswith(("!", "#", "=")):
         return None
     tokens = _TOKEN.findall(stripped)
+    if stripped.startswith("-") and _real(tokens[0]) is None:         # a rule of dashes, not a negative value
+        return None
     return _canon(tokens[1]) if len(tokens) > 1 else None
 
 
@@ -174,9 +190,9 @@ def _read_rows(deck: _AirfoilDeck, n_rows: int, n_cols: int) -> tuple[np.ndarray
     return np.array(rows), numbers
 
 
-def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2, 3, 4)
-                 ) -> AirfoilPolar:
-    """Read the first coefficient table of an AeroDyn (AirfoilInfo) airfoil file.
+def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2, 3, 4),
+                 user_prop: float | None = None) -> AirfoilPolar:
+    """Read a coefficient table of an AeroDyn (AirfoilInfo) airfoil file: the first, or the one for ``user_prop``.
 
     Parameters
     ----------
@@ -185,6 +201,10 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
     columns : tuple of 4 int, optional
         1-based columns of AoA, Cl, Cd and Cm (AeroDyn's ``InCol_Alfa``,
         ``InCol_Cl``, ``InCol_Cd``, ``InCol_Cm``; Cm column 0 = none).
+    user_prop : float, optional, keyword-only
+        AeroDyn's airfoil input ``UserProp`` (``AFTabMod = 3``: the tables are interpolated in it; 0 without
+        ServoDyn's airfoil control): the table whose ``UserProp`` equals it. A file of one table is read
+        whatever its ``UserProp``; a value between two tables' (AeroDyn would blend them) is refused.
 
     Returns
     -------
@@ -211,7 +231,7 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
             min(columns[:3]) < 1:
         raise ParameterError(f"columns must be 4 column numbers (AoA, Cl, Cd >= 1; Cm >= 0); got "
                              f"{columns!r}.")
-    deck = _AirfoilDeck(path)
+    deck = _AirfoilDeck(path, _table_for(path, user_prop))
     head = [t.strip() for t in deck.all_lines[:2]]
     for number, text in enumerate(head, start=1):
         if text and not text.startswith(("!", "#", "-", "=")) and _key_of(text) is not None:
@@ -248,7 +268,28 @@ def read_airfoil(path: str | Path, *, columns: tuple[int, int, int, int] = (1, 2
     deck.raise_problems()
     return AirfoilPolar(name=path.stem, alpha=alpha * _DEG, cl=cl, cd=cd, cm=cm,
                         reynolds=reynolds * 1e6, interp_order=int(interp), n_tables=n_tables,
-                        source=str(path), ua=ua, constant_data=constant)
+                        source=str(path), ua=ua, constant_data=constant, table=deck.table)
+
+
+def _table_for(path: Path, user_prop: float | None) -> int:
+    """The 0-based table of ``path`` whose ``UserProp`` is ``user_prop`` (0: the first, also without a value or
+    with one table)."""
+    if user_prop is None:
+        return 0
+    values = []
+    for number, text in enumerate(path.read_text(encoding="latin-1").splitlines(), start=1):
+        if _key_of(text) == "userprop":
+            values.append((number, _real(_TOKEN.findall(text.strip())[0])))
+    if len(values) <= 1:
+        return 0
+    for k, (_, value) in enumerate(values):
+        if value is not None and math.isclose(value, user_prop, rel_tol=0.0, abs_tol=1e-9):
+            return k
+    raise OpenFASTFormatError(
+        f"{path}, line {values[0][0]}, key 'UserProp': AFTabMod = 3 interpolates this file's "
+        f"{len(values)} tables in UserProp ({', '.join(f'{v:g}' for _, v in values if v is not None)}) at the "
+        f"airfoil input {user_prop:g} (0 without airfoil control), which no table has: mbsym reads one table and "
+        "does not blend them. Add a table for it, or set AFTabMod = 1 (the first table).")
 
 
 def _read_ua_block(deck: _AirfoilDeck) -> dict[str, float | None]:

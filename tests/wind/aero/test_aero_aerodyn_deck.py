@@ -170,3 +170,50 @@ def test_missing_files_are_named(tmp_path):
         read_airfoil(tmp_path / "absent.dat")
     with pytest.raises(OpenFASTFormatError, match="AeroDyn blade file not found"):
         read_aerodyn_blade(tmp_path / "absent.dat")
+
+
+def _flap_airfoil(path: Path) -> Path:
+    """DU21_A17 as three tables for flap settings UserProp -10, 0, 10 (Cl shifted by -0.2, 0, +0.2)."""
+    lines = (path / "Airfoils" / "DU21_A17.dat").read_text().splitlines()
+    start = next(i for i, t in enumerate(lines) if re.search(r"\bRe\b", t))
+    head, table = lines[:start], lines[start:]
+    numalf = next(i for i, t in enumerate(table) if "NumAlf" in t)
+    blocks = []
+    for prop, shift in ((-10, -0.2), (0, 0.0), (10, 0.2)):
+        block = [re.sub(r"^\s*\S+(\s+UserProp)", f"{prop}\\1", t) for t in table]
+        rows = [t.split() for t in block[numalf + 1:] if t.strip() and not t.strip().startswith("!")]
+        block[numalf + 1:] = [" ".join([r[0], f"{float(r[1]) + shift:.6f}", *r[2:]]) for r in rows]
+        blocks += block
+    text = "\n".join(head + blocks).replace("1   NumTabs", "3   NumTabs")
+    out = path / "Airfoils" / "FLAP.dat"
+    out.write_text(text + "\n")
+    return out
+
+
+def test_airfoil_table_for_the_user_property(deck_copy):
+    """AFTabMod = 3: the table whose UserProp is the airfoil input (0 without ServoDyn's airfoil control);
+    AFTabMod = 1 the first; a value between tables (AeroDyn blends them) is refused with the file and line."""
+    flap = _flap_airfoil(deck_copy)
+    base = read_airfoil(deck_copy / "Airfoils" / "DU21_A17.dat")
+    first, middle = read_airfoil(flap), read_airfoil(flap, user_prop=0.0)
+    assert (first.n_tables, first.table, middle.table) == (3, 0, 1)
+    np.testing.assert_allclose(first.cl, base.cl - 0.2, atol=1e-6)
+    np.testing.assert_allclose(middle.cl, base.cl, atol=1e-6)
+    assert read_airfoil(flap, user_prop=10.0).cl[70] == pytest.approx(base.cl[70] + 0.2, abs=1e-6)
+    with pytest.raises(OpenFASTFormatError, match=r"FLAP.dat, line \d+, key 'UserProp': AFTabMod = 3.*at the "
+                                                  r"airfoil input 5"):
+        read_airfoil(flap, user_prop=5.0)
+
+
+def test_aerodyn_deck_reads_the_table_its_mode_asks(deck_copy):
+    flap = _flap_airfoil(deck_copy)
+    main_file = deck_copy / AERODYN_MAIN.name
+    main = main_file.read_text()
+    main = re.sub(r'"Airfoils/DU21_A17\.dat"', f'"Airfoils/{flap.name}"', main, count=1)
+    for mode, table in ((1, 0), (3, 1)):
+        main_file.write_text(re.sub(r"^\s*\S+(\s+AFTabMod\b)", f"{mode}\\1", main, count=1, flags=re.M))
+        ad = read_aerodyn(main_file)
+        assert [a.table for a in ad.airfoils if a.name == "FLAP"] == [table]
+    main_file.write_text(re.sub(r"^\s*\S+(\s+AFTabMod\b)", r"2\1", main, count=1, flags=re.M))
+    with pytest.raises(OpenFASTFormatError, match="AFTabMod.*Reynolds number.*FLAP"):
+        read_aerodyn(main_file)

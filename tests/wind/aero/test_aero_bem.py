@@ -145,10 +145,15 @@ def test_unsupported_aerodyn_models_are_refused():
     from mbsym.wind.deck.nrel5mw_aero import nrel5mw_aerodyn
 
     ad = nrel5mw_aerodyn()
-    for change in ({"bem_model": 2}, {"wake_model": 3}, {"wake_model": 0},
-                   {"airfoil_table_mode": 2}):
+    for change in ({"bem_model": 2}, {"wake_model": 3}, {"wake_model": 0}):
         with pytest.raises(ParameterError, match="BEM_Mod = 1"):
             BEMRotor.from_aerodyn(dataclasses.replace(ad, **change), hub_radius=1.5, precone=0.0)
+    # AFTabMod 2 (Reynolds interpolation) is AeroDyn's first table when each file has one; refused with several
+    BEMRotor.from_aerodyn(dataclasses.replace(ad, airfoil_table_mode=2), hub_radius=1.5, precone=0.0)
+    several = (dataclasses.replace(ad.airfoils[0], n_tables=3),) + tuple(ad.airfoils[1:])
+    with pytest.raises(ParameterError, match="AFTabMod = 2 interpolates"):
+        BEMRotor.from_aerodyn(dataclasses.replace(ad, airfoil_table_mode=2, airfoils=several), hub_radius=1.5,
+                              precone=0.0)
 
 
 # ----------------------------------------------------------------------------- AeroDyn

@@ -164,7 +164,7 @@ class BladeElementRotor:
             Unsteady airfoil aerodynamics other than ``UA_Mod = 3`` (:func:`.unsteady.unsteady_nodes`),
             ``Skew_Mod = -1``, frozen wake
             (``DBEMT_Mod = -1``), or anything :meth:`BEMRotor.from_aerodyn` refuses (BEM_Mod 2,
-            OLAF, AFTabMod != 1).
+            OLAF).
         """
         problems = []
         if aerodyn.skew_model == -1:
