@@ -44,11 +44,12 @@ def test_the_reference_needs_the_losses():
 
 
 @pytest.mark.slow
-def test_stock_deck_matches_openfast(deck_and_lib, tmp_path):
+def test_stock_deck_matches_openfast(deck_and_lib, tmp_path, monkeypatch):
     from mbsym.cli import main
     from mbsym.wind.analysis.compare import read_csv
 
     fst, lib = deck_and_lib
+    monkeypatch.chdir(tmp_path)                       # the library's own log files land here
     deck = tmp_path / "deck"
     shutil.copytree(fst.parent, deck)
     out = tmp_path / "run.csv"
