@@ -304,5 +304,5 @@ def turbine_and_control(fst: str | Path | None = None, *, discon_in: str | Path 
         raise ControllerError(f"controller input file not found: tried '{source}'"
                               + ("" if discon_in is not None else f" (ServoDyn DLL_InFile of {fst})")
                               + ". Fix the path or pass --discon-input DISCON.IN.")
-    options = {"disk_moments": True} if (aero or deck.default_aero()) == "rotor" else {}
+    options = {"disk_moments": True, "wind_given": True} if (aero or deck.default_aero()) == "rotor" else {}
     return deck.model(aero=aero, **options), SteadyControl.from_discon(source), deck.label

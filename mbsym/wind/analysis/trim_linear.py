@@ -33,6 +33,7 @@ from scipy.optimize import linear_sum_assignment
 from ...exceptions import DimensionError, ModelDefinitionError
 from ...linear import LinearModel
 from ..operation.units import INPUT_UNITS as OPERATION_INPUT_UNITS
+from ..structure.mbc import rotating_triplets
 
 __all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell", "SI_UNITS", "to_si",
            "INPUT_UNITS", "STATE_LABELS", "mode_label"]
@@ -109,8 +110,11 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     keep_azimuth : bool, optional, keyword-only
         Keep the free generator azimuth ``GeAz`` as a state. By default it is left out (as
         OpenFAST users do after MBC): it only integrates the rotor speed, and its zero
-        eigenvalue with a zero at the origin makes ``dcgain`` 0 in python-control.
-        Refused (:meth:`LinearModel.without_states`) if anything depends on it.
+        eigenvalue with a zero at the origin makes ``dcgain`` 0 in python-control. With blade
+        DOFs the model depends on the azimuth: by default it is then averaged over
+        :data:`N_AZIMUTH` azimuths in multi-blade coordinates (``F1_coll``, ``F1_cos``, ``F1_sin`` …,
+        as OpenFAST's MBC3), and ``keep_azimuth=True`` gives the model at the trim's azimuth in
+        the blades' own coordinates.
     inflow : {"dynamic", "frozen", "quasi-steady"}, optional, keyword-only
         The rotor-averaged DBEMT states kept (default), removed with the induction held at the
         trim (as OpenFAST's frozen-wake linearization), or in equilibrium with the inflow
@@ -137,6 +141,8 @@ def linearize_point(trimmer, point, *, outputs: Sequence[str] | None = None,
     dyn, model = trimmer.dyn, trimmer.model
     default = ("RotSpeed", "GenSpeed", "BldPitch1", "GenPwr", "RtAeroFxh", "TTDspFA", "TwrBsMyt", "YawBrTAxp")
     names = tuple(outputs) if outputs is not None else tuple(n for n in default if n in dyn.output_names)
+    if not keep_azimuth and "GeAz" in dyn.states and rotating_triplets(model.structure.eom.coordinates):
+        return with_inflow(_azimuth_average(trimmer, point, names, keep_azimuth), inflow)
     lin = linearize_dynamics(dyn, point.state, point.inputs, dict(point.parameters), outputs=names)
     # the waves' velocity at Morison members: quadratic drag, no first-order effect about a still-water trim
     keep = [i for i, n in enumerate(dyn.inputs) if not n.startswith("MorisonU")]
@@ -180,17 +186,75 @@ def to_si(unit: str) -> tuple[float, str]:
     return SI_UNITS.get(unit, (1.0, unit))
 
 
-def structural_mass_matrix(trimmer, point) -> np.ndarray:
-    """The structure's mass matrix [kg, kg m, kg m²] at the point (pitch from the actuator state)."""
+#: Azimuths of one revolution at which a model with blade DOFs is linearized and averaged (OpenFAST's MBC3 users
+#: take 12 to 36; the blade-element rung's default is 12 too).
+N_AZIMUTH = 12
+
+
+def _azimuth_average(trimmer, point, names: tuple[str, ...], keep_azimuth: bool) -> LinearModel:
+    """The linear model of a trimmed rotor-effective turbine with blade DOFs: exact Jacobians at
+    :data:`N_AZIMUTH` rotor azimuths of the trimmed state (the other states held), each written in multi-blade
+    coordinates and averaged (:func:`~.blade_linear.mbc_average`), as OpenFAST's MBC3; the azimuth left out
+    unless kept. The mass matrix is the azimuth average of ``T1ᵀ M T1``."""
+    from ..structure.mbc import blade_indices, coleman_matrices, mbc_names
+    from .blade_linear import mbc_average
+
+    dyn, model = trimmer.dyn, trimmer.model
+    eom = model.structure.eom
+    keep = [i for i, n in enumerate(dyn.inputs) if not n.startswith("MorisonU")]
+    i_az = dyn.states.index("GeAz")
+    states, jac, masses = [], {k: [] for k in ("A", "B", "C", "D")}, []
+    ys = []
+    for k in range(N_AZIMUTH):
+        x = point.state.copy()
+        x[i_az] = point.state[i_az] + 2.0 * math.pi * k / N_AZIMUTH
+        lin = linearize_dynamics(dyn, x, point.inputs, dict(point.parameters), outputs=names)
+        for key in jac:
+            jac[key].append(np.asarray(lin[key]))
+        states.append(x)
+        ys.append(lin["y"])
+        masses.append(structural_mass_matrix(trimmer, point, state=x))
+    factors, si_units = zip(*(to_si(u) for u in lin["units"])) if names else ((), ())
+    scale = np.asarray(factors, dtype=float).reshape(-1, 1)
+    sel = {"A": np.array(jac["A"]), "B": np.array(jac["B"])[:, :, keep], "C": np.array(jac["C"]) * scale[None],
+           "D": np.array(jac["D"])[:, :, keep] * scale[None], "x": np.array(states)}
+    frame = model.structure.rotating_frame()
+    X = np.array(states)[:, :eom.n_q]
+    blade_az = frame.azimuths(X[:, eom.coordinates.index("GeAz")], X)
+    xs = point.x()
+    speed = xs.get("GeAz_d", 0.0) + xs.get("DrTr_d", 0.0)
+    inputs = tuple(dyn.inputs[i] for i in keep)
+    avg = mbc_average(sel, dyn.states, inputs, names, blade_az, speed, keep_azimuth=keep_azimuth)
+    groups = blade_indices(eom.coordinates)
+    Mbar = sum(coleman_matrices(eom.n_q, groups, psi).T1.T @ M @ coleman_matrices(eom.n_q, groups, psi).T1
+               for M, psi in zip(masses, blade_az)) / N_AZIMUTH
+    on = [i for i, c in enumerate(eom.coordinates) if keep_azimuth or c != "GeAz"]
+    coords = mbc_names(eom.coordinates, groups)
+    units = dict(zip(dyn.states, dyn.state_units))
+    op = {"x": avg["x"], "u": np.asarray(point.inputs)[keep].copy(), "p": dict(point.parameters),
+          "y": np.mean(ys, axis=0) * scale.reshape(-1), "wind_speed": point.wind_speed, "regime": point.regime,
+          "blade_azimuths": blade_az, "rotor_speed": speed}
+    empty = np.zeros((0, 0))
+    return LinearModel(0.5 * (Mbar + Mbar.T)[np.ix_(on, on)], empty, empty, np.zeros((0, len(keep))), avg["A"],
+                       avg["B"], tuple(coords[i] for i in on), avg["states"], avg["inputs"], op,
+                       outputs=avg["outputs"], Cy=avg["C"], Dy=avg["D"], output_units=tuple(si_units),
+                       method="exact", units={avg["states"][j]: units[dyn.states[i]] for j, i in
+                                              enumerate(avg["keep"])},
+                       input_units=tuple(dyn.input_units[i] for i in keep))
+
+
+def structural_mass_matrix(trimmer, point, *, state=None) -> np.ndarray:
+    """The structure's mass matrix [kg, kg m, kg m²] at the point (pitch from the actuator state), or at
+    ``state`` (the model's state vector) with the point's loads."""
     eom = trimmer.model.structure.eom
-    x = point.x()
+    x = point.x() if state is None else dict(zip(point.state_names, np.asarray(state).tolist()))
     values = {"BlPitch": x["BlPitch"], "BlPitch_d": x["BlPitch_d"], "BlPitch_dd": 0.0, "GenTq": x["GenTq"],
               "RotThrust": point["RtAeroFxh"], "RotTorq": point["RtAeroMxh"],
               "GeAz": x.get("GeAz", 0.0), "GeAz_d": point.parameters.get("rotor_speed", 0.0), "GeAz_dd": 0.0}
     u_struct = np.array([values.get(n, 0.0) for n in eom.inputs])
     p_struct = np.array([point.parameters[n] for n in eom.parameters])
     mass = eom.functions.mass_matrix
-    q = point.state[:eom.n_q]
+    q = (point.state if state is None else np.asarray(state))[:eom.n_q]
     M = mass(q, u_struct, p_struct) if mass.n_in() == 3 else mass(q, p_struct)
     return np.asarray(M, dtype=float)
 
@@ -311,7 +375,8 @@ def mode_label(mode) -> str:
     """Words for a mode of an operating turbine's linear model (a :class:`mbsym.linear.state_modes.StateMode`).
 
     Structural state groups by :data:`~.campbell_diagram.DOF_LABELS` ("1st tower fore-aft"),
-    blade DOFs as "blade 1 1st flap", actuators, inflow and rotor speed by :data:`STATE_LABELS`,
+    blade DOFs as "blade 1 1st flap" or in multi-blade coordinates as "1st flap collective", "1st edge cyclic
+    (cos)", actuators, inflow and rotor speed by :data:`STATE_LABELS`,
     any other state (a controller's) as "controller state <name>" when its name is qualified
     (``baseline.first``), else by its name; a rigid-body mode as "rigid body (<group>)".
 
@@ -327,9 +392,13 @@ def mode_label(mode) -> str:
     name = mode.dominant_dof
     if getattr(mode, "rigid_body", False):
         return f"rigid body ({name})"
+    words = {"F1": "1st flap", "E1": "1st edge", "F2": "2nd flap"}
     blade = blade_dof(name)
     if blade:
-        return f"blade {blade[0]} " + {"F1": "1st flap", "E1": "1st edge", "F2": "2nd flap"}.get(blade[1], blade[1])
+        return f"blade {blade[0]} " + words.get(blade[1], blade[1])
+    stem, _, part = name.rpartition("_")
+    if stem in words and part in ("coll", "cos", "sin"):             # multi-blade coordinates
+        return f"{words[stem]} " + {"coll": "collective", "cos": "cyclic (cos)", "sin": "cyclic (sin)"}[part]
     if name in STATE_LABELS:
         return STATE_LABELS[name]
     if name in DOF_LABELS:

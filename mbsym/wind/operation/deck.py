@@ -144,9 +144,12 @@ class OperatingDeck:
         return self.rotor_source
 
     def model(self, *, dofs: Sequence[str] | None = None, aero: str | None = None, t_end: float | None = None,
-              **options) -> OperatingTurbine:
+              wind_given: bool = False, **options) -> OperatingTurbine:
         """The :class:`OperatingTurbine` (DOFs: ``dofs``, else the deck's; ``aero``: ``"blade"`` or
         ``"rotor"``, else :meth:`default_aero`), with ServoDyn's yaw spring and damper.
+
+        ``wind_given``: the caller gives the wind (a trim at a hub-height speed), so a rotor-effective model is
+        built whatever the deck's InflowWind holds (a full field is refused otherwise).
 
         ServoDyn's settings that act on the modelled DOFs before ``t_end`` [s] (default the deck's
         TMax) are modelled or refused (:func:`~mbsym.wind.deck.servo_audit.servo_audit`), and so are
@@ -172,7 +175,7 @@ class OperatingDeck:
         options.setdefault("platform", self.platform)
         if aero == "blade":
             return self._blade_model(dofs, **options)
-        if self.inflow is not None and self.inflow.wind_type not in (1, 2):
+        if self.inflow is not None and self.inflow.wind_type not in (1, 2) and not wind_given:
             from ...exceptions import WindInputError
 
             raise WindInputError(f"{self.label}: the rotor-effective model (aero='rotor') takes a hub-height wind; the "

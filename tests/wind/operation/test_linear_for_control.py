@@ -157,28 +157,59 @@ def test_linearize_wind_refuses_structural_flags():
         assert main(["linearize", "--keep-azimuth"]) == 2
 
 
+def test_linearize_wind_on_a_full_field_deck_with_flexible_blades():
+    """The shared ff14_flex deck (flexible blades, drivetrain, 2 tower modes; a TurbSim field in its InflowWind):
+    the trim at --wind U ignores the deck's field (before: refused, "takes a hub-height wind"), and the blades make
+    the model depend on the azimuth, so it is averaged over 12 azimuths in multi-blade coordinates (before: refused,
+    the azimuth could not be left out). References: the cyclic flap modes in the fixed frame are the rotating-frame
+    mode shifted by ±Ω (backward and forward whirl): their frequencies differ by 2Ω = 0.403 Hz at 12.1 rpm, here to
+    2 % (the rotor's coupling moves them a little); the modes are the eigenvalues of A."""
+    from _op_data import INPUTS, need
+    from mbsym.cli import main
+
+    from contextlib import redirect_stderr
+
+    fst = need(INPUTS / "ff14_flex" / "ff14_flex.fst")
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        assert main(["linearize", str(fst), "--wind", "14", "--json"]) == 0
+    assert "no aerodynamic load on blade" in err.getvalue()                # the rung is said
+    report = json.loads(out.getvalue().strip().splitlines()[-1])
+    states = report["states"]
+    assert "GeAz" not in states and {"F1_coll", "F1_cos", "F1_sin", "E1_coll", "DrTr"} <= set(states)
+    lam = np.linalg.eigvals(np.array(report["A"]))
+    lam = lam[lam.imag >= 0]
+    np.testing.assert_allclose(sorted(m["freq_hz"] for m in report["modes"]), sorted(np.abs(lam) / (2 * math.pi)),
+                               rtol=1e-9, atol=1e-12)
+    flap = sorted(m["freq_hz"] for m in report["modes"] if m["label"].startswith("1st flap cyclic"))
+    assert len(flap) == 2 and flap[1] - flap[0] == pytest.approx(2 * 12.1 / 60, rel=0.02)
+    labels = {m["label"] for m in report["modes"]}
+    assert {"1st flap collective", "1st tower fore-aft", "drivetrain torsion", "pitch actuator"} <= labels
+
+
 @pytest.mark.slow
 def test_linearize_wind_on_a_deck_with_flexible_blades(rosco_deck, tmp_path):
     """ROSCO's NREL 5 MW deck (16 DOFs: the trim runs on the MX graph). Its flexible blades make the model depend
-    on the azimuth (gravity), so the azimuth cannot be left out: a typed error says so; --keep-azimuth gives the
-    model. References: the modes are the eigenvalues of A; the yaw mode carries ServoDyn's YawSpr."""
+    on the azimuth (gravity): by default it is averaged over 12 azimuths in multi-blade coordinates (the yaw mode
+    carries ServoDyn's YawSpr); --keep-azimuth gives the model at the trim's azimuth in the blades' coordinates.
+    References: the modes are the eigenvalues of A."""
     from contextlib import redirect_stderr
 
     from _op_data import runnable_rosco_deck
     from mbsym.cli import main
 
     fst = runnable_rosco_deck(rosco_deck, tmp_path / "deck")
-    err = io.StringIO()
-    with redirect_stderr(err), redirect_stdout(io.StringIO()):
-        assert main(["linearize", str(fst), "--wind", "14", "--json"]) == 2
-    assert "cannot remove ['GeAz (column of A)']" in err.getvalue() and "--keep-azimuth" in err.getvalue()
-    out = io.StringIO()
-    with redirect_stderr(io.StringIO()), redirect_stdout(out):
-        assert main(["linearize", str(fst), "--wind", "14", "--json", "--keep-azimuth"]) == 0
-    report = json.loads(out.getvalue().strip().splitlines()[-1])
-    lam = np.linalg.eigvals(np.array(report["A"]))
-    lam = lam[lam.imag >= 0]
-    np.testing.assert_allclose(sorted(m["freq_hz"] for m in report["modes"]), sorted(np.abs(lam) / (2 * math.pi)),
-                               rtol=1e-9, atol=1e-12)
-    labels = {m["label"] for m in report["modes"]}
-    assert {"nacelle yaw", "drivetrain torsion", "blade 1 1st flap", "pitch actuator", "1st tower fore-aft"} <= labels
+    for extra, expected in (([], {"nacelle yaw", "drivetrain torsion", "1st flap collective", "pitch actuator",
+                                  "1st tower fore-aft"}),
+                            (["--keep-azimuth"], {"nacelle yaw", "drivetrain torsion", "blade 1 1st flap",
+                                                  "pitch actuator", "1st tower fore-aft"})):
+        out = io.StringIO()
+        with redirect_stderr(io.StringIO()), redirect_stdout(out):
+            assert main(["linearize", str(fst), "--wind", "14", "--json", *extra]) == 0
+        report = json.loads(out.getvalue().strip().splitlines()[-1])
+        assert ("GeAz" in report["states"]) == bool(extra)
+        lam = np.linalg.eigvals(np.array(report["A"]))
+        lam = lam[lam.imag >= 0]
+        np.testing.assert_allclose(sorted(m["freq_hz"] for m in report["modes"]),
+                                   sorted(np.abs(lam) / (2 * math.pi)), rtol=1e-9, atol=1e-12)
+        assert expected <= {m["label"] for m in report["modes"]}
