@@ -60,7 +60,7 @@ def _turbine_and_controller(deck_path, discon_in):
         raise ControllerError(f"{deck_path}: the deck names no controller input file (ServoDyn DLL_InFile); the "
                               "closed loop needs the controller's settings (a ROSCO DISCON.IN): pass --discon-input.")
     controller = BaselineController(deck.baseline_settings(discon_in=discon_in))
-    return deck.model(aero="rotor", disk_moments=True), controller, deck.label
+    return deck.model(aero="rotor", disk_moments=True, wind_given=True), controller, deck.label
 
 
 def run_closed_loop(args) -> int:

@@ -185,6 +185,11 @@ def test_linearize_wind_on_a_full_field_deck_with_flexible_blades():
     assert len(flap) == 2 and flap[1] - flap[0] == pytest.approx(2 * 12.1 / 60, rel=0.02)
     labels = {m["label"] for m in report["modes"]}
     assert {"1st flap collective", "1st tower fore-aft", "drivetrain torsion", "pitch actuator"} <= labels
+    out = io.StringIO()
+    with redirect_stdout(out), redirect_stderr(io.StringIO()):                 # the closed loop too
+        assert main(["linearize", str(fst), "--wind", "14", "--closed-loop", "--json"]) == 0
+    loop = json.loads(out.getvalue().strip().splitlines()[-1])
+    assert loop["success"] == [True] and loop["pitch_gain_margin_db"][0] > 0
 
 
 @pytest.mark.slow
