@@ -377,6 +377,7 @@ def mode_label(mode) -> str:
     Structural state groups by :data:`~.campbell_diagram.DOF_LABELS` ("1st tower fore-aft"),
     blade DOFs as "blade 1 1st flap" or in multi-blade coordinates as "1st flap collective", "1st edge cyclic
     (cos)", actuators, inflow and rotor speed by :data:`STATE_LABELS`,
+    HydroDyn's radiation and excitation states as "radiation memory (Rdtn7)",
     any other state (a controller's) as "controller state <name>" when its name is qualified
     (``baseline.first``), else by its name; a rigid-body mode as "rigid body (<group>)".
 
@@ -385,6 +386,10 @@ def mode_label(mode) -> str:
     >>> from mbsym.linear.state_modes import StateMode
     >>> mode_label(StateMode(7.96, 0.7, 5.7, -35 + 35.7j, "BlPitch"))
     'pitch actuator'
+    >>> mode_label(StateMode(0.07, 0.54, 0.4, -0.24 + 0.37j, "Rdtn26"))
+    'radiation memory (Rdtn26)'
+    >>> mode_label(StateMode(0.6, 0.02, 3.8, -0.08 + 3.8j, "F1_coll"))
+    '1st flap collective'
     """
     from ..structure.dofs import blade_dof
     from .campbell_diagram import DOF_LABELS
@@ -401,6 +406,9 @@ def mode_label(mode) -> str:
         return f"{words[stem]} " + {"coll": "collective", "cos": "cyclic (cos)", "sin": "cyclic (sin)"}[part]
     if name in STATE_LABELS:
         return STATE_LABELS[name]
+    for prefix, words in (("Rdtn", "radiation memory"), ("Exctn", "wave-excitation state")):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            return f"{words} ({name})"
     if name in DOF_LABELS:
         return DOF_LABELS[name]
     return f"controller state {name}" if "." in name else name
