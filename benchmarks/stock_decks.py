@@ -1,8 +1,9 @@
 """The `rosco` 2.10.6 wheel's own OpenFAST decks, as shipped, in mbsym and in OpenFAST: accuracy and speed.
 
 Each deck is copied and changed only where it cannot run as shipped (ServoDyn's placeholder ``DLL_FileName`` = the
-wheel's ``libdiscon.so``; BAR_10 ``CompElast`` 2 → 1, ElastoDyn blades instead of BeamDyn) and where the run is
-set up (``TMax``, text output ``ES15.7E2``). OpenFAST (the baseline, the same run) and ``mbsym simulate DECK`` with
+wheel's ``libdiscon.so``; BAR_10 ``CompElast`` 2 → 1, ElastoDyn blades instead of BeamDyn, and ROSCO's
+``Flp_Mode`` 2 → 0: with ServoDyn's ``AfCmode`` 0 the library's flap control stops with a segmentation fault in
+OpenFAST as in mbsym) and where the run is set up (``TMax``, text output ``ES15.7E2``). OpenFAST (the baseline, the same run) and ``mbsym simulate DECK`` with
 the deck's defaults run one after the other; the table gives per channel the means over ``[T0, TMax]`` (mbsym's
 relative to OpenFAST's) and ε = mean|y − y_OF| / range(y_OF), and per deck the wall times: OpenFAST's whole run,
 mbsym's whole run (with compilation unless cached on disk) and its integration.
@@ -35,7 +36,7 @@ from _report import write_section  # noqa: E402
 CASES = {
     "NREL_2p8_127": ("NREL_2p8_127", "NREL-2p8-127.fst", {}, ("RotSpeed", "GenPwr", "RootMyc1", "RootMxc1")),
     "BAR_10": ("BAR_10", "BAR_10.fst", {"CompElast": "1"}, ("RotSpeed", "GenPwr", "BldPitch1", "RootMyc1",
-                                                              "TwrBsMyt")),
+                                                              "RootMxc1", "TwrBsMyt")),
     "UMaineSemi": ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi.fst", {},
                    ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "TwrBsMyt")),
     "NREL-5MW": ("NREL-5MW", "NREL-5MW.fst", {}, ("RotSpeed", "GenPwr", "BldPitch1", "RootMyc1", "TwrBsMyt")),
@@ -65,6 +66,10 @@ def prepare(wheel: Path, work: Path, name: str, tmax: float) -> Path:
                          encoding="latin-1")
     for key, value in {"TMax": f"{tmax:g}", "OutFileFmt": "1", "OutFmt": '"ES15.7E2"', **edits}.items():
         _set(fst, key, value)
+    for discon in fst.parent.glob("*DISCON.IN"):         # ROSCO's flap control crashes the library in both tools
+        text = discon.read_text(encoding="latin-1")     # when ServoDyn passes no flap (AfCmode 0): BAR_10's
+        discon.write_text(re.sub(r"^(\s*)\S+(\s+!\s*Flp_Mode\b)", r"\g<1>0\2", text, count=1, flags=re.M),
+                          encoding="latin-1")
     return fst
 
 
