@@ -393,9 +393,31 @@ def _controller(kind, args, deck):
     if deck.path is None and args.discon_input is None:
         print(f"wrote the built-in NREL 5 MW controller input (ROSCO 2.10.6 settings) to {infile} and "
               f"{infile.parent / 'Cp_Ct_Cq.txt'}; the library reads them", flush=True)
+    _warn_flap_control(infile, deck)
     handle = DisconController(library, infile, dt=deck.controller_dt, n_blades=deck.turbine.number_of_blades,
                               lidar=run_lidar(args, deck))
     return discon_in_loop(handle), handle
+
+
+def _warn_flap_control(infile, deck) -> None:
+    """A ROSCO input asking for flap control (``Flp_Mode`` > 0) where ServoDyn sends no airfoil commands
+    (``AfCmode`` 0, the only mode mbsym models): ROSCO 2.10.6's library stops with a segmentation fault at its first
+    call in that set-up, in OpenFAST v5.0.0 too (the wheel's BAR_10 deck), and takes the process down: say so."""
+    import warnings
+
+    from ..exceptions import ModelWarning, OpenFASTFormatError
+    from ..wind.deck.discon_in import read_discon_in
+
+    try:
+        flap = int(read_discon_in(infile)["Flp_Mode"] or 0)
+    except (OpenFASTFormatError, KeyError, TypeError, ValueError, OSError):
+        return                                   # not a ROSCO input: nothing to say
+    servo = getattr(deck, "servodyn", None)
+    if flap and int(getattr(servo, "airfoil_control_mode", 0) or 0) == 0:
+        warnings.warn(f"{infile}: Flp_Mode = {flap} asks ROSCO for flap control, but ServoDyn's AfCmode is 0 (no "
+                      "airfoil commands reach AeroDyn); ROSCO 2.10.6's library crashes (segmentation fault) at its "
+                      "first call in this set-up, in OpenFAST too. Set Flp_Mode = 0 if it does.", ModelWarning,
+                      stacklevel=2)
 
 
 
