@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import OpenFASTFormatError
+from .wamit import _rows
 
 __all__ = ["QtfData", "read_wamit_qtf"]
 
@@ -68,7 +69,7 @@ def read_wamit_qtf(path) -> QtfData:
         raise OpenFASTFormatError(f"WAMIT second-order file not found: tried '{p.absolute()}'. Check PotFile in the "
                                   "HydroDyn file (the root name) and the DiffQTF / SumQTF number (the extension).")
     kind = "sum" if p.suffix.lower().endswith("s") else "difference"
-    rows = _rows(p)
+    rows = np.array(_rows(p, (9,), "second-order (PER1 PER2 BETA1 BETA2 I MOD PHS RE IM)")[0])
     rows = rows[(rows[:, 0] != 0) & (rows[:, 1] != 0)]             # ω = ∞: HydroDyn's grid is zero there
     omega = np.where(rows[:, :2] < 0, 0.0, 2.0 * math.pi / np.abs(rows[:, :2]))
     freqs = np.unique(np.round(omega, 12))
@@ -98,25 +99,6 @@ def read_wamit_qtf(path) -> QtfData:
             f"{heads[i[3]]:g} deg, component {i[4] + 1}, nor for its mirror: HydroDyn's interpolation needs every "
             "entry of the grid (the file is too sparse). Regenerate it with WAMIT over the full grid.")
     return QtfData(freqs, heads, values, kind, str(p))
-
-
-def _rows(p: Path) -> np.ndarray:
-    out = []
-    for number, text in enumerate(p.read_text(encoding="latin-1").splitlines(), start=1):
-        tokens = text.split()
-        if not tokens:
-            continue
-        try:
-            row = [float(t.replace("D", "E").replace("d", "e")) for t in tokens]
-        except ValueError:
-            row = []
-        if len(row) != 9 or not all(map(math.isfinite, row)):
-            raise OpenFASTFormatError(f"{p}, line {number}: expected 9 numbers (PER1 PER2 BETA1 BETA2 I MOD PHS RE "
-                                      f"IM), got {text.strip()[:70]!r}. Regenerate the file with WAMIT or fix it.")
-        out.append(row)
-    if not out:
-        raise OpenFASTFormatError(f"{p}: the WAMIT second-order file has no data rows. Regenerate it with WAMIT.")
-    return np.array(out)
 
 
 def _fill(values: np.ndarray, seen: np.ndarray, kind: str) -> None:
