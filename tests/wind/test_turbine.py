@@ -10,9 +10,10 @@ References
 - Gravity off, zero displacements and speeds is an equilibrium for any DOF set: the accelerations
   are zero (1e-12) and a short simulation stays at rest.
 - ElastoDyn.f90 (SetOtherParameters, FillAugMat): two-bladed hubs have Hubg1Iner = Hubg2Iner =
-  (HubIner - HubMass (UndSling - HubCM)^2) / cos^2 Delta3; tower concentrated masses (TwCMass) load
-  the tower. The template has neither, so such decks must be refused with every problem listed at once
-  (STYLE.md). (GBoxEff < 100 %, refused here once, is modelled: tests/wind/operation/test_gearbox_losses.py.)
+  (HubIner - HubMass (UndSling - HubCM)^2) / cos^2 Delta3: the template does not model it, so such decks must
+  be refused with every problem listed at once (STYLE.md). (GBoxEff < 100 % and tower concentrated masses,
+  refused here once, are modelled: tests/wind/operation/test_gearbox_losses.py,
+  tests/wind/test_tower_point_masses.py.)
 """
 
 import itertools
@@ -152,14 +153,15 @@ def _with_unsupported_features():
 
 
 def test_unsupported_deck_features_are_listed_in_one_error():
-    """Tower point mass, platform products of inertia and an unmodelled DOF: one ModelDefinitionError naming
-    all three, each with its deck key; the deck's gearbox losses (GBoxEff 94.4 %) are modelled, not listed."""
+    """Platform products of inertia and an unmodelled DOF: one ModelDefinitionError naming both, each with its
+    deck key; the deck's gearbox losses (GBoxEff 94.4 %) and tower point mass are modelled, not listed
+    (tests/wind/operation/test_gearbox_losses.py, tests/wind/test_tower_point_masses.py)."""
     t = _with_unsupported_features()
     with pytest.raises(mb.ModelDefinitionError) as err:
         TurbineModel(t, dofs=["PtfmPDOF", "TwFADOF1", "GenDOF", "PitchDOF"])
     msg = str(err.value)
-    assert "3 problems" in msg and "GBoxEff" not in msg
-    for part in ("NTwCMass = 1", "TwCMass [2000.0] kg", "PtfmXYIner",
+    assert "2 problems" in msg and "GBoxEff" not in msg and "TwCMass" not in msg
+    for part in ("PtfmXYIner",
                  "['PitchDOF'] are not modelled by this template yet"):
         assert part in msg, part
     # features that cannot move an enabled DOF are not reported

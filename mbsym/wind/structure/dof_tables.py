@@ -47,7 +47,7 @@ def blade_coordinate(blade: int, flag: str) -> str:
 def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
     """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
 
-    Checked: tower concentrated masses (NTwCMass > 0, with tower or platform DOFs), yaw-bearing
+    Checked: yaw-bearing
     friction (YawFrctMod != 0, with YawDOF),
     platform products of inertia (with platform DOFs) and, for two-bladed
     rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
@@ -76,11 +76,6 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
     out = []
     on = {f for f, v in dofs.items() if v}
     platform, tower = on & set(PLATFORM_FLAGS), on & set(TOWER_FLAGS)
-    cmass = np.asarray(turbine.tower.point_mass, dtype=float)
-    if (platform or tower) and np.any(cmass != 0):
-        out.append(f"tower concentrated masses (NTwCMass = {cmass.size}: TwCMass {cmass.tolist()} kg at "
-                   f"TwCMassHtFract {np.asarray(turbine.tower.point_mass_fraction).tolist()}): set NTwCMass = 0 "
-                   "or disable the tower and platform DOFs")
     products = (turbine.platform_xy_inertia, turbine.platform_yz_inertia, turbine.platform_xz_inertia)
     if platform and any(abs(x) > 0 for x in products):
         out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "

@@ -23,7 +23,8 @@ OpenFAST's ``ElastoDyn.f90``) so that results can be compared with ElastoDyn's
   ElastoDyn v5 no longer prints these frequencies in its summary; they are
   uncoupled (one mode at a time, no twist coupling) by definition.
 
-Concentrated tower masses (NTwCMass) are not included.
+Concentrated tower masses (``NTwCMass``, ``TwCMass`` at ``TwCMassHtFract``) join the mass density of the tower
+element that holds them, as ElastoDyn's ``SetTowerParameters`` does.
 """
 
 from __future__ import annotations
@@ -263,8 +264,14 @@ def tower_nodes(turbine: TurbineParameters) -> TowerNodes:
     fraction, height, length = _elements(turbine.n_tower_nodes, turbine.tower_flexible_length)
     def interp(values: np.ndarray) -> np.ndarray:
         return np.interp(fraction, tower.station_fraction, values)
-    return TowerNodes(fraction, height, length, interp(tower.adjusted_mass_density),
-                      interp(tower.adjusted_fa_stiffness), interp(tower.adjusted_ss_stiffness))
+    density = interp(tower.adjusted_mass_density)
+    for at, mass in zip(np.atleast_1d(tower.point_mass_fraction), np.atleast_1d(tower.point_mass)):
+        # ElastoDyn (SetTowerParameters): the element whose upper end reaches the mass's height takes it
+        reach = np.nonzero(fraction + 0.5 * length / turbine.tower_flexible_length >= float(at))[0]
+        i = int(reach[0]) if reach.size else len(fraction) - 1
+        density[i] += float(mass) / length[i]
+    return TowerNodes(fraction, height, length, density, interp(tower.adjusted_fa_stiffness),
+                      interp(tower.adjusted_ss_stiffness))
 
 
 def blade_nodes(turbine: TurbineParameters, blade: int = 0) -> BladeNodes:
