@@ -1,4 +1,5 @@
-"""Tower concentrated masses (ElastoDyn's NTwCMass, TwCMass at TwCMassHtFract), once refused, now modelled.
+"""ElastoDyn deck features refused once and modelled since 2026-11-30: tower concentrated masses (NTwCMass,
+TwCMass at TwCMassHtFract) and the platform's products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner).
 
 Reference: OpenFAST v5.0.0, the shared paper44_fa_gen free decay with 30 t at 55 % and 20 t at 95 % of the tower
 (tests/data/openfast_tower_cmass/README.md). ElastoDyn adds each mass to the density of the tower element that
@@ -67,3 +68,27 @@ def test_decay_with_tower_masses_matches_openfast(tmp_path):
                                                                   point_mass=np.zeros(0)))
     q0, _ = _decay(bare, t)
     assert np.mean(np.abs(q0 - np.asarray(ref["Q_TFA1"]))) / np.ptp(ref["Q_TFA1"]) > 0.1
+
+
+PRODUCTS = Path(__file__).resolve().parents[1] / "data" / "openfast_platform_products" / "platform_rpy_products.json"
+
+
+def test_platform_products_of_inertia_match_openfast(tmp_path):
+    """ElastoDyn's PtfmXYIner, PtfmYZIner, PtfmXZIner (−∫xy dm …, about the platform CM), once refused: the free
+    platform_rpy_gen motion with them against OpenFAST v5.0.0 (tests/data/openfast_platform_products), ε ≤ 0.5 %
+    on every platform angle and tower mode (measured when written: 0.03 % or less); without them the yaw is
+    6.5 % off, so the test fails if they are dropped."""
+    import dataclasses
+
+    case = SHARED / "openfast" / "cases" / "platform_rpy_gen"
+    if not case.is_dir():
+        pytest.skip(f"shared reference data not found at {case}")
+    ref = json.loads(PRODUCTS.read_text())
+    t = np.asarray(ref["time"])
+    turbine = dataclasses.replace(read_openfast(case / "platform_rpy_gen.fst"), platform_xy_inertia=5e7,
+                                  platform_yz_inertia=2e7, platform_xz_inertia=8e7)
+    model = TurbineModel(turbine)
+    r = mb.simulate(model, float(t[-1]), method="cvodes", rtol=1e-8, atol=1e-10, t_out=t)
+    for name in ("PtfmRoll", "PtfmPitch", "PtfmYaw", "Q_TFA1", "Q_TSS1"):          # OpenFAST's channels
+        y = np.asarray(ref[name])
+        assert np.mean(np.abs(np.asarray(r.output(name)) - y)) / np.ptp(y) <= 0.005, name

@@ -47,9 +47,7 @@ def blade_coordinate(blade: int, flag: str) -> str:
 def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> list[str]:
     """Deck data that would change the dynamics of the enabled DOFs but that the template ignores.
 
-    Checked: yaw-bearing
-    friction (YawFrctMod != 0, with YawDOF),
-    platform products of inertia (with platform DOFs) and, for two-bladed
+    Checked: yaw-bearing friction (YawFrctMod != 0, with YawDOF) and, for two-bladed
     rotors, UndSling, Delta3, a fixed teeter angle TeetDefl and ElastoDyn's two-bladed hub
     inertia (``Hubg1Iner = Hubg2Iner = (HubIner - HubMass (UndSling - HubCM)²) / cos² Delta3``
     about the shaft and the teeter axis; the template has HubIner about the shaft only).
@@ -69,17 +67,13 @@ def unsupported_features(turbine: TurbineParameters, dofs: dict[str, bool]) -> l
     --------
     >>> import dataclasses
     >>> from mbsym.wind import nrel5mw
-    >>> t = dataclasses.replace(nrel5mw(), platform_xy_inertia=1e6)
-    >>> unsupported_features(t, {"PtfmRDOF": True})    # doctest: +ELLIPSIS
-    ['platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = [1000000.0, 0.0, 0.0] kg m^2): ...']
+    >>> t = dataclasses.replace(nrel5mw(), extra={"YawFrctMod": "1"})
+    >>> unsupported_features(t, {"YawDOF": True})    # doctest: +ELLIPSIS
+    ['YawFrctMod = 1 (yaw-bearing friction on the yaw DOF): set YawFrctMod = 0 or disable YawDOF']
     """
     out = []
     on = {f for f, v in dofs.items() if v}
     platform, tower = on & set(PLATFORM_FLAGS), on & set(TOWER_FLAGS)
-    products = (turbine.platform_xy_inertia, turbine.platform_yz_inertia, turbine.platform_xz_inertia)
-    if platform and any(abs(x) > 0 for x in products):
-        out.append(f"platform products of inertia (PtfmXYIner, PtfmYZIner, PtfmXZIner = {list(products)} kg m^2): "
-                   "set them to 0 or disable the platform DOFs")
     friction = str(turbine.extra.get("YawFrctMod", "0")).strip()
     if "YawDOF" in on and friction not in ("0", "0.0"):
         out.append(f"YawFrctMod = {friction} (yaw-bearing friction on the yaw DOF): set YawFrctMod = 0 or disable "

@@ -411,9 +411,10 @@ class TurbineModel:
         if any(isinstance(v, ca.SX) for v in values):
             p = self.p
             com = [t.platform_cm[0] - ref[0], t.platform_cm[1] - ref[1], p["platform_cm_height"] - ref[2]]
-            body = RigidBody("platform", mass=p["platform_mass"], com=com,
+            body = RigidBody("platform", mass=p["platform_mass"], com=com,      # products: ElastoDyn's -∫xy dm …
                              inertia=[p["platform_roll_inertia"], p["platform_pitch_inertia"],
-                                      p["platform_yaw_inertia"]])
+                                      p["platform_yaw_inertia"], t.platform_xy_inertia, t.platform_yz_inertia,
+                                      t.platform_xz_inertia])
         else:
             body = RigidBody("platform", mass=0.0)
         return self._add(PlatformJoint(self.system.ground, body, values=values, offset=ref))
