@@ -149,24 +149,24 @@ def _with_unsupported_features():
     tower = dataclasses.replace(t.tower, point_mass_fraction=[0.5], point_mass=[2000.0])
     return dataclasses.replace(t, tower=tower, gearbox_efficiency=0.944, platform_xy_inertia=1.0e6,
                                platform_mass=7.5e6, platform_roll_inertia=4.2e9, platform_pitch_inertia=4.2e9,
-                               platform_yaw_inertia=1.6e8)
+                               platform_yaw_inertia=1.6e8, extra={**t.extra, "YawFrctMod": "1"})
 
 
 def test_unsupported_deck_features_are_listed_in_one_error():
-    """Platform products of inertia and an unmodelled DOF: one ModelDefinitionError naming both, each with its
-    deck key; the deck's gearbox losses (GBoxEff 94.4 %) and tower point mass are modelled, not listed
-    (tests/wind/operation/test_gearbox_losses.py, tests/wind/test_tower_point_masses.py)."""
+    """Yaw-bearing friction and an unmodelled DOF: one ModelDefinitionError naming both, each with its deck key;
+    the deck's gearbox losses (GBoxEff 94.4 %), tower point mass and platform products of inertia are modelled,
+    not listed (tests/wind/operation/test_gearbox_losses.py, tests/wind/test_tower_point_masses.py)."""
     t = _with_unsupported_features()
     with pytest.raises(mb.ModelDefinitionError) as err:
-        TurbineModel(t, dofs=["PtfmPDOF", "TwFADOF1", "GenDOF", "PitchDOF"])
+        TurbineModel(t, dofs=["PtfmPDOF", "TwFADOF1", "GenDOF", "YawDOF", "PitchDOF"])
     msg = str(err.value)
-    assert "2 problems" in msg and "GBoxEff" not in msg and "TwCMass" not in msg
-    for part in ("PtfmXYIner",
-                 "['PitchDOF'] are not modelled by this template yet"):
+    assert "2 problems" in msg
+    assert not any(k in msg for k in ("GBoxEff", "TwCMass", "PtfmXYIner"))
+    for part in ("YawFrctMod = 1", "['PitchDOF'] are not modelled by this template yet"):
         assert part in msg, part
     # features that cannot move an enabled DOF are not reported
-    assert unsupported_features(t, {"YawDOF": True}) == []
-    TurbineModel(t, dofs=["YawDOF"])
+    assert unsupported_features(t, {"GenDOF": True}) == []
+    TurbineModel(t, dofs=["GenDOF", "PtfmPDOF", "TwFADOF1"])
 
 
 def test_two_bladed_hub_features():
