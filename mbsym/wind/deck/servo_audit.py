@@ -13,7 +13,8 @@ YawSpr, YawDamp, YawNeut (YawDOF)      modelled: ``YawMom = -YawSpr (NacYaw - Ya
 YCMode ≠ 0 with TYCOn < t_end          refused (active yaw control is not modelled)
 TYawManS < t_end                       refused (override yaw maneuver)
 HSSBrMode 1 with THSSBrDp < t_end      refused (brake deployment); HSSBrMode 3, 4, 5 refused
-GenTiStr/TimGenOn > 0, GenTiStp with   refused (generator switched on late or off early)
+GenTiStr/TimGenOn > 0, SpdGenOn above  refused (generator switched on late or off early); SpdGenOn at
+the initial speed, GenTiStp with       or below the initial generator speed: online from t = 0 (modelled)
 TimGenOf < t_end (GenDOF)
 TPitManS(k) < t_end                    refused (override pitch maneuver)
 TPCOn > 0 with PCMode ≠ 0              refused (pitch control starting late)
@@ -57,7 +58,8 @@ class YawDrive:
     neutral: float
 
 
-def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float) -> YawDrive | None:
+def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float, *,
+                generator_speed: float | None = None) -> YawDrive | None:
     """The yaw drive ServoDyn applies, after refusing every setting mbsym does not model (module docstring).
 
     Parameters
@@ -69,6 +71,10 @@ def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float) -> YawDrive | 
     t_end : float
         The simulated end time [s] (the deck's TMax for steady analyses): settings triggered later
         than this do not act.
+    generator_speed : float, optional, keyword-only
+        The initial generator (HSS) speed [rad/s]: with ``GenTiStr = False`` ServoDyn puts the generator online
+        once its speed reaches ``SpdGenOn`` and keeps it there, so a start at or above it is the generator
+        online from t = 0 (modelled).
 
     Returns
     -------
@@ -83,7 +89,7 @@ def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float) -> YawDrive | 
     if servodyn is None:
         return None
     problems = [f"{servodyn.path}, line {servodyn.lines.get(key, '?')}, key '{key}': {text}"
-                for key, text in _problems(servodyn, dofs, float(t_end))]
+                for key, text in _problems(servodyn, dofs, float(t_end), generator_speed)]
     if len(problems) == 1:
         raise OpenFASTFormatError(problems[0])
     if problems:
@@ -98,7 +104,8 @@ def _when(t: float) -> str:
     return f"at t = {t:g} s" if math.isfinite(t) else "never"
 
 
-def _problems(s, dofs: Mapping[str, bool], t_end: float) -> list[tuple[str, str]]:
+def _problems(s, dofs: Mapping[str, bool], t_end: float, generator_speed: float | None = None
+              ) -> list[tuple[str, str]]:
     out = []
     later = f"set it beyond the simulated time ({t_end:g} s)"
     if dofs.get("YawDOF"):
@@ -118,9 +125,14 @@ def _problems(s, dofs: Mapping[str, bool], t_end: float) -> list[tuple[str, str]
         if s.generator_start_timed and s.generator_start_time > 0:
             out.append(("TimGenOn", f"the generator switched on at t = {s.generator_start_time:g} s is not "
                                     "modelled (it runs from t = 0); set TimGenOn = 0"))
-        if not s.generator_start_timed and s.generator_start_speed > 0:
-            out.append(("GenTiStr", "starting the generator at a speed (GenTiStr = False, SpdGenOn) is not "
-                                    "modelled; set GenTiStr = True and TimGenOn = 0"))
+        if not s.generator_start_timed and s.generator_start_speed > 0 and not (
+                generator_speed is not None and generator_speed >= s.generator_start_speed):
+            rpm = 30.0 / math.pi
+            now = "" if generator_speed is None else f" ({generator_speed * rpm:.6g} rpm)"
+            out.append(("GenTiStr", f"starting the generator at a speed (GenTiStr = False, SpdGenOn = "
+                                    f"{s.generator_start_speed * rpm:.6g} rpm) above the initial generator speed"
+                                    f"{now} is not modelled; set GenTiStr = True and TimGenOn = 0, or start at "
+                                    "SpdGenOn or above"))
         if s.generator_stop_timed and s.generator_stop_time < t_end:
             out.append(("TimGenOf", f"the generator switched off at t = {s.generator_stop_time:g} s is not "
                                     f"modelled; {later}"))

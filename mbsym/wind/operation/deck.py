@@ -199,7 +199,8 @@ class OperatingDeck:
         if dofs is not None:
             flags = {f: f in set(dofs) for f in flags} | {f: True for f in dofs}
         end = float(self.turbine.simulation.total_time if t_end is None else t_end)
-        drive = servo_audit(self.servodyn, flags, end)
+        speed = abs(self.turbine.gearbox_ratio) * self.turbine.initial_conditions.rotor_speed     # HSS [rad/s]
+        drive = servo_audit(self.servodyn, flags, end, generator_speed=speed)
         if drive is not None:
             options.setdefault("yaw_spring", drive.spring)
             options.setdefault("yaw_damping", drive.damping)

@@ -20,6 +20,8 @@ References:
 
 from __future__ import annotations
 
+import math
+
 import csv
 import dataclasses
 import io
@@ -31,7 +33,7 @@ import numpy as np
 import pytest
 
 import mbsym as mb
-from _op_data import edit_deck_file, runnable_rosco_deck
+from _op_data import runnable_rosco_deck
 from mbsym.exceptions import OpenFASTFormatError, UnphysicalRunError
 from mbsym.wind import nrel5mw
 from mbsym.wind.operation.sanity import check_physical
@@ -61,8 +63,6 @@ def _copy_deck(fst, tmp_path):
     copy = runnable_rosco_deck(fst, tmp_path / "deck")
     return copy, copy.parent / "NRELOffshrBsline5MW_Onshore_ServoDyn.dat"
 
-
-_edit = edit_deck_file
 
 
 def test_stock_deck_runs_on_the_rotor_rung_with_its_tower_and_airfoils(rosco_deck, rosco_lib, tmp_path):
@@ -154,6 +154,27 @@ def test_servodyn_settings_that_act_are_refused(rosco_deck, tmp_path, old, new, 
 
         drive = servo_audit(deck.servodyn, {"YawDOF": True, "GenDOF": True}, 5.0)
         assert (drive.spring, drive.damping, drive.neutral) == (YAW_SPRING, YAW_DAMPING, 0.0)
+
+
+def test_generator_started_at_a_speed(rosco_deck, tmp_path):
+    """GenTiStr = False: ServoDyn puts the generator online once the HSS speed reaches SpdGenOn and keeps it there
+    (ServoDyn.f90), so a start at or above SpdGenOn is the generator online from t = 0 (modelled); below, it is
+    refused with the speeds named."""
+    from mbsym.wind.deck.servo_audit import servo_audit
+    from mbsym.wind.operation.deck import operating_deck
+
+    fst, servo = _copy_deck(rosco_deck, tmp_path)
+    _edit(servo, r"^\s*True\s+GenTiStr", "False   GenTiStr")
+    _edit(servo, r"^\s*9999.9\s+SpdGenOn", "700   SpdGenOn")
+    deck = operating_deck(fst)
+    flags = {"GenDOF": True}
+    rad = math.pi / 30.0                                                            # rpm -> rad/s
+    servo_audit(deck.servodyn, flags, 60.0, generator_speed=700.0 * rad)           # online from the start
+    with pytest.raises(OpenFASTFormatError, match=r"key 'GenTiStr'.*SpdGenOn = 700 rpm.*\(600 rpm\)"):
+        servo_audit(deck.servodyn, flags, 60.0, generator_speed=600.0 * rad)
+    hss = abs(deck.turbine.gearbox_ratio) * deck.turbine.initial_conditions.rotor_speed
+    assert hss > 700.0 * rad                                  # the deck starts at 12.1 rpm x 97: it builds
+    deck.model(dofs=["GenDOF"], aero="rotor", t_end=60.0)
 
 
 def test_all_problems_listed_at_once(rosco_deck, tmp_path):
