@@ -24,7 +24,7 @@ rotor speed, ``T`` the generator torque command [N m], ``β`` the pitch command 
   controller's by ``max(δ, 0)``.
 * **Torque reference** (``VS_ControlMode 2``): ``ω_ref = clamp(VS_TSRopt Û N / R,
   VS_MinOMSpd, VS_RefSpd) − max(δ, 0)``, at least ``VS_MinOMSpd``; ``VS_ControlMode 3``:
-  ``(P / VS_Rgn2K)^(1/3)`` in place of the TSR term.
+  ``(P / VS_GenEff / VS_Rgn2K)^(1/3)`` (``P`` the measured electrical power) in place of the TSR term.
 * **Torque limits**: ``[VS_MinTq, min(VS_MaxTq, P_rated/(η ω))]`` (``VS_ConstPower 1``) or
   ``[VS_MinTq, min(VS_MaxTq, VS_RtTq)]`` (constant torque).
 * **Pitch reference** ``PC_RefSpd − min(δ, 0)`` within ``[β_min, PC_MaxPit]``.
@@ -300,8 +300,8 @@ class SteadyControl:
         """Generator speed the torque loop holds [rad/s] (modes 2, 3; mode 1: ``VS_RefSpd`` less the shift)."""
         if self.torque_mode == 2:
             raw = self.optimal_tsr * wind_estimate / self.rotor_radius * self.gearbox_ratio
-        elif self.torque_mode == 3:
-            raw = (ca.fmax(power, 0.0) / self.region2_gain) ** (1.0 / 3.0)
+        elif self.torque_mode == 3:      # ROSCO: (max(VS_GenPwr, 0) / VS_GenEff / VS_Rgn2K)^(1/3), the measured power
+            raw = (ca.fmax(power, 0.0) / self.generator_efficiency / self.region2_gain) ** (1.0 / 3.0)
         else:
             raw = self.rated_generator_speed + 0.0 * wind_estimate
         ref = ca.fmin(ca.fmax(raw, self.min_generator_speed), self.rated_generator_speed)
