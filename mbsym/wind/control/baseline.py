@@ -45,7 +45,8 @@ the scheme; the code is ours):
    ``F_WECornerFreq/10``) when pitch, torque or speed leave the Cp table's range,
    and restarts on re-entry;
 3. set-points: pitch reference speed ``PC_RefSpd`` raised by a negative smoother
-   shift; torque reference ``TSRopt·Ŭ/R·N`` (``VS_ControlMode 2``) low-pass filtered
+   shift; torque reference ``TSRopt·Ŭ/R·N`` (``VS_ControlMode 2``) or ``(P/VS_GenEff/VS_Rgn2K)^(1/3)``
+   from the measured power ``P`` (``VS_ControlMode 3``, power-based TSR tracking) low-pass filtered
    (``F_VSRefSpdCornerFreq``), limited to [``VS_MinOMSpd``, ``VS_RefSpd``] and lowered
    by a positive smoother shift; region-3 pitch threshold ``PC_MinPit + PC_Switch``;
 4. set-point smoother (``SS_Mode 1``): shift ``((β − β_min)/0.524·SS_VSGain −
@@ -260,7 +261,7 @@ class BaselineController:
         st.add("last_power")
         st.add("min_pitch")
         st.add("pitch_integral")
-        st.add("torque_integral", 1 if s.torque_mode == 2 else 4)
+        st.add("torque_integral", 1 if s.torque_mode in (2, 3) else 4)
         st.add("torque_last")
         st.add("pitch_total_last")
         blades = 3 if self.ipc else 1
@@ -320,6 +321,8 @@ class BaselineController:
         pitch_error = ref_pitch_speed - gen_f
         if s.torque_mode == 2:
             tsr_ref = s.optimal_tsr * estimate / s.rotor_radius * s.gearbox_ratio
+        elif s.torque_mode == 3:       # power-based TSR tracking (ROSCO's ControllerBlocks): the measured power
+            tsr_ref = (ca.fmax(power, 0.0) / s.generator_efficiency / s.region2_gain) ** (1.0 / 3.0)
         else:
             tsr_ref = ca.SX(s.rated_generator_speed)
         ref, a, b = lpf1(tsr_ref, *_split2(x["reference_filter"]), s.reference_filter_corner, dt, r)
@@ -504,11 +507,11 @@ class BaselineController:
         return estimate, op, cp_op
 
     def _torque(self, x, nxt, r, gen_f, gen_speed, error, pitch, region3_pitch, last_torque):
-        """ROSCO's VariableSpeedControl (modes 1 and 2) and its state machine."""
+        """ROSCO's VariableSpeedControl (modes 1, 2 and 3) and its state machine."""
         s, dt = self.settings, self.dt
         const_power_torque = (s.rated_power / s.generator_efficiency) / gen_f
         max_torque = ca.fmin(const_power_torque, s.torque_max) if s.constant_power else ca.SX(s.rated_torque)
-        if s.torque_mode == 2:
+        if s.torque_mode in (2, 3):
             torque, nxt["torque_integral"] = pi(error, s.torque_kp, s.torque_ki, s.torque_min, max_torque, dt,
                                                 x["torque_integral"], last_torque, r)
             code = ca.SX(7.0)

@@ -215,7 +215,7 @@ def _settle_function(controller: BaselineController, steps: int) -> ca.Function:
         y, u = yu[:f.numel_in(1)], yu[f.numel_in(1):]
 
         held = dict(COMMAND_MEMORIES)
-        if controller.settings.torque_mode == 2:
+        if controller.settings.torque_mode in (2, 3):
             held["torque_integral"] = "GenTqCom"
 
         def hold(v):

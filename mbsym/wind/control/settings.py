@@ -64,7 +64,7 @@ UNSUPPORTED_MODES = {
     "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
     "Fl_Mode": (0, 1, 2), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
-    "VS_FBP": (0,), "VS_ControlMode": (1, 2), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
+    "VS_FBP": (0,), "VS_ControlMode": (1, 2, 3), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
     "F_GenSpdNotch_N": (0,),
 }
 
@@ -188,8 +188,11 @@ class BaselineSettings:
             p.append(f"dt must be > 0 [s]; got {self.dt}")
         if self.speed_filter_order not in (1, 2):
             p.append(f"speed_filter_order must be 1 or 2; got {self.speed_filter_order}")
-        if self.torque_mode not in (1, 2):
-            p.append(f"torque_mode must be 1 (k·ω² with PI transitions) or 2 (TSR tracking); got {self.torque_mode}")
+        if self.torque_mode not in (1, 2, 3):
+            p.append(f"torque_mode must be 1 (k·ω² with PI transitions), 2 (TSR tracking) or 3 (power-based TSR "
+                     f"tracking); got {self.torque_mode}")
+        if self.torque_mode == 3 and not self.region2_gain > 0:
+            p.append(f"torque_mode 3 needs region2_gain (VS_Rgn2K) > 0; got {self.region2_gain}")
         if self.wind_estimator not in (0, 2):
             p.append(f"wind_estimator must be 0 (filtered hub wind) or 2 (EKF); got {self.wind_estimator}")
         n = len(self.schedule_pitch)

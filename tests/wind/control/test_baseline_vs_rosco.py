@@ -93,7 +93,9 @@ def _variant(tmp_path, changes):
     {"VS_ControlMode": 1, "VS_ConstPower": 0},
     {"SS_Mode": 0, "PS_Mode": 0, "F_LPFType": 2, "F_LPFDamping": 0.7},
     {"WE_Mode": 0, "VS_ConstPower": 0},
-], ids=["nrel5mw", "komega2-constant-torque", "no-smoother-no-peak-shaving-2nd-order", "no-estimator"])
+    {"VS_ControlMode": 3},
+], ids=["nrel5mw", "komega2-constant-torque", "no-smoother-no-peak-shaving-2nd-order", "no-estimator",
+        "power-based-tsr-tracking"])
 def test_synthetic_sweep_through_all_regions(rosco_lib, tmp_path, changes):
     discon = _variant(tmp_path, changes)
     dt = 0.0125
