@@ -21,8 +21,9 @@ their undisplaced nodes (:mod:`.wave_kinematics`), the buoyancy, added mass, mar
 members without potential flow (:mod:`.strip_theory`). What the deck asks for beyond that
 is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does not change the loads,
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
-:mod:`.operating` as states), second-order forces (the full difference-frequency QTF, ``DiffQTF``, is modelled:
-:mod:`.second_order`; the others are refused with waves; all are zero in still water), a current
+:mod:`.operating` as states), second-order forces (the full difference- and sum-frequency QTFs, ``DiffQTF`` and
+``SumQTF``, are modelled: :mod:`.second_order`; the others are refused with waves; all are zero in still water),
+a current
 (``CurrMod`` > 0: HydroDyn applies it to Morison members only; refused with members), SeaState's second-order
 elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
 first-order sea).
@@ -47,7 +48,7 @@ from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
-from .second_order import difference_frequency_forces
+from .second_order import difference_frequency_forces, sum_frequency_forces
 from .strip_theory import StripTheory, StripWaves, strip_problems, strip_theory, strip_waves
 from .wave_kinematics import WaveFlow, wave_flow
 from .waves import grid_elevation, incident_waves
@@ -155,12 +156,12 @@ def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
     if hd.yaw_model or hd.reference_yaw:
         out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
                    "(a yawed reference frame; use 0 and 0)")
-    other = {k: v for k, v in hd.second_order.items() if k != "DiffQTF"}
+    other = {k: v for k, v in hd.second_order.items() if k not in ("DiffQTF", "SumQTF")}
     if _potential(hd) and other:
-        out.append(f"second-order wave forces {other} (the full difference-frequency QTF, DiffQTF, is modelled; the "
-                   "mean-drift-only, Newman and sum-frequency options are not: set them to 0)")
-    if _potential(hd) and hd.difference_qtf and sea.direction_model and int(sea.n_directions) > 1:
-        out.append("DiffQTF with directional spreading (the difference-frequency forces are modelled for a "
+        out.append(f"second-order wave forces {other} (the full difference- and sum-frequency QTFs, DiffQTF and "
+                   "SumQTF, are modelled; the mean-drift-only and Newman options are not: set them to 0)")
+    if _potential(hd) and (hd.difference_qtf or hd.sum_qtf) and sea.direction_model and int(sea.n_directions) > 1:
+        out.append("DiffQTF/SumQTF with directional spreading (the second-order forces are modelled for a "
                    "unidirectional sea; set WaveDirMod = 0)")
     if sea.current_model and sea.wave_current_model:
         out.append(f"WvCrntMod = {sea.wave_current_model} with a current (wave-current interaction; use 0)")
@@ -332,10 +333,16 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
     excitation = wave_excitation(wamit, waves, elevation_point=tuple(point), sea=sea)
     if hd.excitation_model != 1:          # 0: no excitation; 2: HydroDyn's state space makes it (operating.py)
         excitation = WaveExcitation(excitation.waves, np.zeros_like(excitation.forces), excitation.elevation)
-    if hd.difference_qtf:                 # HydroDyn's WAMIT2: joins the excitation (B1WvsFxi = first + second order)
+    second = np.zeros_like(excitation.forces)     # HydroDyn's WAMIT2: joins the excitation (B1WvsFxi = 1st + 2nd)
+    if hd.difference_qtf:
         qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.difference_qtf}d")
-        qtf = qtf.redimensionalize(rho, gravity, hd.wamit_length[0])
-        second = difference_frequency_forces(qtf, waves, band=(float(sea.low_cutoff), float(sea.high_cutoff)),
-                                             difference_band=tuple(float(c) for c in sea.qtf_cutoffs[:2]))
+        second += difference_frequency_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
+                                              band=(float(sea.low_cutoff), float(sea.high_cutoff)),
+                                              difference_band=tuple(float(c) for c in sea.qtf_cutoffs[:2]))
+    if hd.sum_qtf:
+        qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.sum_qtf}s")
+        second += sum_frequency_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
+                                       sum_band=tuple(float(c) for c in sea.qtf_cutoffs[2:4]))
+    if hd.difference_qtf or hd.sum_qtf:
         excitation = WaveExcitation(excitation.waves, excitation.forces + second, excitation.elevation)
     return excitation

@@ -1,4 +1,4 @@
-"""Second-order difference-frequency wave forces from a full QTF, the way HydroDyn computes them (``DiffQTF``).
+"""Second-order wave forces from full QTFs, the way HydroDyn computes them (``DiffQTF``, ``SumQTF``).
 
 HydroDyn (v5.0.0, ``WAMIT2.f90``: ``DiffQTF_InitCalc``, ``MnDrift_InitCalc``) turns the first-order sea into a
 force time series before the run, fixed at the platform's undisplaced position, that joins the first-order
@@ -14,8 +14,9 @@ SeaState's ``WaveElevC0``) and the amplitudes ``a_k = C_k / (N/2)`` at ``ω_k = 
 ``Q`` is the QTF of the ``.NNd`` file (:func:`~mbsym.wind.deck.wamit_qtf.read_wamit_qtf`, redimensionalized),
 read bilinearly between its frequencies and zero outside their range (HydroDyn pads its grid with zeros there),
 at the waves' heading (minus ``PtfmRefY``) wrapped into the file's heading range by whole turns, bilinearly between
-its headings. Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the mean-drift-only,
-Newman and sum-frequency options (:mod:`.platform`).
+its headings. The sum-frequency forces (``SumQTF``, the ``.NNs`` file) are made the same way at the sum frequencies
+(:func:`sum_frequency_forces`). Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the
+mean-drift-only and Newman options (:mod:`.platform`).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ import numpy as np
 from ...exceptions import UnsupportedFeatureError
 from .waves import IncidentWaves
 
-__all__ = ["difference_frequency_forces", "qtf_at"]
+__all__ = ["difference_frequency_forces", "sum_frequency_forces", "qtf_at"]
 
 
 def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
@@ -79,6 +80,51 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
         real, imag = (np.bincount(j, part, n_half + 1) for part in (terms[:, m].real, terms[:, m].imag))
         h[:, m] = 0.5 * (real + 1j * imag)
     series = 2.0 * waves.n_steps * np.fft.irfft(h, n=waves.n_steps, axis=0) + mean
+    return np.vstack([series, series[:1]])
+
+
+def sum_frequency_forces(qtf, waves: IncidentWaves, *, sum_band: tuple[float, float],
+                         heading: float | None = None) -> np.ndarray:
+    """HydroDyn's sum-frequency force series (``SumQTF``; ``WAMIT2.f90``, ``SumQTF_InitCalc``), ``(N + 1, 6)``
+    [N, N m] on ``waves.times()`` (last = first), inertial axes at the WAMIT reference point:
+    ``F(t) = Re Σ_k a_k² Q⁺(ω_k, ω_k) e^{2iω_k t} + 2 Re Σ_(k<m) a_k a_m Q⁺(ω_k, ω_m) e^{i(ω_k+ω_m) t}`` over the
+    sum frequencies inside ``[WvLowCOffS, WvHiCOffS]`` (``sum_band`` [rad/s]); ``qtf`` a redimensionalized
+    sum-frequency QTF (``.NNs``), read as :func:`qtf_at` reads it.
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        A spread sea, a difference-frequency QTF, or a heading outside the file's headings.
+    """
+    if qtf.kind != "sum":
+        raise UnsupportedFeatureError(f"{qtf.source}: a difference-frequency QTF; the sum-frequency forces need a "
+                                      "sum-frequency file (.NNs).")
+    if waves.directions is not None:
+        raise UnsupportedFeatureError("the sum-frequency forces are modelled for a unidirectional sea; the sea is "
+                                      "spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or SumQTF = 0.")
+    beta = waves.direction if heading is None else heading
+    n_half = len(waves.spectrum) - 1
+    a = np.asarray(waves.spectrum, dtype=complex) / n_half
+    w = waves.frequencies
+    inside = lambda om: (om >= sum_band[0]) & (om <= sum_band[1])          # noqa: E731
+    term1 = np.zeros((n_half + 1, 6), dtype=complex)                        # equal frequencies, at 2 ω_k
+    k = np.arange(1, (n_half - 1) // 2 + 1)
+    k = k[inside(2.0 * w[k])]
+    term1[2 * k] = (a[k] ** 2)[:, None] * qtf_at(qtf, w[k], w[k], beta)
+    live = np.nonzero(np.abs(a[:n_half + 1]) > 0)[0]                         # distinct frequencies k < m
+    lo, hi = np.meshgrid(live, live, indexing="ij")
+    pair = lo < hi
+    lo, hi = lo[pair], hi[pair]
+    j = lo + hi
+    keep = (j <= n_half) & inside(j * waves.frequency_step)
+    lo, hi, j = lo[keep], hi[keep], j[keep]
+    terms = (a[lo] * a[hi])[:, None] * qtf_at(qtf, w[lo], w[hi], beta)
+    term2 = np.zeros((n_half + 1, 6), dtype=complex)
+    for m in range(6):
+        real, imag = (np.bincount(j, part, n_half + 1) for part in (terms[:, m].real, terms[:, m].imag))
+        term2[:, m] = real + 1j * imag
+    n = waves.n_steps
+    series = 0.5 * n * (np.fft.irfft(term1, n=n, axis=0) + 2.0 * np.fft.irfft(term2, n=n, axis=0))
     return np.vstack([series, series[:1]])
 
 
