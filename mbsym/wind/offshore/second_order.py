@@ -15,8 +15,9 @@ SeaState's ``WaveElevC0``) and the amplitudes ``a_k = C_k / (N/2)`` at ``ω_k = 
 read bilinearly between its frequencies and zero outside their range (HydroDyn pads its grid with zeros there),
 at the waves' heading (minus ``PtfmRefY``) wrapped into the file's heading range by whole turns, bilinearly between
 its headings. The sum-frequency forces (``SumQTF``, the ``.NNs`` file) are made the same way at the sum frequencies
-(:func:`sum_frequency_forces`). Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the
-mean-drift-only and Newman options (:mod:`.platform`).
+(:func:`sum_frequency_forces`); the mean drift alone (``MnDrift`` 10-12, a difference-frequency file's diagonal) by
+:func:`mean_drift_forces`. Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the
+mean drift from WAMIT's 3-D files (``MnDrift`` 7-9) and Newman's approximation (:mod:`.platform`).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ import numpy as np
 from ...exceptions import UnsupportedFeatureError
 from .waves import IncidentWaves
 
-__all__ = ["difference_frequency_forces", "sum_frequency_forces", "qtf_at"]
+__all__ = ["difference_frequency_forces", "mean_drift_forces", "sum_frequency_forces", "qtf_at"]
 
 
 def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
@@ -81,6 +82,33 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
         h[:, m] = 0.5 * (real + 1j * imag)
     series = 2.0 * waves.n_steps * np.fft.irfft(h, n=waves.n_steps, axis=0) + mean
     return np.vstack([series, series[:1]])
+
+
+def mean_drift_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
+                      heading: float | None = None) -> np.ndarray:
+    """HydroDyn's mean drift alone (``MnDrift`` with a difference-frequency file, 10-12; ``MnDrift_InitCalc``):
+    ``F̄ = Σ_k Re Q(ω_k, ω_k) |a_k|²`` over ``band`` (``WvLowCOff``, ``WvHiCOff``) [rad/s], as a constant
+    ``(N + 1, 6)`` series [N, N m] on ``waves.times()``.
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        As :func:`difference_frequency_forces`.
+    """
+    if qtf.kind != "difference":
+        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; the mean drift needs a "
+                                      "difference-frequency file (.NNd).")
+    if waves.directions is not None:
+        raise UnsupportedFeatureError("the mean drift is modelled for a unidirectional sea; the sea is spread over "
+                                      "headings (WaveDirMod = 1). Set WaveDirMod = 0 or MnDrift = 0.")
+    beta = waves.direction if heading is None else heading
+    n_half = len(waves.spectrum) - 1
+    a = np.asarray(waves.spectrum, dtype=complex) / n_half
+    w = waves.frequencies
+    k = np.arange(1, n_half + 1)
+    k = k[(w[k] >= band[0]) & (w[k] <= band[1])]
+    mean = np.sum(qtf_at(qtf, w[k], w[k], beta).real * (np.abs(a[k]) ** 2)[:, None], axis=0)
+    return np.tile(mean, (waves.n_steps + 1, 1))
 
 
 def sum_frequency_forces(qtf, waves: IncidentWaves, *, sum_band: tuple[float, float],
