@@ -48,7 +48,7 @@ from ._casadi import _in, _out
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
-from .second_order import difference_frequency_forces, mean_drift_forces, sum_frequency_forces
+from .second_order import difference_frequency_forces, mean_drift_forces, newman_forces, sum_frequency_forces
 from .strip_theory import StripTheory, StripWaves, strip_problems, strip_theory, strip_waves
 from .wave_kinematics import WaveFlow, wave_flow
 from .waves import grid_elevation, incident_waves
@@ -157,14 +157,15 @@ def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
         out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
                    "(a yawed reference frame; use 0 and 0)")
     other = {k: v for k, v in hd.second_order.items()
-             if k not in ("DiffQTF", "SumQTF") and not (k == "MnDrift" and v in (10, 11, 12))}
+             if k not in ("DiffQTF", "SumQTF") and not (k in ("MnDrift", "NewmanApp") and v in (10, 11, 12))}
     if _potential(hd) and other:
         out.append(f"second-order wave forces {other} (the full difference- and sum-frequency QTFs, DiffQTF and "
-                   "SumQTF, and the mean drift from a difference-frequency file, MnDrift 10-12, are modelled; "
-                   "Newman's approximation and the mean drift from WAMIT's 3-D files .7-.9 are not: set them to 0)")
-    if _potential(hd) and hd.mean_drift and hd.difference_qtf:
-        out.append(f"MnDrift = {hd.mean_drift} with DiffQTF = {hd.difference_qtf} (HydroDyn allows one "
-                   "difference-frequency method: the full QTF holds the mean drift; set MnDrift = 0)")
+                   "SumQTF, and the mean drift and Newman's approximation from a difference-frequency file, "
+                   "MnDrift and NewmanApp 10-12, are modelled; WAMIT's 3-D files .7-.9 are not read: use 10-12 or 0)")
+    methods = {k: v for k, v in (("MnDrift", hd.mean_drift), ("NewmanApp", hd.newman_approximation),
+                                 ("DiffQTF", hd.difference_qtf)) if v}
+    if _potential(hd) and len(methods) > 1:
+        out.append(f"{methods} (HydroDyn allows one of MnDrift, NewmanApp and DiffQTF; keep one)")
     if _potential(hd) and (hd.difference_qtf or hd.sum_qtf) and sea.direction_model and int(sea.n_directions) > 1:
         out.append("DiffQTF/SumQTF with directional spreading (the second-order forces are modelled for a "
                    "unidirectional sea; set WaveDirMod = 0)")
@@ -348,10 +349,14 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
         qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.mean_drift}d")
         second += mean_drift_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
                                     band=(float(sea.low_cutoff), float(sea.high_cutoff)))
+    if hd.newman_approximation:
+        qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.newman_approximation}d")
+        second += newman_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
+                                band=(float(sea.low_cutoff), float(sea.high_cutoff)))
     if hd.sum_qtf:
         qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.sum_qtf}s")
         second += sum_frequency_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
                                        sum_band=tuple(float(c) for c in sea.qtf_cutoffs[2:4]))
-    if hd.difference_qtf or hd.sum_qtf or hd.mean_drift:
+    if hd.second_order:
         excitation = WaveExcitation(excitation.waves, excitation.forces + second, excitation.elevation)
     return excitation

@@ -16,8 +16,9 @@ read bilinearly between its frequencies and zero outside their range (HydroDyn p
 at the waves' heading (minus ``PtfmRefY``) wrapped into the file's heading range by whole turns, bilinearly between
 its headings. The sum-frequency forces (``SumQTF``, the ``.NNs`` file) are made the same way at the sum frequencies
 (:func:`sum_frequency_forces`); the mean drift alone (``MnDrift`` 10-12, a difference-frequency file's diagonal) by
-:func:`mean_drift_forces`. Unidirectional seas only: a spread sea (``WaveDirMod`` 1) is refused, as are the
-mean drift from WAMIT's 3-D files (``MnDrift`` 7-9) and Newman's approximation (:mod:`.platform`).
+:func:`mean_drift_forces`; Newman's approximation (``NewmanApp`` 10-12) by :func:`newman_forces`. Unidirectional
+seas only: a spread sea (``WaveDirMod`` 1) is refused, as are WAMIT's 3-D files (``MnDrift``, ``NewmanApp``
+7-9) (:mod:`.platform`).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ import numpy as np
 from ...exceptions import UnsupportedFeatureError
 from .waves import IncidentWaves
 
-__all__ = ["difference_frequency_forces", "mean_drift_forces", "sum_frequency_forces", "qtf_at"]
+__all__ = ["difference_frequency_forces", "mean_drift_forces", "newman_forces", "sum_frequency_forces", "qtf_at"]
 
 
 def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
@@ -111,6 +112,40 @@ def mean_drift_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
     return np.tile(mean, (waves.n_steps + 1, 1))
 
 
+def newman_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
+                  heading: float | None = None) -> np.ndarray:
+    """HydroDyn's mean and slow drift by Newman's approximation (``NewmanApp`` with a difference-frequency file,
+    10-12; ``NewmanApp_InitCalc``): with ``q_k = Re Q(ω_k, ω_k)`` (read along the file's diagonal, as HydroDyn's
+    3-D copy of the data) over ``band`` (first-order cut-offs) [rad/s],
+    ``F(t) = |Σ_(q_k>0) a_k √q_k e^{iω_k t}|² − |Σ_(q_k<0) a_k √(−q_k) e^{iω_k t}|²`` on ``waves.times()``
+    ``(N + 1, 6)`` [N, N m] (HydroDyn's one-sided complex inverse FFT, frequencies below N/2).
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        As :func:`difference_frequency_forces`.
+    """
+    if qtf.kind != "difference":
+        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; Newman's approximation needs a "
+                                      "difference-frequency file (.NNd).")
+    if waves.directions is not None:
+        raise UnsupportedFeatureError("Newman's approximation is modelled for a unidirectional sea; the sea is "
+                                      "spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or NewmanApp = 0.")
+    beta = waves.direction if heading is None else heading
+    n_half = len(waves.spectrum) - 1
+    n = waves.n_steps
+    a = np.asarray(waves.spectrum, dtype=complex) / n_half
+    w = waves.frequencies
+    k = np.arange(1, n_half)                                  # HydroDyn's transform keeps frequencies below N/2
+    k = k[(w[k] >= band[0]) & (w[k] <= band[1])]
+    q = _diagonal_at(qtf, w[k], beta).real             # HydroDyn reads the diagonal alone here (its 3-D copy)
+    plus, minus = np.zeros((n, 6), dtype=complex), np.zeros((n, 6), dtype=complex)
+    plus[k] = a[k, None] * np.sqrt(np.fmax(q, 0.0))
+    minus[k] = a[k, None] * np.sqrt(np.fmax(-q, 0.0))
+    series = np.abs(n * np.fft.ifft(plus, axis=0)) ** 2 - np.abs(n * np.fft.ifft(minus, axis=0)) ** 2
+    return np.vstack([series, series[:1]])
+
+
 def sum_frequency_forces(qtf, waves: IncidentWaves, *, sum_band: tuple[float, float],
                          heading: float | None = None) -> np.ndarray:
     """HydroDyn's sum-frequency force series (``SumQTF``; ``WAMIT2.f90``, ``SumQTF_InitCalc``), ``(N + 1, 6)``
@@ -173,6 +208,17 @@ def qtf_at(qtf, omega1: np.ndarray, omega2: np.ndarray, heading: float) -> np.nd
     out[inside] = ((1 - t) * (1 - u) * plane[i, m] + t * (1 - u) * plane[i + 1, m]
                    + (1 - t) * u * plane[i, m + 1] + t * u * plane[i + 1, m + 1])
     return out
+
+
+def _diagonal_at(qtf, omega: np.ndarray, heading: float) -> np.ndarray:
+    """``Q(ω, ω, β, β)`` ``(len(ω), 6)`` read linearly along the file's diagonal (equal frequencies), zero outside
+    its frequencies: HydroDyn's Newman approximation always works on this 3-D copy of the data."""
+    plane = _heading_plane(qtf, heading)
+    f = qtf.frequencies
+    diag = plane[np.arange(len(f)), np.arange(len(f))]                    # (n, 6)
+    w = np.asarray(omega, dtype=float)
+    return np.stack([np.interp(w, f, diag[:, m].real, left=0.0, right=0.0)
+                     + 1j * np.interp(w, f, diag[:, m].imag, left=0.0, right=0.0) for m in range(6)], axis=1)
 
 
 def _bracket(grid: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
