@@ -1,4 +1,5 @@
-"""Read WAMIT second-order force files (quadratic transfer functions: ``.10d`` … ``.12d``, ``.10s`` … ``.12s``).
+"""Read WAMIT second-order force files (quadratic transfer functions: ``.10d`` … ``.12d``, ``.10s`` … ``.12s``; the
+mean-drift files ``.7`` … ``.9``).
 
 A row is ``PER1 PER2 BETA1 BETA2 I MOD PHS RE IM``: two wave periods [s] and headings [deg], the force or moment
 component ``I`` (1-6 for one body) and the nondimensional QTF as modulus and phase and as ``RE + i IM``; HydroDyn
@@ -41,6 +42,12 @@ class QtfData:
         ``"difference"`` or ``"sum"``.
     source : str
         The file read.
+    diagonal : bool
+        A 3-D file (``.7`` … ``.9``: equal frequencies only, rows ``PER BETA1 BETA2 I MOD PHS RE IM``): only
+        ``values[i, i]`` hold data (the mean drift and Newman's approximation use nothing else).
+    components : tuple of 6 bool
+        Which force and moment components the file gives (a 3-D file may leave some out, WAMIT's ``.8`` all but
+        surge, sway and yaw; a 4-D file must give all six).
     """
 
     frequencies: np.ndarray
@@ -48,6 +55,8 @@ class QtfData:
     values: np.ndarray
     kind: str
     source: str
+    diagonal: bool = False
+    components: tuple[bool, ...] = (True,) * 6
 
     def redimensionalize(self, water_density: float, gravity: float, length: float) -> "QtfData":
         """``ρ g L`` on the forces, ``ρ g L²`` on the moments (HydroDyn's ``RhoXg WAMITULEN^K``)."""
@@ -56,20 +65,26 @@ class QtfData:
 
 
 def read_wamit_qtf(path) -> QtfData:
-    """Read a WAMIT second-order file (module docstring); ``.NNd`` is a difference-, ``.NNs`` a sum-frequency QTF.
+    """Read a WAMIT second-order file (module docstring); ``.NNd`` is a difference-, ``.NNs`` a sum-frequency QTF,
+    ``.7`` … ``.9`` a mean-drift file (:attr:`QtfData.diagonal`).
 
     Raises
     ------
     OpenFASTFormatError
-        A missing file, a row that is not 9 numbers, a component outside 1-6 (one body), two rows for the
+        A missing file, a row that is not 9 numbers (8 in a mean-drift file), a component outside 1-6 (one body), two rows for the
         same entry that disagree, or an entry of the grid that no row gives (naming the first).
     """
     p = Path(path)
     if not p.is_file():
         raise OpenFASTFormatError(f"WAMIT second-order file not found: tried '{p.absolute()}'. Check PotFile in the "
-                                  "HydroDyn file (the root name) and the DiffQTF / SumQTF number (the extension).")
+                                  "HydroDyn file (the root name) and the MnDrift / NewmanApp / DiffQTF / SumQTF number (the extension).")
     kind = "sum" if p.suffix.lower().endswith("s") else "difference"
-    rows = np.array(_rows(p, (9,), "second-order (PER1 PER2 BETA1 BETA2 I MOD PHS RE IM)")[0])
+    diagonal = p.suffix.lstrip(".") in ("7", "8", "9")
+    if diagonal:                       # 3-D: PER BETA1 BETA2 I MOD PHS RE IM, the period twice for the 4-D layout
+        raw = np.array(_rows(p, (8,), "mean-drift (PER BETA1 BETA2 I MOD PHS RE IM)")[0])
+        rows = np.column_stack([raw[:, :1], raw])
+    else:
+        rows = np.array(_rows(p, (9,), "second-order (PER1 PER2 BETA1 BETA2 I MOD PHS RE IM)")[0])
     rows = rows[(rows[:, 0] != 0) & (rows[:, 1] != 0)]             # ω = ∞: HydroDyn's grid is zero there
     omega = np.where(rows[:, :2] < 0, 0.0, 2.0 * math.pi / np.abs(rows[:, :2]))
     freqs = np.unique(np.round(omega, 12))
@@ -91,14 +106,20 @@ def read_wamit_qtf(path) -> QtfData:
                                       f"(periods {row[0]:g}, {row[1]:g} s, headings {row[2]:g}, {row[3]:g} deg, "
                                       f"component {k + 1}). Keep one.")
         values[key], seen[key] = value, True
-    _fill(values, seen, kind)
+    if diagonal:
+        seen[~np.eye(n, dtype=bool)] = True                   # off the diagonal: no data (zero), none needed
+        absent = ~seen.any(axis=(0, 1, 2, 3))                 # a .8 file holds surge, sway and yaw only
+        seen[..., absent] = True
+    else:
+        _fill(values, seen, kind)
     if not seen.all():
         i = np.argwhere(~seen)[0]
         raise OpenFASTFormatError(
             f"{p}: no value for ω1 = {freqs[i[0]]:.6g}, ω2 = {freqs[i[1]]:.6g} rad/s, headings {heads[i[2]]:g}, "
             f"{heads[i[3]]:g} deg, component {i[4] + 1}, nor for its mirror: HydroDyn's interpolation needs every "
             "entry of the grid (the file is too sparse). Regenerate it with WAMIT over the full grid.")
-    return QtfData(freqs, heads, values, kind, str(p))
+    components = tuple(bool(np.any(values[..., m] != 0) or not diagonal) for m in range(6))
+    return QtfData(freqs, heads, values, kind, str(p), diagonal, components)
 
 
 def _fill(values: np.ndarray, seen: np.ndarray, kind: str) -> None:

@@ -156,12 +156,6 @@ def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
     if hd.yaw_model or hd.reference_yaw:
         out.append(f"PtfmYMod = {hd.yaw_model}, PtfmRefY = {math.degrees(hd.reference_yaw):g} deg with waves "
                    "(a yawed reference frame; use 0 and 0)")
-    other = {k: v for k, v in hd.second_order.items()
-             if k not in ("DiffQTF", "SumQTF") and not (k in ("MnDrift", "NewmanApp") and v in (10, 11, 12))}
-    if _potential(hd) and other:
-        out.append(f"second-order wave forces {other} (the full difference- and sum-frequency QTFs, DiffQTF and "
-                   "SumQTF, and the mean drift and Newman's approximation from a difference-frequency file, "
-                   "MnDrift and NewmanApp 10-12, are modelled; WAMIT's 3-D files .7-.9 are not read: use 10-12 or 0)")
     methods = {k: v for k, v in (("MnDrift", hd.mean_drift), ("NewmanApp", hd.newman_approximation),
                                  ("DiffQTF", hd.difference_qtf)) if v}
     if _potential(hd) and len(methods) > 1:
@@ -303,6 +297,18 @@ def _potential_flow(hd: HydroDynInput, rho: float, gravity: float):
     return wamit, statics, wamit.added_mass_infinite[:6, :6], extra
 
 
+def _drift_file(hd: HydroDynInput, number: int):
+    """The WAMIT data of a mean-drift or Newman switch (``<PotFile>.7`` … ``.9``, 3-D, or ``.10d`` … ``.12d``),
+    checked for the components HydroDyn uses from it (surge, sway and yaw from a ``.8``, all six otherwise)."""
+    qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{number}" + ("d" if number >= 10 else ""))
+    needed = (0, 1, 5) if number == 8 else range(6)
+    missing = [m + 1 for m in needed if not qtf.components[m]]
+    if missing:
+        raise UnsupportedFeatureError(f"{qtf.source} gives no value for the components {missing}, which HydroDyn "
+                                      "uses from this file. Regenerate it with WAMIT or choose another file.")
+    return qtf
+
+
 def _depth(sea: SeaStateInput | None, water_depth: float | None) -> float | None:
     """SeaState's water depth when it gives one, else the ``.fst``'s (None: unknown)."""
     if sea is not None and sea.water_depth != "default":
@@ -345,14 +351,12 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
         second += difference_frequency_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
                                               band=(float(sea.low_cutoff), float(sea.high_cutoff)),
                                               difference_band=tuple(float(c) for c in sea.qtf_cutoffs[:2]))
-    if hd.mean_drift:
-        qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.mean_drift}d")
-        second += mean_drift_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
+    for number, method in ((hd.mean_drift, mean_drift_forces), (hd.newman_approximation, newman_forces)):
+        if number:
+            qtf = _drift_file(hd, number)
+            dims = np.array([True, True, False, False, False, True]) if number == 8 else np.ones(6, dtype=bool)
+            second += dims * method(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
                                     band=(float(sea.low_cutoff), float(sea.high_cutoff)))
-    if hd.newman_approximation:
-        qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.newman_approximation}d")
-        second += newman_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,
-                                band=(float(sea.low_cutoff), float(sea.high_cutoff)))
     if hd.sum_qtf:
         qtf = read_wamit_qtf(f"{hd.potential_files[0]}.{hd.sum_qtf}s")
         second += sum_frequency_forces(qtf.redimensionalize(rho, gravity, hd.wamit_length[0]), waves,

@@ -16,9 +16,9 @@ read bilinearly between its frequencies and zero outside their range (HydroDyn p
 at the waves' heading (minus ``PtfmRefY``) wrapped into the file's heading range by whole turns, bilinearly between
 its headings. The sum-frequency forces (``SumQTF``, the ``.NNs`` file) are made the same way at the sum frequencies
 (:func:`sum_frequency_forces`); the mean drift alone (``MnDrift`` 10-12, a difference-frequency file's diagonal) by
-:func:`mean_drift_forces`; Newman's approximation (``NewmanApp`` 10-12) by :func:`newman_forces`. Unidirectional
-seas only: a spread sea (``WaveDirMod`` 1) is refused, as are WAMIT's 3-D files (``MnDrift``, ``NewmanApp``
-7-9) (:mod:`.platform`).
+:func:`mean_drift_forces`; Newman's approximation (``NewmanApp``) by :func:`newman_forces`, each from a
+difference-frequency file (10-12) or WAMIT's 3-D mean-drift files (7-9). Unidirectional seas only: a spread sea
+(``WaveDirMod`` 1) is refused (:mod:`.platform`).
 """
 
 from __future__ import annotations
@@ -54,9 +54,9 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
     UnsupportedFeatureError
         A spread sea, a sum-frequency QTF, or a heading outside the file's headings.
     """
-    if qtf.kind != "difference":
-        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; the difference-frequency forces need a "
-                                      "difference-frequency file (.NNd).")
+    if qtf.kind != "difference" or qtf.diagonal:
+        raise UnsupportedFeatureError(f"{qtf.source}: not a full difference-frequency QTF; the difference-frequency "
+                                      "forces need a .10d, .11d or .12d file.")
     if waves.directions is not None:
         raise UnsupportedFeatureError("the difference-frequency forces are modelled for a unidirectional sea; the "
                                       "sea is spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or "
@@ -87,7 +87,8 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
 
 def mean_drift_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
                       heading: float | None = None) -> np.ndarray:
-    """HydroDyn's mean drift alone (``MnDrift`` with a difference-frequency file, 10-12; ``MnDrift_InitCalc``):
+    """HydroDyn's mean drift alone (``MnDrift``: a 3-D file 7-9, read along its diagonal, or a difference-frequency
+    file 10-12, read as :func:`qtf_at`; ``MnDrift_InitCalc``):
     ``F̄ = Σ_k Re Q(ω_k, ω_k) |a_k|²`` over ``band`` (``WvLowCOff``, ``WvHiCOff``) [rad/s], as a constant
     ``(N + 1, 6)`` series [N, N m] on ``waves.times()``.
 
@@ -108,14 +109,15 @@ def mean_drift_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
     w = waves.frequencies
     k = np.arange(1, n_half + 1)
     k = k[(w[k] >= band[0]) & (w[k] <= band[1])]
-    mean = np.sum(qtf_at(qtf, w[k], w[k], beta).real * (np.abs(a[k]) ** 2)[:, None], axis=0)
+    q = _diagonal_at(qtf, w[k], beta) if qtf.diagonal else qtf_at(qtf, w[k], w[k], beta)     # 3-D or 4-D data
+    mean = np.sum(q.real * (np.abs(a[k]) ** 2)[:, None], axis=0)
     return np.tile(mean, (waves.n_steps + 1, 1))
 
 
 def newman_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
                   heading: float | None = None) -> np.ndarray:
-    """HydroDyn's mean and slow drift by Newman's approximation (``NewmanApp`` with a difference-frequency file,
-    10-12; ``NewmanApp_InitCalc``): with ``q_k = Re Q(ω_k, ω_k)`` (read along the file's diagonal, as HydroDyn's
+    """HydroDyn's mean and slow drift by Newman's approximation (``NewmanApp`` with a 3-D file 7-9 or a
+    difference-frequency file 10-12; ``NewmanApp_InitCalc``): with ``q_k = Re Q(ω_k, ω_k)`` (read along the file's diagonal, as HydroDyn's
     3-D copy of the data) over ``band`` (first-order cut-offs) [rad/s],
     ``F(t) = |Σ_(q_k>0) a_k √q_k e^{iω_k t}|² − |Σ_(q_k<0) a_k √(−q_k) e^{iω_k t}|²`` on ``waves.times()``
     ``(N + 1, 6)`` [N, N m] (HydroDyn's one-sided complex inverse FFT, frequencies below N/2).

@@ -212,7 +212,8 @@ def test_mean_drift_alone_matches_hydrodyn(stock_semi, tmp_path):
                 seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(UnsupportedFeatureError, match=r"'MnDrift': 12, 'DiffQTF': 12.*allows one of MnDrift, NewmanApp and DiffQTF"):
+        with pytest.raises(UnsupportedFeatureError,
+                           match=r"'MnDrift': 12, 'DiffQTF': 12.*allows one of MnDrift, NewmanApp and DiffQTF"):
             platform_hydrodynamics(both, **args)
         drift = platform_hydrodynamics(alone, **args).waves.forces
         first = platform_hydrodynamics(_first_order(tmp_path, text), **args).waves.forces
@@ -254,6 +255,40 @@ def test_newman_approximation_matches_hydrodyn(stock_semi, tmp_path):
         assert np.max(np.abs(second[:, k] - theirs)) <= 1e-5 * np.std(theirs) + 1e-6, name
 
 
+def test_mean_drift_from_a_3d_file_matches_hydrodyn(stock_semi, tmp_path):
+    """MnDrift 8: a WAMIT .8 file (3-D: PER BETA1 BETA2 I MOD PHS RE IM), here written from the .12d diagonal,
+    read linearly along the frequency; HydroDyn uses its surge, sway and yaw only
+    (tests/data/openfast_qtf/umainesemi_mndrift8.json): within 1e-4 relative, zero elsewhere."""
+    import json
+    import re
+
+    from mbsym.wind.offshore.platform import platform_hydrodynamics
+
+    d = stock_semi.parent
+    data = tmp_path / "HydroData"
+    data.mkdir()
+    for f in (d / "HydroData").iterdir():
+        (data / f.name).symlink_to(f)
+    full = (d / "HydroData" / "IEA-15-240-RWT-UMaineSemi.12d").read_text().splitlines()
+    rows = [r.split() for r in full if r.strip()]
+    (data / "IEA-15-240-RWT-UMaineSemi.8").write_text(
+        "\n".join("  ".join([r[0], *r[2:]]) for r in rows if float(r[0]) == float(r[1])) + "\n")
+    text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
+    text = re.sub(r"^\s*\S+(\s+DiffQTF\b)", r"0\1", text, count=1, flags=re.M)
+    hd = tmp_path / "hd8.dat"
+    hd.write_text(re.sub(r"^\s*\S+(\s+MnDrift\b)", r"8\1", text, count=1, flags=re.M))
+    args = dict(water_density=1025.0, gravity=9.81, water_depth=200.0,
+                seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        drift = platform_hydrodynamics(hd, **args).waves.forces - \
+            platform_hydrodynamics(_first_order(tmp_path, text), **args).waves.forces
+    ref = json.loads((DATA / "umainesemi_mndrift8.json").read_text())["means"]
+    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
+    for k, name in enumerate(names):
+        assert drift[0, k] == pytest.approx(ref[name], rel=1e-4, abs=1e-9), name
+
+
 def _first_order(tmp_path: Path, text: str) -> Path:
     """The deck's HydroDyn with every second-order switch off."""
     import re
@@ -275,10 +310,10 @@ def test_other_second_order_options_are_refused(stock_semi, tmp_path):
     sea = tmp_path / "sea.dat"
     sea.write_text((d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat").read_text())
     text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
-    for key, value in (("MnDrift", 8), ("NewmanApp", 9)):
+    for key, value in (("MnDrift", 12), ("NewmanApp", 12)):         # with the deck's DiffQTF 12
         hd = tmp_path / f"hd_{key}.dat"
         hd.write_text(re.sub(rf"^\s*\S+(\s+{key}\b)", rf"{value}\1", text, count=1, flags=re.M))
-        with pytest.raises(UnsupportedFeatureError, match=f"{key}.*the full difference- and sum-frequency QTFs"), \
+        with pytest.raises(UnsupportedFeatureError, match=f"{key}.*allows one of MnDrift, NewmanApp and DiffQTF"), \
                 warnings.catch_warnings():
             warnings.simplefilter("ignore")
             platform_hydrodynamics(hd, water_density=1025.0, gravity=9.81, seastate=sea, water_depth=200.0)
