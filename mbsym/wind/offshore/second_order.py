@@ -1,6 +1,7 @@
-"""Second-order wave forces from full QTFs, the way HydroDyn computes them (``DiffQTF``, ``SumQTF``).
+"""Second-order wave forces, the way HydroDyn computes them (``DiffQTF``, ``SumQTF``, ``MnDrift``, ``NewmanApp``).
 
-HydroDyn (v5.0.0, ``WAMIT2.f90``: ``DiffQTF_InitCalc``, ``MnDrift_InitCalc``) turns the first-order sea into a
+HydroDyn (v5.0.0, ``WAMIT2.f90``: ``DiffQTF_InitCalc``, ``MnDrift_InitCalc``, ``SumQTF_InitCalc``,
+``NewmanApp_InitCalc``) turns the first-order sea into a
 force time series before the run, fixed at the platform's undisplaced position, that joins the first-order
 excitation (its ``B1WvsFxi`` … channels are their sum). With the sea's DFT ``C_k`` (:class:`~.waves.IncidentWaves`,
 SeaState's ``WaveElevC0``) and the amplitudes ``a_k = C_k / (N/2)`` at ``ω_k = k Δω``:
