@@ -55,17 +55,10 @@ def difference_frequency_forces(qtf, waves: IncidentWaves, *, band: tuple[float,
     UnsupportedFeatureError
         A spread sea, a sum-frequency QTF, or a heading outside the file's headings.
     """
-    if qtf.kind != "difference" or qtf.diagonal:
-        raise UnsupportedFeatureError(f"{qtf.source}: not a full difference-frequency QTF; the difference-frequency "
-                                      "forces need a .10d, .11d or .12d file.")
-    if waves.directions is not None:
-        raise UnsupportedFeatureError("the difference-frequency forces are modelled for a unidirectional sea; the "
-                                      "sea is spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or "
-                                      "DiffQTF = 0.")
-    beta = waves.direction if heading is None else heading
-    n_half = len(waves.spectrum) - 1
-    a = np.asarray(waves.spectrum, dtype=complex) / n_half
-    w = waves.frequencies
+    if qtf.diagonal:
+        raise UnsupportedFeatureError(f"{qtf.source}: a mean-drift file (equal frequencies only); the "
+                                      "difference-frequency forces need a full QTF (.10d, .11d or .12d).")
+    beta, a, w, n_half = _sea(qtf, waves, heading, "difference", "the difference-frequency forces", "DiffQTF")
     k = np.arange(1, n_half + 1)
     in_band = k[(w[k] >= band[0]) & (w[k] <= band[1])]
     mean = np.sum(qtf_at(qtf, w[in_band], w[in_band], beta).real * (np.abs(a[in_band]) ** 2)[:, None], axis=0)
@@ -98,16 +91,7 @@ def mean_drift_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
     UnsupportedFeatureError
         As :func:`difference_frequency_forces`.
     """
-    if qtf.kind != "difference":
-        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; the mean drift needs a "
-                                      "difference-frequency file (.NNd).")
-    if waves.directions is not None:
-        raise UnsupportedFeatureError("the mean drift is modelled for a unidirectional sea; the sea is spread over "
-                                      "headings (WaveDirMod = 1). Set WaveDirMod = 0 or MnDrift = 0.")
-    beta = waves.direction if heading is None else heading
-    n_half = len(waves.spectrum) - 1
-    a = np.asarray(waves.spectrum, dtype=complex) / n_half
-    w = waves.frequencies
+    beta, a, w, n_half = _sea(qtf, waves, heading, "difference", "the mean drift", "MnDrift")
     k = np.arange(1, n_half + 1)
     k = k[(w[k] >= band[0]) & (w[k] <= band[1])]
     q = _diagonal_at(qtf, w[k], beta) if qtf.diagonal else qtf_at(qtf, w[k], w[k], beta)     # 3-D or 4-D data
@@ -128,17 +112,8 @@ def newman_forces(qtf, waves: IncidentWaves, *, band: tuple[float, float],
     UnsupportedFeatureError
         As :func:`difference_frequency_forces`.
     """
-    if qtf.kind != "difference":
-        raise UnsupportedFeatureError(f"{qtf.source}: a sum-frequency QTF; Newman's approximation needs a "
-                                      "difference-frequency file (.NNd).")
-    if waves.directions is not None:
-        raise UnsupportedFeatureError("Newman's approximation is modelled for a unidirectional sea; the sea is "
-                                      "spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or NewmanApp = 0.")
-    beta = waves.direction if heading is None else heading
-    n_half = len(waves.spectrum) - 1
+    beta, a, w, n_half = _sea(qtf, waves, heading, "difference", "Newman's approximation", "NewmanApp")
     n = waves.n_steps
-    a = np.asarray(waves.spectrum, dtype=complex) / n_half
-    w = waves.frequencies
     k = np.arange(1, n_half)                                  # HydroDyn's transform keeps frequencies below N/2
     k = k[(w[k] >= band[0]) & (w[k] <= band[1])]
     q = _diagonal_at(qtf, w[k], beta).real             # HydroDyn reads the diagonal alone here (its 3-D copy)
@@ -162,16 +137,7 @@ def sum_frequency_forces(qtf, waves: IncidentWaves, *, sum_band: tuple[float, fl
     UnsupportedFeatureError
         A spread sea, a difference-frequency QTF, or a heading outside the file's headings.
     """
-    if qtf.kind != "sum":
-        raise UnsupportedFeatureError(f"{qtf.source}: a difference-frequency QTF; the sum-frequency forces need a "
-                                      "sum-frequency file (.NNs).")
-    if waves.directions is not None:
-        raise UnsupportedFeatureError("the sum-frequency forces are modelled for a unidirectional sea; the sea is "
-                                      "spread over headings (WaveDirMod = 1). Set WaveDirMod = 0 or SumQTF = 0.")
-    beta = waves.direction if heading is None else heading
-    n_half = len(waves.spectrum) - 1
-    a = np.asarray(waves.spectrum, dtype=complex) / n_half
-    w = waves.frequencies
+    beta, a, w, n_half = _sea(qtf, waves, heading, "sum", "the sum-frequency forces", "SumQTF")
     inside = lambda om: (om >= sum_band[0]) & (om <= sum_band[1])          # noqa: E731
     term1 = np.zeros((n_half + 1, 6), dtype=complex)                        # equal frequencies, at 2 ω_k
     k = np.arange(1, (n_half - 1) // 2 + 1)
@@ -192,6 +158,20 @@ def sum_frequency_forces(qtf, waves: IncidentWaves, *, sum_band: tuple[float, fl
     n = waves.n_steps
     series = 0.5 * n * (np.fft.irfft(term1, n=n, axis=0) + 2.0 * np.fft.irfft(term2, n=n, axis=0))
     return np.vstack([series, series[:1]])
+
+
+def _sea(qtf, waves: IncidentWaves, heading: float | None, kind: str, what: str, key: str):
+    """``(β, a_k, ω_k, N/2)`` for ``what`` (HydroDyn's ``key``) from a ``kind`` QTF; spread seas and the other
+    kind of file refused."""
+    if qtf.kind != kind:
+        raise UnsupportedFeatureError(f"{qtf.source}: a {qtf.kind}-frequency QTF; for {what} a {kind}-frequency "
+                                      f"file (.{'NNs' if kind == 'sum' else 'NNd'}) is needed.")
+    if waves.directions is not None:
+        raise UnsupportedFeatureError(f"{what}: modelled for a unidirectional sea; the sea is spread over headings "
+                                      f"(WaveDirMod = 1). Set WaveDirMod = 0 or {key} = 0.")
+    n_half = len(waves.spectrum) - 1
+    beta = waves.direction if heading is None else heading
+    return beta, np.asarray(waves.spectrum, dtype=complex) / n_half, waves.frequencies, n_half
 
 
 def qtf_at(qtf, omega1: np.ndarray, omega2: np.ndarray, heading: float) -> np.ndarray:

@@ -39,17 +39,20 @@ def _bilinear_qtf() -> QtfData:
     return QtfData(f, np.array([0.0]), values, "difference", "bilinear")
 
 
-def test_two_components_closed_form():
+def _two_waves():
+    """A sea of two components (64 samples of 0.5 s) and their amplitudes a_k = C_k / (N/2) and frequencies."""
     n, dt = 64, 0.5
     dw = 2 * math.pi / (n * dt)
     spectrum = np.zeros(n // 2 + 1, dtype=complex)
-    k1, k2 = 5, 9
-    spectrum[k1], spectrum[k2] = 3.0 + 1.0j, -2.0 + 4.0j
+    spectrum[5], spectrum[9] = 3.0 + 1.0j, -2.0 + 4.0j
     waves = IncidentWaves(dt, spectrum, dw, 0.0, 200.0, 9.81)
+    return waves, (spectrum[5] / (n // 2), 5 * dw), (spectrum[9] / (n // 2), 9 * dw)
+
+
+def test_two_components_closed_form():
+    waves, (a1, w1), (a2, w2) = _two_waves()
     qtf = _bilinear_qtf()
     force = difference_frequency_forces(qtf, waves, band=(0.0, 10.0), difference_band=(0.0, 10.0))
-    a1, a2 = spectrum[k1] / (n // 2), spectrum[k2] / (n // 2)
-    w1, w2 = k1 * dw, k2 * dw
     q = lambda x, y: (1 + 2 * x - y) + 1j * (x - y) # noqa: E731
     t = waves.times()
     expected = (q(w1, w1).real * abs(a1) ** 2 + q(w2, w2).real * abs(a2) ** 2
@@ -66,16 +69,9 @@ def test_two_components_closed_form():
 def test_sum_frequency_two_components_closed_form():
     """HydroDyn's sum-frequency definition: F = Re a₁²Q(ω₁, ω₁)e^{2iω₁t} + Re a₂²Q(ω₂, ω₂)e^{2iω₂t}
     + 2 Re a₁a₂Q(ω₁, ω₂)e^{i(ω₁+ω₂)t}, to 1e-9 (Q bilinear, so read exactly)."""
-    n, dt = 64, 0.5
-    dw = 2 * math.pi / (n * dt)
-    spectrum = np.zeros(n // 2 + 1, dtype=complex)
-    k1, k2 = 5, 9
-    spectrum[k1], spectrum[k2] = 3.0 + 1.0j, -2.0 + 4.0j
-    waves = IncidentWaves(dt, spectrum, dw, 0.0, 200.0, 9.81)
+    waves, (a1, w1), (a2, w2) = _two_waves()
     qtf = dataclasses.replace(_bilinear_qtf(), kind="sum")
     force = sum_frequency_forces(qtf, waves, sum_band=(0.0, 100.0))
-    a1, a2 = spectrum[k1] / (n // 2), spectrum[k2] / (n // 2)
-    w1, w2 = k1 * dw, k2 * dw
     q = lambda x, y: (1 + 2 * x - y) + 1j * (x - y) # noqa: E731
     t = waves.times()
     expected = (np.real(a1**2 * q(w1, w1) * np.exp(2j * w1 * t)) + np.real(a2**2 * q(w2, w2) * np.exp(2j * w2 * t))
@@ -157,39 +153,53 @@ def test_stock_deck_forces_match_hydrodyn(stock_semi):
     assert np.std(ref.channel("B1WvsF2xi")) > 0.01 * np.std(ref.channel("B1WvsFxi"))    # the term is there
 
 
-def test_sum_frequency_forces_match_hydrodyn(stock_semi, tmp_path):
-    """The wheel's deck with SumQTF 12 too: HydroDyn's B1WvsF2xi … (difference + sum frequency) at its WaveDT samples
-    (tests/data/openfast_qtf/README.md) within 1e-5 of their std (measured when written: 4e-5 of the std at the
-    samples between them, 1e-6 at them)."""
+def _second_order(stock_semi, tmp_path: Path, switches: dict):
+    """The second-order loads ``(N + 1, 6)`` of the wheel's deck with the HydroDyn ``switches`` set (the rest as
+    shipped: DiffQTF 12), the first-order loads taken off, and its sea."""
     import re
 
-    from mbsym.wind.analysis.compare import read_csv
     from mbsym.wind.offshore.platform import platform_hydrodynamics
 
     d = stock_semi.parent
-    (tmp_path / "HydroData").symlink_to(d / "HydroData")
-    hd = tmp_path / "hd.dat"
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    if not (tmp_path / "HydroData").exists():
+        (tmp_path / "HydroData").symlink_to(d / "HydroData")
     text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
-    hd.write_text(re.sub(r"^\s*\S+(\s+SumQTF\b)", r"12\1", text, count=1, flags=re.M))
+    for key, value in switches.items():
+        text = re.sub(rf"^\s*\S+(\s+{key}\b)", rf"{value}\1", text, count=1, flags=re.M)
+    hd = tmp_path / "hd.dat"
+    hd.write_text(text)
+    args = dict(water_density=1025.0, gravity=9.81, water_depth=200.0,
+                seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ph = platform_hydrodynamics(hd, water_density=1025.0, gravity=9.81, water_depth=200.0,
-                                    seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
-        first = platform_hydrodynamics(d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat", water_density=1025.0,
-                                       gravity=9.81, water_depth=200.0,
-                                       seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
-    diff = read_wamit_qtf(d / "HydroData" / "IEA-15-240-RWT-UMaineSemi.12d").redimensionalize(1025.0, 9.81, 1.0)
-    sea = ph.waves.waves
-    second_diff = difference_frequency_forces(diff, sea, band=(0.111527, 3.2), difference_band=(0.0, 0.737863))
-    ref = read_csv(DATA / "umainesemi_sumqtf_wvs2.csv")
+        total = platform_hydrodynamics(hd, **args).waves
+        first = platform_hydrodynamics(_first_order(tmp_path, text), **args).waves
+    return total.forces - first.forces, total.waves
+
+
+NAMES2 = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
+
+
+def _against_series(second, sea, csv_name: str) -> None:
+    """``second`` at the samples of HydroDyn's series in ``csv_name``: within 1e-5 of each one's std."""
+    from mbsym.wind.analysis.compare import read_csv
+
+    ref = read_csv(DATA / csv_name)
     i = np.rint(np.asarray(ref.time) / sea.time_step).astype(int) % sea.n_steps
-    second = ph.waves.forces[i] - first.waves.forces[i] + second_diff[i]      # (1st + diff + sum) − (1st + diff) + diff
-    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
-    for k, name in enumerate(names):
+    for k, name in enumerate(NAMES2):
         theirs = np.asarray(ref.channel(name))
-        assert np.max(np.abs(second[:, k] - theirs)) <= 1e-5 * np.std(theirs) + 1e-6, name
-    sum_only = ph.waves.forces[i, 0] - first.waves.forces[i, 0]
-    assert np.std(sum_only) > 0.05 * np.std(ref.channel("B1WvsF2xi"))                  # the sum term is there
+        assert np.max(np.abs(second[i, k] - theirs)) <= 1e-5 * np.std(theirs) + 1e-6, name
+
+
+def test_sum_frequency_forces_match_hydrodyn(stock_semi, tmp_path):
+    """The wheel's deck with SumQTF 12 too: HydroDyn's B1WvsF2xi … (difference + sum frequency) at its WaveDT samples
+    (tests/data/openfast_qtf/README.md) within 1e-5 of their std (measured when written: 4e-5 of the std at the
+    samples between them, 1e-6 at them); the sum part alone is a sizeable share of it."""
+    second, sea = _second_order(stock_semi, tmp_path, {"SumQTF": 12})
+    _against_series(second, sea, "umainesemi_sumqtf_wvs2.csv")
+    diff, _ = _second_order(stock_semi, tmp_path / "diff", {})
+    assert np.std(second[:, 0] - diff[:, 0]) > 0.3 * np.std(second[:, 0])           # the sum term is there
 
 
 def test_mean_drift_alone_matches_hydrodyn(stock_semi, tmp_path):
@@ -197,62 +207,23 @@ def test_mean_drift_alone_matches_hydrodyn(stock_semi, tmp_path):
     (tests/data/openfast_qtf/umainesemi_mndrift12.json): within 1e-4 relative (single precision in HydroDyn;
     measured 1e-5 to 4e-5). MnDrift together with DiffQTF is refused, as HydroDyn refuses it."""
     import json
-    import re
 
-    from mbsym.wind.offshore.platform import platform_hydrodynamics
-
-    d = stock_semi.parent
-    (tmp_path / "HydroData").symlink_to(d / "HydroData")
-    text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
-    text = re.sub(r"^\s*\S+(\s+MnDrift\b)", r"12\1", text, count=1, flags=re.M)
-    both, alone = tmp_path / "both.dat", tmp_path / "alone.dat"
-    both.write_text(text)
-    alone.write_text(re.sub(r"^\s*\S+(\s+DiffQTF\b)", r"0\1", text, count=1, flags=re.M))
-    args = dict(water_density=1025.0, gravity=9.81, water_depth=200.0,
-                seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        with pytest.raises(UnsupportedFeatureError,
-                           match=r"'MnDrift': 12, 'DiffQTF': 12.*allows one of MnDrift, NewmanApp and DiffQTF"):
-            platform_hydrodynamics(both, **args)
-        drift = platform_hydrodynamics(alone, **args).waves.forces
-        first = platform_hydrodynamics(_first_order(tmp_path, text), **args).waves.forces
+    with pytest.raises(UnsupportedFeatureError,
+                       match=r"'MnDrift': 12, 'DiffQTF': 12.*allows one of MnDrift, NewmanApp and DiffQTF"):
+        _second_order(stock_semi, tmp_path / "both", {"MnDrift": 12})
+    drift, _ = _second_order(stock_semi, tmp_path, {"DiffQTF": 0, "MnDrift": 12})
     ref = json.loads((DATA / "umainesemi_mndrift12.json").read_text())["means"]
-    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
-    mean = (drift - first)[:-1].mean(axis=0)
-    assert np.ptp(drift - first, axis=0).max() < 1e-6 * np.abs(mean).max()          # a constant
-    for k, name in enumerate(names):
-        assert mean[k] == pytest.approx(ref[name], rel=1e-4), name
+    assert np.ptp(drift, axis=0).max() < 1e-6 * np.abs(drift[0]).max()                # a constant
+    for k, name in enumerate(NAMES2):
+        assert drift[0, k] == pytest.approx(ref[name], rel=1e-4), name
 
 
 def test_newman_approximation_matches_hydrodyn(stock_semi, tmp_path):
     """NewmanApp 12 against HydroDyn's B1WvsF2xi … at its WaveDT samples (tests/data/openfast_qtf/README.md): within
     1e-5 of their std (HydroDyn reads the file's diagonal alone here; read bilinearly off the diagonal, as its full
     QTF is, the surge force was 8 % of its std off)."""
-    import re
-
-    from mbsym.wind.analysis.compare import read_csv
-    from mbsym.wind.offshore.platform import platform_hydrodynamics
-
-    d = stock_semi.parent
-    (tmp_path / "HydroData").symlink_to(d / "HydroData")
-    text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
-    text = re.sub(r"^\s*\S+(\s+DiffQTF\b)", r"0\1", text, count=1, flags=re.M)
-    newman = tmp_path / "newman.dat"
-    newman.write_text(re.sub(r"^\s*\S+(\s+NewmanApp\b)", r"12\1", text, count=1, flags=re.M))
-    args = dict(water_density=1025.0, gravity=9.81, water_depth=200.0,
-                seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        both = platform_hydrodynamics(newman, **args).waves
-        first = platform_hydrodynamics(_first_order(tmp_path, text), **args).waves
-    ref = read_csv(DATA / "umainesemi_newman_wvs2.csv")
-    i = np.rint(np.asarray(ref.time) / both.waves.time_step).astype(int) % both.waves.n_steps
-    second = both.forces[i] - first.forces[i]
-    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
-    for k, name in enumerate(names):
-        theirs = np.asarray(ref.channel(name))
-        assert np.max(np.abs(second[:, k] - theirs)) <= 1e-5 * np.std(theirs) + 1e-6, name
+    second, sea = _second_order(stock_semi, tmp_path, {"DiffQTF": 0, "NewmanApp": 12})
+    _against_series(second, sea, "umainesemi_newman_wvs2.csv")
 
 
 def test_mean_drift_from_a_3d_file_matches_hydrodyn(stock_semi, tmp_path):
@@ -260,32 +231,17 @@ def test_mean_drift_from_a_3d_file_matches_hydrodyn(stock_semi, tmp_path):
     read linearly along the frequency; HydroDyn uses its surge, sway and yaw only
     (tests/data/openfast_qtf/umainesemi_mndrift8.json): within 1e-4 relative, zero elsewhere."""
     import json
-    import re
 
-    from mbsym.wind.offshore.platform import platform_hydrodynamics
-
-    d = stock_semi.parent
     data = tmp_path / "HydroData"
     data.mkdir()
-    for f in (d / "HydroData").iterdir():
+    for f in (stock_semi.parent / "HydroData").iterdir():
         (data / f.name).symlink_to(f)
-    full = (d / "HydroData" / "IEA-15-240-RWT-UMaineSemi.12d").read_text().splitlines()
-    rows = [r.split() for r in full if r.strip()]
+    rows = [r.split() for r in (data / "IEA-15-240-RWT-UMaineSemi.12d").read_text().splitlines() if r.strip()]
     (data / "IEA-15-240-RWT-UMaineSemi.8").write_text(
         "\n".join("  ".join([r[0], *r[2:]]) for r in rows if float(r[0]) == float(r[1])) + "\n")
-    text = (d / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
-    text = re.sub(r"^\s*\S+(\s+DiffQTF\b)", r"0\1", text, count=1, flags=re.M)
-    hd = tmp_path / "hd8.dat"
-    hd.write_text(re.sub(r"^\s*\S+(\s+MnDrift\b)", r"8\1", text, count=1, flags=re.M))
-    args = dict(water_density=1025.0, gravity=9.81, water_depth=200.0,
-                seastate=d / "IEA-15-240-RWT-UMaineSemi_SeaState.dat")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        drift = platform_hydrodynamics(hd, **args).waves.forces - \
-            platform_hydrodynamics(_first_order(tmp_path, text), **args).waves.forces
+    drift, _ = _second_order(stock_semi, tmp_path, {"DiffQTF": 0, "MnDrift": 8})
     ref = json.loads((DATA / "umainesemi_mndrift8.json").read_text())["means"]
-    names = ("B1WvsF2xi", "B1WvsF2yi", "B1WvsF2zi", "B1WvsM2xi", "B1WvsM2yi", "B1WvsM2zi")
-    for k, name in enumerate(names):
+    for k, name in enumerate(NAMES2):
         assert drift[0, k] == pytest.approx(ref[name], rel=1e-4, abs=1e-9), name
 
 
