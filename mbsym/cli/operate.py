@@ -521,7 +521,13 @@ def _wind_words(args, deck, wind) -> str:
     inflow = deck.inflow
     if inflow.wind_type == 1:
         return f"steady {inflow.steady_speed:g} m/s (InflowWind)"
-    name = inflow.full_field_file_name if inflow.wind_type == 3 else inflow.uniform_file_name
+    kind = inflow.wind_type
+    if kind in (4, 7):
+        name = inflow.bladed_file_name + (".wnd" if kind == 4 else "")
+    elif kind == 5:
+        name = str(inflow.hawc.files[0])
+    else:
+        name = inflow.full_field_file_name if kind == 3 else inflow.uniform_file_name
     return f"{Path(name).name} (InflowWind)"
 
 

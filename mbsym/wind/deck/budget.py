@@ -461,7 +461,20 @@ def _inflow(p: _Pricer, ifw: _Keys | None) -> int:
         found = ifw.file("FileName_BTS")
         if found is not None:
             _turbsim(p, ifw, found)
+    if wind_type == 5:
+        _hawc(p, ifw)
     return ifw.outlist
+
+
+def _hawc(p: _Pricer, ifw: _Keys) -> None:
+    """Price a HAWC box from its InflowWind keys: the float32 grid plus one component's copy while reading."""
+    sizes = [ifw.number(k) for k in ("nx", "ny", "nz")]
+    if any(s is None or not s[0] >= 1 for s in sizes):
+        return                                          # the reader refuses them
+    values = 3.0 * sizes[0][0] * sizes[1][0] * sizes[2][0]
+    p.add(f"HAWC box: {sizes[0][3]} x {sizes[1][3]} x {sizes[2][3]} points x 3 components (float32, plus one "
+          "component while reading)", 4.0 * values * 4.0 / 3.0, ifw, sizes[0],
+          "a smaller HAWC box (fewer points: nx, ny, nz)")
 
 
 def _turbsim(p: _Pricer, ifw: _Keys, found: tuple[Path, int, str, str]) -> None:

@@ -1,19 +1,21 @@
-"""Read an OpenFAST InflowWind input file (``*_IfW.dat``): steady, uniform-file and TurbSim full-field wind.
+"""Read an OpenFAST InflowWind input file (``*_IfW.dat``): steady, uniform-file and full-field wind.
 
 Supported: ``WindType = 1`` (steady: ``HWindSpeed``, ``RefHt``, ``PLexp``), ``WindType = 2``
-(uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``) and ``WindType = 3`` (TurbSim
-binary full field ``FileName_BTS``), with ``PropagationDir`` and ``VFlowAng``; the other types
-(Bladed 4 and 7, HAWC 5, user 6) and the continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise
-with the file, line and key; the single-point lidar (``SensorType = 1``) is read into
-:attr:`InflowWindSettings.lidar` (:class:`~mbsym.wind.inflow.PointLidar`). The files named by ``Filename_Uni`` and ``FileName_BTS`` are resolved relative to the
-InflowWind file, as InflowWind does (absolute paths are used as they are). ``VelInterpCubic = True``
-is read but refused when the spatial field is requested (:meth:`InflowWindSettings.field`: mbsym
-interpolates linearly in time). Keys not used here (output points ``WindV*List``, the Bladed and
-HAWC sections, the unused lidar keys, ``OutList``) are kept, as text, in ``extra``.
+(uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``), ``WindType = 3`` (TurbSim
+binary full field ``FileName_BTS``) and ``WindType = 5`` (HAWC box: ``FileName_u/v/w``, ``nx`` … ``XOffset``;
+:mod:`mbsym.wind.inflow.hawc`), with ``PropagationDir`` and ``VFlowAng``; Bladed boxes (4, 7), user-defined
+wind (6) and the continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise with the file, line and key; the
+single-point lidar (``SensorType = 1``) is read into :attr:`InflowWindSettings.lidar`
+(:class:`~mbsym.wind.inflow.PointLidar`). The files named by ``Filename_Uni``, ``FileName_BTS``, ``FileNameRoot`` and ``FileName_u/v/w`` are resolved
+relative to the InflowWind file, as InflowWind does (absolute paths are used as they are).
+``VelInterpCubic = True`` is read but refused when the spatial field is requested
+(:meth:`InflowWindSettings.field`: mbsym interpolates linearly in time). Keys not used here (output points
+``WindV*List``, the sections of the other wind types, the unused lidar keys, ``OutList``) are kept, as text,
+in ``extra``.
 
 :meth:`InflowWindSettings.wind` gives the hub-height wind signal (types 1 and 2, as before);
 :meth:`InflowWindSettings.field` the spatial description (:class:`~mbsym.wind.inflow.UniformFieldWind`
-for types 1 and 2, :class:`~mbsym.wind.inflow.FullFieldWind` for type 3).
+for types 1 and 2, :class:`~mbsym.wind.inflow.FullFieldWind` for the full fields 3 and 5).
 """
 
 from __future__ import annotations
@@ -31,12 +33,13 @@ __all__ = ["InflowWindSettings", "read_inflowwind", "deck_inflowwind", "INFLOWWI
 
 _DEG = math.pi / 180.0
 _k = _Key
+_FULL_FIELD = (3, 4, 5, 7)
 _WIND_TYPES = {1: "steady", 2: "uniform wind file", 3: "binary TurbSim full-field", 4: "binary Bladed full-field",
                5: "HAWC", 6: "user defined", 7: "native Bladed full-field"}
 _KEYS = (
     _k("WindType", "wind_type", "int",
-       check=(lambda v: v in (1, 2, 3), "must be 1 (steady), 2 (uniform wind file) or 3 (binary TurbSim full "
-              "field): mbsym does not read Bladed (4, 7), HAWC (5) or user-defined (6) wind")),
+       check=(lambda v: v in (1, 2, 3, 5), "must be 1 (steady), 2 (uniform wind file), 3 (binary TurbSim "
+              "full field) or 5 (HAWC): mbsym does not read Bladed (4, 7) or user-defined (6) wind")),
     _k("PropagationDir", "propagation_direction", scale=_DEG, default=0.0),
     _k("VFlowAng", "upflow_angle", scale=_DEG, default=0.0),
     _k("VelInterpCubic", "cubic_interpolation", "bool", default=False),
@@ -62,6 +65,35 @@ _LIDAR_KEYS = (
     _k("MeasurementInterval", "interval", check=(lambda v: v > 0, "must be a time > 0 [s]")),
     _k("ConsiderHubMotion", "hub_motion", "int", check=(lambda v: v in (0, 1), "must be 0 or 1")),
 )
+#: The Bladed keys (``WindType`` 4 and 7).
+_BLADED_KEYS = (
+    _k("FileNameRoot", "root", "str"),
+    _k("TowerFile", "tower", "bool", default=False),
+)
+_POSITIVE = (lambda v: v > 0, "must be greater than 0")
+_NOT_NEGATIVE = (lambda v: v >= 0, "must not be negative")
+#: The HAWC keys (``WindType = 5``).
+_HAWC_KEYS = (
+    _k("FileName_u", "file_u", "str"), _k("FileName_v", "file_v", "str"), _k("FileName_w", "file_w", "str"),
+    _k("nx", "nx", "int", check=(lambda v: v >= 2, "must be at least 2 grid points")),
+    _k("ny", "ny", "int", check=(lambda v: v >= 2, "must be at least 2 grid points")),
+    _k("nz", "nz", "int", check=(lambda v: v >= 2, "must be at least 2 grid points")),
+    _k("dx", "dx", check=_POSITIVE), _k("dy", "dy", check=_POSITIVE), _k("dz", "dz", check=_POSITIVE),
+    _k("RefHt_Hawc", "reference_height", check=_POSITIVE),
+    _k("ScaleMethod", "scale_method", "int", check=(lambda v: v in (0, 1, 2), "must be 0 (none), 1 (direct "
+                                                     "scaling factors) or 2 (target standard deviations)")),
+    _k("SFx", "sfx", check=_NOT_NEGATIVE), _k("SFy", "sfy", check=_NOT_NEGATIVE),
+    _k("SFz", "sfz", check=_NOT_NEGATIVE),
+    _k("SigmaFx", "sigx", check=_NOT_NEGATIVE), _k("SigmaFy", "sigy", check=_NOT_NEGATIVE),
+    _k("SigmaFz", "sigz", check=_NOT_NEGATIVE),
+    _k("URef", "mean_speed", check=(lambda v: v > 0, "must be greater than 0 m/s (it carries the box past "
+                                                     "the rotor)")),
+    _k("WindProfile", "profile", "int", check=(lambda v: v in (0, 1, 2), "must be 0 (constant), 1 "
+                                                "(logarithmic) or 2 (power law)")),
+    _k("PLExp_Hawc", "exponent"),
+    _k("Z0", "roughness"),
+    _k("XOffset", "x_offset", default=0.0),
+)
 #: InflowWind key → :class:`InflowWindSettings` attribute (angles deg → rad).
 INFLOWWIND_KEYS = {k.key: k.attr for k in _KEYS}
 
@@ -73,7 +105,8 @@ class InflowWindSettings:
     Attributes
     ----------
     wind_type : int
-        1 (steady) or 2 (uniform wind file).
+        1 (steady), 2 (uniform wind file), 3 (TurbSim), 4 (TurbSim's Bladed-style box), 5 (HAWC) or 7
+        (native Bladed).
     propagation_direction, upflow_angle : float
         ``PropagationDir`` and ``VFlowAng`` [rad].
     cubic_interpolation : bool
@@ -90,6 +123,15 @@ class InflowWindSettings:
         ``SensorType`` (0 none, 1 single-point beams; 2 and 3 are refused).
     lidar : PointLidar or None
         The single-point lidar of ``SensorType = 1`` (:class:`~mbsym.wind.inflow.PointLidar`).
+    hawc : HawcBox or None
+        The HAWC box of type 5 (:class:`~mbsym.wind.inflow.hawc.HawcBox`, files resolved).
+    bladed_file_name : str
+        ``FileNameRoot`` as written (types 4 and 7).
+    bladed_file : Path or None
+        Type 4: ``FileNameRoot`` + ``.wnd``; type 7: ``FileNameRoot`` (the native Bladed summary), resolved
+        against the InflowWind file's directory; None if not found.
+    bladed_tower_file : bool
+        ``TowerFile`` (type 4: read ``<root>.twr``).
     path : str
         The InflowWind file.
     extra : dict
@@ -112,6 +154,10 @@ class InflowWindSettings:
     lidar_sensor_type: int
     path: str
     lidar: object = None
+    hawc: object = None
+    bladed_file_name: str = ""
+    bladed_file: Path | None = None
+    bladed_tower_file: bool = False
     extra: dict = field(default_factory=dict, compare=False)
     lines: dict = field(default_factory=dict, compare=False)
 
@@ -137,9 +183,10 @@ class InflowWindSettings:
 
         bad = {name: getattr(self, name) for name in ("propagation_direction", "upflow_angle")
                if getattr(self, name) != 0.0}
-        if self.wind_type == 3:
-            bad["full field (WindType = 3; a hub-height signal drops its spatial variation)"] = 3.0
-        if self.wind_type in (2, 3) and self.cubic_interpolation:
+        if self.wind_type in _FULL_FIELD:
+            bad[f"full field (WindType = {self.wind_type}; a hub-height signal drops its spatial variation)"] = \
+                float(self.wind_type)
+        if self.wind_type != 1 and self.cubic_interpolation:
             bad["cubic_interpolation (VelInterpCubic; mbsym interpolates linearly)"] = 1.0
         if self.wind_type == 1 and self.steady_power_law_exponent != 0.0:
             bad["steady_power_law_exponent (PLexp)"] = self.steady_power_law_exponent
@@ -149,7 +196,7 @@ class InflowWindSettings:
                                  "the rotor axis; set these to zero or pass allow_unmodelled=True.")
         if self.wind_type == 1:
             return SteadyWind(self.steady_speed)
-        if self.wind_type == 3:
+        if self.wind_type in _FULL_FIELD:
             return self._hub_series(allow_unmodelled)
         if self.uniform_file is None:
             raise OpenFASTFormatError(f"{self.path}, line {self.lines.get('Filename_Uni', '?')}, key "
@@ -169,7 +216,7 @@ class InflowWindSettings:
 
     def field(self, *, allow_cubic: bool = False):
         """The wind over space: a :class:`~mbsym.wind.inflow.UniformFieldWind` (types 1, 2) or a
-        :class:`~mbsym.wind.inflow.FullFieldWind` (type 3), with ``PropagationDir`` and ``VFlowAng``.
+        :class:`~mbsym.wind.inflow.FullFieldWind` (types 3, 4, 5, 7), with ``PropagationDir`` and ``VFlowAng``.
 
         Raises
         ------
@@ -181,7 +228,7 @@ class InflowWindSettings:
         from ..inflow import UniformFieldWind, read_turbsim_bts, read_uniform_wind
 
         angles = {"propagation_direction": self.propagation_direction, "upflow_angle": self.upflow_angle}
-        if self.wind_type in (2, 3) and self.cubic_interpolation and not allow_cubic:
+        if self.wind_type != 1 and self.cubic_interpolation and not allow_cubic:
             raise OpenFASTFormatError(f"{self._where('VelInterpCubic')}: True (cubic interpolation in time) is not "
                                       "modelled: mbsym interpolates linearly (VelInterpCubic = False). Set it to False.")
         if self.wind_type == 1:
@@ -197,11 +244,37 @@ class InflowWindSettings:
                                           f"for a uniform wind file; got {length}. Fix the value.")
             return UniformFieldWind(read_uniform_wind(self.uniform_file), self.uniform_reference_height, length,
                                     source=str(self.uniform_file), **angles)
+        if self.wind_type in (4, 5, 7):
+            return self._other_field(angles)
         if self.full_field_file is None:
             raise OpenFASTFormatError(f"{self._where('FileName_BTS')}: TurbSim full-field file not found: tried "
                                       f"'{self.full_field_file_name}' (relative paths start at the directory of "
                                       f"{Path(self.path).name}). Fix the file name.")
         return read_turbsim_bts(self.full_field_file, **angles)
+
+    def _other_field(self, angles: dict):
+        """HAWC (5), TurbSim's Bladed-style (4) and native Bladed (7) boxes."""
+        if self.wind_type == 5:
+            from ..inflow.hawc import read_hawc
+
+            return read_hawc(self.hawc, **angles)
+        from ..inflow.bladed import read_bladed_native, read_bladed_wnd
+
+        if self.bladed_file is None:
+            tried = self.bladed_file_name + (".wnd" if self.wind_type == 4 else "")
+            what = "Bladed-style wind file" if self.wind_type == 4 else "native Bladed summary file"
+            raise OpenFASTFormatError(f"{self._where('FileNameRoot')}: {what} not found: tried '{tried}' (relative "
+                                      f"paths start at the directory of {Path(self.path).name}). Fix the name.")
+        if self.wind_type == 4:
+            return read_bladed_wnd(self.bladed_file, tower_file=self.bladed_tower_file, **angles)
+        if self.propagation_direction != 0.0 or self.upflow_angle != 0.0:
+            import warnings
+
+            warnings.warn(f"{self._where('PropagationDir')}: WindType = 7 takes the propagation direction and upflow "
+                          f"from the native Bladed summary {self.bladed_file.name}; the InflowWind file's "
+                          "PropagationDir and VFlowAng are not used (as in InflowWind). Set them to 0 to silence "
+                          "this.", stacklevel=3)
+        return read_bladed_native(self.bladed_file)       # its own PropagationDir/VFlowAng, as InflowWind
 
     def _where(self, key: str) -> str:
         return f"{self.path}, line {self.lines.get(key, '?')}, key '{key}'"
@@ -249,10 +322,44 @@ def read_inflowwind(path) -> InflowWindSettings:
     uniform = _resolve_wind_file(p, values["uniform_file_name"])
     full = _resolve_wind_file(p, values["full_field_file_name"])
     lidar = _read_lidar(deck) if values["lidar_sensor_type"] == 1 else None
-    keys = _KEYS + (_LIDAR_KEYS if lidar is not None else ())
+    kind = values["wind_type"]
+    others = _read_other_field(deck, p, kind)
+    keys = _KEYS + (_LIDAR_KEYS if lidar is not None else ()) + (_HAWC_KEYS if kind == 5 else ()) \
+        + (_BLADED_KEYS if kind in (4, 7) else ())
     lines = {k.key: deck.line_of(k.key) for k in keys if k.key.lower() in deck.entries}
     return InflowWindSettings(**values, uniform_file=uniform, full_field_file=full, path=str(p), extra=deck.extra(),
-                              lines=lines, lidar=lidar)
+                              lines=lines, lidar=lidar, **others)
+
+
+def _read_other_field(deck: _Deck, ifw: Path, kind: int) -> dict:
+    """The HAWC (5) or Bladed (4, 7) section's settings (file, line and key in every error)."""
+    if kind in (4, 7):
+        v = _read_keys(deck, _BLADED_KEYS)
+        deck.raise_problems()
+        name = v["root"] + (".wnd" if kind == 4 else "")
+        return {"bladed_file_name": v["root"], "bladed_file": _resolve_wind_file(ifw, name),
+                "bladed_tower_file": bool(v["tower"]) and kind == 4}
+    if kind != 5:
+        return {}
+    from ..inflow.hawc import HawcBox
+
+    v = _read_keys(deck, _HAWC_KEYS)
+    deck.raise_problems()
+    files = []
+    for c in "uvw":
+        name = v[f"file_{c}"]
+        found = _resolve_wind_file(ifw, name)
+        files.append(found if found is not None else (Path(name) if Path(name).is_absolute() else ifw.parent / name))
+    box = HawcBox(tuple(files), v["nx"], v["ny"], v["nz"], v["dx"], v["dy"], v["dz"], v["reference_height"],
+                  scale_method=v["scale_method"], scale_factors=(v["sfx"], v["sfy"], v["sfz"]),
+                  target_sigmas=(v["sigx"], v["sigy"], v["sigz"]), mean_speed=v["mean_speed"],
+                  profile=v["profile"], exponent=v["exponent"], roughness=v["roughness"], x_offset=v["x_offset"],
+                  source=str(ifw))
+    if v["profile"] == 1 and not v["roughness"] > 0.0:
+        deck.problem(deck.line_of("Z0"), "Z0", f"must be greater than 0 m for WindProfile = 1 (logarithmic); got "
+                     f"{v['roughness']:g}. Fix the value.")
+        deck.raise_problems()
+    return {"hawc": box}
 
 
 def _read_lidar(deck: _Deck):

@@ -50,6 +50,7 @@ if TYPE_CHECKING:                      # casadi is imported where the Function i
     import casadi as ca
 
 from ...exceptions import DimensionError, WindFieldDomainError, WindInputError
+from .profile import MeanProfile
 
 __all__ = ["FullFieldWind", "rotation_to_wind", "GRID_TOLERANCE"]
 
@@ -129,9 +130,16 @@ class FullFieldWind:
         InflowWind's ``PropagationDir`` and ``VFlowAng`` [rad].
     interpolate_to_ground : bool
         Below the grid, interpolate from the bottom row to zero at the ground (InflowWind's
-        ``InterpTower``, set for Bladed files without a tower file); TurbSim files: False.
+        ``InterpTower``, set for HAWC and native Bladed files); TurbSim files: False.
     source, description : str
         Where it came from; the file's description text.
+    mean_profile : MeanProfile, optional
+        The mean wind added to ``u`` after interpolation at the point's wind-frame height (InflowWind's
+        ``AddMeanAfterInterp``, HAWC and native Bladed boxes: :class:`~mbsym.wind.inflow.profile.MeanProfile`);
+        None: the grid holds the whole velocity (TurbSim).
+    x_offset : float, optional
+        InflowWind's ``InitXPosition`` [m] when a file sets it (HAWC and native Bladed ``XOffset``); None: 0
+        for periodic fields, half the grid width otherwise.
     """
 
     grid: np.ndarray
@@ -148,6 +156,8 @@ class FullFieldWind:
     interpolate_to_ground: bool = False
     source: str = ""
     description: str = ""
+    mean_profile: MeanProfile | None = None
+    x_offset: float | None = None
 
     def __post_init__(self) -> None:
         grid = _velocity_array(self.grid, "grid", 4)
@@ -168,6 +178,11 @@ class FullFieldWind:
         object.__setattr__(self, "interpolate_to_ground", bool(self.interpolate_to_ground))
         if self.interpolate_to_ground and self.tower is not None:
             raise WindInputError("FullFieldWind: interpolate_to_ground is for fields without tower points.")
+        if self.mean_profile is not None and not isinstance(self.mean_profile, MeanProfile):
+            raise WindInputError(f"FullFieldWind: mean_profile must be a MeanProfile or None; got "
+                                 f"{type(self.mean_profile).__name__}.")
+        if self.x_offset is not None:
+            object.__setattr__(self, "x_offset", _finite(self.x_offset, "x_offset"))
 
     # ------------------------------------------------------------------ geometry (InflowWind's derived values)
     @property
@@ -212,7 +227,10 @@ class FullFieldWind:
 
     @property
     def initial_x(self) -> float:
-        """InflowWind's ``InitXPosition`` [m]: 0 for periodic files, half the grid width otherwise."""
+        """InflowWind's ``InitXPosition`` [m]: ``x_offset`` if set, else 0 for periodic files and half the grid
+        width otherwise."""
+        if self.x_offset is not None:
+            return self.x_offset
         return 0.0 if self.periodic else self.half_width
 
     @property
@@ -309,6 +327,8 @@ class FullFieldWind:
         iz_lo, iz_hi, xz, mode = self._bounds_z(z, code)
         iy_lo, iy_hi, xy = self._bounds_y(y, code, mode)
         v = self._interpolate(mode, (it_lo, it_hi, xt), (iz_lo, iz_hi, xz), (iy_lo, iy_hi, xy))
+        if self.mean_profile is not None:                  # InflowWind's AddMeanAfterInterp
+            v[:, 0] += self.mean_profile(y, z)
         above_ground = z > 0.0
         v[~above_ground] = 0.0
         code[~above_ground] = _OK
@@ -469,6 +489,8 @@ class FullFieldWind:
         import hashlib
 
         rot = f"{self.propagation_direction!r},{self.upflow_angle!r}"
+        if self.mean_profile is not None or self.x_offset is not None:
+            rot += f",{self.mean_profile!r},{self.x_offset!r}"
         return hashlib.blake2b((self.data_hash + rot).encode(), digest_size=20).hexdigest()
 
     def casadi_function(self, n_points: int) -> "ca.Function":
@@ -488,7 +510,9 @@ class FullFieldWind:
         return (f"FullFieldWind({self.n_y} x {self.n_z} grid, dy={self.dy:g} m, dz={self.dz:g} m, {self.n_t} steps of "
                 f"{self.dt:g} s, URef={self.mean_speed:g} m/s, RefHt={self.reference_height:g} m, "
                 f"bottom={self.grid_bottom:g} m, tower points={self.n_tower}, periodic={self.periodic}, "
-                f"source={self.source!r})")
+                + (f"{self.mean_profile.describe()} added, " if self.mean_profile is not None else "")
+                + (f"XOffset={self.x_offset:g} m, " if self.x_offset is not None else "")
+                + f"source={self.source!r})")
 
 
 def _modulo(a: np.ndarray, p: float) -> np.ndarray:

@@ -44,7 +44,7 @@ from .field import GRID_TOLERANCE, FullFieldWind, rotation_to_wind
 __all__ = ["full_field_function", "full_field_c_source", "FULL_FIELD_C_VERSION"]
 
 #: Version of the generated C (part of the library's cache key).
-FULL_FIELD_C_VERSION = "1"
+FULL_FIELD_C_VERSION = "2"
 _FUNCTIONS: dict[tuple, ca.Function] = {}       # keeps Callbacks alive and reuses loaded libraries
 
 
@@ -153,6 +153,10 @@ def full_field_c_source(field: FullFieldWind, n_points: int, name: str, data_pat
         "YHW": field.half_width, "ZBASE": field.grid_bottom, "REFZ": field.reference_height, "TOL": GRID_TOLERANCE,
     }
     lines = [f"#define {k} {v}LL" for k, v in consts.items()] + [f"#define {k} {float(v)!r}" for k, v in reals.items()]
+    profile = field.mean_profile
+    lines.append(f"#define PROFILE {int(profile is not None)}")
+    lines.append(profile.c_source() if profile is not None else "static double mean_profile(double y, double z) "
+                 "{ (void)y; (void)z; return 0.0; }")
     lines.append("static const double ROT[9] = {" + ", ".join(repr(float(v)) for v in rot.reshape(-1)) + "};")
     lines.append(f"#define DATA_PATH {_c_string(str(data_path))}")
     lines.append(f"#define DATA_BYTES {field.nbytes}LL")
@@ -290,6 +294,7 @@ static int point_velocity(double t, const double* pg, double* out) {
       }
     }
   }
+  if (PROFILE) v[0] += mean_profile(p[1], p[2]);   /* InflowWind's AddMeanAfterInterp */
   if (ROTATED) {
     for (k = 0; k < 3; ++k) out[k] = ROT[k] * v[0] + ROT[3 + k] * v[1] + ROT[6 + k] * v[2];
   } else {

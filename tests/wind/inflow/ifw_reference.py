@@ -41,6 +41,11 @@ UNI_POINTS = [(0.0, 0.0, 90.0), (0.0, 30.0, 120.0), (10.0, -40.0, 40.0), (-20.0,
 #: centred at 90 m, bottom 25 m, dz 9.29 m, tower points at 25, 15.7, 6.4 m; 200 steps of 0.1 s, periodic).
 TOWER_POINTS = [(0.0, 0.0, 90.0), (0.0, 20.0, 100.0), (0.0, 0.0, 20.0), (0.0, 25.0, 12.0), (-10.0, -5.0, 8.0),
                 (5.0, 0.0, 3.0), (0.0, 7.0, 24.995), (0.0, 64.99, 120.0), (-100.0, 0.0, 90.0)]
+#: The HAWC files of the HAWC cases (TurbSim's output for data/tower_periodic.inp) and their layout.
+HAWC = dict(WindType=5, FileName_u=f'"{(DATA / "tower_periodic-u.bin").as_posix()}"',
+            FileName_v=f'"{(DATA / "tower_periodic-v.bin").as_posix()}"',
+            FileName_w=f'"{(DATA / "tower_periodic-w.bin").as_posix()}"', nx=200, ny=5, nz=15, dx=1.4, dy=32.5,
+            dz=9.285714285714286, RefHt_Hawc=90.0, PropagationDir=0.0, VFlowAng=0.0)
 CASES = {
     "ff14": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=FF_POINTS, tmax=3.0),
     "ff14_rotated": dict(WindType=3, PropagationDir=12.0, VFlowAng=4.0, points=[(x, 0.8 * y, 90.0 + 0.8 * (z - 90.0))
@@ -48,6 +53,16 @@ CASES = {
     "uniform": dict(WindType=2, PropagationDir=7.0, VFlowAng=2.0, points=UNI_POINTS, tmax=3.0, RefLength=125.0),
     "tower_periodic": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=TOWER_POINTS, tmax=45.0, dt_out=0.25,
                            bts=DATA / "tower_periodic.bts"),
+    # HAWC boxes (WindType 5): TurbSim's HAWC output of data/tower_periodic.inp (WrHAWCFF = True, the same seed:
+    # data/tower_periodic-u/v/w.bin; its .hawc file gives factor_scaling 1.04056 1.65162 1.97520)
+    "hawc_direct": dict(HAWC, ScaleMethod=1, SFx=1.04056, SFy=1.65162, SFz=1.97520, URef=14.0, WindProfile=2,
+                        PLExp_Hawc=0.2, points=TOWER_POINTS, tmax=45.0, dt_out=0.25),
+    "hawc_sigma_log": dict(HAWC, ScaleMethod=2, SigmaFx=1.5, SigmaFy=1.2, SigmaFz=0.8, URef=11.0, WindProfile=1,
+                           Z0=0.1, XOffset=20.0, PropagationDir=10.0, VFlowAng=3.0,
+                           points=[(x, 0.8 * y, 90.0 + 0.8 * (z - 90.0)) for x, y, z in TOWER_POINTS],
+                           tmax=45.0, dt_out=0.25),
+    "hawc_raw": dict(HAWC, ScaleMethod=0, URef=9.0, WindProfile=0, RefHt_Hawc=95.0, dx=0.9,
+                     points=[(x, y, z + 5.0) for x, y, z in TOWER_POINTS], tmax=45.0, dt_out=0.25),
     "steady_shear": dict(WindType=1, PropagationDir=-15.0, VFlowAng=0.0, points=UNI_POINTS, tmax=0.2,
                          HWindSpeed=11.0, PLexp=0.2),
 }
@@ -68,15 +83,27 @@ def _set(text: str, key: str, value) -> str:
     return pattern.sub(lambda m: f"{m.group(1)}{value}{m.group(3)}", text, count=1)
 
 
-def write_case(folder: Path, name: str) -> Path:
-    """Write ``<name>.fst`` (+ IfW file, + uniform file) into ``folder``; return the .fst."""
-    case = CASES[name]
+#: Case entries that are not InflowWind keys.
+_NOT_KEYS = ("points", "tmax", "dt_out", "bts", "files")
+
+
+def write_case(folder: Path, name: str, case: dict | None = None) -> Path:
+    """Write ``<name>.fst`` (+ IfW file, + uniform file) into ``folder``; return the .fst.
+
+    ``case`` (default ``CASES[name]``): InflowWind keys and values (set in the IfW file as given: quote strings
+    yourself), ``points`` (9 points (x, y, z) [m]), ``tmax`` [s], optional ``dt_out`` [s], ``bts`` (the TurbSim
+    file of ``FileName_BTS``) and ``files`` (paths copied into ``folder``)."""
+    import shutil
+
+    case = CASES[name] if case is None else case
     folder.mkdir(parents=True, exist_ok=True)
+    for f in case.get("files", ()):
+        shutil.copy(f, folder / Path(f).name)
     pts = np.array(case["points"], dtype=float)
     ifw = (FF14 / "ff14_flex_IfW.dat").read_text()
-    for key in ("WindType", "PropagationDir", "VFlowAng", "HWindSpeed", "PLexp", "RefLength"):
-        if key in case:
-            ifw = _set(ifw, key, case[key])
+    for key, value in case.items():
+        if key not in _NOT_KEYS:
+            ifw = _set(ifw, key, value)
     ifw = _set(ifw, "NWindVel", 9)
     for j, key in enumerate(("WindVxiList", "WindVyiList", "WindVziList")):
         ifw = _set(ifw, key, ", ".join(repr(float(v)) for v in pts[:, j]))
@@ -85,7 +112,8 @@ def write_case(folder: Path, name: str) -> Path:
     (folder / "uniform.hh").write_text(UNIFORM_ROWS)
     ifw = _set(ifw, "Filename_Uni", '"uniform.hh"')
     channels = "\n".join(f'"Wind{i}Vel{c}"' for i in range(1, 10) for c in "XYZ")
-    ifw = re.sub(r'OutList.*?\nEND', lambda m: m.group(0).split("\n")[0] + "\n" + channels + "\nEND", ifw, flags=re.S)
+    ifw = re.sub(r'OutList.*?\nEND', lambda m: m.group(0).split("\n")[0] + "\n" + channels + "\nEND", ifw,
+                 flags=re.S)
     (folder / f"{name}_IfW.dat").write_text(ifw)
     fst = (FF14 / "ff14_flex.fst").read_text()
     for key, value in (("TMax", case["tmax"]), ("CompAero", 0), ("CompServo", 0), ("OutFileFmt", 1),
@@ -98,9 +126,10 @@ def write_case(folder: Path, name: str) -> Path:
     return path
 
 
-def run_points(folder: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """Run OpenFAST on case ``name`` in ``folder``: times (M,) and velocities (M, 9, 3) [m/s]."""
-    fst = write_case(folder, name)
+def run_points(folder: Path, name: str, case: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Run OpenFAST on case ``name`` (or the given ``case``, see :func:`write_case`) in ``folder``: times (M,)
+    and velocities (M, 9, 3) [m/s]."""
+    fst = write_case(folder, name, case)
     proc = subprocess.run([str(OPENFAST), fst.name], cwd=folder, capture_output=True, text=True, timeout=300)
     if proc.returncode != 0:
         raise RuntimeError(f"OpenFAST failed on {name}: {proc.stdout[-2000:]}")
