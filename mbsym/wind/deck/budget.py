@@ -463,7 +463,24 @@ def _inflow(p: _Pricer, ifw: _Keys | None) -> int:
             _turbsim(p, ifw, found)
     if wind_type == 5:
         _hawc(p, ifw)
+    if wind_type == 4:
+        _bladed(p, ifw)
     return ifw.outlist
+
+
+def _bladed(p: _Pricer, ifw: _Keys) -> None:
+    """Price TurbSim's Bladed-style box from its size: float32 velocities, twice the int16 file, plus the file
+    mapped while decoding."""
+    entry = ifw.raw("FileNameRoot")
+    if entry is None:
+        return
+    path = Path(entry[0].replace("\\", "/") + ".wnd")
+    path = path if path.is_absolute() else ifw.path.parent / path
+    if path.is_file():
+        size = path.stat().st_size
+        p.add(f"Bladed-style full field from its size ({size} bytes of int16: float32 velocities, plus the file "
+              "mapped while decoding)", 3.0 * size + _BLOCK, ifw, (path, entry[1], entry[2], entry[0]),
+              "a smaller or shorter wind box (fewer grid points or time steps)")
 
 
 def _hawc(p: _Pricer, ifw: _Keys) -> None:

@@ -2,11 +2,14 @@
 
 Supported: ``WindType = 1`` (steady: ``HWindSpeed``, ``RefHt``, ``PLexp``), ``WindType = 2``
 (uniform wind file ``Filename_Uni``, ``RefHt_Uni``, ``RefLength``), ``WindType = 3`` (TurbSim
-binary full field ``FileName_BTS``) and ``WindType = 5`` (HAWC box: ``FileName_u/v/w``, ``nx`` … ``XOffset``;
-:mod:`mbsym.wind.inflow.hawc`), with ``PropagationDir`` and ``VFlowAng``; Bladed boxes (4, 7), user-defined
-wind (6) and the continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise with the file, line and key; the
-single-point lidar (``SensorType = 1``) is read into :attr:`InflowWindSettings.lidar`
-(:class:`~mbsym.wind.inflow.PointLidar`). The files named by ``Filename_Uni``, ``FileName_BTS``, ``FileNameRoot`` and ``FileName_u/v/w`` are resolved
+binary full field ``FileName_BTS``), ``WindType = 4`` (TurbSim's Bladed-style box ``FileNameRoot.wnd`` with
+its ``.sum`` and, with ``TowerFile``, ``.twr``), ``WindType = 5`` (HAWC box: ``FileName_u/v/w``, ``nx`` …
+``XOffset``; :mod:`mbsym.wind.inflow.hawc`) and ``WindType = 7`` (native Bladed: ``FileNameRoot`` is its
+summary file, whose propagation direction and upflow replace the InflowWind file's, as InflowWind does;
+:mod:`mbsym.wind.inflow.bladed`), with ``PropagationDir`` and ``VFlowAng``; user-defined wind (6) and the
+continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise with the file, line and key; the single-point
+lidar (``SensorType = 1``) is read into :attr:`InflowWindSettings.lidar` (:class:`~mbsym.wind.inflow.PointLidar`).
+The files named by ``Filename_Uni``, ``FileName_BTS``, ``FileNameRoot`` and ``FileName_u/v/w`` are resolved
 relative to the InflowWind file, as InflowWind does (absolute paths are used as they are).
 ``VelInterpCubic = True`` is read but refused when the spatial field is requested
 (:meth:`InflowWindSettings.field`: mbsym interpolates linearly in time). Keys not used here (output points
@@ -15,7 +18,7 @@ in ``extra``.
 
 :meth:`InflowWindSettings.wind` gives the hub-height wind signal (types 1 and 2, as before);
 :meth:`InflowWindSettings.field` the spatial description (:class:`~mbsym.wind.inflow.UniformFieldWind`
-for types 1 and 2, :class:`~mbsym.wind.inflow.FullFieldWind` for the full fields 3 and 5).
+for types 1 and 2, :class:`~mbsym.wind.inflow.FullFieldWind` for the full fields 3, 4, 5 and 7).
 """
 
 from __future__ import annotations
@@ -38,8 +41,9 @@ _WIND_TYPES = {1: "steady", 2: "uniform wind file", 3: "binary TurbSim full-fiel
                5: "HAWC", 6: "user defined", 7: "native Bladed full-field"}
 _KEYS = (
     _k("WindType", "wind_type", "int",
-       check=(lambda v: v in (1, 2, 3, 5), "must be 1 (steady), 2 (uniform wind file), 3 (binary TurbSim "
-              "full field) or 5 (HAWC): mbsym does not read Bladed (4, 7) or user-defined (6) wind")),
+       check=(lambda v: v in (1, 2, 3, 4, 5, 7), "must be 1 (steady), 2 (uniform wind file), 3 (binary TurbSim "
+              "full field), 4 (Bladed-style full field from TurbSim), 5 (HAWC) or 7 (native Bladed): mbsym does "
+              "not model user-defined wind (6)")),
     _k("PropagationDir", "propagation_direction", scale=_DEG, default=0.0),
     _k("VFlowAng", "upflow_angle", scale=_DEG, default=0.0),
     _k("VelInterpCubic", "cubic_interpolation", "bool", default=False),
@@ -230,7 +234,8 @@ class InflowWindSettings:
         angles = {"propagation_direction": self.propagation_direction, "upflow_angle": self.upflow_angle}
         if self.wind_type != 1 and self.cubic_interpolation and not allow_cubic:
             raise OpenFASTFormatError(f"{self._where('VelInterpCubic')}: True (cubic interpolation in time) is not "
-                                      "modelled: mbsym interpolates linearly (VelInterpCubic = False). Set it to False.")
+                                      "modelled: mbsym interpolates linearly (VelInterpCubic = False). Set it to "
+                                      "False.")
         if self.wind_type == 1:
             return UniformFieldWind.steady(self.steady_speed, reference_height=self.steady_reference_height,
                                            power_law_exponent=self.steady_power_law_exponent, **angles)

@@ -9,8 +9,9 @@
   ``Time_[s],Wind1VelX_[m/s]`` CSV, read and written;
 - :mod:`.spec`: the command line's ``--wind SPEC`` strings;
 - :mod:`.field`, :mod:`.turbsim`, :mod:`.uniform`: spatial wind as OpenFAST's InflowWind evaluates it:
-  :class:`FullFieldWind` (TurbSim ``.bts`` grids, :func:`read_turbsim_bts`; HAWC boxes, :func:`read_hawc`,
-  with the :class:`MeanProfile` InflowWind adds after interpolation; a CasADi External through
+  :class:`FullFieldWind` (TurbSim ``.bts`` grids, :func:`read_turbsim_bts`; HAWC boxes, :func:`read_hawc`, and
+  native Bladed boxes, :func:`read_bladed_native`, with the :class:`MeanProfile` InflowWind adds after
+  interpolation; TurbSim's Bladed-style boxes, :func:`read_bladed_wnd`; a CasADi External through
   :meth:`FullFieldWind.casadi_function`) and :class:`UniformFieldWind` (steady and uniform-file wind,
   :func:`uniform_velocity_expr` in CasADi);
 - :mod:`.rotor`: :func:`rotor_effective_wind`, disk averages and linear shears of a field (docs/inflow.md);
@@ -37,6 +38,7 @@ from .rotor import DEFAULT_REFERENCE, disk_points, rotor_effective_wind
 from .turbsim import TURBSIM_FILE_IDS, read_turbsim_bts, write_turbsim_bts
 from .profile import MeanProfile
 from .hawc import HawcBox, read_hawc, write_hawc
+from .bladed import read_bladed_native, read_bladed_wnd
 from .lidar import LIDAR_RECORD_START, PointLidar, lidar_records
 
 __all__ = [
@@ -45,7 +47,7 @@ __all__ = [
     "UniformWind", "read_uniform_wind", "write_uniform_wind", "read_wind_csv", "write_wind_csv", "UNIFORM_COLUMNS",
     "parse_wind_spec", "WIND_SPEC_FORMS",
     "FullFieldWind", "rotation_to_wind", "GRID_TOLERANCE", "read_turbsim_bts", "write_turbsim_bts", "TURBSIM_FILE_IDS",
-    "MeanProfile", "HawcBox", "read_hawc", "write_hawc",
+    "MeanProfile", "HawcBox", "read_hawc", "write_hawc", "read_bladed_wnd", "read_bladed_native",
     "UniformFieldWind", "uniform_velocity_expr", "COLUMN_NAMES", "POWER_LAW_MIN_HEIGHT",
     "rotor_effective_wind", "disk_points", "DEFAULT_REFERENCE",
     "PointLidar", "LIDAR_RECORD_START", "lidar_records",

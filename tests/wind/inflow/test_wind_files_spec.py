@@ -106,8 +106,8 @@ def test_inflowwind_unmodelled_wind_type_is_refused_with_its_line(tmp_path, aero
     source = aero / "openfast_inputs" / "step_10_14" / "step_10_14_IfW.dat"
     text = source.read_text().replace("          2   WindType", "          6   WindType")
     (tmp_path / "ifw.dat").write_text(text)
-    with pytest.raises(OpenFASTFormatError, match="line 5, key 'WindType'.*must be 1 \\(steady\\), 2 .* or 5 .*"
-                       "user-defined \\(6\\)"):
+    with pytest.raises(OpenFASTFormatError, match="line 5, key 'WindType'.*must be 1 \\(steady\\), 2 .* or 7 .*"
+                       "user-defined wind \\(6\\)"):
         read_inflowwind(tmp_path / "ifw.dat")
 
 

@@ -59,9 +59,8 @@ def test_uniform_deck_field(aero):
 
 
 @pytest.mark.parametrize("old, new, key, match", [
-    ("          3   WindType", "          6   WindType", "WindType", "must be 1 .* or 5 .HAWC.: mbsym does "
-     "not read Bladed"),
-    ("          3   WindType", "          4   WindType", "WindType", "does not read Bladed .4, 7."),
+    ("          3   WindType", "          6   WindType", "WindType", "must be 1 .* or 7 .native Bladed.: mbsym "
+     "does not model user-defined wind"),
     ("0                      SensorType", "2                      SensorType", "SensorType", "continuous-wave"),
 ])
 def test_unmodelled_settings_are_refused_with_file_line_key(tmp_path, ff14_deck, old, new, key, match):
