@@ -179,12 +179,14 @@ def _model(deck, *, structure_only: bool = False):
 
     turbine = read_openfast(deck)
     sim = turbine.simulation
-    if not structure_only and (sim.hydrodynamics_model or sim.mooring_model):
-        # a floating deck without aerodynamics: the structure with the water, the sea and the mooring
+    if not structure_only and (sim.hydrodynamics_model or sim.mooring_model or sim.substructure_model):
+        # an offshore deck without aerodynamics: the structure with the water, the sea and the mooring, or on its
+        # SubDyn substructure
         from ..wind.offshore.floating import floating_structure
 
         check_modules(turbine, modelled={k: v | FLOATING_MODELLED.get(k, set()) for k, v in MODELLED.items()})
-        return floating_structure(turbine), f"{deck} (floating: HydroDyn, SeaState, mooring; rotor parked)"
+        what = "bottom-fixed: SubDyn" if sim.substructure_model else "floating: HydroDyn, SeaState, mooring"
+        return floating_structure(turbine), f"{deck} ({what}; rotor parked)"
     check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)
 

@@ -52,10 +52,10 @@ MODULE_FILES: dict[str, tuple[str, str, str]] = {
 #: their values here once they honour the deck's files (e.g. ``MODELLED["CompAero"] = {0, 2}``).
 MODELLED: dict[str, set[int]] = {key: {0} for key in MODULE_SWITCHES}
 
-#: Switch values the *operating* turbine models as its floating platform (mbsym.wind.offshore: HydroDyn's
-#: potential flow, MAP++ or MoorDyn lines as quasi-static catenaries); the structure-only commands still
-#: refuse them (:data:`MODELLED`), since the structure alone has no water.
-FLOATING_MODELLED: dict[str, set[int]] = {"CompHydro": {1}, "CompMooring": {1, 3}}
+#: Switch values the *operating* turbine models as its platform (mbsym.wind.offshore: HydroDyn's potential flow,
+#: MAP++ or MoorDyn lines as quasi-static catenaries; SubDyn's bottom-fixed substructure, Guyan-reduced); the
+#: structure-only commands still refuse them (:data:`MODELLED`), since the structure alone has no water.
+FLOATING_MODELLED: dict[str, set[int]] = {"CompHydro": {1}, "CompMooring": {1, 3}, "CompSub": {1}}
 
 #: Largest blade-tip speed accepted [m/s]: the speed of sound in air at 15 °C (ISA sea level,
 #: 340.3 m/s) rounded up. Real rotors stay below about 100 m/s; beyond Mach 1 no model of
@@ -144,7 +144,7 @@ def deck_notes(turbine) -> list[str]:
                      "so it falls freely (heave accelerates at g); disable PtfmHvDOF or add a heave spring")
     inertias = (turbine.platform_mass, turbine.platform_roll_inertia, turbine.platform_pitch_inertia,
                 turbine.platform_yaw_inertia)
-    if all(v == 0 for v in inertias):
+    if all(v == 0 for v in inertias) and "CompSub" not in restoring:     # SubDyn's substructure has mass
         notes.append(f"platform DOFs {platform} with PtfmMass = 0 and zero platform inertias: the platform has no "
                      "mass; check PtfmMass/PtfmRIner/PtfmPIner/PtfmYIner or disable the platform DOFs")
     return notes

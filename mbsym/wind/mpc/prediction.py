@@ -101,8 +101,9 @@ class PredictionModel:
         if not isinstance(plant, OperatingTurbine):
             raise TypeError(f"plant must be an OperatingTurbine; got {type(plant).__name__}.")
         platform = plant.platform
-        if dofs is None:
-            dofs = PREDICTION_DOFS if platform is None else FLOATING_PREDICTION_DOFS
+        if dofs is None:                # a bottom-fixed substructure (floating = False) is held still like land
+            floats = platform is not None and getattr(platform, "floating", True)
+            dofs = FLOATING_PREDICTION_DOFS if floats else PREDICTION_DOFS
         dofs = tuple(dofs)
         if "GenDOF" not in dofs:
             raise ModelDefinitionError(f"the prediction model needs GenDOF (the rotor speed is what it controls); "

@@ -1,4 +1,4 @@
-"""Floating platforms: the water's loads and the mooring (issue 20).
+"""Offshore platforms: the water's loads and the mooring of floating ones (issue 20), bottom-fixed substructures.
 
 A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
 
@@ -14,12 +14,16 @@ A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
   loads, no controller);
 - :mod:`.operating`: :class:`FloatingPlatform`, the platform loads the operating turbine composes
   (``OperatingTurbine(..., platform=floating_platform(turbine))``; ``operating_deck`` does it for a
-  deck with HydroDyn and a mooring).
+  deck with HydroDyn and a mooring);
+- :mod:`.frame_fem`, :mod:`.substructure`, :mod:`.bottom_fixed`: SubDyn's bottom-fixed substructures (the frame's
+  finite elements, Guyan and Craig-Bampton reduction, :class:`~.bottom_fixed.BottomFixedPlatform` as the platform
+  loads of a deck with ``CompSub = 1``).
 
 Loads are numbers or CasADi expressions of the six platform DOFs (surge, sway, heave, roll, pitch,
 yaw). See docs/offshore.md.
 """
 
+from .bottom_fixed import BottomFixedPlatform, bottom_fixed_platform
 from .catenary import CatenaryLine, wet_weight
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .line_dynamics import LineHydrodynamics
@@ -29,9 +33,11 @@ from .operating import FloatingPlatform, deck_radiation, floating_platform
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace, radiation_reference
 from .radiation_fit import fit_radiation, fit_radiation_cached, vector_fit
+from .substructure import ReducedSubstructure, Substructure
 
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
            "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
            "RadiationStateSpace", "radiation_reference", "fit_radiation", "fit_radiation_cached", "vector_fit",
-           "FloatingPlatform", "floating_platform", "deck_radiation"]
+           "FloatingPlatform", "floating_platform", "deck_radiation", "Substructure", "ReducedSubstructure",
+           "BottomFixedPlatform", "bottom_fixed_platform"]

@@ -46,12 +46,16 @@ class FloatingStructure:
     hydro : PlatformHydrodynamics
     mooring : MooringSystem or None
     radiation : RadiationStateSpace or None
+    platform_loads : object, optional
+        Another platform-loads object instead of ``hydro``/``mooring``/``radiation``: a bottom-fixed SubDyn
+        substructure (:class:`~.bottom_fixed.BottomFixedPlatform`, ``hydro=None``).
     """
 
     model: Any
-    hydro: PlatformHydrodynamics
+    hydro: PlatformHydrodynamics | None
     mooring: MooringSystem | None = None
     radiation: RadiationStateSpace | None = None
+    platform_loads: Any = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -66,7 +70,8 @@ class FloatingStructure:
     def platform(self) -> FloatingPlatform:
         """The platform's loads (:class:`~.operating.FloatingPlatform`, built once)."""
         if "platform" not in self._cache:
-            self._cache["platform"] = FloatingPlatform(self.hydro, self.mooring, self.radiation)
+            self._cache["platform"] = self.platform_loads if self.platform_loads is not None else \
+                FloatingPlatform(self.hydro, self.mooring, self.radiation)
         return self._cache["platform"]
 
     @property
@@ -178,7 +183,9 @@ class FloatingStructure:
 
 
 def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStructure:
-    """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files).
+    """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files), or
+    of a bottom-fixed deck its ElastoDyn DOFs on the SubDyn substructure (``CompSub = 1``,
+    :func:`~.bottom_fixed.bottom_fixed_platform`).
 
     Parameters
     ----------
@@ -196,6 +203,10 @@ def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStru
     from ..structure.turbine import TurbineModel
     from .operating import floating_platform
 
+    if int(getattr(turbine.simulation, "substructure_model", 0) or 0):        # SubDyn: bottom-fixed
+        from .bottom_fixed import bottom_fixed_platform
+
+        return FloatingStructure(TurbineModel(turbine), None, platform_loads=bottom_fixed_platform(turbine))
     platform = floating_platform(turbine, radiation=radiation)
     if platform is None:
         raise UnsupportedFeatureError(f"{turbine.source_files.get('fst', 'the deck')}: CompHydro and CompMooring are "

@@ -126,10 +126,16 @@ class OperatingDeck:
 
     @property
     def platform(self):
-        """The floating platform (:class:`~mbsym.wind.offshore.FloatingPlatform`, built once), or None."""
+        """The platform's loads, built once: a floating platform (:class:`~mbsym.wind.offshore.FloatingPlatform`),
+        a bottom-fixed SubDyn substructure (:class:`~mbsym.wind.offshore.bottom_fixed.BottomFixedPlatform`), or
+        None."""
         if "_platform" not in self.__dict__:
             platform = None
-            if self.floating:
+            if int(getattr(self.turbine.simulation, "substructure_model", 0) or 0):
+                from ..offshore.bottom_fixed import bottom_fixed_platform
+
+                platform = bottom_fixed_platform(self.turbine)
+            elif self.floating:
                 from ..offshore.operating import floating_platform
 
                 platform = floating_platform(self.turbine, radiation=self.radiation)
@@ -435,11 +441,14 @@ def operating_deck(fst: str | Path) -> OperatingDeck:
 
 
 def _refuse_modules(turbine, path: Path) -> None:
-    """Refuse modules an operating turbine does not model (substructure, ice, soil); HydroDyn and the mooring
-    are the floating platform's (:func:`mbsym.wind.offshore.floating_platform` checks them)."""
-    from ..deck.checks import unmodelled_modules
+    """Refuse modules an operating turbine does not model (a substructure other than SubDyn's, ice, soil); HydroDyn
+    and the mooring are the floating platform's (:func:`mbsym.wind.offshore.floating_platform` checks them), SubDyn
+    the bottom-fixed one's (:func:`mbsym.wind.offshore.bottom_fixed.bottom_fixed_platform`)."""
+    from ..deck.checks import MODELLED, unmodelled_modules
 
-    found = [m for m in unmodelled_modules(turbine.simulation) if m.startswith(("CompSub", "CompIce", "CompSoil"))]
+    modelled = {**MODELLED, "CompSub": {0, 1}}             # SubDyn: mbsym.wind.offshore.bottom_fixed
+    found = [m for m in unmodelled_modules(turbine.simulation, modelled)
+             if m.startswith(("CompSub", "CompIce", "CompSoil"))]
     if found:
         from ...exceptions import UnsupportedFeatureError
 
