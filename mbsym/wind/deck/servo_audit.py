@@ -12,7 +12,9 @@ YawSpr, YawDamp, YawNeut (YawDOF)      modelled: ``YawMom = -YawSpr (NacYaw - Ya
                                        or before ``TYCOn``: the command is the neutral yaw at rest)
 YCMode ≠ 0 with TYCOn < t_end          refused (active yaw control is not modelled)
 TYawManS < t_end                       refused (override yaw maneuver)
-HSSBrMode 1 with THSSBrDp < t_end      refused (brake deployment); HSSBrMode 3, 4, 5 refused
+HSSBrMode 1 (THSSBrDp, HSSBrDT,        modelled by the operating turbine (GenDOF): the brake ramp as
+HSSBrTqF)                              the input HSSBrTqC (mbsym.wind.operation.hss_brake); HSSBrMode 3,
+                                       4, 5 refused
 GenTiStr/TimGenOn > 0, SpdGenOn above  refused (generator switched on late or off early); SpdGenOn at
 the initial speed, GenTiStp with       or below the initial generator speed: online from t = 0 (modelled)
 TimGenOf < t_end (GenDOF)
@@ -118,10 +120,10 @@ def _problems(s, dofs: Mapping[str, bool], t_end: float, generator_speed: float 
                                     f"modelled; {later}"))
     if dofs.get("GenDOF"):
         brake = s.hss_brake_mode
-        if brake in (3, 4, 5) or (brake == 1 and s.hss_brake_start_time < t_end):
-            out.append(("HSSBrMode", f"the high-speed shaft brake (HSSBrMode = {brake}, THSSBrDp = "
-                                     f"{s.hss_brake_start_time:g} s) is not modelled; set HSSBrMode = 0, or "
-                                     f"HSSBrMode = 1 with THSSBrDp beyond the simulated time ({t_end:g} s)"))
+        if brake in (3, 4, 5):
+            out.append(("HSSBrMode", f"the high-speed shaft brake of HSSBrMode = {brake} (user routine, DLL or "
+                                     "external) is not modelled; set HSSBrMode = 0, or 1 (ServoDyn's ramp: "
+                                     "THSSBrDp, HSSBrDT, HSSBrTqF)"))
         if s.generator_start_timed and s.generator_start_time > 0:
             out.append(("TimGenOn", f"the generator switched on at t = {s.generator_start_time:g} s is not "
                                     "modelled (it runs from t = 0); set TimGenOn = 0"))

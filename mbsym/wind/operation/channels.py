@@ -89,6 +89,8 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
     rows += [r for r in reaction_rows(g.eom.locked, reactions(g)) if r[0].startswith(("LSShft", "YawBr"))]
     if g.platform is not None:
         rows += _floating_rows(g)
+    if getattr(model, "hss_brake", None) is not None:               # ElastoDyn's HSSBrTq: the brake's torque
+        rows.append(("HSSBrTq", "kN-m", g.brake_torque / 1e3))
     return rows
 
 
@@ -140,7 +142,7 @@ def _lss_torque(g) -> Any:
         return P["drivetrain_stiffness"] * g.q[i] + P["drivetrain_damping"] * g.qd[i]
     if model.spins_freely:                 # the generator's balance: N (T_gen + J_gen α_gen), α about the shaft
         gen = g.kinematics_with_accelerations("generator")
-        inertia, torque = P["generator_inertia"], g.X["GenTq"]
+        inertia, torque = P["generator_inertia"], g.X["GenTq"] + getattr(g, "brake_torque", 0.0)   # + HSS brake
         if has_losses(model.structure):    # through the lossy gearbox (structure.gearbox, rigid drivetrain)
             eta = float(model.turbine.gearbox_efficiency)
             inertia, torque = inertia / eta, generator_torque_at_shaft(torque, eta)

@@ -44,6 +44,7 @@ from ...held import HeldPart
 from ...spd_solve import spd_solve
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
+from .hss_brake import BRAKE_INPUT
 from .tower_compose import tower_drag_loads, tower_load_inputs, tower_moves
 from .units import input_units, state_units
 
@@ -68,7 +69,8 @@ class Graph:
         wired = tuple(self.wired_inputs()) + (tuple(self.platform.inputs) if self.platform is not None else ())
         self.passthrough = tuple(n for n in eom.inputs if n not in wired)
         sea = tuple(getattr(self.platform, "sea_inputs", ())) if self.platform is not None else ()
-        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough + sea
+        brake = (BRAKE_INPUT,) if getattr(model, "hss_brake", None) is not None else ()   # ServoDyn's HSS brake
+        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough + sea + brake
         extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
             extra_p.append("rotor_speed")
@@ -112,6 +114,9 @@ class Graph:
     def _build(self) -> None:
         self._build_platform()
         self._build_drive()
+        brake = getattr(self.model, "hss_brake", None)          # ServoDyn's HSS brake on the generator (.hss_brake)
+        self.brake_torque = 0.0 if brake is None else \
+            brake.torque_on_shaft(self.U[BRAKE_INPUT], self.generator_speed, self.model.brake_slip_speed)
         self._build_aero()
         self.loads.update(self._tower_loads())
         self.u_s = self.structural_inputs(**self.loads)
@@ -253,7 +258,8 @@ class Graph:
     def structural_inputs(self, *, thrust: Any, torque: Any, **loads: Any) -> Any:
         """The structure's input vector ``u_s`` (see the module docstring); ``loads`` by input name."""
         X, U, P = self.X, self.U, self.P
-        values = {"GenTq": X["GenTq"], "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0, "RotMomZ": 0.0,
+        values = {"GenTq": X["GenTq"] + self.brake_torque, "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0,
+                  "RotMomZ": 0.0,
                   "RotFrcY": 0.0, "RotFrcZ": 0.0, **{n: 0.0 for n in tower_load_inputs(self.model.structure)},
                   **self.platform_loads, **loads}
         for n in self.model.pitch_names:

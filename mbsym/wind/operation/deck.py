@@ -198,7 +198,8 @@ class OperatingDeck:
         return OperatingTurbine(self.turbine, self.rotor, dofs=dofs, **options)
 
     def _yaw_drive(self, dofs, t_end: float | None, options: dict) -> None:
-        """Audit ServoDyn for these DOFs and put its yaw spring and damper into ``options``."""
+        """Audit ServoDyn for these DOFs and put its yaw spring and damper, and its shaft brake when deployed before
+        ``t_end``, into ``options``."""
         from ..deck.servo_audit import servo_audit
 
         flags = dict(self.turbine.dofs)
@@ -211,6 +212,11 @@ class OperatingDeck:
             options.setdefault("yaw_spring", drive.spring)
             options.setdefault("yaw_damping", drive.damping)
             options.setdefault("yaw_neutral", drive.neutral)
+        s = self.servodyn
+        if s is not None and flags.get("GenDOF") and s.hss_brake_mode == 1 and s.hss_brake_start_time < end:
+            from .hss_brake import HssBrake                   # ServoDyn's brake ramp (HSSBrMode 1) within the run
+
+            options.setdefault("hss_brake", HssBrake.from_servodyn(s))
 
     def _blade_model(self, dofs, **options) -> OperatingTurbine:
         from ..aero.blade import BladeElementRotor

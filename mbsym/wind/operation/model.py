@@ -141,6 +141,10 @@ class OperatingTurbine:
     platform : FloatingPlatform, optional, keyword-only
         The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
         structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
+    hss_brake : HssBrake, optional, keyword-only
+        ServoDyn's high-speed shaft brake (:class:`~.hss_brake.HssBrake`): the input ``HSSBrTqC`` [N m] (the
+        deck's ramp in :func:`~.simulation.simulate_turbine`, zero in trims) and the channel ``HSSBrTq``; needs
+        GenDOF. Default None.
     name : str, optional, keyword-only
 
     Raises
@@ -169,7 +173,7 @@ class OperatingTurbine:
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
-                 tower_aero=None, name: str = "operating_turbine") -> None:
+                 tower_aero=None, hss_brake=None, name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -222,6 +226,8 @@ class OperatingTurbine:
                                  "already give the disk's moments (leave disk_moments False).")
         self.name = str(name)
         self.platform = _platform(platform)
+        self.hss_brake = _hss_brake(hss_brake, turbine, dofs)
+        self.brake_slip_speed = 0.0
         self.tower_aero = _tower_aero(tower_aero, blade, getattr(rotor, "tower_inflow", False))
         _check_tower_in_field(self.tower_aero, self.wind)
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
@@ -233,6 +239,8 @@ class OperatingTurbine:
                                       shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels),
                                       hub_moments=bool(disk_moments),
                                       tower_loads=self.tower_aero is not None and self.tower_aero.drag)
+        if self.hss_brake is not None:                  # its slip zone against the inertia it turns (.hss_brake)
+            self.brake_slip_speed = self.hss_brake.slip_speed(_brake_inertia(self.structure, self.gearbox_ratio))
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]
         if unloaded and not blade:
             warnings.warn(f"DOFs {unloaded} get no aerodynamic load: the rotor model applies thrust and torque on the "
@@ -447,6 +455,34 @@ def _platform(platform):
         raise TypeError(f"platform must be a FloatingPlatform (mbsym.wind.offshore.floating_platform); "
                         f"{type(platform).__name__} lacks {missing}.")
     return platform
+
+
+def _hss_brake(brake, turbine, dofs):
+    """``brake`` (an HssBrake or None), checked: it acts on the generator DOF."""
+    if brake is None:
+        return None
+    from .hss_brake import HssBrake
+
+    if not isinstance(brake, HssBrake):
+        raise TypeError(f"hss_brake must be an HssBrake (mbsym.wind.operation.hss_brake) or None; got "
+                        f"{type(brake).__name__}.")
+    enabled = set(dofs) if dofs is not None else {f for f, on in turbine.dofs.items() if on}
+    if "GenDOF" not in enabled:
+        raise ParameterError("hss_brake acts on the generator: enable GenDOF (the brake of a turbine at a prescribed "
+                             "rotor speed does nothing).")
+    return brake
+
+
+def _brake_inertia(structure, ratio: float) -> float:
+    """The inertia [kg m²] the HSS brake turns against, about the high-speed shaft: ``1 / (M⁻¹)_GeAz / N²`` at the
+    initial state (the whole drivetrain with a rigid shaft, the generator alone with DrTrDOF)."""
+    eom = structure.eom
+    mass = eom.functions.mass_matrix
+    q0 = np.asarray(structure.initial_state(), dtype=float)[:eom.n_q]
+    p = eom.parameter_vector()
+    M = np.asarray(mass(q0, p) if mass.n_in() == 2 else mass(q0, np.zeros(len(eom.inputs)), p), dtype=float)
+    i = eom.coordinates.index("GeAz")
+    return float(1.0 / np.linalg.inv(M)[i, i] / ratio ** 2)
 
 
 def _tower_aero(tower, blade: bool, averaged: bool = False):

@@ -43,6 +43,7 @@ from ...exceptions import SimulationOptionError
 from ...simulate.controller import DiscreteController
 from ...simulate.held_multistep import ELASTODYN_METHODS, HELD_METHODS, MULTISTEP_METHODS, stability_limit
 from .controllers import held_commands
+from .hss_brake import BRAKE_INPUT
 from .model import OperatingTurbine
 from .sanity import check_physical
 
@@ -144,6 +145,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     if model.platform is not None:                  # the deck's sea (HydroDyn's excitation series), unless given
         given = dict(commands or {})
         inputs.update({n: v for n, v in model.platform.sea_tables(tmax).items() if n not in given})
+    if model.hss_brake is not None and BRAKE_INPUT not in dict(commands or {}):   # ServoDyn's brake ramp
+        inputs[BRAKE_INPUT] = model.hss_brake.table(tmax)
     options: dict[str, Any] = {"t_out": t_out, "p": p, "compile": compile, "progress": progress}
     if controller is not None:
         if accuracy is not None:

@@ -130,7 +130,7 @@ def test_deck_yaw_drive_reaches_the_model(rosco_deck, tmp_path):
 @pytest.mark.parametrize("old, new, key", [
     (r"^\s*0\s+YCMode", "5   YCMode", "YCMode"),
     (r"^\s*9999.9\s+TYawManS", "10   TYawManS", "TYawManS"),
-    (r"^\s*0\s+HSSBrMode", "1   HSSBrMode", None),
+    (r"^\s*0\s+HSSBrMode", "5   HSSBrMode", "HSSBrMode"),
     (r"^\s*9999.9\s+TimGenOf", "30   TimGenOf", "TimGenOf"),
     (r"^\s*9999.9\s+TPitManS\(2\)", "20   TPitManS(2)", "TPitManS(2)"),
     (r"^0\s+NumTStC", "1   NumTStC", "NumTStC"),
@@ -143,9 +143,6 @@ def test_servodyn_settings_that_act_are_refused(rosco_deck, tmp_path, old, new, 
     _edit(servo, old, new)
     if key == "YCMode":
         _edit(servo, r"^\s*9999.9\s+TYCOn", "0   TYCOn")
-    if key is None:                                         # brake deployed within the run
-        _edit(servo, r"^\s*9999.9\s+THSSBrDp", "5   THSSBrDp")
-        key = "HSSBrMode"
     deck = operating_deck(fst)
     with pytest.raises(OpenFASTFormatError, match=rf"ServoDyn\.dat, line \d+, key '{re.escape(key)}'"):
         deck.model(dofs=["YawDOF", "GenDOF"], aero="rotor", t_end=60.0)
