@@ -225,8 +225,8 @@ def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
                                       "on a SubDyn substructure's nodes are not modelled by mbsym yet; set them to 0 "
                                       "(the substructure in air) or run the deck in OpenFAST.")
     if "subdyn" not in files:
-        raise UnsupportedFeatureError(f"{where}: CompSub = 1 needs its SubDyn file, but SubFile names none that "
-                                      "exists; give the file or set CompSub = 0.")
+        raise UnsupportedFeatureError(f"{where}: CompSub = 1 (SubDyn) needs its input file, but SubFile names none "
+                                      "that exists; give the file or set CompSub = 0.")
     settings = read_subdyn(Path(files["subdyn"]))
     # SubDyn's WtrDpth (the point of its base reactions): SeaState's with HydroDyn, else 0 (the glue code's
     # FAST_Subs.f90, OpenFAST v5.0.0); HydroDyn is refused above, so 0
