@@ -17,7 +17,7 @@ A wind room importing only :mod:`mbsym.wind.deck` (and the general layers):
   deck with HydroDyn and a mooring);
 - :mod:`.frame_fem`, :mod:`.substructure`, :mod:`.bottom_fixed`: SubDyn's bottom-fixed substructures (the frame's
   finite elements, Guyan and Craig-Bampton reduction, :class:`~.bottom_fixed.BottomFixedPlatform` as the platform
-  loads of a deck with ``CompSub = 1``).
+  loads of a deck with ``CompSub = 1``); :mod:`.substructure_water`: HydroDyn's Morison loads on their nodes.
 
 Loads are numbers or CasADi expressions of the six platform DOFs (surge, sway, heave, roll, pitch,
 yaw). See docs/offshore.md.
@@ -34,10 +34,11 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace, radiation_reference
 from .radiation_fit import fit_radiation, fit_radiation_cached, vector_fit
 from .substructure import ReducedSubstructure, Substructure
+from .substructure_water import SubstructureWater, substructure_hydrodynamics
 
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
            "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
            "RadiationStateSpace", "radiation_reference", "fit_radiation", "fit_radiation_cached", "vector_fit",
            "FloatingPlatform", "floating_platform", "deck_radiation", "Substructure", "ReducedSubstructure",
-           "BottomFixedPlatform", "bottom_fixed_platform"]
+           "BottomFixedPlatform", "bottom_fixed_platform", "SubstructureWater", "substructure_hydrodynamics"]

@@ -19,17 +19,27 @@ takes a floating platform (:class:`~.operating.FloatingPlatform`; :mod:`mbsym.wi
   ``(0, 0, −WtrDpth)``, SubDyn's ``WtrDpth`` being SeaState's with HydroDyn and 0 without (OpenFAST's glue code):
   here, without HydroDyn, the origin at the mean sea level.
 
+**HydroDyn on the substructure** (``CompHydro = 1`` with ``PotMod = 0``; :mod:`.substructure_water`: HydroDyn's
+Morison loads mapped onto SubDyn's nodes as OpenFAST maps them): its nodal added mass ``A`` joins the mass matrix at
+the TP as ``Φ_TPᵀ A Φ_TP`` (symmetric part; HydroDyn's is asymmetric by 1e-5), its static loads (buoyancy, the
+filled fluid, marine growth) join ``Y1`` through ``Φ_TPᵀ`` with their lever arms, and the sea enters as inputs:
+``TPWaveFxi … TPWaveMzi`` (the waves' loads on the structure at rest, ``Φ_TPᵀ F``), ``HydroWaveFxi … HydroWaveMzi``
+(their sum about the origin, for HydroDyn's ``HydroFxi … HydroMzi`` channels), ``ReactWaveFXss … ReactWaveMZss``
+(their share of the base reactions) and ``Wave1Elev``, tabulated from SeaState's sea by :meth:`sea_tables` (the drag
+with the wave velocity alone: 0.06 % of critical damping left out on the IEA 15 MW monopile). The base reactions also
+take the water's added-mass loads on the interior through SubDyn's static improvement (``R_a ü``).
+
 Left out (second order in the TP motion, millimetres here): SubDyn's translation correction of the inertia and
-damping parts of ``Y1`` (``u_T × (M_BB ü + C_BB u̇)``) and the concentrated masses' rotated offsets beyond
-first order. Refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`): Craig–Bampton modes (``Nmodes > 0``:
-their states couple through the TP acceleration), HydroDyn or a mooring on the substructure (``CompHydro``,
-``CompMooring``: the water's loads act on its nodes), ``SttcSolve = False`` with ``ReactF*`` channels.
+damping parts of ``Y1`` (``u_T × (M_BB ü + C_BB u̇)``), the concentrated masses' rotated offsets beyond first order
+and the wave loads' lever arms. Refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`): Craig–Bampton modes
+(``Nmodes > 0``: their states couple through the TP acceleration), a mooring on the substructure, what
+:func:`~.substructure_water.substructure_water_problems` refuses of HydroDyn.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -39,9 +49,14 @@ import numpy as np
 
 from ...exceptions import ModelWarning, UnsupportedFeatureError
 from ._casadi import body_motion, euler_zyx
-from .operating import PLATFORM_COORDINATES, PLATFORM_INPUTS
+from .operating import HYDRO_CHANNELS, PLATFORM_COORDINATES, PLATFORM_INPUTS
 
-__all__ = ["BottomFixedPlatform", "bottom_fixed_platform", "SUBDYN_CHANNELS"]
+__all__ = ["BottomFixedPlatform", "bottom_fixed_platform", "SUBDYN_CHANNELS", "SEA_INPUTS"]
+
+#: The sea's inputs of a bottom-fixed platform with HydroDyn's waves (module docstring) [N, N m, m].
+SEA_INPUTS = (*(f"TPWave{c}i" for c in ("Fx", "Fy", "Fz", "Mx", "My", "Mz")),
+              *(f"HydroWave{c}i" for c in ("Fx", "Fy", "Fz", "Mx", "My", "Mz")),
+              *(f"ReactWave{c}ss" for c in ("FX", "FY", "FZ", "MX", "MY", "MZ")), "Wave1Elev")
 
 #: SubDyn's channels this platform writes (OpenFAST's units).
 SUBDYN_CHANNELS = {**{f"Intf1{c}ss": u for c, u in (("FX", "N"), ("FY", "N"), ("FZ", "N"), ("MX", "N-m"),
@@ -63,6 +78,65 @@ def _cross(v) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
+def _refuse_modes(reduced, source: str) -> None:
+    if reduced.n_modes:
+        raise UnsupportedFeatureError(f"{source}: Nmodes = {reduced.n_modes} Craig-Bampton modes are not coupled to "
+                                      "mbsym's turbine (their states follow the TP's acceleration); set Nmodes = 0 "
+                                      "(a Guyan reduction).")
+
+
+def _translation(force6) -> np.ndarray:
+    """The slope of SubDyn's translation correction ``M −= u_T × F`` for a constant TP force ``F`` (6 × 6)."""
+    out = np.zeros((6, 6))
+    out[3:, :3] = _cross(np.asarray(force6, dtype=float)[:3])
+    return out
+
+
+def _lever_arms(reduced, nodal_forces) -> np.ndarray:
+    """``Φ_TPᵀ`` of SubDyn's lever-arm moments ``Δu_k × f_k`` of constant nodal forces, per unit TP DOF (6 × 6)."""
+    n = reduced.frame.n_nodes
+    forces = np.asarray(nodal_forces, dtype=float).reshape(n, 6)[:, :3]
+    shapes = np.asarray(reduced.tp_shapes, dtype=float).reshape(n, 6, 6)
+    change = np.zeros((n, 6, 6))
+    for k in range(n):
+        change[k, 3:] = -_cross(forces[k]) @ shapes[k, :3]
+    return np.asarray(reduced.tp_shapes, dtype=float).T @ change.reshape(6 * n, 6)
+
+
+def _reactions(sub, nodal) -> np.ndarray:
+    """SubDyn's base reactions ``(..., 6)`` of the substructure held at rest under gravity and ``nodal`` loads
+    ``(..., 6 N)`` (:func:`~.substructure_water.rest_reactions`; without ``SttcSolve`` the interior does not deflect
+    and only the joints' own external loads count)."""
+    from .substructure_water import rest_reactions
+
+    if sub.settings.static_improvement:
+        return rest_reactions(sub, nodal)
+    loads = np.asarray(nodal, dtype=float)
+    fixed = np.asarray(sub.fixed_dofs, dtype=int)
+    out = np.zeros((*loads.shape[:-1], 6))
+    for k in range(len(fixed) // 6):
+        block = -loads[..., fixed[6 * k:6 * k + 6]]
+        arm = np.asarray(sub.frame.positions[fixed[6 * k] // 6], dtype=float) - np.asarray(sub.base_point)
+        out += np.concatenate([block[..., :3], block[..., 3:] + np.cross(arm, block[..., :3])], axis=-1)
+    return out
+
+
+def _wave_reactions(sub, nodal) -> np.ndarray:
+    """The waves' share of SubDyn's base reactions ``(len, 6)``: the reactions under the loads less those at rest."""
+    return _reactions(sub, nodal) - _reactions(sub, np.zeros(nodal.shape[1]))
+
+
+def _water_terms(sub, reduced, water) -> dict:
+    """The water's TP-level arrays (:class:`BottomFixedPlatform`'s ``water_terms``)."""
+    shapes = np.asarray(reduced.tp_shapes, dtype=float)
+    static = np.asarray(water.static_loads, dtype=float)
+    per_acc = -np.asarray(water.added_mass, dtype=float) @ shapes            # nodal loads per unit TP acceleration
+    rest = _reactions(sub, np.zeros(len(static)))
+    return {"mass": water.tp_added_mass(symmetric=True), "static": shapes.T @ static,
+            "lever": _lever_arms(reduced, static), "reaction_acc": (_reactions(sub, per_acc.T) - rest).T,
+            "hydro_static": water.resultant(static), "hydro_acc": water.resultant(per_acc.T).T}
+
+
 @dataclass(frozen=True, eq=False)
 class BottomFixedPlatform:
     """SubDyn's Guyan-reduced substructure on the platform DOFs (module docstring).
@@ -77,6 +151,13 @@ class BottomFixedPlatform:
         The base reaction at ``u = 0`` [N, N m] (the gravity loads with the static improvement).
     source : str
         The SubDyn file.
+    water : SubstructureWater, optional
+        HydroDyn's loads on the nodes (:func:`~.substructure_water.substructure_hydrodynamics`).
+    substructure : Substructure, optional
+        The full model (for the waves' share of the base reactions).
+    water_terms : dict
+        The water's TP-level arrays (:func:`_water_terms`): ``mass``, ``static``, ``lever``, ``reaction_acc``,
+        ``hydro_static``, ``hydro_acc``.
 
     Examples
     --------
@@ -88,74 +169,104 @@ class BottomFixedPlatform:
     reaction: np.ndarray
     reaction_static: np.ndarray
     source: str = ""
+    water: Any = None
+    substructure: Any = None
+    water_terms: dict = field(default_factory=dict)
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS
     state_names: tuple[str, ...] = ()
-    sea_inputs: tuple[str, ...] = ()
     #: Not a floating platform: controllers' prediction models leave its DOFs out (:mod:`mbsym.wind.mpc`).
     floating = False
     n_radiation = 0
     n_lines = 0
-    waves = None
 
     def __post_init__(self) -> None:
-        if self.reduced.n_modes:
-            raise UnsupportedFeatureError(f"{self.source}: Nmodes = {self.reduced.n_modes} Craig-Bampton modes are "
-                                          "not coupled to mbsym's turbine (their states follow the TP's "
-                                          "acceleration); set Nmodes = 0 (a Guyan reduction).")
+        _refuse_modes(self.reduced, self.source)
+
+    @property
+    def waves(self):
+        """SeaState's sea (:class:`~.waves.IncidentWaves`), None in still water or without HydroDyn."""
+        return None if self.water is None else self.water.waves
+
+    @property
+    def sea_inputs(self) -> tuple[str, ...]:
+        """:data:`SEA_INPUTS` with HydroDyn's waves, else ()."""
+        return SEA_INPUTS if self.waves is not None else ()
 
     @property
     def added_mass(self) -> np.ndarray:
-        """M_BB (6 × 6) [kg, kg m, kg m²] about the platform reference point: SubDyn's ``−M_BB ü``."""
-        return np.asarray(self.reduced.mass, dtype=float)
+        """M_BB + the water's ``Φ_TPᵀ A Φ_TP`` (6 × 6) [kg, kg m, kg m²] about the platform reference point."""
+        return np.asarray(self.reduced.mass, dtype=float) + self.water_terms.get("mass", 0.0)
 
     @cached_property
     def stiffness(self) -> np.ndarray:
-        """``K_BB − G`` plus the translation correction of the weight (6 × 6): the load's slope at rest [SI]."""
+        """``K_BB − G`` (the weights' and the water's static loads' lever arms, the translation correction of the TP's
+        static force) (6 × 6): the load's slope at rest [SI]."""
         g_full, _ = self.reduced.lever_arm_stiffness()
-        return np.asarray(self.reduced.stiffness, dtype=float) - g_full
+        water = self.water_terms.get("lever", 0.0)
+        static = self.water_terms.get("static", np.zeros(6))
+        return np.asarray(self.reduced.stiffness, dtype=float) - g_full - water - _translation(static)
 
-    def sea_tables(self, t_end: float) -> dict:
-        """No sea inputs: {} (HydroDyn on the substructure is refused)."""
-        return {}
+    def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Inputs ``name → (t, values)`` of :attr:`sea_inputs` on SeaState's grid over ``[0, t_end]`` [s] ({} in still
+        water): the waves' loads at the TP, their sum about the origin, their share of the base reactions, the
+        elevation at the origin."""
+        if self.waves is None:
+            return {}
+        grid = self.water.times()
+        t = grid[: int(np.searchsorted(grid, t_end, side="right")) + 1]
+        nodal = self.water.wave_loads(t)
+        columns = np.column_stack([nodal @ np.asarray(self.reduced.tp_shapes, dtype=float),
+                                   self.water.resultant(nodal), _wave_reactions(self.substructure, nodal),
+                                   np.interp(t, self.waves.times(), self.waves.elevation())])
+        return {name: (t, columns[:, k]) for k, name in enumerate(SEA_INPUTS)}
 
     @cached_property
     def function(self) -> ca.Function:
         """``(qp, vp, xr, sea) → (load, hydro, xr_dot, tension, mass, sea_out, jac, bias, react)`` (SX, built once);
         the names of :meth:`~.operating.FloatingPlatform.function` plus ``react``, the base reaction."""
-        r = self.reduced
+        r, w = self.reduced, self.water_terms
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
-        xr, sea = ca.SX.sym("xr", 0), ca.SX.sym("sea", 0)
+        xr, sea = ca.SX.sym("xr", 0), ca.SX.sym("sea", len(self.sea_inputs))
         body, jac, bias = body_motion(qp, vp)
         u = ca.vertcat(qp[:3], _small_angles(euler_zyx(qp[3:6]).T))   # SubDyn's u_TP from ElastoDyn's DCM
+        static = np.asarray(r.gravity_load, dtype=float) + w.get("static", 0.0)
         g_full, _ = r.lever_arm_stiffness()
-        lever = g_full.copy()
-        lever[3:, :3] -= _cross(np.asarray(r.gravity_load[:3], dtype=float))   # step 5 exactly, below
-        y = (ca.DM(r.gravity_load) + ca.mtimes(ca.DM(lever - np.asarray(r.stiffness)), u)
+        lever = g_full - _translation(np.asarray(r.gravity_load, dtype=float)) + w.get("lever", 0.0)  # step 5 below
+        y = (ca.DM(static) + ca.mtimes(ca.DM(lever - np.asarray(r.stiffness)), u)
              - ca.mtimes(ca.DM(np.asarray(r.damping)), body))
-        load = ca.vertcat(y[:3], y[3:] - ca.cross(u[:3], y[:3]))
         react = ca.DM(self.reaction_static) + ca.mtimes(ca.DM(self.reaction), u)
-        zero6 = ca.SX.zeros(6)
+        hydro = ca.DM(w.get("hydro_static", np.zeros(6)))
+        if self.sea_inputs:                           # the waves' loads on the structure at rest (module docstring)
+            y, hydro, react = y + sea[0:6], hydro + sea[6:12], react + sea[12:18]
+        load = ca.vertcat(y[:3], y[3:] - ca.cross(u[:3], y[:3]))
         return ca.Function("substructure_loads", [qp, vp, xr, sea],
-                           [load, zero6, ca.SX(0, 1), ca.SX(0, 1), ca.SX.zeros(6, 6), ca.SX(0, 1), jac, bias, react],
+                           [load, hydro, ca.SX(0, 1), ca.SX(0, 1), ca.SX.zeros(6, 6), sea, jac, bias, react],
                            ["qp", "vp", "xr", "sea"],
                            ["load", "hydro", "xr_dot", "tension", "mass", "sea_out", "jac", "bias", "react"],
                            {"cse": True})
 
     def loads(self, qp: Any, vp: Any, xr: Any = None, sea: Any = None) -> dict[str, Any]:
-        """The outputs of :attr:`function` by name (CasADi or numeric arguments)."""
-        out = self.function(qp, vp, ca.DM(0, 1), ca.DM(0, 1))
+        """The outputs of :attr:`function` by name (CasADi or numeric arguments; ``sea`` default 0: still water)."""
+        sea = ca.DM.zeros(len(self.sea_inputs)) if sea is None else sea
+        out = self.function(qp, vp, ca.DM(0, 1), sea)
         return dict(zip(self.function.name_out(), out))
 
     def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:
         """``Intf1FXss … Intf1MZss`` (``−Y1`` with ``−M_BB ü``, ``ü`` from the platform accelerations ``ap``) and
         ``ReactFXss … ReactMZss`` [N, N-m]."""
-        inertia = ca.mtimes(ca.DM(self.added_mass), ca.mtimes(loads["jac"], ap) + loads["bias"])
-        intf = -(loads["load"] - inertia)
+        acc = ca.mtimes(loads["jac"], ap) + loads["bias"]
+        intf = -(loads["load"] - ca.mtimes(ca.DM(self.added_mass), acc))
+        react = loads["react"] + ca.mtimes(ca.DM(self.water_terms.get("reaction_acc", np.zeros((6, 6)))), acc)
         names = list(SUBDYN_CHANNELS.items())
         rows = [(n, u, intf[k]) for k, (n, u) in enumerate(names[:6])]
-        rows += [(n, u, loads["react"][k]) for k, (n, u) in enumerate(names[6:])]
+        rows += [(n, u, react[k]) for k, (n, u) in enumerate(names[6:])]
+        if self.water is not None:                  # HydroDyn's total about the origin, with its added mass
+            hydro = loads["hydro"] + ca.mtimes(ca.DM(self.water_terms["hydro_acc"]), acc)
+            rows += [(n, u, hydro[k]) for k, (n, u) in enumerate(HYDRO_CHANNELS.items())]
+        if self.sea_inputs:
+            rows.append(("Wave1Elev", "m", loads["sea_out"][18]))
         return rows
 
     def for_prediction(self) -> "BottomFixedPlatform":
@@ -165,31 +276,28 @@ class BottomFixedPlatform:
     def __repr__(self) -> str:
         hz = ", ".join(f"{f:.3g}" for f in self.reduced.guyan_frequencies()[:3])
         mass = float(self.reduced.mass[0, 0])
-        return f"BottomFixedPlatform(Guyan, TP mass {mass / 1e3:.4g} t, first Guyan frequencies {hz} Hz)"
+        water = "" if self.water is None else (", HydroDyn in still water" if self.waves is None else
+                                               ", HydroDyn in waves")
+        return f"BottomFixedPlatform(Guyan, TP mass {mass / 1e3:.4g} t, first Guyan frequencies {hz} Hz{water})"
 
 
-def _base_reaction(sub) -> tuple[np.ndarray, np.ndarray]:
-    """SubDyn's ``ReactF*ss`` as ``R u + r0``: the elastic forces of the full model at the reaction joints, on the
-    node displacements ``Φ_TP u`` + the static improvement of the gravity loads, minus their own nodal loads, moved
-    to the base point ``(0, 0, −WtrDpth)`` of ``sub`` (SubDyn's ``TIreact``). The full stiffness's rows of the
-    locked DOFs give the elements' forces at those joints (the elements meeting there are the only ones that touch
-    them)."""
+def _base_reaction(sub, static_loads=None) -> tuple[np.ndarray, np.ndarray]:
+    """SubDyn's ``ReactF*ss`` as ``R u + r0``: the elastic forces of the full model at the reaction joints on the
+    node displacements ``Φ_TP u`` (the locked DOFs' rows of the stiffness: the elements meeting there are the only
+    ones that touch them), moved to the base point ``(0, 0, −WtrDpth)`` of ``sub`` (SubDyn's ``TIreact``), and at rest
+    under gravity and ``static_loads`` (6 N; :func:`_reactions`)."""
     frame, reduced = sub.frame, sub.reduce()
+    _refuse_modes(reduced, str(sub.settings.path))
     fixed = np.asarray(sub.fixed_dofs, dtype=int)
-    k_c = np.asarray(frame.stiffness, dtype=float)[fixed]
-    shapes = np.asarray(reduced.tp_shapes, dtype=float)
-    static = reduced.node_displacements(np.zeros(6), static_loads=frame.gravity_load).reshape(-1)
-    forces_u = k_c @ shapes                                   # (6 n_c, 6)
-    forces_0 = k_c @ static - np.asarray(frame.gravity_load, dtype=float)[fixed]
+    forces_u = np.asarray(frame.stiffness, dtype=float)[fixed] @ np.asarray(reduced.tp_shapes, dtype=float)
     base = np.asarray(sub.base_point, dtype=float)
-    R, r0 = np.zeros((6, 6)), np.zeros(6)
+    R = np.zeros((6, 6))
     for k in range(len(fixed) // 6):
-        node = frame.positions[fixed[6 * k] // 6]
         move = np.eye(6)
-        move[3:, :3] = _cross(np.asarray(node, dtype=float) - base)
+        move[3:, :3] = _cross(np.asarray(frame.positions[fixed[6 * k] // 6], dtype=float) - base)
         R += move @ forces_u[6 * k:6 * k + 6]
-        r0 += move @ forces_0[6 * k:6 * k + 6]
-    return R, r0
+    static = np.zeros(6 * frame.n_nodes) if static_loads is None else np.asarray(static_loads, dtype=float)
+    return R, _reactions(sub, static)
 
 
 def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
@@ -198,14 +306,14 @@ def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
     Parameters
     ----------
     turbine : TurbineParameters
-        A deck read by :func:`mbsym.wind.read_openfast` (``CompSub``, ``SubFile``, ``Gravity``, ``WtrDpth``, the
-        platform reference point).
+        A deck read by :func:`mbsym.wind.read_openfast` (``CompSub``, ``SubFile``, ``CompHydro``, ``HydroFile``,
+        ``SeaStFile``, ``Gravity``, ``WtrDens``, ``WtrDpth``, the platform reference point).
 
     Raises
     ------
     UnsupportedFeatureError
-        ``CompSub = 2``, HydroDyn or a mooring with SubDyn, Craig-Bampton modes, and what the SubDyn reader
-        and :class:`~.substructure.Substructure` refuse.
+        ``CompSub = 2``, a mooring with SubDyn, Craig-Bampton modes, and what the SubDyn and HydroDyn readers,
+        :class:`~.substructure.Substructure` and :func:`~.substructure_water.substructure_hydrodynamics` refuse.
     """
     from ..deck.subdyn import read_subdyn
     from .substructure import Substructure
@@ -218,24 +326,49 @@ def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
     if mode != 1:
         raise UnsupportedFeatureError(f"{where}: CompSub = {mode} (external platform MCKF) is not modelled; use "
                                       "CompSub = 1 (SubDyn) or 0.")
-    on = [f"{k} = {v}" for k, v in (("CompHydro", int(sim.hydrodynamics_model or 0)),
-                                     ("CompMooring", int(sim.mooring_model or 0))) if v]
-    if on:
-        raise UnsupportedFeatureError(f"{where}: {', '.join(on)} with CompSub = 1: the water's and the lines' loads "
-                                      "on a SubDyn substructure's nodes are not modelled by mbsym yet; set them to 0 "
-                                      "(the substructure in air) or run the deck in OpenFAST.")
-    if "subdyn" not in files:
-        raise UnsupportedFeatureError(f"{where}: CompSub = 1 (SubDyn) needs its input file, but SubFile names none "
-                                      "that exists; give the file or set CompSub = 0.")
+    if int(sim.mooring_model or 0):
+        raise UnsupportedFeatureError(f"{where}: CompMooring = {sim.mooring_model} with CompSub = 1: mooring lines on "
+                                      "a SubDyn substructure's nodes are not modelled by mbsym; set CompMooring = 0.")
+    for key, name in (("subdyn", "CompSub = 1 (SubDyn)"), *((("hydrodyn", "CompHydro = 1 (HydroDyn)"),)
+                                                            if sim.hydrodynamics_model else ())):
+        if key not in files:
+            raise UnsupportedFeatureError(f"{where}: {name} needs its input file, but the .fst names none that "
+                                          "exists; give the file or set the switch to 0.")
     settings = read_subdyn(Path(files["subdyn"]))
+    hydro, sea, depth = _hydrodyn_inputs(turbine) if sim.hydrodynamics_model else (None, None, 0.0)
     # SubDyn's WtrDpth (the point of its base reactions): SeaState's with HydroDyn, else 0 (the glue code's
-    # FAST_Subs.f90, OpenFAST v5.0.0); HydroDyn is refused above, so 0
+    # FAST_Subs.f90, OpenFAST v5.0.0)
     sub = Substructure(settings, reference_point=tuple(turbine.platform_reference), gravity=float(sim.gravity),
-                       water_depth=0.0)
+                       water_depth=depth)
     reduced = sub.reduce()
-    platform = BottomFixedPlatform(reduced, *_base_reaction(sub), source=str(files["subdyn"]))
+    water, terms = None, {}
+    if hydro is not None:
+        from .substructure_water import substructure_hydrodynamics
+
+        water = substructure_hydrodynamics(hydro, sea, sub, water_density=float(sim.water_density),
+                                           gravity=float(sim.gravity), water_depth=depth,
+                                           msl_to_swl=float(sim.msl_to_swl or 0.0))
+        terms = _water_terms(sub, reduced, water)
+    static = None if water is None else water.static_loads
+    platform = BottomFixedPlatform(reduced, *_base_reaction(sub, static), source=str(files["subdyn"]), water=water,
+                                   substructure=sub, water_terms=terms)
     _warn_channels(settings, files["subdyn"])
     return platform
+
+
+def _hydrodyn_inputs(turbine):
+    """HydroDyn's and SeaState's inputs of the deck and SeaState's water depth (its own, else the ``.fst``'s)."""
+    from ..deck.hydrodyn import read_hydrodyn
+    from ..deck.seastate import read_seastate
+    from .platform import _depth
+
+    files, sim = turbine.source_files, turbine.simulation
+    sea = read_seastate(Path(files["seastate"])) if "seastate" in files else None
+    depth = _depth(sea, sim.water_depth)
+    if depth is None:
+        raise UnsupportedFeatureError(f"{files.get('fst', 'the deck')}: HydroDyn on SubDyn needs the water depth "
+                                      "(SeaState's WtrDpth or the .fst's); give one.")
+    return read_hydrodyn(Path(files["hydrodyn"])), sea, depth
 
 
 def _warn_channels(settings, path) -> None:
