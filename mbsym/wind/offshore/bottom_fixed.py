@@ -29,10 +29,17 @@ filled fluid, marine growth) join ``Y1`` through ``Φ_TPᵀ`` with their lever a
 with the wave velocity alone: 0.06 % of critical damping left out on the IEA 15 MW monopile). The base reactions also
 take the water's added-mass loads on the interior through SubDyn's static improvement (``R_a ü``).
 
+**Craig–Bampton modes** (``Nmodes > 0``, without HydroDyn): their coordinates ``q`` and rates are states
+``SSqm01 …``, ``SSqmd01 …`` with SubDyn's ``q̈ = Φ_mᵀ F − M_mB ü − C_mm q̇ − K_mm q`` (``F`` the weights with their
+lever arms); ``Y1 −= M_Bm q̈`` splits into ``−M_Bm (q̈ + M_mB ü)``, a load, and ``+M_Bm M_mB ü``, which leaves the TP's
+mass (``M_BB − M_Bm M_mB``, the coupled mass matrix's Schur complement); the operating turbine adds
+``−M_mB (J q̈_p + b)`` to the modes' accelerations once the structure's are solved (``xr_acc``). The base reactions
+take ``K_C Φ_CB q``, and the static improvement is SubDyn's with the modes' part taken out.
+
 Left out (second order in the TP motion, millimetres here): SubDyn's translation correction of the inertia and
 damping parts of ``Y1`` (``u_T × (M_BB ü + C_BB u̇)``), the concentrated masses' rotated offsets beyond first order
 and the wave loads' lever arms. Refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`): Craig–Bampton modes
-(``Nmodes > 0``: their states couple through the TP acceleration), a mooring on the substructure, what
+with HydroDyn (the water's added mass would couple them too), a mooring on the substructure, what
 :func:`~.substructure_water.substructure_water_problems` refuses of HydroDyn.
 """
 
@@ -80,9 +87,9 @@ def _cross(v) -> np.ndarray:
 
 def _refuse_modes(reduced, source: str) -> None:
     if reduced.n_modes:
-        raise UnsupportedFeatureError(f"{source}: Nmodes = {reduced.n_modes} Craig-Bampton modes are not coupled to "
-                                      "mbsym's turbine (their states follow the TP's acceleration); set Nmodes = 0 "
-                                      "(a Guyan reduction).")
+        raise UnsupportedFeatureError(f"{source}: Nmodes = {reduced.n_modes} Craig-Bampton modes with HydroDyn are "
+                                      "not modelled (the water's added mass would couple them to the TP); set "
+                                      "Nmodes = 0 (a Guyan reduction) or CompHydro = 0.")
 
 
 def _translation(force6) -> np.ndarray:
@@ -104,20 +111,33 @@ def _lever_arms(reduced, nodal_forces) -> np.ndarray:
 
 
 def _reactions(sub, nodal) -> np.ndarray:
-    """SubDyn's base reactions ``(..., 6)`` of the substructure held at rest under gravity and ``nodal`` loads
-    ``(..., 6 N)`` (:func:`~.substructure_water.rest_reactions`; without ``SttcSolve`` the interior does not deflect
-    and only the joints' own external loads count)."""
-    from .substructure_water import rest_reactions
-
-    if sub.settings.static_improvement:
-        return rest_reactions(sub, nodal)
-    loads = np.asarray(nodal, dtype=float)
+    """SubDyn's base reactions ``(..., 6)`` of the substructure held at rest (TP and modes at 0) under gravity and
+    ``nodal`` loads ``(..., 6 N)``: the elements' elastic forces at the reaction joints on SubDyn's static improvement
+    of the interior (``SttcSolve``; none without it), less the joints' own external loads, about the base point."""
+    reduced, frame = sub.reduce(), sub.frame
+    loads = np.atleast_2d(np.asarray(nodal, dtype=float))
     fixed = np.asarray(sub.fixed_dofs, dtype=int)
-    out = np.zeros((*loads.shape[:-1], 6))
+    k_c = np.asarray(frame.stiffness, dtype=float)[fixed]
+    gravity = np.asarray(frame.gravity_load, dtype=float)
+    out = np.zeros((len(loads), 6))
+    for row, external in zip(out, loads):
+        disp = reduced.node_displacements(np.zeros(6), static_loads=external + gravity).reshape(-1) \
+            if sub.settings.static_improvement else np.zeros(len(gravity))
+        row += _to_base(sub, k_c @ disp - external[fixed])
+    return out.reshape(*np.shape(nodal)[:-1], 6)
+
+
+def _to_base(sub, forces) -> np.ndarray:
+    """Loads at the reaction joints' DOFs (``6 n_c``, or ``(6 n_c, m)``) moved to the base point (SubDyn's
+    ``TIreact``)."""
+    fixed = np.asarray(sub.fixed_dofs, dtype=int)
+    forces = np.asarray(forces, dtype=float)
+    out = np.zeros((6, *forces.shape[1:]))
     for k in range(len(fixed) // 6):
-        block = -loads[..., fixed[6 * k:6 * k + 6]]
-        arm = np.asarray(sub.frame.positions[fixed[6 * k] // 6], dtype=float) - np.asarray(sub.base_point)
-        out += np.concatenate([block[..., :3], block[..., 3:] + np.cross(arm, block[..., :3])], axis=-1)
+        move = np.eye(6)
+        move[3:, :3] = _cross(np.asarray(sub.frame.positions[fixed[6 * k] // 6], dtype=float)
+                              - np.asarray(sub.base_point, dtype=float))
+        out += move @ forces[6 * k:6 * k + 6]
     return out
 
 
@@ -158,6 +178,8 @@ class BottomFixedPlatform:
     water_terms : dict
         The water's TP-level arrays (:func:`_water_terms`): ``mass``, ``static``, ``lever``, ``reaction_acc``,
         ``hydro_static``, ``hydro_acc``.
+    modal_reaction : (6, n) ndarray, optional
+        The base reaction per CB coordinate (Craig–Bampton modes).
 
     Examples
     --------
@@ -172,17 +194,29 @@ class BottomFixedPlatform:
     water: Any = None
     substructure: Any = None
     water_terms: dict = field(default_factory=dict)
+    modal_reaction: np.ndarray | None = None
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS
-    state_names: tuple[str, ...] = ()
     #: Not a floating platform: controllers' prediction models leave its DOFs out (:mod:`mbsym.wind.mpc`).
     floating = False
     n_radiation = 0
     n_lines = 0
 
     def __post_init__(self) -> None:
-        _refuse_modes(self.reduced, self.source)
+        if self.reduced.n_modes and self.water is not None:
+            _refuse_modes(self.reduced, self.source)
+
+    @property
+    def n_modes(self) -> int:
+        """Craig–Bampton modes kept (``Nmodes``)."""
+        return int(self.reduced.n_modes)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The CB coordinates ``SSqm01 …`` [√kg m] and their rates ``SSqmd01 …`` (SubDyn's names); () for Guyan."""
+        n = self.n_modes
+        return tuple(f"SSqm{k:02d}" for k in range(1, n + 1)) + tuple(f"SSqmd{k:02d}" for k in range(1, n + 1))
 
     @property
     def waves(self):
@@ -196,8 +230,11 @@ class BottomFixedPlatform:
 
     @property
     def added_mass(self) -> np.ndarray:
-        """M_BB + the water's ``Φ_TPᵀ A Φ_TP`` (6 × 6) [kg, kg m, kg m²] about the platform reference point."""
-        return np.asarray(self.reduced.mass, dtype=float) + self.water_terms.get("mass", 0.0)
+        """``M_BB − M_Bm M_mB`` (the CB modes' share of the inertia moves to their states: module docstring) + the
+        water's ``Φ_TPᵀ A Φ_TP`` (6 × 6) [kg, kg m, kg m²] about the platform reference point."""
+        r = self.reduced
+        coupling = np.asarray(r.mass_coupling, dtype=float).reshape(6, -1)
+        return np.asarray(r.mass, dtype=float) - coupling @ coupling.T + self.water_terms.get("mass", 0.0)
 
     @cached_property
     def stiffness(self) -> np.ndarray:
@@ -226,9 +263,9 @@ class BottomFixedPlatform:
     def function(self) -> ca.Function:
         """``(qp, vp, xr, sea) → (load, hydro, xr_dot, tension, mass, sea_out, jac, bias, react)`` (SX, built once);
         the names of :meth:`~.operating.FloatingPlatform.function` plus ``react``, the base reaction."""
-        r, w = self.reduced, self.water_terms
+        r, w, n = self.reduced, self.water_terms, self.n_modes
         qp, vp = ca.SX.sym("qp", 6), ca.SX.sym("vp", 6)
-        xr, sea = ca.SX.sym("xr", 0), ca.SX.sym("sea", len(self.sea_inputs))
+        xr, sea = ca.SX.sym("xr", 2 * n), ca.SX.sym("sea", len(self.sea_inputs))
         body, jac, bias = body_motion(qp, vp)
         u = ca.vertcat(qp[:3], _small_angles(euler_zyx(qp[3:6]).T))   # SubDyn's u_TP from ElastoDyn's DCM
         static = np.asarray(r.gravity_load, dtype=float) + w.get("static", 0.0)
@@ -240,18 +277,33 @@ class BottomFixedPlatform:
         hydro = ca.DM(w.get("hydro_static", np.zeros(6)))
         if self.sea_inputs:                           # the waves' loads on the structure at rest (module docstring)
             y, hydro, react = y + sea[0:6], hydro + sea[6:12], react + sea[12:18]
+        xr_dot, xr_acc = ca.SX(0, 1), ca.SX(0, 6)
+        if n:                                         # CB modes: q̈ = g − M_mB ü; Y1 −= M_Bm q̈ (M_Bm M_mB in the mass)
+            q, qd = xr[:n], xr[n:]
+            _, modal_lever = r.lever_arm_stiffness()
+            g = (ca.DM(r.modal_gravity_load) + ca.mtimes(ca.DM(modal_lever), u)
+                 - ca.DM(2.0 * r.damping_ratios * r.frequencies) * qd - ca.DM(r.frequencies ** 2) * q)
+            coupling = ca.DM(np.asarray(r.mass_coupling, dtype=float))
+            y = y - ca.mtimes(coupling, g)
+            react = react + ca.mtimes(ca.DM(self.modal_reaction), q)
+            xr_dot = ca.vertcat(qd, g)
+            xr_acc = ca.vertcat(ca.DM.zeros(n, 6), -coupling.T)
         load = ca.vertcat(y[:3], y[3:] - ca.cross(u[:3], y[:3]))
         return ca.Function("substructure_loads", [qp, vp, xr, sea],
-                           [load, hydro, ca.SX(0, 1), ca.SX(0, 1), ca.SX.zeros(6, 6), sea, jac, bias, react],
+                           [load, hydro, xr_dot, ca.SX(0, 1), ca.SX.zeros(6, 6), sea, jac, bias, react, xr_acc],
                            ["qp", "vp", "xr", "sea"],
-                           ["load", "hydro", "xr_dot", "tension", "mass", "sea_out", "jac", "bias", "react"],
-                           {"cse": True})
+                           ["load", "hydro", "xr_dot", "tension", "mass", "sea_out", "jac", "bias", "react",
+                            "xr_acc"], {"cse": True})
 
     def loads(self, qp: Any, vp: Any, xr: Any = None, sea: Any = None) -> dict[str, Any]:
-        """The outputs of :attr:`function` by name (CasADi or numeric arguments; ``sea`` default 0: still water)."""
+        """The outputs of :attr:`function` by name (CasADi or numeric arguments; ``xr`` default the CB modes at 0,
+        ``sea`` default 0: still water). Without CB modes ``xr_acc`` is left out."""
         sea = ca.DM.zeros(len(self.sea_inputs)) if sea is None else sea
-        out = self.function(qp, vp, ca.DM(0, 1), sea)
-        return dict(zip(self.function.name_out(), out))
+        xr = ca.DM.zeros(2 * self.n_modes) if xr is None or not self.n_modes else xr
+        out = dict(zip(self.function.name_out(), self.function(qp, vp, xr, sea)))
+        if not self.n_modes:
+            out.pop("xr_acc")
+        return out
 
     def channel_rows(self, loads: dict[str, Any], ap: Any) -> list[tuple[str, str, Any]]:
         """``Intf1FXss … Intf1MZss`` (``−Y1`` with ``−M_BB ü``, ``ü`` from the platform accelerations ``ap``) and
@@ -281,23 +333,17 @@ class BottomFixedPlatform:
         return f"BottomFixedPlatform(Guyan, TP mass {mass / 1e3:.4g} t, first Guyan frequencies {hz} Hz{water})"
 
 
-def _base_reaction(sub, static_loads=None) -> tuple[np.ndarray, np.ndarray]:
-    """SubDyn's ``ReactF*ss`` as ``R u + r0``: the elastic forces of the full model at the reaction joints on the
-    node displacements ``Φ_TP u`` (the locked DOFs' rows of the stiffness: the elements meeting there are the only
-    ones that touch them), moved to the base point ``(0, 0, −WtrDpth)`` of ``sub`` (SubDyn's ``TIreact``), and at rest
-    under gravity and ``static_loads`` (6 N; :func:`_reactions`)."""
+def _base_reaction(sub, static_loads=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """SubDyn's ``ReactF*ss`` as ``R u + R_m q + r0``: the elastic forces of the full model at the reaction joints on
+    the node displacements ``Φ_TP u + Φ_CB q`` (the locked DOFs' rows of the stiffness: the elements meeting there are
+    the only ones that touch them), moved to the base point ``(0, 0, −WtrDpth)`` of ``sub`` (SubDyn's ``TIreact``),
+    and at rest under gravity and ``static_loads`` (6 N; :func:`_reactions`)."""
     frame, reduced = sub.frame, sub.reduce()
-    _refuse_modes(reduced, str(sub.settings.path))
-    fixed = np.asarray(sub.fixed_dofs, dtype=int)
-    forces_u = np.asarray(frame.stiffness, dtype=float)[fixed] @ np.asarray(reduced.tp_shapes, dtype=float)
-    base = np.asarray(sub.base_point, dtype=float)
-    R = np.zeros((6, 6))
-    for k in range(len(fixed) // 6):
-        move = np.eye(6)
-        move[3:, :3] = _cross(np.asarray(frame.positions[fixed[6 * k] // 6], dtype=float) - base)
-        R += move @ forces_u[6 * k:6 * k + 6]
+    k_c = np.asarray(frame.stiffness, dtype=float)[np.asarray(sub.fixed_dofs, dtype=int)]
+    R = _to_base(sub, k_c @ np.asarray(reduced.tp_shapes, dtype=float))
+    R_m = _to_base(sub, k_c @ np.asarray(reduced.modal_shapes, dtype=float)) if reduced.n_modes else np.zeros((6, 0))
     static = np.zeros(6 * frame.n_nodes) if static_loads is None else np.asarray(static_loads, dtype=float)
-    return R, _reactions(sub, static)
+    return R, _reactions(sub, static), R_m
 
 
 def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
@@ -345,13 +391,16 @@ def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
     if hydro is not None:
         from .substructure_water import substructure_hydrodynamics
 
+        _refuse_modes(reduced, str(files["subdyn"]))
+
         water = substructure_hydrodynamics(hydro, sea, sub, water_density=float(sim.water_density),
                                            gravity=float(sim.gravity), water_depth=depth,
                                            msl_to_swl=float(sim.msl_to_swl or 0.0))
         terms = _water_terms(sub, reduced, water)
     static = None if water is None else water.static_loads
-    platform = BottomFixedPlatform(reduced, *_base_reaction(sub, static), source=str(files["subdyn"]), water=water,
-                                   substructure=sub, water_terms=terms)
+    R, r0, R_m = _base_reaction(sub, static)
+    platform = BottomFixedPlatform(reduced, R, r0, source=str(files["subdyn"]), water=water, substructure=sub,
+                                   water_terms=terms, modal_reaction=R_m)
     _warn_channels(settings, files["subdyn"])
     return platform
 

@@ -140,7 +140,11 @@ class FloatingStructure:
             + ca.mtimes([JS.T, ca.DM(platform.added_mass), JS]) + ca.mtimes([S.T, loads["mass"], S])
         forcing = eom.functions.forcing(q, qd, us, p) - ca.mtimes([JS.T, ca.DM(platform.added_mass), loads["bias"]])
         qdd = ca.solve(M, forcing)
-        xd = ca.vertcat(qd, qdd, loads["xr_dot"]) if nr else ca.vertcat(qd, qdd)
+        xr_dot = loads["xr_dot"]
+        if nr and "xr_acc" in loads:                     # SubDyn's Craig-Bampton modes follow the TP's acceleration
+            ap = ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index])
+            xr_dot = xr_dot + ca.mtimes(loads["xr_acc"], ca.mtimes(loads["jac"], ap) + loads["bias"])
+        xd = ca.vertcat(qd, qdd, xr_dot) if nr else ca.vertcat(qd, qdd)
         f_y, names, units = channel_function(self.model)
         rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index]))
         y = ca.vertcat(f_y(q, qd, qdd, us, p), *[r[2] for r in rows])

@@ -323,7 +323,13 @@ class Graph:
         if hasattr(self, "lag_rhs"):
             rows.append(self.lag_rhs)
         if self.platform is not None and self.platform.state_names:
-            rows.append(self.platform_terms["xr_dot"])
+            xr_dot = self.platform_terms["xr_dot"]
+            xr_acc = self.platform_terms.get("xr_acc")       # states driven by the platform's acceleration (SubDyn's
+            if xr_acc is not None:                           # Craig-Bampton modes): + xr_acc (J q̈_p + b)
+                ap = ca.vertcat(*[self.qdd[i] if i is not None else 0.0 for i in self.platform_index])
+                xr_dot = xr_dot + ca.mtimes(xr_acc, ca.mtimes(self.platform_terms["jac"], ap)
+                                            + self.platform_terms["bias"])
+            rows.append(xr_dot)
         return rows
 
     def parts(self) -> dict[str, Any]:
