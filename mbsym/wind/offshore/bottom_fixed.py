@@ -29,18 +29,19 @@ filled fluid, marine growth) join ``Y1`` through ``Φ_TPᵀ`` with their lever a
 with the wave velocity alone: 0.06 % of critical damping left out on the IEA 15 MW monopile). The base reactions also
 take the water's added-mass loads on the interior through SubDyn's static improvement (``R_a ü``).
 
-**Craig–Bampton modes** (``Nmodes > 0``, without HydroDyn): their coordinates ``q`` and rates are states
-``SSqm01 …``, ``SSqmd01 …`` with SubDyn's ``q̈ = Φ_mᵀ F − M_mB ü − C_mm q̇ − K_mm q`` (``F`` the weights with their
-lever arms); ``Y1 −= M_Bm q̈`` splits into ``−M_Bm (q̈ + M_mB ü)``, a load, and ``+M_Bm M_mB ü``, which leaves the TP's
-mass (``M_BB − M_Bm M_mB``, the coupled mass matrix's Schur complement); the operating turbine adds
-``−M_mB (J q̈_p + b)`` to the modes' accelerations once the structure's are solved (``xr_acc``). The base reactions
-take ``K_C Φ_CB q``, and the static improvement is SubDyn's with the modes' part taken out.
+**Craig–Bampton modes** (``Nmodes > 0``): their coordinates ``q`` and rates are states ``SSqm01 …``, ``SSqmd01 …``
+with SubDyn's ``q̈ = Φ_mᵀ F − M_mB ü − C_mm q̇ − K_mm q`` (``F`` the nodal loads with their lever arms). With the
+water's nodal added mass ``A`` among the loads this is ``N q̈ = g − P ü`` (``N = I + Φ_mᵀ A Φ_m``, ``P = M_mB +
+Φ_mᵀ A Φ_TP``, ``g`` the rest) and ``Y1 −= Q q̈`` (``Q = M_Bm + Φ_TPᵀ A Φ_m``): ``−Q N⁻¹ g`` is a load and
+``Q N⁻¹ P`` leaves the TP's mass (the coupled mass matrix's Schur complement); the turbine adds ``−N⁻¹ P (J q̈_p +
+b)`` to the modes' accelerations once the structure's are solved (``xr_acc``). The waves' modal loads are inputs
+``CBWave01 …``. The base reactions take ``K_C Φ_CB q`` (and the water's added-mass loads of ``q̈`` through the static
+improvement), which is SubDyn's with the modes' part taken out.
 
 Left out (second order in the TP motion, millimetres here): SubDyn's translation correction of the inertia and
 damping parts of ``Y1`` (``u_T × (M_BB ü + C_BB u̇)``), the concentrated masses' rotated offsets beyond first order
-and the wave loads' lever arms. Refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`): Craig–Bampton modes
-with HydroDyn (the water's added mass would couple them too), a mooring on the substructure, what
-:func:`~.substructure_water.substructure_water_problems` refuses of HydroDyn.
+and the wave loads' lever arms. Refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`): a mooring on the
+substructure, what :func:`~.substructure_water.substructure_water_problems` refuses of HydroDyn.
 """
 
 from __future__ import annotations
@@ -85,13 +86,6 @@ def _cross(v) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
-def _refuse_modes(reduced, source: str) -> None:
-    if reduced.n_modes:
-        raise UnsupportedFeatureError(f"{source}: Nmodes = {reduced.n_modes} Craig-Bampton modes with HydroDyn are "
-                                      "not modelled (the water's added mass would couple them to the TP); set "
-                                      "Nmodes = 0 (a Guyan reduction) or CompHydro = 0.")
-
-
 def _translation(force6) -> np.ndarray:
     """The slope of SubDyn's translation correction ``M −= u_T × F`` for a constant TP force ``F`` (6 × 6)."""
     out = np.zeros((6, 6))
@@ -99,15 +93,20 @@ def _translation(force6) -> np.ndarray:
     return out
 
 
-def _lever_arms(reduced, nodal_forces) -> np.ndarray:
-    """``Φ_TPᵀ`` of SubDyn's lever-arm moments ``Δu_k × f_k`` of constant nodal forces, per unit TP DOF (6 × 6)."""
+def _nodal_lever_change(reduced, nodal_forces) -> np.ndarray:
+    """SubDyn's lever-arm moments ``Δu_k × f_k`` of constant nodal forces at the nodes per unit TP DOF (6 N × 6)."""
     n = reduced.frame.n_nodes
     forces = np.asarray(nodal_forces, dtype=float).reshape(n, 6)[:, :3]
     shapes = np.asarray(reduced.tp_shapes, dtype=float).reshape(n, 6, 6)
     change = np.zeros((n, 6, 6))
     for k in range(n):
         change[k, 3:] = -_cross(forces[k]) @ shapes[k, :3]
-    return np.asarray(reduced.tp_shapes, dtype=float).T @ change.reshape(6 * n, 6)
+    return change.reshape(6 * n, 6)
+
+
+def _lever_arms(reduced, nodal_forces) -> np.ndarray:
+    """``Φ_TPᵀ`` of SubDyn's lever-arm moments ``Δu_k × f_k`` of constant nodal forces, per unit TP DOF (6 × 6)."""
+    return np.asarray(reduced.tp_shapes, dtype=float).T @ _nodal_lever_change(reduced, nodal_forces)
 
 
 def _reactions(sub, nodal) -> np.ndarray:
@@ -147,14 +146,22 @@ def _wave_reactions(sub, nodal) -> np.ndarray:
 
 
 def _water_terms(sub, reduced, water) -> dict:
-    """The water's TP-level arrays (:class:`BottomFixedPlatform`'s ``water_terms``)."""
-    shapes = np.asarray(reduced.tp_shapes, dtype=float)
+    """The water's TP-level arrays (:class:`BottomFixedPlatform`'s ``water_terms``; with CB modes also their modal
+    parts: ``A_mm``, ``A_mB``, ``A_Bm``, ``modal_static``, ``modal_lever``, ``reaction_qdd``, ``hydro_qdd``)."""
+    shapes, modes = np.asarray(reduced.tp_shapes, dtype=float), np.asarray(reduced.modal_shapes, dtype=float)
     static = np.asarray(water.static_loads, dtype=float)
-    per_acc = -np.asarray(water.added_mass, dtype=float) @ shapes            # nodal loads per unit TP acceleration
+    added = np.asarray(water.added_mass, dtype=float)
+    per_acc = -added @ shapes                                          # nodal loads per unit TP acceleration
     rest = _reactions(sub, np.zeros(len(static)))
-    return {"mass": water.tp_added_mass(symmetric=True), "static": shapes.T @ static,
-            "lever": _lever_arms(reduced, static), "reaction_acc": (_reactions(sub, per_acc.T) - rest).T,
-            "hydro_static": water.resultant(static), "hydro_acc": water.resultant(per_acc.T).T}
+    terms = {"mass": water.tp_added_mass(symmetric=True), "static": shapes.T @ static,
+             "lever": _lever_arms(reduced, static), "reaction_acc": (_reactions(sub, per_acc.T) - rest).T,
+             "hydro_static": water.resultant(static), "hydro_acc": water.resultant(per_acc.T).T}
+    if reduced.n_modes:
+        per_qdd = -added @ modes                                       # ... per unit CB acceleration
+        terms.update(A_mm=modes.T @ added @ modes, A_mB=modes.T @ added @ shapes, A_Bm=shapes.T @ added @ modes,
+                     modal_static=modes.T @ static, modal_lever=modes.T @ _nodal_lever_change(reduced, static),
+                     reaction_qdd=(_reactions(sub, per_qdd.T) - rest).T, hydro_qdd=water.resultant(per_qdd.T).T)
+    return terms
 
 
 @dataclass(frozen=True, eq=False)
@@ -203,10 +210,6 @@ class BottomFixedPlatform:
     n_radiation = 0
     n_lines = 0
 
-    def __post_init__(self) -> None:
-        if self.reduced.n_modes and self.water is not None:
-            _refuse_modes(self.reduced, self.source)
-
     @property
     def n_modes(self) -> int:
         """Craig–Bampton modes kept (``Nmodes``)."""
@@ -225,16 +228,30 @@ class BottomFixedPlatform:
 
     @property
     def sea_inputs(self) -> tuple[str, ...]:
-        """:data:`SEA_INPUTS` with HydroDyn's waves, else ()."""
-        return SEA_INPUTS if self.waves is not None else ()
+        """:data:`SEA_INPUTS` with HydroDyn's waves (and the waves' modal loads ``CBWave01 …`` with CB modes), else
+        ()."""
+        if self.waves is None:
+            return ()
+        return SEA_INPUTS + tuple(f"CBWave{k:02d}" for k in range(1, self.n_modes + 1))
+
+    @cached_property
+    def modal(self) -> dict:
+        """The CB modes' couplings with the water's added mass ``A`` (module docstring): ``N⁻¹ = (I + Φ_mᵀ A Φ_m)⁻¹``,
+        ``P = M_mB + Φ_mᵀ A Φ_TP`` (n × 6), ``Q = M_Bm + Φ_TPᵀ A Φ_m`` (6 × n)."""
+        r, w, n = self.reduced, self.water_terms, self.n_modes
+        coupling = np.asarray(r.mass_coupling, dtype=float).reshape(6, n)
+        N = np.eye(n) + w.get("A_mm", np.zeros((n, n)))
+        return {"N_inv": np.linalg.inv(N), "P": coupling.T + w.get("A_mB", np.zeros((n, 6))),
+                "Q": coupling + w.get("A_Bm", np.zeros((6, n)))}
 
     @property
     def added_mass(self) -> np.ndarray:
-        """``M_BB − M_Bm M_mB`` (the CB modes' share of the inertia moves to their states: module docstring) + the
-        water's ``Φ_TPᵀ A Φ_TP`` (6 × 6) [kg, kg m, kg m²] about the platform reference point."""
-        r = self.reduced
-        coupling = np.asarray(r.mass_coupling, dtype=float).reshape(6, -1)
-        return np.asarray(r.mass, dtype=float) - coupling @ coupling.T + self.water_terms.get("mass", 0.0)
+        """``M_BB + Φ_TPᵀ A Φ_TP − Q N⁻¹ P`` (6 × 6) [kg, kg m, kg m²] about the platform reference point: the TP's
+        inertia with the water's added mass, less the CB modes' share, which their states carry (module docstring;
+        symmetric part)."""
+        m = self.modal
+        out = np.asarray(self.reduced.mass, dtype=float) + self.water_terms.get("mass", 0.0) - m["Q"] @ m["N_inv"] @ m["P"]
+        return 0.5 * (out + out.T)
 
     @cached_property
     def stiffness(self) -> np.ndarray:
@@ -256,8 +273,9 @@ class BottomFixedPlatform:
         nodal = self.water.wave_loads(t)
         columns = np.column_stack([nodal @ np.asarray(self.reduced.tp_shapes, dtype=float),
                                    self.water.resultant(nodal), _wave_reactions(self.substructure, nodal),
-                                   np.interp(t, self.waves.times(), self.waves.elevation())])
-        return {name: (t, columns[:, k]) for k, name in enumerate(SEA_INPUTS)}
+                                   np.interp(t, self.waves.times(), self.waves.elevation()),
+                                   nodal @ np.asarray(self.reduced.modal_shapes, dtype=float)])
+        return {name: (t, columns[:, k]) for k, name in enumerate(self.sea_inputs)}
 
     @cached_property
     def function(self) -> ca.Function:
@@ -278,16 +296,19 @@ class BottomFixedPlatform:
         if self.sea_inputs:                           # the waves' loads on the structure at rest (module docstring)
             y, hydro, react = y + sea[0:6], hydro + sea[6:12], react + sea[12:18]
         xr_dot, xr_acc = ca.SX(0, 1), ca.SX(0, 6)
-        if n:                                         # CB modes: q̈ = g − M_mB ü; Y1 −= M_Bm q̈ (M_Bm M_mB in the mass)
-            q, qd = xr[:n], xr[n:]
+        if n:                                         # CB modes: N q̈ = g − P ü; Y1 −= Q q̈ (Q N⁻¹ P out of the mass)
+            q, qd, m = xr[:n], xr[n:], self.modal
             _, modal_lever = r.lever_arm_stiffness()
-            g = (ca.DM(r.modal_gravity_load) + ca.mtimes(ca.DM(modal_lever), u)
+            g = (ca.DM(r.modal_gravity_load + w.get("modal_static", 0.0))
+                 + ca.mtimes(ca.DM(modal_lever + w.get("modal_lever", 0.0)), u)
                  - ca.DM(2.0 * r.damping_ratios * r.frequencies) * qd - ca.DM(r.frequencies ** 2) * q)
-            coupling = ca.DM(np.asarray(r.mass_coupling, dtype=float))
-            y = y - ca.mtimes(coupling, g)
+            if self.sea_inputs:
+                g = g + sea[len(SEA_INPUTS):]
+            free = ca.mtimes(ca.DM(m["N_inv"]), g)
+            y = y - ca.mtimes(ca.DM(m["Q"]), free)
             react = react + ca.mtimes(ca.DM(self.modal_reaction), q)
-            xr_dot = ca.vertcat(qd, g)
-            xr_acc = ca.vertcat(ca.DM.zeros(n, 6), -coupling.T)
+            xr_dot = ca.vertcat(qd, free)
+            xr_acc = ca.vertcat(ca.DM.zeros(n, 6), -ca.DM(m["N_inv"] @ m["P"]))
         load = ca.vertcat(y[:3], y[3:] - ca.cross(u[:3], y[:3]))
         return ca.Function("substructure_loads", [qp, vp, xr, sea],
                            [load, hydro, xr_dot, ca.SX(0, 1), ca.SX.zeros(6, 6), sea, jac, bias, react, xr_acc],
@@ -311,11 +332,17 @@ class BottomFixedPlatform:
         acc = ca.mtimes(loads["jac"], ap) + loads["bias"]
         intf = -(loads["load"] - ca.mtimes(ca.DM(self.added_mass), acc))
         react = loads["react"] + ca.mtimes(ca.DM(self.water_terms.get("reaction_acc", np.zeros((6, 6)))), acc)
+        n, qdd = self.n_modes, None
+        if n and self.water is not None:              # the water's added-mass loads of the modes' accelerations
+            qdd = loads["xr_dot"][n:] + ca.mtimes(loads["xr_acc"][n:, :], acc)
+            react = react + ca.mtimes(ca.DM(self.water_terms["reaction_qdd"]), qdd)
         names = list(SUBDYN_CHANNELS.items())
         rows = [(n, u, intf[k]) for k, (n, u) in enumerate(names[:6])]
         rows += [(n, u, react[k]) for k, (n, u) in enumerate(names[6:])]
         if self.water is not None:                  # HydroDyn's total about the origin, with its added mass
             hydro = loads["hydro"] + ca.mtimes(ca.DM(self.water_terms["hydro_acc"]), acc)
+            if qdd is not None:
+                hydro = hydro + ca.mtimes(ca.DM(self.water_terms["hydro_qdd"]), qdd)
             rows += [(n, u, hydro[k]) for k, (n, u) in enumerate(HYDRO_CHANNELS.items())]
         if self.sea_inputs:
             rows.append(("Wave1Elev", "m", loads["sea_out"][18]))
@@ -391,7 +418,6 @@ def bottom_fixed_platform(turbine) -> BottomFixedPlatform | None:
     if hydro is not None:
         from .substructure_water import substructure_hydrodynamics
 
-        _refuse_modes(reduced, str(files["subdyn"]))
 
         water = substructure_hydrodynamics(hydro, sea, sub, water_density=float(sim.water_density),
                                            gravity=float(sim.gravity), water_depth=depth,
