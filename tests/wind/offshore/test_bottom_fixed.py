@@ -277,3 +277,37 @@ def test_coupled_decay_with_modes_in_waves_against_openfast(tmp_path):
         y, ref = np.asarray(res.y)[:, names.index(ours)], scale * data[theirs]
         eps = np.mean(np.abs(y - ref)) / np.ptp(ref)
         assert eps <= tol, (ours, eps)
+
+
+def test_modes_with_the_waters_added_mass_keep_the_coupled_mass_matrix():
+    """CB modes with HydroDyn's added mass: the TP's mass the turbine sees is the Schur complement of the coupled
+    mass matrix [[M_BB + Φ_TPᵀ A Φ_TP, Q], [P, N]] (rel. 1e-9, positive definite), and the water adds mass to it."""
+    from mbsym.wind.deck.hydrodyn import read_hydrodyn
+    from mbsym.wind.deck.seastate import read_seastate
+    from mbsym.wind.offshore.bottom_fixed import _water_terms
+    from mbsym.wind.offshore.substructure_water import substructure_hydrodynamics
+
+    water_data = DATA / "openfast_subdyn_water"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sub = Substructure(read_subdyn(DATA / "openfast_subdyn" / "monopile_cb.dat"), reference_point=TP,
+                           gravity=9.81, water_depth=30.0)
+        water = substructure_hydrodynamics(read_hydrodyn(water_data / "monopile_HydroDyn.dat"),
+                                           read_seastate(water_data / "still_SeaState.dat"), sub,
+                                           water_density=1025.0, gravity=9.81, water_depth=30.0)
+    reduced = sub.reduce()
+    R, r0, R_m = _base_reaction(sub, water.static_loads)
+    platform = BottomFixedPlatform(reduced, R, r0, water=water, substructure=sub,
+                                   water_terms=_water_terms(sub, reduced, water), modal_reaction=R_m)
+    phi, modes, A = np.asarray(reduced.tp_shapes), np.asarray(reduced.modal_shapes), np.asarray(water.added_mass)
+    coupling = np.asarray(reduced.mass_coupling)
+    n = reduced.n_modes
+    full = np.block([[np.asarray(reduced.mass) + phi.T @ A @ phi, coupling + phi.T @ A @ modes],
+                     [coupling.T + modes.T @ A @ phi, np.eye(n) + modes.T @ A @ modes]])
+    schur = full[:6, :6] - full[:6, 6:] @ np.linalg.solve(full[6:, 6:], full[6:, :6])
+    assert np.allclose(platform.added_mass, 0.5 * (schur + schur.T), rtol=1e-9, atol=1e-9 * np.abs(schur).max())
+    assert np.all(np.linalg.eigvalsh(platform.added_mass) > 0)
+    dry = _platform("monopile_cb")
+    # the water adds to the TP's surge mass (2.50e5 against 1.84e5 kg; with a Guyan reduction 8.9e5 against 2.7e5 kg:
+    # with the modes most of the water's inertia moves with them)
+    assert platform.added_mass[0, 0] > 1.2 * dry.added_mass[0, 0]
