@@ -4,8 +4,8 @@ Each deck is copied and changed only where it cannot run as shipped (ServoDyn's 
 wheel's ``libdiscon.so``; BAR_10 ``CompElast`` 2 → 1, ElastoDyn blades instead of BeamDyn, and ROSCO's
 ``Flp_Mode`` 2 → 0: with ServoDyn's ``AfCmode`` 0 the library's flap control stops with a segmentation fault in
 OpenFAST as in mbsym) and where the run is set up (``TMax``, text output ``ES15.7E2``). OpenFAST (the baseline,
-the same run) and ``mbsym simulate DECK`` with the deck's defaults (the IEA 15 MW monopile with HydroDyn and SeaState
-off: mbsym's SubDyn substructure has no water yet) run one after the other; the table gives per
+the same run) and ``mbsym simulate DECK`` with the deck's defaults (the IEA 15 MW monopile's HydroDyn and SeaState
+files brought to OpenFAST v5's format, which both tools need) run one after the other; the table gives per
 channel the means over ``[T0, TMax]`` (mbsym's relative to OpenFAST's) and ε = mean|y − y_OF| / range(y_OF), and
 per deck the wall times: OpenFAST's whole run, mbsym's whole run (with compilation unless cached on disk) and its
 integration.
@@ -44,11 +44,13 @@ CASES = {
                    ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "TwrBsMyt")),
     "NREL-5MW": ("NREL-5MW", "NREL-5MW.fst", {}, ("RotSpeed", "GenPwr", "RootMyc1", "RootMxb1", "TTDspFA",
                                                   "TwrBsMyt", "YawBrMyp")),
-    # the IEA 15 MW monopile on SubDyn, in air (HydroDyn and SeaState off: mbsym refuses them on a substructure)
-    "Monopile (in air)": ("IEA-15-240-RWT", "IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst",
-                          {"CompHydro": "0", "CompSeaSt": "0"},
-                          ("PtfmSurge", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "TwrBsMyt", "ReactMYss")),
+    # the IEA 15 MW monopile on SubDyn with HydroDyn's member in its JONSWAP sea (the wheel's HydroDyn and SeaState
+    # files brought to OpenFAST v5's format: both OpenFAST and mbsym stop on them as shipped)
+    "Monopile": ("IEA-15-240-RWT", "IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst", {},
+                 ("PtfmSurge", "PtfmPitch", "RotSpeed", "BldPitch1", "GenPwr", "TwrBsMyt", "ReactMYss")),
 }
+#: Cases whose HydroDyn and SeaState files predate OpenFAST v5 (``upgrade_to_v5``).
+V5_UPGRADE = ("Monopile",)
 
 
 def _set(path: Path, key: str, value: str) -> None:
@@ -74,6 +76,11 @@ def prepare(wheel: Path, work: Path, name: str, tmax: float) -> Path:
                          encoding="latin-1")
     for key, value in {"TMax": f"{tmax:g}", "OutFileFmt": "1", "OutFmt": '"ES15.7E2"', **edits}.items():
         _set(fst, key, value)
+    if name in V5_UPGRADE:
+        sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "data" / "openfast_subdyn_water"))
+        import make_reference
+
+        make_reference.upgrade_to_v5(fst.parent)
     for discon in fst.parent.glob("*DISCON.IN"):         # ROSCO's flap control crashes the library in both tools
         text = discon.read_text(encoding="latin-1")     # when ServoDyn passes no flap (AfCmode 0): BAR_10's
         discon.write_text(re.sub(r"^(\s*)\S+(\s+!\s*Flp_Mode\b)", r"\g<1>0\2", text, count=1, flags=re.M),
