@@ -377,7 +377,8 @@ def mode_label(mode) -> str:
     Structural state groups by :data:`~.campbell_diagram.DOF_LABELS` ("1st tower fore-aft"),
     blade DOFs as "blade 1 1st flap" or in multi-blade coordinates as "1st flap collective", "1st edge cyclic
     (cos)", actuators, inflow and rotor speed by :data:`STATE_LABELS`,
-    HydroDyn's radiation and excitation states as "radiation memory (Rdtn7)",
+    HydroDyn's radiation and excitation states as "radiation memory (Rdtn7)", SubDyn's Craig–Bampton coordinates
+    as "substructure mode 2 (SSqm02)",
     any other state (a controller's) as "controller state <name>" when its name is qualified
     (``baseline.first``), else by its name; a rigid-body mode as "rigid body (<group>)".
 
@@ -390,6 +391,8 @@ def mode_label(mode) -> str:
     'radiation memory (Rdtn26)'
     >>> mode_label(StateMode(0.6, 0.02, 3.8, -0.08 + 3.8j, "F1_coll"))
     '1st flap collective'
+    >>> mode_label(StateMode(25.4, 0.01, 160.0, -1.6 + 160.0j, "SSqm01"))
+    'substructure mode 1 (SSqm01)'
     """
     from ..structure.dofs import blade_dof
     from .campbell_diagram import DOF_LABELS
@@ -409,6 +412,9 @@ def mode_label(mode) -> str:
     for prefix, words in (("Rdtn", "radiation memory"), ("Exctn", "wave-excitation state")):
         if name.startswith(prefix) and name[len(prefix):].isdigit():
             return f"{words} ({name})"
+    for prefix in ("SSqmd", "SSqm"):                                  # SubDyn's Craig-Bampton coordinates
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            return f"substructure mode {int(name[len(prefix):])} ({name})"
     if name in DOF_LABELS:
         return DOF_LABELS[name]
     return f"controller state {name}" if "." in name else name

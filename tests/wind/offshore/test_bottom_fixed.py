@@ -123,6 +123,10 @@ def test_craig_bampton_modes_and_refusals():
     out = cb.loads(np.zeros(6), np.zeros(6))
     assert np.allclose(np.array(out["xr_dot"]).ravel()[4:], cb.reduced.modal_gravity_load)
     assert np.allclose(np.array(out["xr_acc"])[4:], -coupling.T)
+    from mbsym.linear.state_modes import StateMode
+    from mbsym.wind.analysis.trim_linear import mode_label
+
+    assert mode_label(StateMode(25.4, 0.01, 160.0, -1.6 + 160.0j, "SSqmd03")) == "substructure mode 3 (SSqmd03)"
     sim = SimpleNamespace(substructure_model=1, hydrodynamics_model=0, mooring_model=3, gravity=9.81, water_depth=30.0)
     deck = SimpleNamespace(simulation=sim, source_files={"fst": "x.fst", "subdyn": str(DATA / "openfast_subdyn" /
                                                                                        "monopile.dat")},
