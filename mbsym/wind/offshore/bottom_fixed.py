@@ -250,7 +250,8 @@ class BottomFixedPlatform:
         inertia with the water's added mass, less the CB modes' share, which their states carry (module docstring;
         symmetric part)."""
         m = self.modal
-        out = np.asarray(self.reduced.mass, dtype=float) + self.water_terms.get("mass", 0.0) - m["Q"] @ m["N_inv"] @ m["P"]
+        out = np.asarray(self.reduced.mass, dtype=float) + self.water_terms.get("mass", 0.0)
+        out = out - m["Q"] @ m["N_inv"] @ m["P"]
         return 0.5 * (out + out.T)
 
     @cached_property
