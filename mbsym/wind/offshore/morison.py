@@ -40,12 +40,14 @@ axes (HydroDyn's mesh velocities: the operating turbine passes the Euler rates' 
 **In waves** the water's velocity ``u_water`` at every strip node and end plate is SeaState's first-order
 kinematics at its undisplaced position (``WaveDisp = 0``; zero above the still-water level), read off SeaState's
 grid as HydroDyn reads it (:mod:`.wave_kinematics`); the model takes it as inputs (:meth:`MorisonDrag.load`'s
-``flow``), fed from tables like the excitation.
+``flow``), fed from tables like the excitation. **A current** (SeaState's ``CurrMod = 1``, :mod:`.current`) is
+steady: read off the same grid at the same points, it is a constant part of ``u_water``
+(:attr:`MorisonDrag.current`), in still water and in waves.
 
 **Refused** (:func:`morison_problems`): rectangular members (``MSecGeom = 2``), filled members (``NFillGroups``:
-their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), a current with members, waves with the
-members' displaced positions (``WaveDisp = 1``) or with second-order kinematics (``WvDiffQTF``, ``WvSumQTF``),
-wave stretching (``WaveStMod > 0``), members below the seabed.
+their ballast), the end drag's high-pass filter (``AxVnCOff > 0``), SeaState's user current (``CurrMod = 2``),
+waves or a current at the members' displaced positions (``WaveDisp = 1``), waves with second-order kinematics
+(``WvDiffQTF``, ``WvSumQTF``), wave stretching (``WaveStMod > 0``), members below the seabed.
 """
 
 from __future__ import annotations
@@ -58,6 +60,7 @@ import numpy as np
 
 from ...exceptions import ParameterError
 from ._casadi import _in, _out, euler_zyx
+from .current import current_problems
 
 __all__ = ["MorisonDrag", "morison_drag", "morison_problems"]
 
@@ -90,6 +93,9 @@ class MorisonDrag:
         [kg/m³].
     reference : ndarray (3,)
         The platform reference point's undisplaced position [m] (:attr:`flow_points` are absolute).
+    current : ndarray (n_flow, 3) or None
+        SeaState's steady current at :meth:`flow_points` [m/s] (:mod:`.current`), added to the water's velocity;
+        None: no current.
     """
 
     points: np.ndarray
@@ -104,6 +110,7 @@ class MorisonDrag:
     end_one_sided: np.ndarray
     water_density: float
     reference: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    current: np.ndarray | None = None
 
     @property
     def n_nodes(self) -> int:
@@ -128,10 +135,14 @@ class MorisonDrag:
         q, qd : array_like or casadi (6)
             Platform DOFs (surge … yaw) [m, rad] and their rates [m/s, rad/s].
         flow : array_like or casadi (3 n_flow), optional
-            The water's velocity [m/s] at :meth:`flow_points` (x, y, z of each in turn); default still water.
+            The waves' velocity [m/s] at :meth:`flow_points` (x, y, z of each in turn); default still water.
+            :attr:`current` is added to it.
         """
         x, v = _in(q, 6, "q"), _in(qd, 6, "qd")
         water = None if flow is None else _in(flow, 3 * self.n_flow, "flow")
+        if self.current is not None:
+            steady = ca.DM(np.asarray(self.current, dtype=float).reshape(-1))
+            water = steady if water is None else water + steady
         rot = euler_zyx(x[3:6])
         force = moment = 0.0 * x[0:3]
         rho = self.water_density
@@ -196,14 +207,13 @@ def morison_problems(hd, sea=None, *, water_depth: float | None = None) -> list[
         if len(row) > 4 and int(row[4]) not in (0, 1):
             out.append(f"AxFDMod = {int(row[4])} on axial coefficients {int(row[0])} (0 or 1)")
     if sea is not None:
-        if sea.wave_model != 0 and getattr(hd, "wave_displaced", 0):
-            out.append(f"WaveDisp = {hd.wave_displaced} with waves and members (the waves' velocity at the members' "
-                       "displaced positions; use 0, the undisplaced ones)")
+        if (sea.wave_model != 0 or sea.current_model) and getattr(hd, "wave_displaced", 0):
+            out.append(f"WaveDisp = {hd.wave_displaced} with waves or a current and members (the water's velocity at "
+                       "the members' displaced positions; use 0, the undisplaced ones)")
         if sea.wave_model != 0 and (getattr(sea, "difference_qtf", False) or getattr(sea, "sum_qtf", False)):
             out.append("WvDiffQTF/WvSumQTF with waves and members (SeaState adds second-order kinematics to the "
                        "waves' velocity at the members, which is first order here; set both False)")
-        if sea.current_model != 0:
-            out.append(f"CurrMod = {sea.current_model} with members (the current's drag on them is not modelled)")
+        out += current_problems(sea)
         if sea.stretching_model != 0:
             out.append(f"WaveStMod = {sea.stretching_model} with members (the members' wetted length at the "
                        "instantaneous free surface; use 0)")

@@ -23,8 +23,8 @@ is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
 :mod:`.operating` as states), second-order forces (the full difference- and sum-frequency QTFs, ``DiffQTF`` and
 ``SumQTF``, are modelled: :mod:`.second_order`; the others are refused with waves; all are zero in still water),
-a current
-(``CurrMod`` > 0: HydroDyn applies it to Morison members only; refused with members), SeaState's second-order
+SeaState's
+current (``CurrMod = 1``: on the Morison members' drag, :mod:`.current`; it loads nothing else in HydroDyn), SeaState's second-order
 elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
 first-order sea).
 """
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import casadi as ca
@@ -45,6 +45,7 @@ from ..deck.seastate import SeaStateInput, read_seastate
 from ..deck.wamit import ExcitationFit, WamitHydrodynamics, read_wamit, read_wamit_ssexctn
 from ..deck.wamit_qtf import read_wamit_qtf
 from ._casadi import _in, _out
+from .current import current_at, sea_current
 from .excitation import WaveExcitation, wave_excitation
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .morison import MorisonDrag, morison_drag, morison_problems
@@ -170,9 +171,9 @@ def _refuse_waves(hd: HydroDynInput, sea: SeaStateInput) -> list[str]:
 
 def _notes(hd: HydroDynInput, sea: SeaStateInput | None) -> list[str]:
     out = []
-    if sea is not None and sea.current_model != 0:
-        out.append(f"CurrMod = {sea.current_model}: the current is not modelled (in HydroDyn it loads Morison members "
-                   "only, and MoorDyn's line drag; neither is modelled here)")
+    if sea is not None and sea.current_model != 0 and not _has_members(hd):
+        out.append(f"CurrMod = {sea.current_model}: the deck has no Morison members, so the current loads nothing (in "
+                   "HydroDyn too: it acts through the members' drag alone)")
     if not _potential(hd):
         return out + _unused_without_potential_flow(hd)
     if hd.radiation_model != 0:
@@ -259,7 +260,8 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         warnings.warn(note, ModelWarning, stacklevel=2)
     waves = _waves(hd, sea, wamit, float(gravity), water_depth, rho)
     fit = _excitation_fit(hd, sea) if waves is not None and wamit is not None and hd.excitation_model == 2 else None
-    morison = morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth)
+    morison = _with_current(morison_drag(hd, water_density=rho, reference=platform_reference, water_depth=depth),
+                            sea, depth, hd.path)
     flow = None
     if morison is not None and morison.n_flow and waves is not None:
         if depth is None:
@@ -276,6 +278,17 @@ def platform_hydrodynamics(hydrodyn, *, water_density: float, gravity: float, se
         inertia = strip_waves(strip, waves.waves, sea)
     return PlatformHydrodynamics(statics, extra, added, wamit, tuple(notes), waves, fit, morison, flow, strip,
                                  inertia)
+
+
+def _with_current(morison: MorisonDrag | None, sea: SeaStateInput | None, depth: float | None,
+                  path) -> MorisonDrag | None:
+    """The members' drag with SeaState's current at their strip nodes and end plates (:mod:`.current`)."""
+    if morison is None or sea is None or not sea.current_model or not morison.n_flow:
+        return morison
+    if depth is None:
+        raise ParameterError(f"{path}: the current's profile at the Morison members needs the water depth; give "
+                             "water_depth (the .fst's WtrDpth).")
+    return replace(morison, current=current_at(sea_current(sea, depth), sea, morison.flow_points()))
 
 
 def _potential_flow(hd: HydroDynInput, rho: float, gravity: float):
@@ -364,3 +377,8 @@ def _waves(hd: HydroDynInput, sea: SeaStateInput | None, wamit, gravity: float,
     if hd.second_order:
         excitation = WaveExcitation(excitation.waves, excitation.forces + second, excitation.elevation)
     return excitation
+
+
+def _has_members(hd: HydroDynInput) -> bool:
+    table = hd.tables.get("members")
+    return bool(table is not None and table.rows)
