@@ -5,7 +5,12 @@ opened by rule lines; each table has a header of column names and a units line. 
 ``LINE TYPES`` (``Name Diam MassDen EA BA/-zeta [EI] Cd Ca CdAx CaAx``), ``POINTS``
 (``ID Type X Y Z M V CdA CA``; Type ``Fixed``/``Vessel``/``Coupled``/``Free``, ``Body#``,
 ``Turbine#``), ``LINES`` (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``), the
-options (``<value> <key>`` lines) and the output channels up to ``END``.  Sections mbsym
+options (``<value> <key>`` lines, also in file order with their line numbers in
+:attr:`MoorDynInput.option_entries`; lines MoorDyn cannot read are refused here, what each option
+does is :mod:`.moordyn_audit`'s) and the output channels up to ``END``. EA, BA/-zeta and EI stay
+text when they are not numbers (MoorDyn's visco-elastic ``a|b`` or curve files); line-type columns
+after the tenth (``Cl dF cF``, by position as MoorDyn reads them) are kept in
+:attr:`MooringLineType.extra_columns`.  Sections mbsym
 has no reader for (rods, bodies, failures, external loads) are kept by name in
 :attr:`MoorDynInput.other_sections` with their row count, so the user of the data can
 refuse them.  Numbers are SI as in the file (MoorDyn's own units).
@@ -18,6 +23,7 @@ from pathlib import Path
 
 from ._format import _real
 from ._sections import _find, _raise, _split, _table
+from .moordyn_audit import option_format_problems
 
 __all__ = ["MoorDynInput", "MooringLineType", "MooringPoint", "MooringLine", "read_moordyn"]
 
@@ -26,7 +32,9 @@ __all__ = ["MoorDynInput", "MooringLineType", "MooringPoint", "MooringLine", "re
 class MooringLineType:
     """A line type: diameter [m], mass per length in air [kg/m], axial stiffness EA [N],
     internal damping (``BA`` [N s], or −ζ when negative), bending stiffness EI [N m²],
-    transverse/axial drag and added-mass coefficients [-]."""
+    transverse/axial drag and added-mass coefficients [-]; EA, BA, EI are text when the file gives
+    a curve file or ``|``-separated values; ``extra_columns``: the columns after the tenth
+    (``Cl``, ``dF``, ``cF``: vortex-induced vibration)."""
 
     name: str
     diameter: float
@@ -39,6 +47,7 @@ class MooringLineType:
     drag_axial: float
     added_mass_axial: float
     line: int
+    extra_columns: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -84,6 +93,7 @@ class MoorDynInput:
     other_sections: dict[str, int]
     path: str
     option_lines: dict = field(default_factory=dict, compare=False)
+    option_entries: tuple = field(default=(), compare=False)
 
     def fairlead(self, line: int) -> MooringPoint:
         """The vessel end of line ``line`` (the point attached to the platform)."""
@@ -110,7 +120,7 @@ def _get(row: dict, *names: str, default=None):
 
 
 def _types(p: Path, section, problems) -> dict:
-    header, rows, lines = _table(p, section, ("name",), problems)
+    header, rows, lines = _table(p, section, ("name", "ea", "ba/-zeta", "ei"), problems)
     need = {"name", "diam", "massden", "ea", "cd", "ca", "cdax", "caax"} - {h.lower() for h in header}
     if need and header:
         problems.append(f"{p}, line {section.rows[0][0]}: the LINE TYPES header lacks {sorted(need)}; expected "
@@ -119,7 +129,17 @@ def _types(p: Path, section, problems) -> dict:
     out = {}
     for row, line in zip(rows, lines):
         values = {attr: _get(row, col, default=0.0) for col, attr in _TYPE_COLUMNS.items()}
-        out[row[header[0]]] = MooringLineType(**values, line=line)
+        for attr in ("axial_stiffness", "axial_damping", "bending_stiffness"):
+            text = values[attr]
+            if isinstance(text, str):
+                values[attr] = text if _real(text) is None else _real(text)
+        positional = [row[h] for h in header] + [t if _real(t) is None else _real(t) for t in row["_extra"]]
+        extra = positional[10:]                       # MoorDyn reads the columns by position
+        if len(extra) not in (0, 1, 3) or any(not isinstance(v, float) for v in extra):
+            problems.append(f"{p}, line {line}: a line type has 10, 11 or 13 columns ('Name Diam MassDen EA "
+                            f"BA/-zeta EI Cd Ca CdAx CaAx [Cl [dF cF]]'), all numbers after Name; got "
+                            f"{10 + len(extra)}. Fix the row.")
+        out[row[header[0]]] = MooringLineType(**values, line=line, extra_columns=tuple(extra))
     return out
 
 
@@ -185,7 +205,8 @@ def read_moordyn(path) -> MoorDynInput:
     ------
     OpenFASTFormatError
         Missing file or section, malformed numbers, unknown point types, lines naming a
-        type or point that does not exist; names the file, line and column.
+        type or point that does not exist, option lines MoorDyn cannot read; names the file,
+        line and column.
 
     Examples
     --------
@@ -209,9 +230,12 @@ def read_moordyn(path) -> MoorDynInput:
     points = _points(p, found["points"], problems)
     lines = _lines(p, found["lines"], problems, types, points)
     options, option_lines = _options(found["options"])
+    rows = found["options"].rows if found["options"] else []
+    problems += option_format_problems(p, rows)
+    entries = tuple((n, words[1], words[0]) for n, words in rows if len(words) >= 2)
     outputs = tuple(t for _, tokens in (found["outputs"].rows if found["outputs"] else [])
                     for t in tokens if t.upper() != "END")
     known = {id(s) for s in found.values() if s is not None}
     other = {s.name: len(s.rows) for s in sections if id(s) not in known and s.rows}
     _raise(problems, p)
-    return MoorDynInput(types, points, lines, options, outputs, other, str(p), option_lines)
+    return MoorDynInput(types, points, lines, options, outputs, other, str(p), option_lines, entries)

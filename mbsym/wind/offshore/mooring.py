@@ -29,6 +29,7 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import DimensionError, ModelWarning, OptionError, UnsupportedFeatureError
+from ..deck.moordyn_audit import moordyn_environment, moordyn_option_problems
 from ._casadi import _in, _symbolic, euler_zyx
 from .catenary import CatenaryLine, wet_weight
 from .line_dynamics import LineHydrodynamics, fairlead_terms
@@ -246,11 +247,16 @@ class MooringSystem:
         return np.array(jac(_in(q, 6, "q")), dtype=float)
 
 
-def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynamics: bool = True,
-                         line_segments: int | None = 10) -> MooringSystem:
+def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_depth: float | None = None,
+                         line_dynamics: bool = True, line_segments: int | None = 10) -> MooringSystem:
     """The quasi-static system of a MoorDyn deck (every line between a fixed and a vessel point).
 
-    The seabed is frictionless (MoorDyn's default). Free points, bodies, rods and lines
+    ``water_density``, ``gravity``, ``water_depth`` are what OpenFAST hands MoorDyn (SeaState's ``WtrDens``
+    and ``WtrDpth``, the .fst's ``Gravity``); the file's ``rhoW``/``g``/``WtrDpth`` options override them, as
+    in MoorDyn (:func:`~mbsym.wind.deck.moordyn_audit.moordyn_environment`). With a depth (given or in the
+    file) every anchor must lie on the seabed. Every option, line-type column and point column is modelled,
+    accepted or refused as :mod:`mbsym.wind.deck.moordyn_audit` lists. The seabed is frictionless
+    (MoorDyn's default; friction is refused). Free points, bodies, rods and lines
     between free points are refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`).
     With ``line_dynamics`` (default) the lines carry MoorDyn's mass, added mass and drag on their
     quasi-static shape (:meth:`MooringSystem.line_loads`), summed over ``line_segments`` segments of
@@ -263,13 +269,19 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynam
     OptionError
         ``line_segments`` not a positive integer or None, or given other than the default with
         ``line_dynamics=False`` (where it would do nothing).
+    UnsupportedFeatureError
+        What :func:`~mbsym.wind.deck.moordyn_audit.moordyn_option_problems` refuses (water kinematics,
+        seabed friction, a bathymetry file, anchors off the seabed, visco-elastic EA, VIV, vessel points
+        with mass, volume or drag), naming file, line and key.
 
     Warns
     -----
     ModelWarning
         What is left of MoorDyn's line dynamics: the line's own motion (waves along the line; with
         ``line_dynamics=False`` also its drag and inertia), internal damping, the seabed's
-        stiffness ``kbot`` and damping ``cbot``.
+        stiffness ``kbot`` and damping ``cbot``; and, when the deck has them, bending stiffness EI,
+        MoorDyn's integration options (accepted: no effect on quasi-static lines) and unknown options
+        (ignored, as MoorDyn does).
     """
     if not isinstance(line_dynamics, bool):
         raise OptionError(f"line_dynamics must be True or False; got {line_dynamics!r}.")
@@ -282,6 +294,12 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynam
     if md.other_sections:
         raise UnsupportedFeatureError(f"{md.path}: sections {sorted(md.other_sections)} (rods, bodies, …) are not "
                                       "modelled by the quasi-static mooring.")
+    env = moordyn_environment(md, water_density=water_density, gravity=gravity, water_depth=water_depth)
+    refused, notes = moordyn_option_problems(md, env)
+    if refused:
+        raise UnsupportedFeatureError(refused[0] if len(refused) == 1 else
+                                      f"{len(refused)} MoorDyn inputs are not modelled:\n  - " + "\n  - ".join(refused))
+    rho, g = env.water_density, env.gravity
     lines, anchors, fairs, dynamics = [], [], [], []
     for ident, entry in sorted(md.lines.items()):
         kinds = {md.points[entry.end_a].kind, md.points[entry.end_b].kind}
@@ -289,24 +307,25 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, line_dynam
             raise UnsupportedFeatureError(f"{md.path}, line {entry.line}: mooring line {ident} joins {sorted(kinds)} "
                                           "points; only lines from a fixed anchor to a vessel fairlead are modelled.")
         kind = md.line_types[entry.line_type]
-        lines.append(CatenaryLine(entry.length, wet_weight(kind.mass_per_length, kind.diameter, water_density,
-                                                           gravity), kind.axial_stiffness))
+        lines.append(CatenaryLine(entry.length, wet_weight(kind.mass_per_length, kind.diameter, rho, g),
+                                  kind.axial_stiffness))
         anchors.append(md.anchor(ident).position)
         fairs.append(md.fairlead(ident).position)
         dynamics.append(LineHydrodynamics.from_moordyn(kind, entry.n_segments if line_segments is None
                                                        else line_segments))
+    more = "".join(f"; {note}" for note in notes)
     if line_dynamics:
         segments = "NumSegs" if line_segments is None else f"{line_segments} segments per line, not NumSegs"
         warnings.warn(f"{md.path}: MoorDyn's line dynamics are modelled on the quasi-static shape (line mass, added "
                       f"mass and drag of nodes that follow the catenary, {segments}); the line's own motion (waves "
-                      "along it), internal damping and the seabed's stiffness and damping are not", ModelWarning,
-                      stacklevel=2)
+                      f"along it), internal damping and the seabed's stiffness and damping are not{more}",
+                      ModelWarning, stacklevel=2)
     else:
         warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
-                      "stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries",
+                      f"stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries{more}",
                       ModelWarning, stacklevel=2)
     return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs),
-                         tuple(dynamics) if line_dynamics else None, float(water_density))
+                         tuple(dynamics) if line_dynamics else None, float(rho))
 
 
 def mooring_from_map(mp, *, water_density: float, gravity: float, water_depth: float) -> MooringSystem:

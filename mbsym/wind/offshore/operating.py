@@ -364,8 +364,14 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
                                        seastate=files.get("seastate"), water_depth=float(sim.water_depth),
                                        platform_reference=tuple(turbine.platform_reference))
     mooring = None
-    if mooring_model == 3:
-        mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=rho, gravity=g)
+    if mooring_model == 3:       # MoorDyn gets SeaState's WtrDens/WtrDpth and the .fst's Gravity (FAST_Subs.f90)
+        sea = {"water_density": rho, "water_depth": float(sim.water_depth)}
+        if files.get("seastate"):
+            from ..deck.seastate import read_seastate
+
+            sea = read_seastate(Path(files["seastate"])).resolved(rho, float(sim.water_depth))
+        mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=sea["water_density"],
+                                       gravity=g, water_depth=sea["water_depth"])
     elif mooring_model == 1:
         mooring = mooring_from_map(read_map(Path(files["mooring"])), water_density=rho, gravity=g,
                                    water_depth=float(sim.water_depth))
