@@ -53,7 +53,8 @@ class MooringLineType:
 @dataclass(frozen=True)
 class MooringPoint:
     """A point: id, attachment kind (``fixed``, ``vessel``/``coupled``, ``free``, ``body#``, ``turbine#``),
-    position [m] (relative to the platform reference point for vessel points), mass [kg],
+    position [m] (relative to the platform reference point for vessel points; z is ``"seabed"`` when
+    the file says so: MoorDyn puts the point on its seabed), mass [kg],
     volume [m³], drag area CdA [m²] and added-mass coefficient [-]."""
 
     id: int
@@ -152,13 +153,26 @@ def _kind(p: Path, token: str, line: int, problems) -> str:
     return low
 
 
+def _seabed_or_number(p: Path, token: str, line: int, problems) -> float | str | None:
+    """Z of a point: a number, or ``"seabed"`` when it names the seabed (MoorDyn: any of SEABED, GROUND,
+    FLOOR in it, upper-cased; the depth then comes from the depth option or the glue code)."""
+    if _real(token) is not None:
+        return _real(token)
+    if any(word in token.upper() for word in ("SEABED", "GROUND", "FLOOR")):
+        return "seabed"
+    problems.append(f"{p}, line {line}, column 'Z': expected a number or 'seabed', got {token!r}. Fix it.")
+    return None
+
+
 def _points(p: Path, section, problems) -> dict:
-    header, rows, lines = _table(p, section, ("type", "attachment"), problems)
+    header, rows, lines = _table(p, section, ("type", "attachment", "z"), problems)
     out = {}
     for row, line in zip(rows, lines):
         ident = _get(row, "id", "node", "name")
         kind = _kind(p, _get(row, "type", "attachment", default=""), line, problems)
         pos = tuple(_get(row, a) for a in ("x", "y", "z"))
+        if isinstance(pos[2], str):
+            pos = pos[:2] + (_seabed_or_number(p, pos[2], line, problems),)
         if ident is None or None in pos:
             continue
         out[int(ident)] = MooringPoint(int(ident), kind, pos, _get(row, "m", default=0.0) or 0.0,

@@ -36,7 +36,8 @@ CdAx CaAx [Cl [dF cF]]``): Diam, MassDen, EA, Cd, Ca, CdAx, CaAx are modelled; E
 or letters (a stiffness curve file) is refused; BA/-zeta (internal damping) and EI > 0 (bending stiffness)
 are named in the ModelWarning; Cl > 0 (vortex-induced vibration) is refused, dF and cF act only with it.
 Points: M, V, CdA of a vessel (coupled) point add weight, buoyancy, inertia and drag at the fairlead in
-MoorDyn (``Point_DoRHS``): refused when not 0 (CA needs V); on fixed points they do nothing. The lines'
+MoorDyn (``Point_DoRHS``): refused when not 0 (CA needs V); on fixed points they do nothing. A Z naming
+the seabed (``seabed``, ``ground``, ``floor``) puts an anchor at MoorDyn's depth (modelled). The lines'
 ``Outputs`` flags only choose MoorDyn's output files.
 """
 
@@ -201,7 +202,10 @@ def _type_problems(md) -> tuple[list[str], list[str]]:
     if stiff:
         notes.append(f"bending stiffness EI of line type(s) {', '.join(stiff)} (the catenaries are perfectly flexible)")
     for ident, point in sorted(md.points.items()):
-        if point.kind in ("vessel", "coupled") and any(v != 0 for v in (point.mass, point.volume, point.drag_area)):
+        if point.kind in ("vessel", "coupled") and point.position[2] == "seabed":
+            refused.append(f"{md.path}, line {point.line}: vessel point {ident} is placed on the seabed; a fairlead "
+                           "needs its z relative to the platform reference point. Give a number.")
+        elif point.kind in ("vessel", "coupled") and any(v != 0 for v in (point.mass, point.volume, point.drag_area)):
             refused.append(f"{md.path}, line {point.line}: vessel point {ident} has M = {point.mass}, V = "
                            f"{point.volume}, CdA = {point.drag_area}; MoorDyn adds their weight, buoyancy, inertia and "
                            "drag at the fairlead, which mbsym does not. Set them to 0 (or model them on the platform).")

@@ -309,7 +309,15 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
         kind = md.line_types[entry.line_type]
         lines.append(CatenaryLine(entry.length, wet_weight(kind.mass_per_length, kind.diameter, rho, g),
                                   kind.axial_stiffness))
-        anchors.append(md.anchor(ident).position)
+        anchor = md.anchor(ident)
+        if anchor.position[2] == "seabed":          # MoorDyn: z on its seabed (the depth option, else the glue code's)
+            if env.water_depth is None:
+                raise UnsupportedFeatureError(f"{md.path}, line {anchor.line}: anchor {anchor.id} is on the 'seabed', "
+                                              "but no depth is known: give water_depth (the .fst's WtrDpth) or a "
+                                              "WtrDpth option.")
+            anchors.append(anchor.position[:2] + (-env.water_depth,))
+        else:
+            anchors.append(anchor.position)
         fairs.append(md.fairlead(ident).position)
         dynamics.append(LineHydrodynamics.from_moordyn(kind, entry.n_segments if line_segments is None
                                                        else line_segments))

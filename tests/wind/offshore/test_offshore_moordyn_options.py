@@ -165,6 +165,21 @@ def test_anchors_must_lie_on_moordyn_seabed(tmp_path):
     _system(_deck(tmp_path, ["200 WaterDepth"]), water_depth=250.0)       # the file's depth wins, as in MoorDyn
 
 
+def test_an_anchor_on_the_seabed_takes_moordyn_depth(tmp_path):
+    q = np.array([5.0, 1.0, 0.5, 0.0, 0.03, 0.0])
+    plain, _ = _system(_deck(tmp_path), water_depth=200.0)
+    for n, (z, options, depth) in enumerate([("seabed", [], 200.0), ("Ground", ["200 depth"], None),
+                                             ("SEAFLOOR", ["200 WtrDpth"], 300.0)]):
+        (tmp_path / str(n)).mkdir()
+        system, _ = _system(_deck(tmp_path / str(n), options, anchor_z=z), water_depth=depth)
+        assert system.anchors[0][2] == -200.0
+        assert system.tensions(q) == pytest.approx(plain.tensions(q), rel=1e-14)
+    with pytest.raises(UnsupportedFeatureError, match=r"line 11: anchor 2 is on the 'seabed', but no depth is known"):
+        _system(_deck(tmp_path, anchor_z="seabed"))
+    with pytest.raises(OpenFASTFormatError, match=r"line 11, column 'Z': expected a number or 'seabed', got 'deep'"):
+        read_moordyn(_deck(tmp_path, anchor_z="deep"))
+
+
 # ----------------------------------------------------------------------------- line types and points
 @pytest.mark.parametrize("kw, match", [
     ({"ea": "3.27e9|5e9"}, r"line 6, line type 'main': EA '3.27e9\|5e9' is visco-elastic"),
