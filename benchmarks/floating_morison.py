@@ -11,8 +11,11 @@ the same process (the compiled model cached after the first run of each deck: th
 Then ``columns``, ``piercing``, ``morison_only`` and ``none`` in JONSWAP waves (``wave_deck``: Hs 4 m, Tp 10 s, first
 order) against OpenFAST's ``waves`` run of ``columns`` and ``<deck>_waves`` of the others, their cost against the run
 without members in the same waves. ε also of roll for the strip-theory decks (they roll).
+With ``--current`` only the runs in SeaState's current (tests/wind/offshore/test_offshore_current.py's
+``current_deck``: ``braces`` in still water, ``morison_only`` in the waves) against OpenFAST's runs with it, each
+beside the same deck without the current (its ratio: the cost of the current).
 
-    python benchmarks/floating_morison.py
+    python benchmarks/floating_morison.py [--current]
 """
 
 from __future__ import annotations
@@ -59,11 +62,34 @@ def _eps(run, ref: dict) -> list:
     return [error_metrics(run.time, run.channel(c), ref["Time"], ref[c])[0] if c in ref else None for c in CHANNELS]
 
 
+def _current_rows(root: Path) -> list:
+    """The decks in a current and without it, against OpenFAST's runs in the current."""
+    from mbsym.wind.analysis.compare import read_csv
+    from tests.wind.offshore.test_offshore_current import current_deck
+    from tests.wind.offshore.test_offshore_morison import wave_deck, write_deck
+
+    rows = []
+    for variant, waves, ref_name in (("braces", False, "braces_current"),
+                                     ("morison_only", True, "morison_only_current_waves")):
+        plain = write_deck(root / f"{variant}_plain", variant)
+        plain = wave_deck(plain) if waves else plain
+        base = _run(plain, root / "plain.csv")
+        label = f"{variant}{' in waves' if waves else ''}"
+        rows.append((f"{label}, no current", ref_name, *_eps(read_csv(root / "plain.csv"), _reference(ref_name)),
+                     base, 1.0))
+        wall = _run(current_deck(root / f"{variant}_current", variant, waves), root / "current.csv")
+        rows.append((f"{label} + current", ref_name, *_eps(read_csv(root / "current.csv"), _reference(ref_name)),
+                     wall, wall / base))
+    return rows
+
+
 def main() -> int:
     from mbsym.wind.analysis.compare import read_csv
     from tests.wind.offshore.test_offshore_morison import wave_deck, write_deck
 
     root = Path(tempfile.mkdtemp(prefix="mbsym_morison_"))
+    if "--current" in sys.argv[1:]:
+        return _table(_current_rows(root), "ratio to no current")
     decks = ("columns", "braces", "growth", "strip", "piercing", "strip_growth_uniform", "morison_only")
     refs = {name: _reference(name) for name in decks}
     rows, base = [], None
@@ -86,8 +112,11 @@ def main() -> int:
         wave_base = wall if wave_base is None else wave_base
         run = read_csv(out)
         rows.append((f"{variant} in waves", ref_name, *_eps(run, _reference(ref_name)), wall, wall / wave_base))
-    print("| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | ε roll | wall [s] "
-          "| ratio to no members |")
+    return _table(rows, "ratio to no members")
+
+
+def _table(rows: list, ratio: str) -> int:
+    print(f"| mbsym deck | OpenFAST run | ε surge | ε heave | ε pitch | ε TTDspFA | ε roll | wall [s] | {ratio} |")
     print("|---|---|---|---|---|---|---|---|---|")
     for variant, ref_name, *eps, wall, ratio in rows:
         print(f"| {variant} | {ref_name} | " + " | ".join("-" if e is None else f"{100 * e:.2f} %" for e in eps)
