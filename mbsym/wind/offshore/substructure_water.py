@@ -11,24 +11,27 @@ SubDyn-node terms (N nodes, global axes, SI):
 1. :attr:`SubstructureWater.static_loads` (6N): what HydroDyn applies to the undisplaced structure at rest in
    still water — buoyancy (``MHstLMod`` 1 with its end plates), the filled members' fluid (weight and pressure)
    and the marine growth's weight (:mod:`.morison_statics`; HydroDyn's discretization and seabed cut:
-   :mod:`.morison_members`);
+   :mod:`.morison_members`), and the drag of SeaState's steady current (``CurrMod = 1``;
+   :mod:`.substructure_current`);
 2. :attr:`SubstructureWater.added_mass` (6N × 6N): the loads proportional to the nodes' accelerations, ``F = −A ü``
    — side added mass (``C_a``, ``AMMod`` 0), the joints' end-plate added mass, the filled fluid's and the marine
    growth's mass — so that ``Φ_TPᵀ A Φ_TP`` is their TP-level mass (:meth:`SubstructureWater.tp_added_mass`);
 3. the sea (first-order waves read off SeaState's grid, :mod:`.wave_kinematics`):
    :meth:`SubstructureWater.wave_loads` — Froude–Krylov and diffraction inertia ``(C_a + C_p)``, the axial
    dynamic-pressure terms of tapered sides and end plates, the end plates' inertia and the viscous drag, on the
-   undisplaced structure **at rest**: the drag sees the wave velocity alone (HydroDyn's uses the velocity relative
-   to the moving node; :meth:`SubstructureWater.drag_damping` is the first-order size of what that leaves out);
+   undisplaced structure **at rest**: the drag sees the water's velocity at rest (the waves' and the current's;
+   with a current the waves' share is the drag of the sum less the current's own);
    :meth:`SubstructureWater.tp_wave_loads` their Guyan projection ``Φ_TPᵀ F`` as time-series inputs at the TP;
-4. :attr:`SubstructureWater.still_water_damping`: zero — HydroDyn's drag is quadratic in the relative velocity, so
-   its slope at rest in still water vanishes.
+4. :meth:`SubstructureWater.drag_damping`: HydroDyn's drag takes the velocity relative to the moving node, and
+   its slope ``B`` on the nodes' velocity (time-mean about the water's velocity at rest) is the first order of
+   that dependence, which :mod:`.bottom_fixed` adds as a damping; :attr:`SubstructureWater.still_water_damping`
+   is its value without waves: zero without a current (the drag is quadratic), the current's damping with one.
 
-The structure's motion enters these loads only through the added mass. Left out: the drag's dependence on the
-nodes' velocity (above), the change of the buoyancy, fill and growth loads with the displacement (a hydrostatic
-stiffness, first order in the rotation of the members' end plates and axes: none for a vertical pile cut by the
-seabed, whose sides carry no vertical pressure), the added mass's and the rigid parts' centripetal and gyroscopic
-terms (second order in the rates). The waves are read at the undisplaced nodes, as HydroDyn does (``WaveDisp = 0``).
+The structure's motion enters these loads through the added mass and the drag's slope. Left out: the drag's
+higher orders in the nodes' velocity and its slope's correlation with the waves, the change of the buoyancy, fill
+and growth loads with the displacement (a hydrostatic stiffness, first order in the rotation of the members' end
+plates and axes: none for a vertical pile cut by the seabed, whose sides carry no vertical pressure), the added
+mass's and the rigid parts' centripetal and gyroscopic terms (second order in the rates). The waves are read at the undisplaced nodes, as HydroDyn does (``WaveDisp = 0``).
 HydroDyn ignores ``AddF0``, ``AddCLin``, ``AddBLin`` and ``AddBQuad`` without potential flow (``HydroDyn.f90``: only
 with ``PotMod = 1``), and so does this module (the IEA 15 MW monopile deck's heave ``AddBLin`` is not applied).
 
@@ -39,7 +42,8 @@ net but for the cut element's buried part (:mod:`.morison_statics`); the end pla
 upper joint take the other end's radius and marine growth (a ``ModelWarning`` names such members).
 
 **Refused** (:class:`~mbsym.exceptions.UnsupportedFeatureError`, :func:`substructure_water_problems`): potential
-flow (``PotMod`` ≠ 0, ``PropPot``), wave stretching (``WaveStMod`` > 0), a current, second-order waves
+flow (``PotMod`` ≠ 0, ``PropPot``), wave stretching (``WaveStMod`` > 0), SeaState's user current (``CurrMod = 2``),
+wave-current interaction (``WvCrntMod`` > 0 with waves and a current), second-order waves
 (``WvDiffQTF``, ``WvSumQTF``), MacCamy–Fuchs members (``MCFD`` > 0), ``MSL2SWL`` ≠ 0, rectangular members, ``MCoefMod``
 other than 1–3, ``MHstLMod`` 2, the end drag's filter (``AxVnCOff`` > 0), what HydroDyn itself refuses at
 initialization (end plates cut by the still-water level, inclined or tapered members through the seabed), and
@@ -56,9 +60,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...exceptions import DimensionError, ModelWarning, UnsupportedFeatureError
+from .current import current_problems
 from .excitation import catmull_rom
 from .frame_fem import rigid_transform
 from .morison_members import MorisonFrame, morison_frame, substructure_member_problems
+from .substructure_current import current_problems_with_waves, grid_current
 from .morison_statics import fill_loads, growth_loads, hydrostatic_loads, joint_terms, nodal_mass
 from .wave_kinematics import wave_acceleration_pressure, wave_flow
 from .waves import IncidentWaves, incident_waves
@@ -126,6 +132,8 @@ class SubstructureWater:
         The SubDyn node each HydroDyn node is mapped to.
     waves : IncidentWaves or None
         The sea (None: still water).
+    current : ndarray, shape (n, 3), or None
+        SeaState's steady current at HydroDyn's nodes [m/s] (:mod:`.current`; None: no current).
     """
 
     static_loads: np.ndarray
@@ -136,6 +144,7 @@ class SubstructureWater:
     hydrodyn: MorisonFrame
     node_map: np.ndarray
     waves: IncidentWaves | None
+    current: np.ndarray | None
     _points: _WavePoints
     _operator: np.ndarray
     _motion: np.ndarray
@@ -159,8 +168,9 @@ class SubstructureWater:
 
     @property
     def still_water_damping(self) -> np.ndarray:
-        """``∂F/∂u̇`` at rest in still water (6 N × 6 N): zero, the drag being quadratic in the relative velocity."""
-        return np.zeros((6 * self.n_nodes, 6 * self.n_nodes))
+        """``−∂F/∂u̇`` at rest without waves (6 N × 6 N) [N s/m, …]: the current's drag slope (:meth:`drag_damping`
+        about the current alone); zero without a current, the drag being quadratic in the relative velocity."""
+        return self._blocks(drag_slope(self._points, self._current_at_points()[None]))
 
     def times(self) -> np.ndarray:
         """SeaState's time grid ``0, WaveDT, … WaveTMax`` [s] (empty in still water)."""
@@ -180,7 +190,9 @@ class SubstructureWater:
         return velocity[:, node], acceleration[:, node], pressure[:, node]
 
     def point_forces(self, t=None, *, inertia: bool = True, drag: bool = True) -> np.ndarray:
-        """The waves' forces ``(T, 3 m)`` [N] at the wave points (before the moment arms and the mapping)."""
+        """The waves' forces ``(T, 3 m)`` [N] at the wave points (before the moment arms and the mapping); with a
+        current the drag's part is ``D(u + U) − D(U)``, the current's own drag ``D(U)`` being in
+        :attr:`static_loads`."""
         p = self._points
         if self._kinematics is None:
             count = 0 if t is None else len(np.atleast_1d(t))
@@ -190,14 +202,13 @@ class SubstructureWater:
         if inertia:
             f += np.einsum("mij,tmj->tmi", p.inertia, a) + pressure[:, :, None] * p.pressure[None]
         if drag:
-            along = np.einsum("tmi,mi->tm", v, p.axis)
-            across = v - along[:, :, None] * p.axis[None]
-            size = np.linalg.norm(across, axis=2)
-            f += (p.drag * size)[:, :, None] * across + (p.axial_drag * np.abs(along) * along)[:, :, None] * p.axis
-            vn = np.einsum("tmi,mi->tm", v, p.normal)
-            side = np.where(p.one_sided, np.maximum(vn, 0.0), vn)
-            f += (p.end_drag * np.abs(vn) * side)[:, :, None] * p.normal
+            steady = self._current_at_points()
+            f += drag_forces(p, v + steady[None]) - drag_forces(p, steady[None])
         return f.reshape(len(f), -1)
+
+    def _current_at_points(self) -> np.ndarray:
+        """SeaState's current ``(m, 3)`` [m/s] at the wave points (zero without one)."""
+        return np.zeros((len(self._points.node), 3)) if self.current is None else self.current[self._points.node]
 
     def wave_loads(self, t=None, *, inertia: bool = True, drag: bool = True) -> np.ndarray:
         """The waves' nodal loads ``(len(t), 6 N)`` [N, N m] on the structure at rest (module docstring).
@@ -221,29 +232,26 @@ class SubstructureWater:
 
     def drag_damping(self, t=None) -> np.ndarray:
         """The time-mean slope ``B̄ = −⟨∂F/∂u̇⟩`` (6 N × 6 N) [N s/m, …] of HydroDyn's drag on the node velocities,
-        about the wave velocity (``F(v_w − ṙ) ≈ F(v_w) − B ṙ``): what :meth:`wave_loads` leaves out, to first order.
+        about the water's velocity at rest (waves and current: ``F(v_w + U − ṙ) ≈ F(v_w + U) − B ṙ``).
 
         Per strip ``∂(c |v_n| v_n)/∂v = c (|v_n| P + v_n v_nᵀ/|v_n|)`` (``P = I − k kᵀ``), the axial and end-plate
-        terms alike; each strip moves with its HydroDyn node (the node's velocity, as HydroDyn takes it).
+        terms alike; each strip moves with its HydroDyn node (the node's velocity, as HydroDyn takes it). In still
+        water it is the current's alone (zero without one); ``t`` [s]: the times of the mean (default SeaState's
+        grid).
         """
         p = self._points
+        steady = self._current_at_points()
         if self._kinematics is None:
-            return np.zeros((6 * self.n_nodes, 6 * self.n_nodes))
-        v = self._kinematics_at(t)[0]
-        along = np.einsum("tmi,mi->tm", v, p.axis)
-        across = v - along[:, :, None] * p.axis[None]
-        size = np.linalg.norm(across, axis=2)
-        unit = np.divide(across, size[:, :, None], out=np.zeros_like(across), where=size[:, :, None] > 0)
-        plane = np.eye(3)[None] - np.einsum("mi,mj->mij", p.axis, p.axis)
-        slope = p.drag[:, None, None] * (size.mean(axis=0)[:, None, None] * plane
-                                         + np.einsum("tm,tmi,tmj->mij", size, unit, unit) / len(v))
-        slope += (2.0 * p.axial_drag * np.abs(along).mean(axis=0))[:, None, None] * np.einsum("mi,mj->mij", p.axis,
-                                                                                               p.axis)
-        vn = np.einsum("tmi,mi->tm", v, p.normal)
-        end = np.where(p.one_sided, 2.0 * np.maximum(vn, 0.0), 2.0 * np.abs(vn)).mean(axis=0)
-        slope += (p.end_drag * end)[:, None, None] * np.einsum("mi,mj->mij", p.normal, p.normal)
-        blocks = np.zeros((3 * len(p.node), 3 * len(p.node)))
-        for k in range(len(p.node)):
+            v = steady[None]
+        else:
+            v = self._kinematics_at(t)[0] + steady[None]
+        return self._blocks(drag_slope(p, v))
+
+    def _blocks(self, slope: np.ndarray) -> np.ndarray:
+        """Per-point slopes ``(m, 3, 3)`` as a nodal damping (6 N × 6 N) through the points' arms and the mapping."""
+        m = len(self._points.node)
+        blocks = np.zeros((3 * m, 3 * m))
+        for k in range(m):
             blocks[3 * k:3 * k + 3, 3 * k:3 * k + 3] = slope[k]
         return self._operator @ blocks @ self._motion
 
@@ -277,8 +285,8 @@ def substructure_water_problems(hydrodyn, seastate=None, *, water_depth: float, 
     if sea.wave_model != 0 and sea.stretching_model != 0:
         out.append(f"{where(sea, 'WaveStMod')}: WaveStMod = {sea.stretching_model} (wave stretching) is not modelled; "
                    "use 0")
-    if sea.current_model != 0:
-        out.append(f"{where(sea, 'CurrMod')}: CurrMod = {sea.current_model} (a current) is not modelled; use 0")
+    out += [f"{where(sea, 'CurrMod')}: {p}" for p in current_problems(sea)]
+    out += [f"{where(sea, 'WvCrntMod')}: {p}" for p in current_problems_with_waves(sea)]
     if sea.wave_model != 0:
         for key, on in (("WvDiffQTF", sea.difference_qtf), ("WvSumQTF", sea.sum_qtf)):
             if on:
@@ -328,11 +336,12 @@ def substructure_hydrodynamics(hydrodyn, seastate, substructure, *, water_densit
     problems = substructure_water_problems(hydrodyn, seastate, water_depth=water_depth, msl_to_swl=msl_to_swl)
     if problems:
         raise UnsupportedFeatureError("HydroDyn on a SubDyn substructure: " + "; ".join(problems) + ".")
-    if hydrodyn.wave_displaced and seastate is not None and seastate.wave_model != 0:
+    if hydrodyn.wave_displaced and seastate is not None and (seastate.wave_model != 0 or seastate.current_model):
         line = hydrodyn.lines.get("WaveDisp", "?")
         warnings.warn(f"{hydrodyn.path}, line {line}, key 'WaveDisp': WaveDisp = 1 reads "
-                      "the waves at the displaced nodes; mbsym reads them at the undisplaced ones (the same at rest, "
-                      "second order in the motion of a bottom-fixed structure).", ModelWarning, stacklevel=2)
+                      "the waves and the current at the displaced nodes; mbsym reads them at the undisplaced ones (the "
+                      "same at rest, second order in the motion of a bottom-fixed structure).", ModelWarning,
+                      stacklevel=2)
     rho, g = float(water_density), float(gravity)
     frame = morison_frame(hydrodyn, water_depth=float(water_depth), water_density=rho)
     _warn_flipped_ends(frame, hydrodyn.path)
@@ -362,9 +371,14 @@ def substructure_hydrodynamics(hydrodyn, seastate, substructure, *, water_densit
     if seastate is not None and seastate.wave_model != 0:
         waves = incident_waves(seastate, gravity=g, water_depth=float(water_depth))
         kinematics = _kinematics(waves, seastate, frame.positions, points.node, rho)
+    current = None
+    if seastate is not None and seastate.current_model:
+        # SeaState adds the current to its grid's velocity; HydroDyn's drag takes the sum (module docstring)
+        current = grid_current(seastate, float(water_depth), frame.positions)
+        parts["current"] = operator @ drag_forces(points, current[points.node][None])[0].reshape(-1)
     tp_shapes = np.asarray(substructure.guyan().tp_shapes, dtype=float)
-    return SubstructureWater(sum(parts.values()), mass, parts, tp_shapes, positions, frame, node_map, waves, points,
-                             operator, motion, kinematics)
+    return SubstructureWater(sum(parts.values()), mass, parts, tp_shapes, positions, frame, node_map, waves, current,
+                             points, operator, motion, kinematics)
 
 
 def _warn_flipped_ends(frame: MorisonFrame, path: str) -> None:
@@ -427,6 +441,36 @@ def _wave_points(frame: MorisonFrame, rho: float) -> _WavePoints:
     shapes = ((), (3,), (3, 3), (3,), (3,), (), (), (3,), (), ())
     arrays = [np.array(f, dtype=float).reshape(-1, *s) for f, s in zip(fields, shapes)]
     return _WavePoints(arrays[0].astype(int), *arrays[1:9], arrays[9].astype(bool))
+
+
+def drag_forces(p: _WavePoints, v: np.ndarray) -> np.ndarray:
+    """HydroDyn's drag ``(T, m, 3)`` [N] at the wave points for the water's velocity ``v`` (T, m, 3) [m/s] relative to
+    the points (``Morison.f90``, ``Morison_CalcOutput``: the sides' ``C_d ρ r |v_n| v_n`` across the axis and the
+    axial ``½ AxCd ρ π r dr/dl |v_k| v_k``, the end plates' ``|v_n| v_n`` along their normal, one-sided with
+    ``AxFDMod`` 1)."""
+    along = np.einsum("tmi,mi->tm", v, p.axis)
+    across = v - along[:, :, None] * p.axis[None]
+    size = np.linalg.norm(across, axis=2)
+    f = (p.drag * size)[:, :, None] * across + (p.axial_drag * np.abs(along) * along)[:, :, None] * p.axis
+    vn = np.einsum("tmi,mi->tm", v, p.normal)
+    side = np.where(p.one_sided, np.maximum(vn, 0.0), vn)
+    return f + (p.end_drag * np.abs(vn) * side)[:, :, None] * p.normal
+
+
+def drag_slope(p: _WavePoints, v: np.ndarray) -> np.ndarray:
+    """``⟨∂D/∂v⟩`` ``(m, 3, 3)`` [kg/s] of :func:`drag_forces`, averaged over the T samples of ``v`` (T, m, 3)."""
+    along = np.einsum("tmi,mi->tm", v, p.axis)
+    across = v - along[:, :, None] * p.axis[None]
+    size = np.linalg.norm(across, axis=2)
+    unit = np.divide(across, size[:, :, None], out=np.zeros_like(across), where=size[:, :, None] > 0)
+    plane = np.eye(3)[None] - np.einsum("mi,mj->mij", p.axis, p.axis)
+    slope = p.drag[:, None, None] * (size.mean(axis=0)[:, None, None] * plane
+                                     + np.einsum("tm,tmi,tmj->mij", size, unit, unit) / len(v))
+    slope += (2.0 * p.axial_drag * np.abs(along).mean(axis=0))[:, None, None] * np.einsum("mi,mj->mij", p.axis,
+                                                                                           p.axis)
+    vn = np.einsum("tmi,mi->tm", v, p.normal)
+    end = np.where(p.one_sided, 2.0 * np.maximum(vn, 0.0), 2.0 * np.abs(vn)).mean(axis=0)
+    return slope + (p.end_drag * end)[:, None, None] * np.einsum("mi,mj->mij", p.normal, p.normal)
 
 
 def _point_operators(p: _WavePoints, hd_positions, sd_positions, node_map) -> tuple[np.ndarray, np.ndarray]:
