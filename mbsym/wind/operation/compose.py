@@ -65,7 +65,9 @@ class Graph:
         self.platform = getattr(model, "platform", None)
         nq = eom.n_q
         platform_states = tuple(self.platform.state_names) if self.platform is not None else ()
-        self.states = tuple(eom.states) + tuple(self.extra_states()) + platform_states
+        self.stc = getattr(model, "structural_controls", None)      # ServoDyn's StCs (.structural_control)
+        stc_states = self.stc.state_names if self.stc is not None else ()
+        self.states = tuple(eom.states) + tuple(self.extra_states()) + platform_states + stc_states
         wired = tuple(self.wired_inputs()) + (tuple(self.platform.inputs) if self.platform is not None else ())
         self.passthrough = tuple(n for n in eom.inputs if n not in wired)
         sea = tuple(getattr(self.platform, "sea_inputs", ())) if self.platform is not None else ()
@@ -291,10 +293,17 @@ class Graph:
             lines = self.platform_terms.get("mass")        # mooring lines' mass on the platform DOFs (if any)
             if lines is not None and not (isinstance(lines, (ca.SX, ca.MX, ca.DM)) and lines.is_zero()):
                 M = M + ca.mtimes([select.T, lines, select])
+        if self.stc is not None:                       # the StCs' loads, their q̈-dependent part in M
+            from .structural_control import stc_terms
+
+            x_stc = ca.vertcat(*[self.X[n] for n in self.stc.state_names])
+            self.stc_terms = stc_terms(self.stc, self.eom, self.q, self.qd, self.u_s, self.p_s, x_stc,
+                                       self.P["gravity"], self.kind)
+            M, F = M + self.stc_terms["mass"], F + self.stc_terms["force"]
         if self.kind is ca.SX:
             return ca.solve(M, F)
-        if not self._symmetric_added_mass():
-            return ca.solve(M, F, "qr")        # WAMIT's A∞ as given, with its small asymmetry
+        if not self._symmetric_added_mass() or self.stc is not None:
+            return ca.solve(M, F, "qr")        # WAMIT's A∞ as given, with its small asymmetry; the StCs' Euler terms
         return spd_solve(M, F)                 # M is symmetric positive definite (mbsym.spd_solve)
 
     def _added_mass_terms(self, select) -> tuple[Any, Any]:
@@ -330,7 +339,16 @@ class Graph:
                 xr_dot = xr_dot + ca.mtimes(xr_acc, ca.mtimes(self.platform_terms["jac"], ap)
                                             + self.platform_terms["bias"])
             rows.append(xr_dot)
+        if self.stc is not None:
+            rows.append(self.stc_terms["rates"](self.qdd))
         return rows
+
+    def stc_channel_rows(self) -> list[tuple[str, str, Any]]:
+        """ServoDyn's StC channels (``NStC1_XQ`` …; :mod:`.structural_control`), empty without StCs."""
+        if self.stc is None:
+            return []
+        y = self.stc_terms["channels"](self.qdd)
+        return [(n, u, y[k]) for k, (n, u) in enumerate(self.stc.channel_names())]
 
     def parts(self) -> dict[str, Any]:
         """Extra Functions the model keeps (by key in ``model._parts``)."""
@@ -362,7 +380,7 @@ def compose(model, graph: type | None = None) -> Dynamics:
     kind = ca.SX if eom.n_q <= SYMBOLIC_SOLVE_MAX_DOF else ca.MX
     g = (graph or Graph)(model, kind)
     opts = {"cse": True} if kind is ca.SX else {}
-    rows = channel_rows(g)
+    rows = channel_rows(g) + g.stc_channel_rows()
     names = tuple(r[0] for r in rows)
     units = tuple(r[1] for r in rows)
     y = ca.vertcat(*[r[2] for r in rows])
@@ -438,6 +456,8 @@ def _deck_state(model, g: Graph) -> list[float]:
         values[n] = float(model.turbine.initial_conditions.blade_pitch[k])
     if not model.spins_freely:
         values["GeAz"] = s.initial_generator_azimuth()
+    if g.stc is not None:
+        values.update(zip(g.stc.state_names, g.stc.initial_state()))
     return [values.get(n, 0.0) for n in g.states]
 
 

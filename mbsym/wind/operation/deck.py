@@ -198,8 +198,8 @@ class OperatingDeck:
         return OperatingTurbine(self.turbine, self.rotor, dofs=dofs, **options)
 
     def _yaw_drive(self, dofs, t_end: float | None, options: dict) -> None:
-        """Audit ServoDyn for these DOFs and put its yaw spring and damper, and its shaft brake when deployed before
-        ``t_end``, into ``options``."""
+        """Audit ServoDyn for these DOFs and put its yaw spring and damper, its shaft brake when deployed before
+        ``t_end`` and its nacelle and platform structural controllers (StCs) into ``options``."""
         from ..deck.servo_audit import servo_audit
 
         flags = dict(self.turbine.dofs)
@@ -217,6 +217,11 @@ class OperatingDeck:
             from .hss_brake import HssBrake                   # ServoDyn's brake ramp (HSSBrMode 1) within the run
 
             options.setdefault("hss_brake", HssBrake.from_servodyn(s))
+        from .structural_control import structural_controls    # ServoDyn's nacelle/platform StCs (or refused)
+
+        stc = structural_controls(s, self.turbine)
+        if stc is not None:
+            options.setdefault("structural_controls", stc)
 
     def _blade_model(self, dofs, **options) -> OperatingTurbine:
         from ..aero.blade import BladeElementRotor

@@ -145,6 +145,10 @@ class OperatingTurbine:
         ServoDyn's high-speed shaft brake (:class:`~.hss_brake.HssBrake`): the input ``HSSBrTqC`` [N m] (the
         deck's ramp in :func:`~.simulation.simulate_turbine`, zero in trims) and the channel ``HSSBrTq``; needs
         GenDOF. Default None.
+    structural_controls : StructuralControls, optional, keyword-only
+        ServoDyn's nacelle and platform tuned mass dampers (:mod:`~.structural_control`, from the deck by
+        :func:`~.structural_control.structural_controls`): their states ``NStC1_XQ`` … after the others and their
+        channels. Default None.
     name : str, optional, keyword-only
 
     Raises
@@ -173,7 +177,8 @@ class OperatingTurbine:
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
-                 tower_aero=None, hss_brake=None, name: str = "operating_turbine") -> None:
+                 tower_aero=None, hss_brake=None, structural_controls=None,
+                 name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         if rotor is None:
@@ -227,6 +232,12 @@ class OperatingTurbine:
         self.name = str(name)
         self.platform = _platform(platform)
         self.hss_brake = _hss_brake(hss_brake, turbine, dofs)
+        from .structural_control import StructuralControls
+
+        if structural_controls is not None and not isinstance(structural_controls, StructuralControls):
+            raise TypeError(f"structural_controls must be a StructuralControls or None; got "
+                            f"{type(structural_controls).__name__}.")
+        self.structural_controls = structural_controls
         self.brake_slip_speed = 0.0
         self.tower_aero = _tower_aero(tower_aero, blade, getattr(rotor, "tower_inflow", False))
         _check_tower_in_field(self.tower_aero, self.wind)
