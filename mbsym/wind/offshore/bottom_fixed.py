@@ -22,12 +22,14 @@ takes a floating platform (:class:`~.operating.FloatingPlatform`; :mod:`mbsym.wi
 **HydroDyn on the substructure** (``CompHydro = 1`` with ``PotMod = 0``; :mod:`.substructure_water`: HydroDyn's
 Morison loads mapped onto SubDyn's nodes as OpenFAST maps them): its nodal added mass ``A`` joins the mass matrix at
 the TP as ``Φ_TPᵀ A Φ_TP`` (symmetric part; HydroDyn's is asymmetric by 1e-5), its static loads (buoyancy, the
-filled fluid, marine growth) join ``Y1`` through ``Φ_TPᵀ`` with their lever arms, and the sea enters as inputs:
+filled fluid, marine growth, a steady current's drag) join ``Y1`` through ``Φ_TPᵀ`` with their lever arms, the
+drag's mean slope ``B`` on the nodes' velocity (the current's and the waves'; :mod:`.substructure_current`) damps
+the structure as ``−Φ_TPᵀ B Φ_TP u̇`` (and through the CB modes, below), and the sea enters as inputs:
 ``TPWaveFxi … TPWaveMzi`` (the waves' loads on the structure at rest, ``Φ_TPᵀ F``), ``HydroWaveFxi … HydroWaveMzi``
 (their sum about the origin, for HydroDyn's ``HydroFxi … HydroMzi`` channels), ``ReactWaveFXss … ReactWaveMZss``
 (their share of the base reactions) and ``Wave1Elev``, tabulated from SeaState's sea by :meth:`sea_tables` (the drag
-with the wave velocity alone: 0.06 % of critical damping left out on the IEA 15 MW monopile). The base reactions also
-take the water's added-mass loads on the interior through SubDyn's static improvement (``R_a ü``).
+of the water's velocity at rest, waves and current). The base reactions and HydroDyn's sums also take the water's
+added-mass and drag-slope loads on the interior through SubDyn's static improvement (``R_a ü``, ``R_b u̇``).
 
 **Craig–Bampton modes** (``Nmodes > 0``): their coordinates ``q`` and rates are states ``SSqm01 …``, ``SSqmd01 …``
 with SubDyn's ``q̈ = Φ_mᵀ F − M_mB ü − C_mm q̇ − K_mm q`` (``F`` the nodal loads with their lever arms). With the
@@ -35,7 +37,8 @@ water's nodal added mass ``A`` among the loads this is ``N q̈ = g − P ü`` (`
 Φ_mᵀ A Φ_TP``, ``g`` the rest) and ``Y1 −= Q q̈`` (``Q = M_Bm + Φ_TPᵀ A Φ_m``): ``−Q N⁻¹ g`` is a load and
 ``Q N⁻¹ P`` leaves the TP's mass (the coupled mass matrix's Schur complement); the turbine adds ``−N⁻¹ P (J q̈_p +
 b)`` to the modes' accelerations once the structure's are solved (``xr_acc``). The waves' modal loads are inputs
-``CBWave01 …``. The base reactions take ``K_C Φ_CB q`` (and the water's added-mass loads of ``q̈`` through the static
+``CBWave01 …``. The drag's slope ``B`` adds ``−Φ_mᵀ B (Φ_TP u̇ + Φ_m q̇)`` to ``g`` and ``−Φ_TPᵀ B Φ_m q̇`` to
+``Y1``. The base reactions take ``K_C Φ_CB q`` (and the water's added-mass loads of ``q̈`` through the static
 improvement), which is SubDyn's with the modes' part taken out.
 
 Left out (second order in the TP motion, millimetres here): SubDyn's translation correction of the inertia and
@@ -145,9 +148,12 @@ def _wave_reactions(sub, nodal) -> np.ndarray:
     return _reactions(sub, nodal) - _reactions(sub, np.zeros(nodal.shape[1]))
 
 
-def _water_terms(sub, reduced, water) -> dict:
+def _water_terms(sub, reduced, water, drag_damping: bool = True) -> dict:
     """The water's TP-level arrays (:class:`BottomFixedPlatform`'s ``water_terms``; with CB modes also their modal
-    parts: ``A_mm``, ``A_mB``, ``A_Bm``, ``modal_static``, ``modal_lever``, ``reaction_qdd``, ``hydro_qdd``)."""
+    parts: ``A_mm``, ``A_mB``, ``A_Bm``, ``modal_static``, ``modal_lever``, ``reaction_qdd``, ``hydro_qdd``; with
+    ``drag_damping`` and a nonzero slope of the drag, :meth:`~.substructure_water.SubstructureWater.drag_damping`
+    ``B`` as ``damping`` = ``Φ_TPᵀ B Φ_TP``, ``reaction_vel``, ``hydro_vel`` and the modes' ``B_mm``, ``B_mB``,
+    ``B_Bm``, ``reaction_qd``, ``hydro_qd``)."""
     shapes, modes = np.asarray(reduced.tp_shapes, dtype=float), np.asarray(reduced.modal_shapes, dtype=float)
     static = np.asarray(water.static_loads, dtype=float)
     added = np.asarray(water.added_mass, dtype=float)
@@ -161,6 +167,16 @@ def _water_terms(sub, reduced, water) -> dict:
         terms.update(A_mm=modes.T @ added @ modes, A_mB=modes.T @ added @ shapes, A_Bm=shapes.T @ added @ modes,
                      modal_static=modes.T @ static, modal_lever=modes.T @ _nodal_lever_change(reduced, static),
                      reaction_qdd=(_reactions(sub, per_qdd.T) - rest).T, hydro_qdd=water.resultant(per_qdd.T).T)
+    damping = water.drag_damping() if drag_damping else None
+    if damping is not None and np.any(damping):                        # the drag's slope on the nodes' velocities
+        per_vel = -damping @ shapes
+        terms.update(damping=shapes.T @ damping @ shapes, reaction_vel=(_reactions(sub, per_vel.T) - rest).T,
+                     hydro_vel=water.resultant(per_vel.T).T)
+        if reduced.n_modes:
+            per_qd = -damping @ modes
+            terms.update(B_mm=modes.T @ damping @ modes, B_mB=modes.T @ damping @ shapes,
+                         B_Bm=shapes.T @ damping @ modes, reaction_qd=(_reactions(sub, per_qd.T) - rest).T,
+                         hydro_qd=water.resultant(per_qd.T).T)
     return terms
 
 
@@ -294,6 +310,10 @@ class BottomFixedPlatform:
              - ca.mtimes(ca.DM(np.asarray(r.damping)), body))
         react = ca.DM(self.reaction_static) + ca.mtimes(ca.DM(self.reaction), u)
         hydro = ca.DM(w.get("hydro_static", np.zeros(6)))
+        if "damping" in w:                            # the drag's slope on the structure's velocity (current)
+            y = y - ca.mtimes(ca.DM(w["damping"]), body)
+            react = react + ca.mtimes(ca.DM(w["reaction_vel"]), body)
+            hydro = hydro + ca.mtimes(ca.DM(w["hydro_vel"]), body)
         if self.sea_inputs:                           # the waves' loads on the structure at rest (module docstring)
             y, hydro, react = y + sea[0:6], hydro + sea[6:12], react + sea[12:18]
         xr_dot, xr_acc = ca.SX(0, 1), ca.SX(0, 6)
@@ -305,6 +325,11 @@ class BottomFixedPlatform:
                  - ca.DM(2.0 * r.damping_ratios * r.frequencies) * qd - ca.DM(r.frequencies ** 2) * q)
             if self.sea_inputs:
                 g = g + sea[len(SEA_INPUTS):]
+            if "damping" in w:
+                g = g - ca.mtimes(ca.DM(w["B_mB"]), body) - ca.mtimes(ca.DM(w["B_mm"]), qd)
+                y = y - ca.mtimes(ca.DM(w["B_Bm"]), qd)
+                react = react + ca.mtimes(ca.DM(w["reaction_qd"]), qd)
+                hydro = hydro + ca.mtimes(ca.DM(w["hydro_qd"]), qd)
             free = ca.mtimes(ca.DM(m["N_inv"]), g)
             y = y - ca.mtimes(ca.DM(m["Q"]), free)
             react = react + ca.mtimes(ca.DM(self.modal_reaction), q)
