@@ -23,10 +23,9 @@ is refused (:class:`~mbsym.exceptions.UnsupportedFeatureError`) or, when it does
 named in a :class:`~mbsym.exceptions.ModelWarning`: radiation memory here (``RdtnMod`` > 0: modelled by
 :mod:`.operating` as states), second-order forces (the full difference- and sum-frequency QTFs, ``DiffQTF`` and
 ``SumQTF``, are modelled: :mod:`.second_order`; the others are refused with waves; all are zero in still water),
-SeaState's
-current (``CurrMod = 1``: on the Morison members' drag, :mod:`.current`; it loads nothing else in HydroDyn), SeaState's second-order
-elevation (``WvDiffQTF``/``WvSumQTF``: in its ``Wave1Elev`` only; the potential-flow loads use the
-first-order sea).
+SeaState's current (``CurrMod = 1``: on the Morison members' drag, :mod:`.current`; it loads nothing else in
+HydroDyn; named when the deck has no members), SeaState's second-order elevation (``WvDiffQTF``/``WvSumQTF``: in its
+``Wave1Elev`` only; the potential-flow loads use the first-order sea).
 """
 
 from __future__ import annotations

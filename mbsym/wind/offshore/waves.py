@@ -18,7 +18,9 @@ the elevation is the inverse transform, ``η(t_j) = (1/N) Σ C_k e^{iω_k t_j}``
   are numpy's (a :class:`~mbsym.exceptions.ModelWarning` says so);
 * **an external elevation series** (``WaveMod`` 5, ``<WvKinFile>.Elev``): its DFT, mean and Nyquist removed,
   cut off as above;
-* **directional spreading** (``WaveDirMod`` 1): a heading per component (:mod:`.spreading`).
+* **directional spreading** (``WaveDirMod`` 1): a heading per component (:mod:`.spreading`);
+* **constrained waves** (``ConstWaveMod`` 1, 2 with ``WaveMod`` 2): a given crest embedded in the JONSWAP sea
+  (:mod:`.constrained`).
 
 The elevation at another point ``(x, y)`` multiplies ``C_k`` by ``e^{-i κ_k (x cos β + y sin β)}`` (κ from
 the finite-depth dispersion relation ``ω² = g κ tanh κh``, β the wave heading).
@@ -33,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...exceptions import ModelWarning, OpenFASTFormatError, UnsupportedFeatureError
+from ...exceptions import ModelWarning, OpenFASTFormatError, ParameterError, UnsupportedFeatureError
 from .ranlux import RanLux
 
 __all__ = ["IncidentWaves", "incident_waves", "jonswap", "wave_steps", "wave_number", "read_elevation_series",
@@ -259,7 +261,9 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     Raises
     ------
     UnsupportedFeatureError
-        Wave models 4 (user routine), 6 (external kinematics), 7 (wave components), constrained waves.
+        Wave models 4 (user routine), 6 (external kinematics), 7 (wave components).
+    ParameterError
+        Constrained waves (``ConstWaveMod`` 1, 2 with ``WaveMod`` 2, :mod:`.constrained`) with ``CrestHmax < WaveHs``.
     OpenFASTFormatError
         An external series that does not cover ``WaveTMax`` or whose step is not ``WaveDT``.
 
@@ -276,9 +280,10 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     if mod in (4, 6, 7):
         raise UnsupportedFeatureError(f"{where}: WaveMod = {mod} ({sea.wave_model_name}) is not modelled; use 1, 1P#, 2, "
                                       "3 or 5 (an external elevation series).")
-    if sea.constrained_wave_model:
-        raise UnsupportedFeatureError(f"{where}: ConstWaveMod = {sea.constrained_wave_model} (constrained waves) is not "
-                                      "modelled; set ConstWaveMod = 0.")
+    if sea.constrained_wave_model and mod != 2:
+        warnings.warn(f"{where}: ConstWaveMod = {sea.constrained_wave_model} has no effect with WaveMod = {mod}: "
+                      "SeaState constrains JONSWAP seas (WaveMod 2) only, and so does mbsym.", ModelWarning,
+                      stacklevel=3)
     dt, tmax = float(sea.wave_time_step), float(sea.wave_time_max)
     if not (dt > 0 and tmax >= dt):
         raise OpenFASTFormatError(f"{where}: WaveDT = {dt} s and WaveTMax = {tmax} s must satisfy 0 < WaveDT <= WaveTMax.")
@@ -313,7 +318,27 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
 
         directions = spread_headings(sea, n // 2, uniforms)
         what += f", spread over {len(set(directions.round(9)))} headings (cos-2s, s = {sea.direction_spread:g})"
+    if mod == 2 and sea.constrained_wave_model:
+        spectrum, crest = _constrained(sea, spectrum, s1, dw, directions, common), sea.crest
+        what += (f", constrained (ConstWaveMod {sea.constrained_wave_model}: CrestHmax {crest[0]:g} m at "
+                 f"t = {crest[1]:g} s, x = {crest[2]:g} m, y = {crest[3]:g} m)")
     return IncidentWaves(dt, spectrum, dw, description=what, directions=directions, **common)
+
+
+def _constrained(sea, spectrum: np.ndarray, s1: np.ndarray, dw: float, directions, common: dict) -> np.ndarray:
+    """The JONSWAP sea's ``C_k`` with SeaState's constrained crest (:mod:`.constrained`)."""
+    from .constrained import constrain_crest
+
+    height, time, x, y = (float(v) for v in sea.crest)
+    if height < float(sea.wave_height):
+        raise ParameterError(f"{sea.path}: CrestHmax = {height:g} m must be at least WaveHs = {sea.wave_height:g} m "
+                             "for constrained waves (SeaState refuses it too).")
+    omega = dw * np.arange(spectrum.size)
+    kappa = np.array([wave_number(w, common["gravity"], common["water_depth"]) if w > 0 else 0.0 for w in omega])
+    headings = np.full(spectrum.size, common["direction"]) if directions is None else np.asarray(directions)
+    return constrain_crest(spectrum, s1, dw, kappa, headings, mode=int(sea.constrained_wave_model),
+                           crest_height=height, crest_time=time, crest_position=(x, y),
+                           peak_period=float(sea.peak_period), time_step=float(sea.wave_time_step))
 
 
 def _generator(sea):

@@ -229,8 +229,8 @@ def test_unmodelled_wave_settings_are_refused_or_named(tmp_path):
     from mbsym.wind.offshore import platform_hydrodynamics
     from mbsym.wind.offshore.waves import incident_waves
 
-    with pytest.raises(UnsupportedFeatureError, match="ConstWaveMod = 1"):
-        incident_waves(_sea(tmp_path, WaveMod=2, ConstWaveMod=1), gravity=G, water_depth=DEPTH)
+    with pytest.raises(UnsupportedFeatureError, match="WaveMod = 4"):
+        incident_waves(_sea(tmp_path, WaveMod=4), gravity=G, water_depth=DEPTH)
     with pytest.warns(ModelWarning, match="compiler's random generator"):
         incident_waves(_sea(tmp_path, WaveMod=2, **{"WaveSeed(2)": 7}), gravity=G, water_depth=DEPTH)
     _hydrodyn(tmp_path, ExctnDisp=1)
