@@ -183,10 +183,14 @@ def _model(deck, *, structure_only: bool = False):
         # an offshore deck without aerodynamics: the structure with the water, the sea and the mooring, or on its
         # SubDyn substructure
         from ..wind.offshore.floating import floating_structure
+        from ..wind.operation.structural_control import structure_servodyn
 
-        check_modules(turbine, modelled={k: v | FLOATING_MODELLED.get(k, set()) for k, v in MODELLED.items()})
+        modelled = {k: v | FLOATING_MODELLED.get(k, set()) for k, v in MODELLED.items()}
+        check_modules(turbine, modelled=modelled | {"CompServo": {0, 1}})
+        stc = structure_servodyn(turbine, sim.total_time)   # ServoDyn: its StCs, or refused (no controller here)
         what = "bottom-fixed: SubDyn" if sim.substructure_model else "floating: HydroDyn, SeaState, mooring"
-        return floating_structure(turbine), f"{deck} ({what}; rotor parked)"
+        what += "; ServoDyn's StCs" if stc is not None else ""
+        return floating_structure(turbine, structural_controls=stc), f"{deck} ({what}; rotor parked)"
     check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)
 

@@ -49,6 +49,9 @@ class FloatingStructure:
     platform_loads : object, optional
         Another platform-loads object instead of ``hydro``/``mooring``/``radiation``: a bottom-fixed SubDyn
         substructure (:class:`~.bottom_fixed.BottomFixedPlatform`, ``hydro=None``).
+    structural_controls : StructuralControls, optional
+        ServoDyn's nacelle and platform tuned mass dampers (:mod:`mbsym.wind.operation.structural_control`): their
+        states after the others, their channels ``NStC1_XQ`` … after the others.
     """
 
     model: Any
@@ -56,6 +59,7 @@ class FloatingStructure:
     mooring: MooringSystem | None = None
     radiation: RadiationStateSpace | None = None
     platform_loads: Any = None
+    structural_controls: Any = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -122,11 +126,13 @@ class FloatingStructure:
         n, nr = eom.n_q, self.n_radiation
         index, fixed, select = platform_dofs(eom.coordinates, self.model.turbine)
         other = [u for u in eom.inputs if u not in PLATFORM_INPUTS]
-        x = ca.SX.sym("x", 2 * n + nr)
+        stc = self.structural_controls
+        ns = len(stc.state_names) if stc is not None else 0
+        x = ca.SX.sym("x", 2 * n + nr + ns)
         sea_inputs = platform.sea_inputs
         u = ca.SX.sym("u", len(other) + len(sea_inputs))
         p = ca.SX.sym("p", eom.n_p)
-        q, qd, xr = x[:n], x[n:2 * n], x[2 * n:]
+        q, qd, xr = x[:n], x[n:2 * n], x[2 * n:2 * n + nr]
         qp = ca.vertcat(*[q[i] if i is not None else fixed[k] for k, i in enumerate(index)])
         vp = ca.vertcat(*[qd[i] if i is not None else 0.0 for i in index])
         loads = platform.loads(qp, vp, xr if nr else ca.DM(0, 1), u[len(other):])
@@ -139,21 +145,31 @@ class FloatingStructure:
         M = (f_m(q, p) if f_m.n_in() == 2 else f_m(q, us, p)) \
             + ca.mtimes([JS.T, ca.DM(platform.added_mass), JS]) + ca.mtimes([S.T, loads["mass"], S])
         forcing = eom.functions.forcing(q, qd, us, p) - ca.mtimes([JS.T, ca.DM(platform.added_mass), loads["bias"]])
+        if stc is not None:                             # ServoDyn's StCs: their loads, the q̈-dependent part in M
+            from ..operation.structural_control import stc_terms
+
+            terms = stc_terms(stc, eom, q, qd, us, p, x[2 * n + nr:], p[eom.parameters.index("gravity")])
+            M, forcing = M + terms["mass"], forcing + terms["force"]
         qdd = ca.solve(M, forcing)
         xr_dot = loads["xr_dot"]
         if nr and "xr_acc" in loads:                     # SubDyn's Craig-Bampton modes follow the TP's acceleration
             ap = ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index])
             xr_dot = xr_dot + ca.mtimes(loads["xr_acc"], ca.mtimes(loads["jac"], ap) + loads["bias"])
         xd = ca.vertcat(qd, qdd, xr_dot) if nr else ca.vertcat(qd, qdd)
+        if stc is not None:
+            xd = ca.vertcat(xd, terms["rates"](qdd))
         f_y, names, units = channel_function(self.model)
         rows = platform.channel_rows(loads, ca.vertcat(*[qdd[i] if i is not None else 0.0 for i in index]))
+        if stc is not None:
+            rows += [(nm, un, terms["channels"](qdd)[k]) for k, (nm, un) in enumerate(stc.channel_names())]
         y = ca.vertcat(f_y(q, qd, qdd, us, p), *[r[2] for r in rows])
         names, units = names + tuple(r[0] for r in rows), units + tuple(r[1] for r in rows)
         opts = {"cse": True}
         rhs = ca.Function("floating_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
         outputs = ca.Function("floating_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"], opts)
         inputs = tuple(other) + sea_inputs
-        return Dynamics(rhs, states=tuple(eom.states) + platform.state_names, inputs=inputs,
+        return Dynamics(rhs, states=tuple(eom.states) + platform.state_names + (stc.state_names if ns else ()),
+                        inputs=inputs,
                         parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
                         output_names=names, output_units=units, x0=self.initial_state(),
                         name="floating_structure",
@@ -169,7 +185,8 @@ class FloatingStructure:
     def initial_state(self) -> np.ndarray:
         """The deck's initial q and q̇ (``TurbineModel.default_state``), radiation states 0."""
         x0 = np.asarray(self.model.default_state(), dtype=float)
-        return np.concatenate([x0, np.zeros(self.n_radiation)])
+        stc = self.structural_controls.initial_state() if self.structural_controls is not None else np.zeros(0)
+        return np.concatenate([x0, np.zeros(self.n_radiation), stc])
 
     def simulate(self, t_end: float, dt: float, x0=None) -> tuple[np.ndarray, np.ndarray]:
         """Fixed-step RK4 in still water from ``x0`` (default :meth:`initial_state`): times [s] and states (columns)."""
@@ -186,7 +203,7 @@ class FloatingStructure:
         return dt * np.arange(1, steps + 1), states
 
 
-def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStructure:
+def floating_structure(turbine, *, radiation: str | None = None, structural_controls=None) -> FloatingStructure:
     """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files), or
     of a bottom-fixed deck its ElastoDyn DOFs on the SubDyn substructure (``CompSub = 1``,
     :func:`~.bottom_fixed.bottom_fixed_platform`).
@@ -197,6 +214,8 @@ def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStru
         A floating deck (:func:`mbsym.wind.read_openfast`) with all six platform DOFs.
     radiation : {"fit", "ss", "none"} or None, keyword-only
         As :func:`~.operating.floating_platform` (None: the deck's ``RdtnMod``).
+    structural_controls : StructuralControls, optional, keyword-only
+        ServoDyn's nacelle and platform StCs (:func:`mbsym.wind.operation.structural_control.structural_controls`).
 
     Raises
     ------
@@ -210,9 +229,11 @@ def floating_structure(turbine, *, radiation: str | None = None) -> FloatingStru
     if int(getattr(turbine.simulation, "substructure_model", 0) or 0):        # SubDyn: bottom-fixed
         from .bottom_fixed import bottom_fixed_platform
 
-        return FloatingStructure(TurbineModel(turbine), None, platform_loads=bottom_fixed_platform(turbine))
+        return FloatingStructure(TurbineModel(turbine), None, platform_loads=bottom_fixed_platform(turbine),
+                                 structural_controls=structural_controls)
     platform = floating_platform(turbine, radiation=radiation)
     if platform is None:
         raise UnsupportedFeatureError(f"{turbine.source_files.get('fst', 'the deck')}: CompHydro and CompMooring are "
                                       "0; a floating structure needs HydroDyn (and usually a mooring).")
-    return FloatingStructure(TurbineModel(turbine), platform.hydro, platform.mooring, platform.radiation)
+    return FloatingStructure(TurbineModel(turbine), platform.hydro, platform.mooring, platform.radiation,
+                             structural_controls=structural_controls)

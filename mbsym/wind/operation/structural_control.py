@@ -299,3 +299,45 @@ def _refusals(s) -> list[str]:
                 out.append(f"{s.where(key)}: must be > 0 for StC_DOF_MODE = {s.dof_mode} with this DOF "
                            f"(StrucCtrl's own check); got {v[key]:g}")
     return out
+
+
+def structure_servodyn(turbine, t_end: float) -> StructuralControls | None:
+    """ServoDyn on a structure without aerodynamics (``mbsym simulate`` of an offshore deck without AeroDyn): its
+    StCs, after refusing every ServoDyn setting that would act and that such a run does not model.
+
+    Parameters
+    ----------
+    turbine : TurbineParameters
+        The deck; ``CompServo = 0`` gives None.
+    t_end : float
+        The simulated end time [s].
+
+    Raises
+    ------
+    UnsupportedFeatureError
+        A pitch or torque controller (``PCMode``, ``VSContrl`` ≠ 0 with GenDOF): a structure without
+        aerodynamics runs no controller.
+    OpenFASTFormatError
+        What :func:`~mbsym.wind.deck.servo_audit.servo_audit` refuses.
+    """
+    if not int(getattr(turbine.simulation, "servo_model", 0) or 0):
+        return None
+    from ..deck.servo_audit import servo_audit
+    from ..deck.servodyn import read_servodyn
+
+    s = read_servodyn(turbine.source_files["servodyn"])
+    dofs = dict(turbine.dofs)
+    speed = abs(turbine.gearbox_ratio) * turbine.initial_conditions.rotor_speed
+    servo_audit(s, dofs, float(t_end), generator_speed=speed)
+    active = [k for k, v in (("PCMode", s.pitch_control_mode), ("VSContrl", s.torque_control_mode if
+                                                                  dofs.get("GenDOF") else 0)) if v != 0]
+    if active:
+        raise UnsupportedFeatureError(f"{s.path}, line {s.lines.get(active[0], '?')}, key '{active[0]}': a structure "
+                                      "without aerodynamics (no AeroDyn) runs no controller; set PCMode = 0 and "
+                                      "VSContrl = 0 (ServoDyn then adds its yaw spring and its structural "
+                                      "controllers), or add AeroDyn to run the operating turbine.")
+    if dofs.get("YawDOF") and (s.yaw_spring or s.yaw_damping):
+        raise UnsupportedFeatureError(f"{s.path}, line {s.lines.get('YawSpr', '?')}, key 'YawSpr': ServoDyn's yaw "
+                                      "spring on a structure without aerodynamics is not wired; switch YawDOF off "
+                                      "or add AeroDyn.")
+    return structural_controls(s, turbine)
