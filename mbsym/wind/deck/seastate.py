@@ -26,7 +26,8 @@ __all__ = ["SeaStateInput", "read_seastate", "default_peak_shape", "WAVE_MODELS"
 _DEG = math.pi / 180.0
 #: SeaState WaveMod → meaning (10 is mbsym's code for ``1P#``: regular with a given phase, as SeaState's own).
 WAVE_MODELS = {0: "still water", 1: "regular", 10: "regular with a given phase", 2: "JONSWAP/Pierson-Moskowitz",
-               3: "white noise", 4: "user spectrum", 5: "external elevation series", 6: "external wave kinematics"}
+               3: "white noise", 4: "user spectrum", 5: "external elevation series", 6: "external wave kinematics",
+               7: "wave components from a file"}
 
 
 def default_peak_shape(wave_model: int, hs: float, tp: float) -> float:
@@ -115,6 +116,14 @@ class SeaStateInput:
         path = Path(self.kinematics_file.replace("\\", "/") + ".Elev")
         return path if path.is_absolute() else Path(self.path).parent / path
 
+    @property
+    def components_file(self) -> Path | None:
+        """The wave-component file (``WvKinFile`` itself) for WaveMod 7, else None."""
+        if self.wave_model != 7:
+            return None
+        path = Path(self.kinematics_file.replace("\\", "/"))
+        return path if path.is_absolute() else Path(self.path).parent / path
+
     def resolved(self, water_density: float, water_depth: float, msl_to_swl: float = 0.0) -> dict[str, float]:
         """Water density [kg/m^3], depth [m] and MSL-to-SWL offset [m], ``"default"`` replaced by the given ``.fst`` values."""
         pick = (lambda v, d: float(d) if v == "default" else float(v))
@@ -137,8 +146,8 @@ def _wave_model(f: _Lines) -> tuple[int | None, float]:
             return None, 0.0
     if text.lstrip("+-").isdigit() and int(text) in WAVE_MODELS:
         return int(text), 0.0
-    f.problem(line, "WaveMod", f"must be 0-6 or 1P<phase> ({', '.join(f'{k}: {v}' for k, v in WAVE_MODELS.items() if k != 10)}); "
-              f"got {text!r}. Fix the value in that line.")
+    names = ", ".join(f"{k}: {v}" for k, v in WAVE_MODELS.items() if k != 10)
+    f.problem(line, "WaveMod", f"must be 0-7 or 1P<phase> ({names}); got {text!r}. Fix the value in that line.")
     return None, 0.0
 
 

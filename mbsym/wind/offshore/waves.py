@@ -18,6 +18,8 @@ the elevation is the inverse transform, ``η(t_j) = (1/N) Σ C_k e^{iω_k t_j}``
   are numpy's (a :class:`~mbsym.exceptions.ModelWarning` says so);
 * **an external elevation series** (``WaveMod`` 5, ``<WvKinFile>.Elev``): its DFT, mean and Nyquist removed,
   cut off as above;
+* **wave components from a file** (``WaveMod`` 7, :mod:`.wave_components`): frequency, height, heading and phase
+  of each;
 * **directional spreading** (``WaveDirMod`` 1): a heading per component (:mod:`.spreading`);
 * **constrained waves** (``ConstWaveMod`` 1, 2 with ``WaveMod`` 2): a given crest embedded in the JONSWAP sea
   (:mod:`.constrained`).
@@ -261,7 +263,7 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     Raises
     ------
     UnsupportedFeatureError
-        Wave models 4 (user routine), 6 (external kinematics), 7 (wave components).
+        Wave models 4 (user routine), 6 (external kinematics).
     ParameterError
         Constrained waves (``ConstWaveMod`` 1, 2 with ``WaveMod`` 2, :mod:`.constrained`) with ``CrestHmax < WaveHs``.
     OpenFASTFormatError
@@ -277,9 +279,9 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     if mod == 0:
         return None
     where = f"{sea.path}"
-    if mod in (4, 6, 7):
+    if mod in (4, 6):
         raise UnsupportedFeatureError(f"{where}: WaveMod = {mod} ({sea.wave_model_name}) is not modelled; use 1, 1P#, 2, "
-                                      "3 or 5 (an external elevation series).")
+                                      "3, 5 (an external elevation series) or 7 (wave components).")
     if sea.constrained_wave_model and mod != 2:
         warnings.warn(f"{where}: ConstWaveMod = {sea.constrained_wave_model} has no effect with WaveMod = {mod}: "
                       "SeaState constrains JONSWAP seas (WaveMod 2) only, and so does mbsym.", ModelWarning,
@@ -291,6 +293,8 @@ def incident_waves(sea, *, gravity: float, water_depth: float) -> IncidentWaves 
     common = dict(direction=float(sea.wave_direction), water_depth=float(water_depth), gravity=float(gravity))
     if mod == 5:
         return _external(sea, n, dt, tmax, common)
+    if mod == 7:
+        return _components(sea, dt, tmax, common)
     dw = 2 * np.pi / (n * dt)
     omega = dw * np.arange(n // 2 + 1)
     uniforms = _generator(sea)
@@ -369,6 +373,18 @@ def _draws(sea, half: int, uniforms) -> np.ndarray:
         c2 = phase if phase is not None else 2 * np.pi * u2
         out[k] = c1 * complex(math.cos(c2), math.sin(c2))
     return out
+
+
+def _components(sea, dt: float, tmax: float, common: dict) -> IncidentWaves:
+    """The sea of a wave-component file (``WaveMod = 7``, :mod:`.wave_components`)."""
+    from .wave_components import component_spectrum, read_wave_components
+
+    components = read_wave_components(sea.components_file)
+    high = min(float(sea.high_cutoff), math.pi / dt)        # SeaState caps WvHiCOff at pi/WaveDT (the deck's)
+    spectrum, headings, dw, step = component_spectrum(components, time_max=tmax, time_step=dt,
+                                                      band=(float(sea.low_cutoff), high))
+    return IncidentWaves(step, spectrum, dw, description=f"{components.frequency.size} wave components from "
+                         f"{Path(components.path).name}", directions=headings, **common)
 
 
 def _external(sea, n: int, dt: float, tmax: float, common: dict) -> IncidentWaves:
