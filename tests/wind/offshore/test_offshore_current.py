@@ -67,11 +67,12 @@ def test_profile_matches_seastate_closed_form(tmp_path):
 
 @needs_deck
 def test_grid_interpolation_is_exact_at_the_grid_levels(tmp_path):
-    """NZ = 15 cosine-spaced levels from −200 m to 0: at the levels the current is the profile, between them the
+    """NZ = 15 cosine-spaced levels from −200 m to 0 (in single precision, as SeaState holds them: the deepest is
+    the seabed, where the sub-surface current is zero): at the levels the current is the profile, between them the
     grid's interpolant (off by up to a few per cent near the seabed, where the levels are 22 m apart)."""
     sea = seastate(tmp_path)
     current = sea_current(sea, 200.0)
-    levels = [-(1.0 - math.cos(k * math.pi / 28)) * 200.0 for k in range(15)]
+    levels = [float(np.float32(-(1.0 - math.cos(k * math.pi / 28)) * 200.0)) for k in range(15)]   # single, as SeaState
     got = current_at(current, sea, [(30.0 * k, -7.0, z) for k, z in enumerate(levels)])
     assert np.allclose(got, current.velocity(levels), atol=1e-12)       # off the x-y grid too: clamped, same value
     between = current_at(current, sea, [(0, 0, -10.0), (0, 0, -190.0)])
