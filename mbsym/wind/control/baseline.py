@@ -73,15 +73,17 @@ the range as inside.
 
 from __future__ import annotations
 
-import math
-
 import casadi as ca
 import numpy as np
 
 from ...exceptions import DimensionError, ParameterError
-from ._blocks import D2R, EPS, R2D, hpf1, interp1, interp2, lpf1, lpf2, notch, pi, rate_limit, sat
+from . import power_reference as prc
+from . import tower
+from ._blocks import interp1, lpf1, lpf2, notch, pi, rate_limit, sat
+from .estimator import RANGE_TOLERANCE, wind_estimate  # noqa: F401 (re-exported)
 from .ipc import IPC_DIAGNOSTICS, ipc_states, ipc_step
 from .settings import BaselineSettings
+from .tower import TRANSLATIONAL_MEASUREMENTS  # noqa: F401 (re-exported)
 
 __all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS", "IPC_MEASUREMENTS", "IPC_COMMANDS",
            "FLOATING_MEASUREMENTS"]
@@ -96,22 +98,21 @@ IPC_MEASUREMENTS = {**MEASUREMENTS, "RootMyc1": "N m", "RootMyc2": "N m", "RootM
 IPC_COMMANDS = {"BlPitchCom1": "rad", "BlPitchCom2": "rad", "BlPitchCom3": "rad", "GenTqCom": "N m"}
 #: Measurements the rotational floating feedback adds after the others (``floating_mode = 2``): the nacelle's
 #: pitching acceleration about the shaft's lateral axis (OpenFAST's ``NcIMURAys``, ServoDyn's record 83).
-FLOATING_MEASUREMENTS = {"NcIMURAys": "rad/s^2"}
-#: Measurements the translational floating feedback adds after the others (``floating_mode = 1``): the tower
+FLOATING_MEASUREMENTS = tower.ROTATIONAL_MEASUREMENTS
+#: (:data:`TRANSLATIONAL_MEASUREMENTS`, from :mod:`.tower`) Measurements the translational floating feedback
+#: (``floating_mode = 1``) and the tower damper (``tower_damper_mode = 1``) add after the others: the tower
 #: top's fore-aft and side-side accelerations in the tower-top axes (ServoDyn's records 53, 54) and the nacelle
 #: yaw (record 37), which ROSCO turns into the nacelle's fore-aft acceleration ``ax cos(yaw) + ay sin(yaw)``.
-TRANSLATIONAL_MEASUREMENTS = {"YawBrTAxp": "m/s^2", "YawBrTAyp": "m/s^2", "NacYaw": "rad"}
 #: Internal signals of the floating feedback, after :data:`DIAGNOSTICS` (``floating_mode = 2``; with
 #: ``floating_mode = 1``: ``FA_AccF``, ``FA_vel``, ``Fl_PitCom``).
 FLOATING_DIAGNOSTICS = ("NacIMU_FA_AccF", "NacIMU_FA_vel", "Fl_PitCom")
 TRANSLATIONAL_DIAGNOSTICS = ("FA_AccF", "FA_vel", "Fl_PitCom")
+#: Internal signals of the tower damper (``tower_damper_mode = 1``), last: the high-pass filtered fore-aft
+#: acceleration [m/s²] and the pitch increment [rad].
+TOWER_DAMPER_DIAGNOSTICS = ("FA_AccHPF", "FA_PitCom")
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
-#: Pitch below the estimator's range [rad] still counted in range (ROSCO: exactly 0; see _estimator).
-RANGE_TOLERANCE = 1e-12
-# ROSCO's fixed EKF constants (ControllerBlocks.f90): turbulence intensity, length scale / R, noise.
-_EKF_TI, _EKF_LENGTH, _EKF_R = 0.18, 6.0, 0.02
 
 
 #: Units of the controller's states by name (SI; filter states hold last inputs and outputs of the signal
@@ -125,7 +126,8 @@ STATE_UNITS = {
     "min_pitch": "rad", "pitch_integral": "rad", "torque_integral": "N m", "torque_last": "N m",
     "pitch_total_last": "rad", "pitch_last": "rad", "pitch_command_last": "rad", "root_filter": "N m",
     "ipc_integral": "rad", "ipc_filter": "rad", "floating_lowpass": "rad/s^2", "floating_highpass": "rad/s^2",
-    "floating_integral": "rad/s", "actuator_filter": "rad",
+    "floating_integral": "rad/s", "actuator_filter": "rad", "speed_notch": "rad/s",
+    "tower_damper_highpass": "m/s^2", "tower_damper_integral": "rad", "power_reference_filter": "m/s",
     "ekf_x": _EKF_X,
     "ekf_P": ("rad^2/s^2", "rad m/s^2", "rad m/s^2", "rad m/s^2", "m^2/s^2", "m^2/s^2", "rad m/s^2", "m^2/s^2",
               "m^2/s^2"),                                                # (x_i)(x_j)
@@ -136,7 +138,8 @@ STATE_UNITS = {
 def state_unit(name: str) -> str:
     """Unit of a controller state ``name`` (``"ekf_x[1]"``, ``"floating_notch1[0]"`` ...), "" if unknown."""
     base, _, index = name.partition("[")
-    base = "floating_highpass" if base.startswith("floating_notch") else base
+    base = "floating_highpass" if base.startswith("floating_notch") else \
+        "speed_notch" if base.startswith("speed_notch") else base
     unit = STATE_UNITS.get(base, "")
     return unit[int(index.rstrip("]"))] if isinstance(unit, tuple) else unit
 
@@ -210,11 +213,11 @@ class BaselineController:
         self.floating = settings.floating_mode > 0
         measured = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
         translational = settings.floating_mode == 1
-        floating = tuple(TRANSLATIONAL_MEASUREMENTS if translational else FLOATING_MEASUREMENTS)
-        self.measurements = self.measurement_names = measured + (floating if self.floating else ())
+        self.measurements = self.measurement_names = measured + tower.extra_measurements(settings)
         self.commands = self.command_names = tuple(IPC_COMMANDS if self.ipc else COMMANDS)
         self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ()) + \
-            ((TRANSLATIONAL_DIAGNOSTICS if translational else FLOATING_DIAGNOSTICS) if self.floating else ())
+            ((TRANSLATIONAL_DIAGNOSTICS if translational else FLOATING_DIAGNOSTICS) if self.floating else ()) + \
+            (TOWER_DAMPER_DIAGNOSTICS if settings.tower_damper_mode else ())
         states = self._layout()
         x = ca.SX.sym("xc", len(states.names))
         y = ca.SX.sym("y", len(self.measurements))
@@ -246,6 +249,8 @@ class BaselineController:
         st.add("first", x0=1.0)
         speed_states = 2 if s.speed_filter_order == 1 else 4
         st.add("gen_speed_filter", speed_states)
+        for k in range(len(s.speed_notch_freqs)):
+            st.add(f"speed_notch{k + 1}", 4)
         st.add("rot_speed_filter", speed_states)
         st.add("estimate_filter", 2)
         st.add("torque_filter", 4)
@@ -277,6 +282,11 @@ class BaselineController:
             st.add("floating_integral")
         if s.actuator_mode:
             st.add("actuator_filter", (2 if s.actuator_mode == 1 else 4) * blades)
+        if s.tower_damper_mode:
+            st.add("tower_damper_highpass", 2)
+            st.add("tower_damper_integral")
+        if s.power_reference_mode == 1:
+            st.add("power_reference_filter", 2)
         return st
 
     # ------------------------------------------------------------------ one step
@@ -303,6 +313,9 @@ class BaselineController:
 
         # --- 1. filters
         gen_f, nxt["gen_speed_filter"] = self._speed_filter(gen_speed, x["gen_speed_filter"], r)
+        for k, (w, bn, bd) in enumerate(zip(s.speed_notch_freqs, s.speed_notch_beta_num, s.speed_notch_beta_den)):
+            gen_f, st = notch(gen_f, _split4(x[f"speed_notch{k + 1}"]), w, bn, bd, dt, r)     # ROSCO's order
+            nxt[f"speed_notch{k + 1}"] = ca.vertcat(*st)
         rot_f, nxt["rot_speed_filter"] = self._speed_filter(rot_speed, x["rot_speed_filter"], r)
         est_f, a, b = lpf1(last_estimate, *_split2(x["estimate_filter"]), s.estimate_filter_corner, dt, r)
         nxt["estimate_filter"] = ca.vertcat(a, b)
@@ -311,13 +324,19 @@ class BaselineController:
         pitch_f, p_states = lpf2(pitch, _split4(x["pitch_filter"]), 0.25 * s.speed_filter_corner, 0.7, dt, r)
         nxt["pitch_filter"] = ca.vertcat(*p_states)
         if self.floating:
-            acc_f = self._floating_filter(x, nxt, r, self._floating_signal(y))
+            acc_f = tower.floating_filter(s, dt, x, nxt, r, tower.floating_signal(s, self.measurements, y, r))
+        if s.tower_damper_mode:
+            fa_signal = tower.fore_aft_acceleration(self.measurements, y, r)
+            fa_pitch, fa_acc = tower.tower_damper(s, dt, x, nxt, r, fa_signal)
 
         # --- 2. wind-speed estimate
-        estimate, op, cp_op = self._estimator(x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
+        estimate, op, cp_op = wind_estimate(s, dt, x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
 
-        # --- 3. set-points
-        ref_pitch_speed = s.pitch_reference_speed - ca.fmin(shift_prev, 0.0)
+        # --- 3. set-points (power reference: ROSCO's ratings, PRC_Mode 2, or speed table, PRC_Mode 1)
+        r_speed, r_torque, r_pitch = prc.ratings(s)
+        prc_speed = prc.scheduled_speed(s, dt, x, nxt, r, estimate)
+        ref_pitch_speed = s.pitch_reference_speed * r_speed if prc_speed is None else prc_speed
+        ref_pitch_speed = ref_pitch_speed - ca.fmin(shift_prev, 0.0)
         pitch_error = ref_pitch_speed - gen_f
         if s.torque_mode == 2:
             tsr_ref = s.optimal_tsr * estimate / s.rotor_radius * s.gearbox_ratio
@@ -327,7 +346,8 @@ class BaselineController:
             tsr_ref = ca.SX(s.rated_generator_speed)
         ref, a, b = lpf1(tsr_ref, *_split2(x["reference_filter"]), s.reference_filter_corner, dt, r)
         nxt["reference_filter"] = ca.vertcat(a, b)
-        ref = sat(ref, s.min_generator_speed, s.rated_generator_speed)
+        ref = sat(ref, s.min_generator_speed, s.rated_generator_speed * r_speed)
+        ref = ref if prc_speed is None else prc_speed
         ref = ref - ca.fmax(shift_prev, 0.0)
         ref = ca.fmax(ref, s.min_generator_speed)
         torque_error = ref - gen_f
@@ -336,7 +356,8 @@ class BaselineController:
         # --- 4. set-point smoother
         if s.setpoint_smoothing:
             shift = ((pitch - x["min_pitch"]) / 0.524 * s.smoother_torque_gain
-                     - (s.rated_power - x["last_power"]) / s.rated_power * s.smoother_power_gain) \
+                     - (s.rated_power * (r_speed * r_torque * r_pitch) - x["last_power"]) / s.rated_power
+                     * s.smoother_power_gain) \
                 * s.pitch_reference_speed
             shift_f, a, b = lpf1(shift, *_split2(x["smoother_filter"]), s.smoother_corner, dt, r)
             nxt["smoother_filter"] = ca.vertcat(a, b)
@@ -345,8 +366,8 @@ class BaselineController:
             nxt["smoother_filter"] = ca.SX.zeros(2)
 
         # --- 5. torque
-        torque, state_code = self._torque(x, nxt, r, gen_f, gen_speed, torque_error, pitch, region3_pitch,
-                                          last_torque)
+        torque, state_code = self._torque(x, nxt, r, gen_f, torque_error, pitch, region3_pitch, last_torque,
+                                          r_torque)
         nxt["last_power"] = power
 
         # --- 6. pitch
@@ -356,21 +377,21 @@ class BaselineController:
                                           x["pitch_integral"], pitch_blade1, r)
         if self.ipc:
             ipc_pitch, ipc_diag = ipc_step(s, dt, x, nxt, r, [y[5], y[6], y[7]], y[8], rot_f, estimate, pitch)
-        if s.peak_shaving:
-            min_pitch = ca.fmax(interp1(s.min_pitch_wind_speeds, s.min_pitch_schedule, "ps_min")(est_f),
-                                s.fine_pitch)
+        if s.peak_shaving:    # ROSCO's PitchSaturation: the higher of peak shaving and the pitch rating's pitch
+            min_pitch = interp1(s.min_pitch_wind_speeds, s.min_pitch_schedule, "ps_min")(est_f)
+            rating_pitch = prc.rating_min_pitch(s)
+            min_pitch = ca.fmax(min_pitch if rating_pitch is None else ca.fmax(min_pitch, rating_pitch), s.fine_pitch)
         else:
             min_pitch = ca.SX(s.fine_pitch)
         nxt["min_pitch"] = min_pitch
         if self.floating:       # ROSCO's FloatingFeedback: −Kp × the integrated, filtered acceleration
-            velocity, nxt["floating_integral"] = pi(acc_f, 0.0, 1.0, -100.0, 100.0, dt, x["floating_integral"],
-                                                    0.0, r)
-            fl_pitch = -velocity * interp1(s.floating_wind_speeds, s.floating_kp, "fl_kp")(est_f)
+            gain = interp1(s.floating_wind_speeds, s.floating_kp, "fl_kp")(est_f)
+            fl_pitch, velocity = tower.floating_pitch(s, dt, x, nxt, r, acc_f, gain)
             total = total + fl_pitch
         total = sat(total, min_pitch, s.pitch_max)
         total, nxt["pitch_total_last"] = rate_limit(total, x["pitch_total_last"], s.pitch_rate_min,
                                                     s.pitch_rate_max, dt, r, pitch)
-        demand = sat(total, min_pitch, s.pitch_max)
+        demand = sat(total + fa_pitch if s.tower_damper_mode else total, min_pitch, s.pitch_max)
         if self.ipc:
             commands = self._blade_commands(x, nxt, r, demand + ca.vertcat(*ipc_pitch), min_pitch, pitch_meas)
         else:
@@ -378,7 +399,7 @@ class BaselineController:
 
         diag = [gen_f, rot_f, estimate, est_f, op, min_pitch, ref_pitch_speed, pitch_error, kp, ki, total, ref,
                 torque_error, shift_f, state_code, cp_op] + (ipc_diag if self.ipc else []) + \
-            ([acc_f, velocity, fl_pitch] if self.floating else [])
+            ([acc_f, velocity, fl_pitch] if self.floating else []) + ([fa_acc, fa_pitch] if s.tower_damper_mode else [])
         return nxt, commands + [ca.fmax(torque, 0.0)], diag
 
     def _blade_commands(self, x, nxt, r, demand, min_pitch, reset_pitch):
@@ -410,30 +431,6 @@ class BaselineController:
         nxt["actuator_filter"] = ca.vertcat(*st)
         return out
 
-    def _floating_signal(self, y):
-        """What the floating feedback filters: the nacelle's pitching acceleration [rad/s²] (``Fl_Mode 2``), or the
-        nacelle's fore-aft acceleration [m/s²] from the tower top's, turned by the yaw (``Fl_Mode 1``, ROSCO's
-        ``FA_Acc_Nac``)."""
-        n = len(self.measurements)
-        if self.settings.floating_mode == 1:
-            ax, ay, yaw = y[n - 3], y[n - 2], y[n - 1]
-            return ax * ca.cos(yaw) + ay * ca.sin(yaw)
-        return y[n - 1]
-
-    def _floating_filter(self, x, nxt, r, acceleration):
-        """ROSCO's filtering of the floating feedback's acceleration (``Fl_Mode 1`` and ``2`` alike): zero at the
-        first call, then second-order low-pass, first-order high-pass and the tower-top notch filters."""
-        s, dt = self.settings, self.dt
-        u = ca.if_else(r, 0.0, acceleration)
-        u, st = lpf2(u, _split4(x["floating_lowpass"]), s.floating_filter_corner, s.floating_filter_damping, dt, r)
-        nxt["floating_lowpass"] = ca.vertcat(*st)
-        u, a, b = hpf1(u, *_split2(x["floating_highpass"]), s.floating_highpass_corner, dt, r)
-        nxt["floating_highpass"] = ca.vertcat(a, b)
-        for k, (w, bn, bd) in enumerate(zip(s.tower_notch_freqs, s.tower_notch_beta_num, s.tower_notch_beta_den)):
-            u, st = notch(u, _split4(x[f"floating_notch{k + 1}"]), w, bn, bd, dt, r)
-            nxt[f"floating_notch{k + 1}"] = ca.vertcat(*st)
-        return u
-
     def _speed_filter(self, signal, states, r):
         s = self.settings
         if s.speed_filter_order == 1:
@@ -442,75 +439,11 @@ class BaselineController:
         y, st = lpf2(signal, _split4(states), s.speed_filter_corner, s.speed_filter_damping, self.dt, r)
         return y, ca.vertcat(*st)
 
-    def _estimator(self, x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate):
-        """ROSCO's WindSpeedEstimator: input saturation, EKF, fallback to the filtered hub wind."""
+    def _torque(self, x, nxt, r, gen_f, error, pitch, region3_pitch, last_torque, rating):
+        """ROSCO's VariableSpeedControl (modes 1, 2 and 3) and its state machine; ``rating``: ``PRC_R_Torque``."""
         s, dt = self.settings, self.dt
-        min_speed = 0.25 * s.min_generator_speed / s.gearbox_ratio
-        speed_in = ca.if_else(rot_f < min_speed, min_speed + EPS, rot_f)
-        max_pitch = (s.cp_pitch[-1] * 180.0 / math.pi) * D2R if s.cp_pitch else 0.0
-        pitch_in = sat(pitch, s.pitch_min, max_pitch)
-        torque_min = 1e-4 * s.rated_torque
-        torque_in = ca.if_else(torque_f < torque_min, torque_min, torque_f)
-        op_last = ca.if_else(r, 1.0, x["estimator_on"])
-        # ROSCO tests "input was saturated" with exact comparisons; a rounding residual (a rate-limited pitch
-        # arriving at the minimum as -3e-20 rad) then switches its estimator off for one step and restarts
-        # the EKF. We accept residuals below RANGE_TOLERANCE [rad] on the pitch (see the module docstring).
-        op = ca.if_else((ca.fabs(pitch_in - pitch) > RANGE_TOLERANCE) + (torque_in != torque_f) +
-                        (speed_in != rot_f), 0.0, 1.0)
-        restart = r + (op != op_last) if s.wind_estimator > 0 else r
-        restart = restart > 0
-        nxt["estimator_on"] = op
-        hub_f, a, b = lpf1(hub_wind, *_split2(x["hub_wind_filter"]), s.estimate_filter_corner / 10.0, dt,
-                           restart, initial=last_estimate)
-        nxt["hub_wind_filter"] = ca.vertcat(a, b)
-        if s.wind_estimator != 2:
-            nxt.update(ekf_x=x["ekf_x"], ekf_P=x["ekf_P"], ekf_K=x["ekf_K"], wind_estimate=hub_f)
-            return hub_f, op, ca.SX(0.0)
-        xh, P, K = x["ekf_x"], ca.reshape(x["ekf_P"], 3, 3), x["ekf_K"]
-        # restart values
-        vm0 = ca.fmax(hub_f, 3.0)
-        xh_restart = ca.vertcat(speed_in, 0.0, vm0)
-        P_restart = ca.diag(ca.vertcat(0.01, 0.01, 1.0))
-        # prediction and update
-        om_r, vt, vm = ca.fmax(xh[0], EPS), xh[1], xh[2]
-        vh = vt + vm
-        R, J, rho, L = s.rotor_radius, s.drivetrain_inertia, s.air_density, _EKF_LENGTH * s.rotor_radius
-        area = math.pi * R**2
-        pole = interp1(s.estimator_wind_speeds, s.estimator_poles, "we_poles")(vh)
-        cp_lookup = interp2(np.asarray(s.cp_pitch) * 180.0 / math.pi, s.cp_tsr, s.cp, "we_cp")
-        cp_raw = cp_lookup(pitch_in * R2D, ca.fmax(speed_in, EPS) * R / vh)
-        cp_op = ca.fmax(0.0, cp_raw)
-        F = ca.SX.zeros(3, 3)
-        F[0, 0] = pole
-        F[0, 1] = 1.0 / (2.0 * J) * rho * math.pi * R**2.0 * 1.0 / om_r * 3.0 * cp_op * vh**2.0
-        F[0, 2] = F[0, 1]
-        F[1, 1] = -math.pi * vm / (2.0 * L)
-        F[1, 2] = -math.pi * vt / (2.0 * L)
-        Q = ca.diag(ca.vertcat(1e-5, math.pi * vm**3.0 * _EKF_TI**2.0 / L, 2.0**2.0 / 600.0))
-        wind = ca.fmax(last_estimate, EPS)
-        tau = ca.fmax(0.5 * (rho * area) * (last_estimate**3 / speed_in) *
-                      cp_lookup(pitch_in * R2D, speed_in * R / wind), 0.0)
-        dx = ca.vertcat(1.0 / J * (tau - s.gearbox_ratio * torque_in), -math.pi * vm / (2.0 * L) * vt, 0.0)
-        xp = xh + dt * dx
-        Pp = P + dt * (F @ P + P @ F.T + Q - (K * _EKF_R) @ K.T)
-        K_new = Pp[:, 0] / (Pp[0, 0] + _EKF_R)
-        xu = xp + K_new * (speed_in - om_r)
-        H = ca.horzcat(1.0, 0.0, 0.0)
-        Pu = (ca.SX.eye(3) - K_new @ H) @ Pp
-        # select
-        run = op > 0
-        xh_next = ca.if_else(run, ca.if_else(restart, xh_restart, xu), xh)
-        P_next = ca.if_else(run, ca.if_else(restart, P_restart, Pu), P)
-        K_next = ca.if_else(run, ca.if_else(restart, ca.SX.zeros(3), K_new), K)
-        estimate = ca.if_else(run, xh_next[1] + xh_next[2], hub_f)
-        nxt.update(ekf_x=xh_next, ekf_P=ca.vec(P_next), ekf_K=K_next, wind_estimate=estimate)
-        return estimate, op, cp_op
-
-    def _torque(self, x, nxt, r, gen_f, gen_speed, error, pitch, region3_pitch, last_torque):
-        """ROSCO's VariableSpeedControl (modes 1, 2 and 3) and its state machine."""
-        s, dt = self.settings, self.dt
-        const_power_torque = (s.rated_power / s.generator_efficiency) / gen_f
-        max_torque = ca.fmin(const_power_torque, s.torque_max) if s.constant_power else ca.SX(s.rated_torque)
+        const_power_torque = (s.rated_power / s.generator_efficiency) / gen_f * rating
+        max_torque = ca.fmin(const_power_torque, s.torque_max) if s.constant_power else ca.SX(s.rated_torque * rating)
         if s.torque_mode in (2, 3):
             torque, nxt["torque_integral"] = pi(error, s.torque_kp, s.torque_ki, s.torque_min, max_torque, dt,
                                                 x["torque_integral"], last_torque, r)

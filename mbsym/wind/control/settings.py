@@ -5,13 +5,14 @@ uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
 (``VS_GenEff`` % becomes a fraction, every other value keeps ROSCO's SI unit).
 :meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
 table it names, for the wind-speed estimator) and refuses, naming file and line,
-the ROSCO features the baseline does not implement (yaw control, power
-reference, start-up/shut-down,
-tower damper, generator-speed notch filters, fixed-pitch torque control, the I&I
+the ROSCO features the baseline does not implement (yaw control, start-up/shut-down,
+power reference from open-loop or ZeroMQ inputs, fixed-pitch torque control, the I&I
 estimator, ...); use :class:`~mbsym.wind.control.discon.DisconController` with the
 library for those. Modelled besides the land scheme: the floating feedback, translational
-``Fl_Mode 1`` and rotational ``Fl_Mode 2``, with its filters (:data:`FLOATING_MAP`) and the pitch actuator
-model ``PA_Mode`` 1 and 2 (:data:`ACTUATOR_MAP`).
+``Fl_Mode 1`` and rotational ``Fl_Mode 2``, with its filters (:data:`FLOATING_MAP`), the pitch actuator
+model ``PA_Mode`` 1 and 2 (:data:`ACTUATOR_MAP`), the generator-speed notch filters (``F_GenSpdNotch_N``),
+the tower fore-aft damper ``TD_Mode 1`` (:data:`TOWER_DAMPER_MAP`) and the power reference ``PRC_Mode`` 1
+and 2 with constant ratings (``PRC_Comm 0``, :data:`POWER_REFERENCE_MAP`).
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ import numpy as np
 
 from ...exceptions import ControllerError, OpenFASTFormatError, ParameterError
 
-__all__ = ["BaselineSettings", "DISCON_MAP", "IPC_MAP", "FLOATING_MAP", "ACTUATOR_MAP", "UNSUPPORTED_MODES"]
+__all__ = ["BaselineSettings", "DISCON_MAP", "IPC_MAP", "FLOATING_MAP", "ACTUATOR_MAP", "TOWER_DAMPER_MAP",
+           "POWER_REFERENCE_MAP", "UNSUPPORTED_MODES"]
 
 #: DISCON.IN key → BaselineSettings attribute.
 DISCON_MAP = {
@@ -59,13 +61,23 @@ FLOATING_MAP = {
 }
 #: DISCON.IN keys of the pitch actuator model → BaselineSettings attribute (read when PA_Mode > 0).
 ACTUATOR_MAP = {"PA_Mode": "actuator_mode", "PA_CornerFreq": "actuator_corner", "PA_Damping": "actuator_damping"}
+#: DISCON.IN keys of the tower fore-aft damper → BaselineSettings attribute (read when TD_Mode > 0).
+TOWER_DAMPER_MAP = {"TD_Mode": "tower_damper_mode", "FA_KI": "tower_damper_ki",
+                    "FA_HPFCornerFreq": "tower_damper_highpass_corner", "FA_IntSat": "tower_damper_limit"}
+#: DISCON.IN keys of the power reference → BaselineSettings attribute (read when PRC_Mode > 0; the ratings and
+#: their pitch table with PRC_Mode 2 only).
+POWER_REFERENCE_MAP = {
+    "PRC_Mode": "power_reference_mode", "PRC_LPF_Freq": "power_reference_filter_corner",
+    "PRC_WindSpeeds": "power_reference_wind_speeds", "PRC_GenSpeeds": "power_reference_generator_speeds",
+    "PRC_R_Speed": "power_rating_speed", "PRC_R_Torque": "power_rating_torque", "PRC_R_Pitch": "power_rating_pitch",
+    "PRC_R_Table": "power_rating_table", "PRC_Pitch_Table": "power_rating_min_pitch",
+}
 #: Modes the baseline does not implement: key → the values it accepts.
 UNSUPPORTED_MODES = {
-    "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0,), "SU_Mode": (0,), "SD_Mode": (0,),
-    "Fl_Mode": (0, 1, 2), "TD_Mode": (0,), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
+    "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0, 1, 2), "SU_Mode": (0,), "SD_Mode": (0,),
+    "Fl_Mode": (0, 1, 2), "TD_Mode": (0, 1), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
     "VS_FBP": (0,), "VS_ControlMode": (1, 2, 3), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
-    "F_GenSpdNotch_N": (0,),
 }
 
 
@@ -92,6 +104,19 @@ class BaselineSettings:
     integrator limit ``ipc_integrator_limit`` [rad]; ``ipc_saturation_mode`` 0-3
     (ROSCO's ``IPC_SatMode``); the corner frequency of the low-pass filter on the IPC
     commands ``ipc_actuator_corner`` [rad/s] (0: none).
+
+    Generator-speed notch filters (ROSCO's ``F_GenSpdNotch_Ind``, after the speed low-pass): natural frequencies
+    ``speed_notch_freqs`` [rad/s] and numerator/denominator damping ``speed_notch_beta_num``,
+    ``speed_notch_beta_den`` [-] (empty: none). Tower fore-aft damper (``tower_damper_mode = 1``, ROSCO's
+    ``TD_Mode``): the nacelle's fore-aft acceleration, high-pass filtered at ``tower_damper_highpass_corner``
+    [rad/s], integrated with the gain ``tower_damper_ki`` [rad s/m] and limited to ±``tower_damper_limit``
+    [rad], is added to the collective pitch. Power reference (``power_reference_mode``, ROSCO's ``PRC_Mode``;
+    :mod:`~mbsym.wind.control.power_reference`): 1, the generator-speed set-points from the wind-speed estimate
+    low-pass filtered at ``power_reference_filter_corner`` [rad/s] through the table
+    ``power_reference_wind_speeds`` [m/s] → ``power_reference_generator_speeds`` [rad/s]; 2, the constant
+    ratings ``power_rating_speed``, ``power_rating_torque``, ``power_rating_pitch`` [-] scale the speed
+    set-points, the torque limit and the smoother's rated power, and the minimum pitch (with peak shaving) is
+    at least ``power_rating_min_pitch`` [rad] at ``power_rating_pitch`` in ``power_rating_table`` [-].
     """
 
     dt: float
@@ -162,6 +187,22 @@ class BaselineSettings:
     actuator_mode: int = 0
     actuator_corner: float = 0.0
     actuator_damping: float = 0.0
+    speed_notch_freqs: tuple[float, ...] = ()
+    speed_notch_beta_num: tuple[float, ...] = ()
+    speed_notch_beta_den: tuple[float, ...] = ()
+    tower_damper_mode: int = 0
+    tower_damper_ki: float = 0.0
+    tower_damper_highpass_corner: float = 0.0
+    tower_damper_limit: float = 0.0
+    power_reference_mode: int = 0
+    power_reference_filter_corner: float = 0.0
+    power_reference_wind_speeds: tuple[float, ...] = ()
+    power_reference_generator_speeds: tuple[float, ...] = ()
+    power_rating_speed: float = 1.0
+    power_rating_torque: float = 1.0
+    power_rating_pitch: float = 1.0
+    power_rating_table: tuple[float, ...] = ()
+    power_rating_min_pitch: tuple[float, ...] = ()
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -222,6 +263,7 @@ class BaselineSettings:
                 p.append(f"{name} must be > 0; got {getattr(self, name)}")
         p += self._ipc_problems()
         p += self._floating_problems()
+        p += self._mode_problems()
         if p:
             raise ParameterError("BaselineSettings: " + "; ".join(p) + ".")
 
@@ -270,6 +312,23 @@ class BaselineSettings:
             p.append("the pitch actuator model needs actuator_corner > 0 (and actuator_damping > 0 with mode 2)")
         return p
 
+    def _mode_problems(self) -> list[str]:
+        """The notch filters, the tower damper and the power reference (ROSCO's checks and ours)."""
+        from .power_reference import power_reference_problems
+
+        p = []
+        notches = (self.speed_notch_freqs, self.speed_notch_beta_num, self.speed_notch_beta_den)
+        if len({len(v) for v in notches}) != 1:
+            p.append("speed_notch_freqs, speed_notch_beta_num and speed_notch_beta_den must have the same length")
+        if any(w <= 0 for w in self.speed_notch_freqs) or any(b <= 0 for b in self.speed_notch_beta_den):
+            p.append("speed_notch_freqs and speed_notch_beta_den must be > 0 (as ROSCO requires)")
+        if self.tower_damper_mode not in (0, 1):
+            p.append(f"tower_damper_mode must be 0 (off) or 1 (ROSCO's TD_Mode); got {self.tower_damper_mode}")
+        elif self.tower_damper_mode and not (self.tower_damper_highpass_corner > 0 and self.tower_damper_limit >= 0):
+            p.append("the tower damper needs tower_damper_highpass_corner > 0 [rad/s] and tower_damper_limit >= 0 "
+                     "[rad]")
+        return p + power_reference_problems(self)
+
     def replace(self, **changes) -> BaselineSettings:
         """A copy with some settings changed (validated again)."""
         return replace(self, **changes)
@@ -316,6 +375,15 @@ class BaselineSettings:
             values.update(_floating(d))
         if d["PA_Mode"] > 0:
             values.update({attr: d[key] for key, attr in ACTUATOR_MAP.items()})
+        if int(d["F_GenSpdNotch_N"]) > 0:
+            values.update(zip(("speed_notch_freqs", "speed_notch_beta_num", "speed_notch_beta_den"),
+                              _notches(d, "F_GenSpdNotch")))
+        if d["TD_Mode"] > 0:
+            values.update({attr: d[key] for key, attr in TOWER_DAMPER_MAP.items()})
+        if d["PRC_Mode"] > 0:
+            from .power_reference import power_reference_values
+
+            values.update(power_reference_values(d))
         if d["WE_Mode"] == 2:
             table = performance if isinstance(performance, PerformanceTable) else \
                 read_performance_table(performance if performance is not None else _performance_path(d))
@@ -337,18 +405,22 @@ def _floating(d) -> dict:
         raise ControllerError(f"{d.where('F_FlCornerFreq')}: expected two values (natural frequency [rad/s] and "
                               f"damping [-]); got {corner.tolist()}.")
     out["floating_filter_corner"], out["floating_filter_damping"] = float(corner[0]), float(corner[1])
-    count = int(d["F_TwrTopNotch_N"]) if "F_TwrTopNotch_N" in d.values else 0
-    index = [int(i) for i in np.atleast_1d(d["F_TwrTopNotch_Ind"])[:count]] if count else []
+    out["tower_notch_freqs"], out["tower_notch_beta_num"], out["tower_notch_beta_den"] = _notches(d, "F_TwrTopNotch")
+    return out
+
+
+def _notches(d, prefix: str) -> tuple[tuple[float, ...], ...]:
+    """(frequencies [rad/s], numerator and denominator damping [-]) of the notch filters ``<prefix>_Ind`` names
+    among ``F_NotchFreqs``, ``F_NotchBetaNum``, ``F_NotchBetaDen`` (1-based, in ROSCO's order of application)."""
+    count = int(d[f"{prefix}_N"]) if f"{prefix}_N" in d.values else 0
+    index = [int(i) for i in np.atleast_1d(d[f"{prefix}_Ind"])[:count]] if count else []
     freqs, num, den = (np.atleast_1d(d[k]).astype(float) for k in ("F_NotchFreqs", "F_NotchBetaNum",
                                                                     "F_NotchBetaDen"))
     bad = [i for i in index if not 1 <= i <= min(freqs.size, num.size, den.size)]
     if bad:
-        raise ControllerError(f"{d.where('F_TwrTopNotch_Ind')}: notch indices {bad} outside 1..{freqs.size} "
+        raise ControllerError(f"{d.where(f'{prefix}_Ind')}: notch indices {bad} outside 1..{freqs.size} "
                               "(F_NotchFreqs). Fix the indices or F_NumNotchFilts.")
-    out["tower_notch_freqs"] = tuple(freqs[i - 1] for i in index)
-    out["tower_notch_beta_num"] = tuple(num[i - 1] for i in index)
-    out["tower_notch_beta_den"] = tuple(den[i - 1] for i in index)
-    return out
+    return tuple(tuple(v[i - 1] for i in index) for v in (freqs, num, den))
 
 
 def _check_ipc(d) -> None:

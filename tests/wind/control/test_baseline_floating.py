@@ -142,9 +142,9 @@ def test_unsupported_modes_are_refused(tmp_path):
     ctrl = BaselineController.from_discon(need(DISCON), dt=DT)
     with pytest.raises(ParameterError, match="floating_mode must be 0"):
         ctrl.settings.replace(floating_mode=3)
-    text = need(DISCON).read_text().replace("0                   ! TD_Mode", "1                   ! TD_Mode")
+    text = need(DISCON).read_text().replace("0                   ! TRA_Mode", "1                   ! TRA_Mode")
     assert text != DISCON.read_text()
     table = DISCON.parent.parent / "IEA-15-240-RWT" / "Cp_Ct_Cq.IEA15MW.txt"
     (tmp_path / "DISCON.IN").write_text(text.replace('"../IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt"', f'"{table}"'))
-    with pytest.raises(ControllerError, match=r"line \d+, key 'TD_Mode': TD_Mode = 1 is not supported"):
+    with pytest.raises(ControllerError, match=r"line \d+, key 'TRA_Mode': TRA_Mode = 1 is not supported"):
         BaselineController.from_discon(tmp_path / "DISCON.IN", dt=DT)
