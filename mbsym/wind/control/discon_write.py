@@ -4,7 +4,10 @@ The inverse of :meth:`BaselineSettings.from_discon`: every key of
 :data:`~mbsym.wind.deck.discon_in.DISCON_KEYS` (all the keys ROSCO 2.10.6 reads) is written, one per
 line in ROSCO's layout ``<value(s)>   ! <Key>``. The keys of :data:`~.settings.DISCON_MAP` (and of
 :data:`~.settings.IPC_MAP` / :data:`~.settings.ACTUATOR_MAP` when their mode is on) come from the
-settings, converted back to ROSCO's units (``VS_GenEff`` in %); the lengths of their vectors
+settings, converted back to ROSCO's units (``VS_GenEff`` in %); so do, when the settings have them, the
+generator-speed notch filters (``F_NumNotchFilts``, ``F_Notch*``, ``F_GenSpdNotch_N``/``_Ind``), the tower
+damper (:data:`~.settings.TOWER_DAMPER_MAP`) and the power reference (:data:`~.settings.POWER_REFERENCE_MAP`
+with ``PRC_Comm`` 0, ``PRC_n``, ``PRC_Table_n``); the lengths of their vectors
 (``PC_GS_n``, ``VS_n``, ``WE_FOPoles_N``, ``PS_BldPitchMin_N``) and the performance file
 (``PerfFileName``, ``PerfTableSize``) follow from them; every other key takes its value from
 ``other`` (the modes the baseline does not implement, their parameters, logging), else ROSCO's
@@ -25,7 +28,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ...exceptions import ControllerError, ParameterError
-from .settings import ACTUATOR_MAP, DISCON_MAP, IPC_MAP, BaselineSettings
+from .settings import ACTUATOR_MAP, DISCON_MAP, IPC_MAP, POWER_REFERENCE_MAP, TOWER_DAMPER_MAP, BaselineSettings
 
 __all__ = ["write_discon_in", "discon_in_values", "HEADER"]
 
@@ -80,9 +83,16 @@ def _from_settings(s: BaselineSettings, performance_file: str) -> dict[str, Any]
     out.update(PC_GS_n=len(s.schedule_pitch), VS_n=1, WE_FOPoles_N=len(s.estimator_wind_speeds),
                PS_BldPitchMin_N=len(s.min_pitch_wind_speeds), PerfFileName=performance_file,
                PerfTableSize=[len(s.cp_pitch), len(s.cp_tsr)])
-    for mode, table in (("ipc_mode", IPC_MAP), ("actuator_mode", ACTUATOR_MAP)):
+    for mode, table in (("ipc_mode", IPC_MAP), ("actuator_mode", ACTUATOR_MAP), ("tower_damper_mode", TOWER_DAMPER_MAP),
+                        ("power_reference_mode", POWER_REFERENCE_MAP)):
         if getattr(s, mode):
             out.update({key: getattr(s, attr) for key, attr in table.items()})
+    if s.power_reference_mode:
+        out.update(PRC_Comm=0, PRC_n=len(s.power_reference_wind_speeds), PRC_Table_n=len(s.power_rating_table))
+    n = len(s.speed_notch_freqs)
+    if n:
+        out.update(F_NumNotchFilts=n, F_NotchFreqs=s.speed_notch_freqs, F_NotchBetaNum=s.speed_notch_beta_num,
+                   F_NotchBetaDen=s.speed_notch_beta_den, F_GenSpdNotch_N=n, F_GenSpdNotch_Ind=list(range(1, n + 1)))
     return out
 
 
@@ -131,7 +141,7 @@ def write_discon_in(settings: BaselineSettings, path, *, performance=None, other
     lines = [HEADER] + ([f"! {title}"] if title else []) + \
         ["! Keys mapped to BaselineSettings are marked with the attribute; the others are the modes and",
          "! parameters mbsym's baseline does not model (see mbsym.wind.control.settings).", ""]
-    attrs = {**DISCON_MAP, **IPC_MAP, **ACTUATOR_MAP}
+    attrs = {**DISCON_MAP, **IPC_MAP, **ACTUATOR_MAP, **TOWER_DAMPER_MAP, **POWER_REFERENCE_MAP}
     for key, value in values.items():
         note = f" - BaselineSettings.{attrs[key]}" if key in attrs else ""
         lines.append(f"{_format(value):<23s} ! {key}{note}")

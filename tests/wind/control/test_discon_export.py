@@ -135,6 +135,28 @@ def test_individual_pitch_control_exports_and_matches(compiler, tmp_path):
         _library_run(out, t[:2], y[:2], ctrl.measurements, ctrl.commands, dt, individual_pitch=False)
 
 
+def test_notches_tower_damper_and_power_rating_export_and_match(compiler, tmp_path):
+    # Generator-speed notch filters, the tower damper (records 53, 54, 37 read) and PRC_Mode 2 ratings at once
+    # (the settings of test_baseline_modes.py): the exported library is the law on float32 signals, bit for bit.
+    from _ctrl_data import discon_variant
+    from test_baseline_modes import NOTCH, PRC_RATINGS, TOWER_DAMPER, _sweep_with_tower_top
+
+    dt = 0.0125
+    discon = discon_variant(tmp_path, {**NOTCH, **TOWER_DAMPER, **PRC_RATINGS})
+    ctrl = BaselineController.from_discon(discon, dt=dt)
+    assert ctrl.measurements[5:] == ("YawBrTAxp", "YawBrTAyp", "NacYaw")
+    out = export_discon(discon, tmp_path / "modes", sample_time=dt)
+    t, y = _sweep_with_tower_top(dt, 40.0)
+    y = _f32(y)
+    law, _ = ctrl.run(y, compiled=True)
+    lib = _library_run(out, t, y, ctrl.measurements, ("BlPitchCom1", "GenTqCom"), dt)
+    assert np.array_equal(lib, _f32(law))
+    (tmp_path / "plain").mkdir()
+    plain = BaselineController.from_discon(discon_variant(tmp_path / "plain", {}), dt=dt)
+    plain = plain.run(y[:, :5], compiled=True)[0]
+    assert np.max(np.abs(np.rad2deg(plain[:, 0] - law[:, 0]))) > 0.01           # the modes act
+
+
 # ---------------------------------------------------------------------------------------------- bad input
 class _Raw:
     """The library called through ctypes directly (a private copy), to send what DisconController refuses."""
