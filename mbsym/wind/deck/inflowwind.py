@@ -11,10 +11,11 @@ continuous-wave and pulsed lidars (``SensorType`` 2, 3) raise with the file, lin
 lidar (``SensorType = 1``) is read into :attr:`InflowWindSettings.lidar` (:class:`~mbsym.wind.inflow.PointLidar`).
 The files named by ``Filename_Uni``, ``FileName_BTS``, ``FileNameRoot`` and ``FileName_u/v/w`` are resolved
 relative to the InflowWind file, as InflowWind does (absolute paths are used as they are).
-``VelInterpCubic = True`` is read but refused when the spatial field is requested
-(:meth:`InflowWindSettings.field`: mbsym interpolates linearly in time). Keys not used here (output points
-``WindV*List``, the sections of the other wind types, the unused lidar keys, ``OutList``) are kept, as text,
-in ``extra``.
+``VelInterpCubic = True`` makes every wind cubic in time as InflowWind v5.0.0 does (:mod:`mbsym.wind.inflow.cubic`;
+full fields with a :class:`~mbsym.exceptions.ModelWarning` on OpenFAST's vertical component); a main file with
+``Linearize = True`` turns it off with a warning, as InflowWind does (:func:`deck_inflowwind`). Keys not used here
+(output points ``WindV*List``, the sections of the other wind types, the unused lidar keys, ``OutList``) are kept,
+as text, in ``extra``.
 
 :meth:`InflowWindSettings.wind` gives the hub-height wind signal (types 1 and 2, as before);
 :meth:`InflowWindSettings.field` the spatial description (:class:`~mbsym.wind.inflow.UniformFieldWind`
@@ -114,7 +115,8 @@ class InflowWindSettings:
     propagation_direction, upflow_angle : float
         ``PropagationDir`` and ``VFlowAng`` [rad].
     cubic_interpolation : bool
-        ``VelInterpCubic`` (uniform wind in time: cubic instead of linear).
+        ``VelInterpCubic``: the wind is cubic in time between the file's samples instead of linear (all wind
+        types; steady wind has one sample).
     steady_speed, steady_reference_height, steady_power_law_exponent : float
         ``HWindSpeed`` [m/s], ``RefHt`` [m], ``PLexp`` [-] (used by type 1).
     uniform_file : Path or None
@@ -173,11 +175,14 @@ class InflowWindSettings:
         the times the file covers there; a rotor sweeps the field, so consider
         :func:`~mbsym.wind.inflow.rotor_effective_wind` of :meth:`field` instead.
 
+        With ``VelInterpCubic = True`` the signal is cubic in time as InflowWind's
+        (:class:`~mbsym.wind.inflow.cubic_signal.CubicUniformHubWind`, full fields
+        :class:`~mbsym.wind.inflow.cubic_signal.HermiteTableWind`).
+
         Raises
         ------
         WindInputError
-            A non-zero propagation direction, upflow or steady power-law exponent, cubic
-            interpolation in time
+            A non-zero propagation direction, upflow or steady power-law exponent
             (or, for type 2, non-zero direction/shear columns in the file; for type 3, always), unless
             ``allow_unmodelled``: a hub-height signal cannot carry them.
         OpenFASTFormatError
@@ -190,8 +195,6 @@ class InflowWindSettings:
         if self.wind_type in _FULL_FIELD:
             bad[f"full field (WindType = {self.wind_type}; a hub-height signal drops its spatial variation)"] = \
                 float(self.wind_type)
-        if self.wind_type != 1 and self.cubic_interpolation:
-            bad["cubic_interpolation (VelInterpCubic; mbsym interpolates linearly)"] = 1.0
         if self.wind_type == 1 and self.steady_power_law_exponent != 0.0:
             bad["steady_power_law_exponent (PLexp)"] = self.steady_power_law_exponent
         if bad and not allow_unmodelled:
@@ -206,36 +209,64 @@ class InflowWindSettings:
             raise OpenFASTFormatError(f"{self.path}, line {self.lines.get('Filename_Uni', '?')}, key "
                                       f"'Filename_Uni': uniform wind file not found: tried "
                                       f"'{self.uniform_file_name}'. Fix the file name.")
-        return read_uniform_wind(self.uniform_file).signal(allow_unmodelled=allow_unmodelled)
+        table = read_uniform_wind(self.uniform_file)
+        if not self.cubic_interpolation:
+            return table.signal(allow_unmodelled=allow_unmodelled)
+        from ..inflow import UniformFieldWind                  # the columns' cubic (the length acts off the hub)
+
+        length = self.uniform_reference_length if (self.uniform_reference_length or 0.0) > 0.0 else 1.0
+        return UniformFieldWind(table, self.uniform_reference_height, length, source=str(self.uniform_file),
+                                cubic=True).hub_signal(allow_unmodelled=allow_unmodelled)
 
 
     def _hub_series(self, allow_unmodelled: bool):
         from ..inflow import TabulatedWind
 
-        field = self.field(allow_cubic=allow_unmodelled)
+        field = self.field()
         t0, t1 = field.time_range
         times = t0 + field.dt * np.arange(int(round((t1 - t0) / field.dt)) + 1)
         u = field.velocity(times, np.array([[0.0, 0.0, field.reference_height]]))[:, 0, 0]
-        return TabulatedWind(times, u, source=f"{self.full_field_file} at (0, 0, {field.reference_height:g}) m")
+        source = f"{field.source or self.full_field_file} at (0, 0, {field.reference_height:g}) m"
+        if field.cubic:                               # the slices joined by InflowWind's zero-slope cubic
+            from ..inflow.cubic_signal import HermiteTableWind
+
+            return HermiteTableWind(times, u, np.zeros_like(u), source=source)
+        return TabulatedWind(times, u, source=source)
 
     def field(self, *, allow_cubic: bool = False):
         """The wind over space: a :class:`~mbsym.wind.inflow.UniformFieldWind` (types 1, 2) or a
-        :class:`~mbsym.wind.inflow.FullFieldWind` (types 3, 4, 5, 7), with ``PropagationDir`` and ``VFlowAng``.
+        :class:`~mbsym.wind.inflow.FullFieldWind` (types 3, 4, 5, 7), with ``PropagationDir`` and ``VFlowAng``,
+        cubic in time with ``VelInterpCubic = True`` (``allow_cubic`` is kept for compatibility and unused).
+
+        Warns
+        -----
+        ModelWarning
+            ``VelInterpCubic = True`` with a full field: OpenFAST v5.0.0 computes the vertical component there
+            with uninitialised slopes (:mod:`mbsym.wind.inflow.cubic`); mbsym uses zero slopes, as OpenFAST does
+            for the other components.
 
         Raises
         ------
         OpenFASTFormatError
-            ``VelInterpCubic = True`` for types 2 and 3 (mbsym interpolates linearly in time; with
-            ``allow_cubic=True`` linear interpolation is used anyway), a missing or malformed wind file,
-            ``RefLength`` missing or not positive for type 2 (file, line, key).
+            A missing or malformed wind file, ``RefLength`` missing or not positive for type 2 (file, line, key).
         """
+        field = self._field()
+        if self.cubic_interpolation and self.wind_type in _FULL_FIELD:
+            import warnings
+
+            from ...exceptions import ModelWarning
+
+            warnings.warn(f"{self._where('VelInterpCubic')}: True with a full field: mbsym joins the slices with "
+                          "InflowWind's cubic at zero slopes, which is what OpenFAST v5.0.0 computes for u and v; "
+                          "its w inside the grid uses uninitialised slopes (OpenFAST pull request #3428, fixed in "
+                          "5.0.1) and may differ by tenths of m/s from mbsym's.", ModelWarning, stacklevel=2)
+            return field.with_cubic(True)
+        return field
+
+    def _field(self):
         from ..inflow import UniformFieldWind, read_turbsim_bts, read_uniform_wind
 
         angles = {"propagation_direction": self.propagation_direction, "upflow_angle": self.upflow_angle}
-        if self.wind_type != 1 and self.cubic_interpolation and not allow_cubic:
-            raise OpenFASTFormatError(f"{self._where('VelInterpCubic')}: True (cubic interpolation in time) is not "
-                                      "modelled: mbsym interpolates linearly (VelInterpCubic = False). Set it to "
-                                      "False.")
         if self.wind_type == 1:
             return UniformFieldWind.steady(self.steady_speed, reference_height=self.steady_reference_height,
                                            power_law_exponent=self.steady_power_law_exponent, **angles)
@@ -248,7 +279,7 @@ class InflowWindSettings:
                 raise OpenFASTFormatError(f"{self._where('RefLength')}: must be a positive reference length [m] "
                                           f"for a uniform wind file; got {length}. Fix the value.")
             return UniformFieldWind(read_uniform_wind(self.uniform_file), self.uniform_reference_height, length,
-                                    source=str(self.uniform_file), **angles)
+                                    source=str(self.uniform_file), cubic=self.cubic_interpolation, **angles)
         if self.wind_type in (4, 5, 7):
             return self._other_field(angles)
         if self.full_field_file is None:
@@ -398,7 +429,19 @@ def deck_inflowwind(fst) -> InflowWindSettings | None:
     deck = _Deck(p)
     mode = deck.value(_k("CompInflow", "", "int", check=(lambda v: v in (0, 1, 2), "must be 0, 1 or 2")))
     deck.value(_k("InflowFile", "", "str", default=""))
+    linearize = deck.value(_k("Linearize", "", "bool", default=False))
     deck.raise_problems()
     if mode != 1:
         return None
-    return read_inflowwind(_resolve(deck, "InflowFile", "InflowWind input file"))
+    settings = read_inflowwind(_resolve(deck, "InflowFile", "InflowWind input file"))
+    if linearize and settings.cubic_interpolation:        # InflowWind_Init does the same (InflowWind.f90)
+        import dataclasses
+        import warnings
+
+        from ...exceptions import ModelWarning
+
+        warnings.warn(f"{settings._where('VelInterpCubic')}: True, but {p.name} has Linearize = True: InflowWind "
+                      "disables cubic interpolation of the wind for linearization, and so does mbsym (linear in "
+                      "time).", ModelWarning, stacklevel=2)
+        settings = dataclasses.replace(settings, cubic_interpolation=False)
+    return settings

@@ -15,7 +15,9 @@
   :meth:`FullFieldWind.casadi_function`) and :class:`UniformFieldWind` (steady and uniform-file wind,
   :func:`uniform_velocity_expr` in CasADi);
 - :mod:`.rotor`: :func:`rotor_effective_wind`, disk averages and linear shears of a field (docs/inflow.md);
-- :mod:`.lidar`: :class:`PointLidar`, InflowWind's single-point lidar (speeds at focal points upstream).
+- :mod:`.lidar`: :class:`PointLidar`, InflowWind's single-point lidar (speeds at focal points upstream);
+- :mod:`.cubic`, :mod:`.cubic_signal`: InflowWind's ``VelInterpCubic`` (cubic in time; ``cubic=True`` of the fields,
+  :class:`HermiteTableWind` and :class:`CubicUniformHubWind` hub signals).
 
 Example
 -------
@@ -40,6 +42,7 @@ from .profile import MeanProfile
 from .hawc import HawcBox, read_hawc, write_hawc
 from .bladed import read_bladed_native, read_bladed_wnd
 from .lidar import LIDAR_RECORD_START, PointLidar, lidar_records
+from .cubic_signal import CubicUniformHubWind, HermiteTableWind
 
 __all__ = [
     "WindSignal", "SteadyWind", "StepWind", "RampWind", "ExtremeOperatingGust", "TabulatedWind", "iec_gust_speed",
@@ -51,4 +54,5 @@ __all__ = [
     "UniformFieldWind", "uniform_velocity_expr", "COLUMN_NAMES", "POWER_LAW_MIN_HEIGHT",
     "rotor_effective_wind", "disk_points", "DEFAULT_REFERENCE",
     "PointLidar", "LIDAR_RECORD_START", "lidar_records",
+    "HermiteTableWind", "CubicUniformHubWind",
 ]

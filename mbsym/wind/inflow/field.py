@@ -28,6 +28,10 @@ A :class:`FullFieldWind` is a grid of velocities ``(u, v, w)`` [m/s] over ``y`` 
    without extrapolation); for Bladed files without a tower file, linear from the bottom grid row to zero at
    the ground (``InterpTower``); otherwise an error. Above the grid or beside it (outside ``y``) is an error.
 
+*Cubic in time* (``VelInterpCubic = True``, ``cubic=True``): the same cell and weights, the two times joined
+by InflowWind's cubic Hermite step with zero slopes (what OpenFAST v5.0.0 computes; see
+:mod:`mbsym.wind.inflow.cubic`).
+
 Where InflowWind stops with an error, :meth:`~FullFieldWind.velocity` raises
 :class:`~mbsym.exceptions.WindFieldDomainError` naming the point, the time and the ranges. InflowWind's
 extrapolation outside the grid (``BoxExceedAllow``) is used only for lidar and OLAF points and is not
@@ -140,6 +144,9 @@ class FullFieldWind:
     x_offset : float, optional
         InflowWind's ``InitXPosition`` [m] when a file sets it (HAWC and native Bladed ``XOffset``); None: 0
         for periodic fields, half the grid width otherwise.
+    cubic : bool
+        InflowWind's ``VelInterpCubic``: cubic in time between the slices (zero slopes, as OpenFAST v5.0.0;
+        :mod:`mbsym.wind.inflow.cubic`) instead of linear.
     """
 
     grid: np.ndarray
@@ -158,6 +165,7 @@ class FullFieldWind:
     description: str = ""
     mean_profile: MeanProfile | None = None
     x_offset: float | None = None
+    cubic: bool = False
 
     def __post_init__(self) -> None:
         grid = _velocity_array(self.grid, "grid", 4)
@@ -176,6 +184,7 @@ class FullFieldWind:
             object.__setattr__(self, name, _finite(getattr(self, name), name))
         object.__setattr__(self, "periodic", bool(self.periodic))
         object.__setattr__(self, "interpolate_to_ground", bool(self.interpolate_to_ground))
+        object.__setattr__(self, "cubic", bool(self.cubic))
         if self.interpolate_to_ground and self.tower is not None:
             raise WindInputError("FullFieldWind: interpolate_to_ground is for fields without tower points.")
         if self.mean_profile is not None and not isinstance(self.mean_profile, MeanProfile):
@@ -256,7 +265,13 @@ class FullFieldWind:
 
     def with_rotation(self, propagation_direction: float = 0.0, upflow_angle: float = 0.0) -> FullFieldWind:
         """The same field (data shared, not copied) with other ``PropagationDir``/``VFlowAng`` [rad]."""
-        new = replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle)
+        return self._sharing(replace(self, propagation_direction=propagation_direction, upflow_angle=upflow_angle))
+
+    def with_cubic(self, cubic: bool = True) -> FullFieldWind:
+        """The same field (data shared) interpolated cubically (``VelInterpCubic = True``) or linearly in time."""
+        return self._sharing(replace(self, cubic=cubic))
+
+    def _sharing(self, new: FullFieldWind) -> FullFieldWind:
         if "data_hash" in self.__dict__:                  # same data: keep the (0.2 s) hash
             new.__dict__["data_hash"] = self.__dict__["data_hash"]
         return new
@@ -356,6 +371,10 @@ class FullFieldWind:
             stretch = last & ~hold                  # InflowWind's "extrapolate": the last interval again
             lo[stretch], hi[stretch] = nt - 1, nt
         code[~(inside | last)] = _TIME
+        if self.cubic:                                  # Grid3DField_GetVelAccCubic with zero slopes
+            from .cubic import smooth_step_coordinate
+
+            xt = smooth_step_coordinate(xt)
         return lo, hi, xt
 
     def _bounds_z(self, z, code):
@@ -491,6 +510,8 @@ class FullFieldWind:
         rot = f"{self.propagation_direction!r},{self.upflow_angle!r}"
         if self.mean_profile is not None or self.x_offset is not None:
             rot += f",{self.mean_profile!r},{self.x_offset!r}"
+        if self.cubic:                                  # (linear fields keep their earlier hashes)
+            rot += ",cubic"
         return hashlib.blake2b((self.data_hash + rot).encode(), digest_size=20).hexdigest()
 
     def casadi_function(self, n_points: int) -> "ca.Function":
@@ -512,6 +533,7 @@ class FullFieldWind:
                 f"bottom={self.grid_bottom:g} m, tower points={self.n_tower}, periodic={self.periodic}, "
                 + (f"{self.mean_profile.describe()} added, " if self.mean_profile is not None else "")
                 + (f"XOffset={self.x_offset:g} m, " if self.x_offset is not None else "")
+                + ("cubic in time, " if self.cubic else "")
                 + f"source={self.source!r})")
 
 

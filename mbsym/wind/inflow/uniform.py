@@ -2,6 +2,7 @@
 
 InflowWind's uniform field (``IfW_FlowField.f90``, ``UniformField_GetVel``): at time ``t`` the eight
 columns of the file (:data:`~mbsym.wind.inflow.files.UNIFORM_COLUMNS`) are interpolated linearly in time
+(or, with ``VelInterpCubic = True``, cubically: :mod:`mbsym.wind.inflow.cubic`)
 (held beyond the ends; the direction first unwrapped so that consecutive rows differ by less than 180°),
 then at a point ``(x, y, z)`` in wind axes (ground axes turned by ``PropagationDir``/``VFlowAng`` about
 ``(0, 0, RefHt)`` exactly as for full fields, :func:`~mbsym.wind.inflow.field.rotation_to_wind`)::
@@ -75,6 +76,9 @@ class UniformFieldWind:
         InflowWind's ``PropagationDir`` and ``VFlowAng`` [rad] (box rotation).
     source : str
         Where it came from.
+    cubic : bool
+        InflowWind's ``VelInterpCubic``: the columns are cubic in time between rows (a clamped spline's
+        slopes, :mod:`mbsym.wind.inflow.cubic`) instead of linear.
 
     Examples
     --------
@@ -90,6 +94,7 @@ class UniformFieldWind:
     propagation_direction: float = 0.0
     upflow_angle: float = 0.0
     source: str = ""
+    cubic: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.table, UniformWind):
@@ -102,6 +107,15 @@ class UniformFieldWind:
                                      f"got {getattr(self, name)!r}.")
             object.__setattr__(self, name, value)
         object.__setattr__(self, "_direction", _unwrap_like_inflowwind(self.table.direction, self.source))
+        object.__setattr__(self, "cubic", bool(self.cubic))
+        if self.cubic:                                 # IfW_UniformField_CalcAccel: the slopes, once
+            from .cubic import uniform_slopes
+
+            cols = np.stack([self._column(name) for name in COLUMN_NAMES], axis=1)
+            object.__setattr__(self, "_slopes", uniform_slopes(self.table.time, cols))
+
+    def _column(self, name: str) -> np.ndarray:
+        return self._direction if name == "direction" else getattr(self.table, name)
 
     @classmethod
     def steady(cls, speed: float, *, reference_height: float, power_law_exponent: float = 0.0,
@@ -116,7 +130,8 @@ class UniformFieldWind:
         return self.propagation_direction != 0.0 or self.upflow_angle != 0.0
 
     def columns_at(self, t) -> dict[str, np.ndarray | float]:
-        """The columns at time(s) ``t`` [s] (InflowWind's linear interpolation, held beyond the ends).
+        """The columns at time(s) ``t`` [s] (InflowWind's linear interpolation, or cubic with ``cubic``; held
+        beyond the ends).
 
         Returns a dict with keys :data:`COLUMN_NAMES` (angles in rad), floats for a scalar ``t``.
         """
@@ -124,11 +139,28 @@ class UniformFieldWind:
         if not np.all(np.isfinite(times)):
             raise WindInputError("UniformFieldWind.columns_at: times must be finite.")
         out = {}
-        for name in COLUMN_NAMES:
-            values = self._direction if name == "direction" else getattr(self.table, name)
-            v = np.interp(times, self.table.time, values)           # = InflowWind's rule, ends held
+        for k, name in enumerate(COLUMN_NAMES):
+            values = self._column(name)
+            if self.cubic:
+                from .cubic import hermite_value
+
+                v = hermite_value(self.table.time, values, self._slopes[:, k], times)
+            else:
+                v = np.interp(times, self.table.time, values)           # = InflowWind's rule, ends held
             out[name] = float(v) if v.ndim == 0 else v
         return out
+
+    def hub_signal(self, *, allow_unmodelled: bool = False):
+        """The longitudinal wind at the hub, ``(HorSpd + GstSpd) cos(Upflow) cos(WndDir)`` of the interpolated
+        columns, as a :class:`~mbsym.wind.inflow.WindSignal` [m/s] of time [s]: the file's
+        :meth:`~mbsym.wind.inflow.UniformWind.signal` (a linear table) or, with ``cubic``, a
+        :class:`~mbsym.wind.inflow.cubic_signal.CubicUniformHubWind`. ``allow_unmodelled`` as there."""
+        linear = self.table.signal(allow_unmodelled=allow_unmodelled)      # checks the unmodelled columns
+        if not self.cubic:
+            return linear
+        from .cubic_signal import CubicUniformHubWind
+
+        return CubicUniformHubWind(self)
 
     def velocity(self, t, points, *, below_ground: str = "error") -> np.ndarray:
         """Wind velocity ``(u, v, w)`` [m/s] in ground axes at ``points`` (N, 3) [m] and time(s) ``t`` [s].
@@ -170,7 +202,8 @@ class UniformFieldWind:
 
     def __repr__(self) -> str:
         return (f"UniformFieldWind({self.table.time.size} rows, RefHt={self.reference_height:g} m, "
-                f"RefLength={self.reference_length:g} m, source={self.source!r})")
+                f"RefLength={self.reference_length:g} m, {'cubic' if self.cubic else 'linear'} in time, "
+                f"source={self.source!r})")
 
 
 def _uniform_numpy(c, x, y, z, height, length):

@@ -66,6 +66,34 @@ CASES = {
     "steady_shear": dict(WindType=1, PropagationDir=-15.0, VFlowAng=0.0, points=UNI_POINTS, tmax=0.2,
                          HWindSpeed=11.0, PLexp=0.2),
 }
+#: The uniform wind file of the "uniform_cubic" case: uneven rows, a step of the speed and a gust, every column
+#: changing (VelInterpCubic: a clamped spline through each column, Hermite between rows).
+UNIFORM_STEP_ROWS = """! mbsym test: uneven rows with a step and a gust (VelInterpCubic)
+! Time HorSpd WndDir VerSpd HorShr VerShr LnVShr GstSpd Upflow
+0.0  10.0  -8.0  0.4  0.10  0.12  0.05  0.0   1.5
+0.7  10.4  -2.0  0.2  0.15  0.16  0.08  0.0   2.0
+1.0  10.5   5.0 -0.3  0.25  0.20  0.15  0.0   3.0
+1.1  14.0   6.0 -0.3  0.25  0.20  0.15  0.0   3.0
+1.6  13.5  20.0  0.1 -0.10  0.30 -0.10  2.5  -2.0
+2.1  13.0  18.0  0.0  0.00  0.25  0.00  0.4   0.0
+3.0  12.0  15.0  0.0  0.05  0.14  0.02  0.0   0.5
+"""
+#: Points of the non-periodic TurbSim field with 3 tower points (data/tower_nonperiodic.inp: the grid of
+#: tower_periodic, 193 steps of 0.1 s); the point 100 m upstream reaches InflowWind's last step (τ in
+#: [19.2, 19.3) s) at t = 7.45 and 7.5 s.
+TOWER_NP_POINTS = [*TOWER_POINTS[:8], (-100.0, 0.0, 90.0)]
+#: VelInterpCubic = True (cubic in time): a uniform file with a step, TurbSim fields without tower points (ff14:
+#: InflowWind then takes zero slopes), with tower points (spline slopes; periodic and not) and a HAWC box.
+CUBIC_CASES = {
+    "uniform_cubic": dict(WindType=2, PropagationDir=7.0, VFlowAng=2.0, points=UNI_POINTS, tmax=3.5, RefLength=125.0,
+                          VelInterpCubic="True", uniform_rows=UNIFORM_STEP_ROWS),
+    "ff14_cubic": dict(CASES["ff14"], VelInterpCubic="True"),
+    "tower_periodic_cubic": dict(CASES["tower_periodic"], VelInterpCubic="True"),
+    "tower_cubic": dict(WindType=3, PropagationDir=0.0, VFlowAng=0.0, points=TOWER_NP_POINTS, tmax=7.5,
+                        bts=DATA / "tower_nonperiodic.bts", VelInterpCubic="True"),
+    "hawc_direct_cubic": dict(CASES["hawc_direct"], VelInterpCubic="True"),
+}
+CASES.update(CUBIC_CASES)
 #: The uniform wind file of the "uniform" case: every column non-zero and changing.
 UNIFORM_ROWS = """! mbsym test: every column of a uniform wind file non-zero
 ! Time HorSpd WndDir VerSpd HorShr VerShr LnVShr GstSpd Upflow
@@ -84,7 +112,7 @@ def _set(text: str, key: str, value) -> str:
 
 
 #: Case entries that are not InflowWind keys.
-_NOT_KEYS = ("points", "tmax", "dt_out", "bts", "files")
+_NOT_KEYS = ("points", "tmax", "dt_out", "bts", "files", "uniform_rows")
 
 
 def write_case(folder: Path, name: str, case: dict | None = None) -> Path:
@@ -92,7 +120,8 @@ def write_case(folder: Path, name: str, case: dict | None = None) -> Path:
 
     ``case`` (default ``CASES[name]``): InflowWind keys and values (set in the IfW file as given: quote strings
     yourself), ``points`` (9 points (x, y, z) [m]), ``tmax`` [s], optional ``dt_out`` [s], ``bts`` (the TurbSim
-    file of ``FileName_BTS``) and ``files`` (paths copied into ``folder``)."""
+    file of ``FileName_BTS``), ``files`` (paths copied into ``folder``) and ``uniform_rows`` (the text of the
+    uniform wind file, default :data:`UNIFORM_ROWS`)."""
     import shutil
 
     case = CASES[name] if case is None else case
@@ -109,7 +138,7 @@ def write_case(folder: Path, name: str, case: dict | None = None) -> Path:
         ifw = _set(ifw, key, ", ".join(repr(float(v)) for v in pts[:, j]))
     bts = case.get("bts", SHARED / "openfast" / "aero" / "wind" / "ff14.bts")
     ifw = _set(ifw, "FileName_BTS", f'"{Path(bts).as_posix()}"')
-    (folder / "uniform.hh").write_text(UNIFORM_ROWS)
+    (folder / "uniform.hh").write_text(case.get("uniform_rows", UNIFORM_ROWS))
     ifw = _set(ifw, "Filename_Uni", '"uniform.hh"')
     channels = "\n".join(f'"Wind{i}Vel{c}"' for i in range(1, 10) for c in "XYZ")
     ifw = re.sub(r'OutList.*?\nEND', lambda m: m.group(0).split("\n")[0] + "\n" + channels + "\nEND", ifw,
@@ -147,11 +176,12 @@ def read_reference(name: str) -> tuple[np.ndarray, np.ndarray]:
     return data[:, 0], data[:, 1:].reshape(-1, 9, 3)
 
 
-def main() -> None:
+def main(names=None) -> None:
+    """Regenerate the stored references of ``names`` (default: every case; ``python ifw_reference.py [case ...]``)."""
     import tempfile
 
     DATA.mkdir(exist_ok=True)
-    for name in CASES:
+    for name in names or CASES:
         with tempfile.TemporaryDirectory() as tmp:
             t, v = run_points(Path(tmp), name)
         header = "Time," + ",".join(f"Wind{i}Vel{c}" for i in range(1, 10) for c in "XYZ")
@@ -161,4 +191,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -71,10 +71,9 @@ def test_unmodelled_settings_are_refused_with_file_line_key(tmp_path, ff14_deck,
     assert f"{path}, line {line}, key '{key}'" in str(info.value)
 
 
-def test_cubic_interpolation_and_missing_files_are_refused_by_field(tmp_path, ff14_deck):
+def test_cubic_interpolation_is_taken_and_missing_files_are_refused_by_field(tmp_path, ff14_deck):
     cubic = _mutated(tmp_path, ff14_deck, "False         VelInterpCubic", "True          VelInterpCubic")
-    with pytest.raises(OpenFASTFormatError, match="line 8, key 'VelInterpCubic'.*not modelled"):
-        read_inflowwind(cubic).field()
+    assert read_inflowwind(cubic).cubic_interpolation        # taken, not refused: test_wind_cubic.py
     missing = _mutated(tmp_path, ff14_deck, '"../../wind/ff14.bts"', '"nowhere.bts"')
     with pytest.raises(OpenFASTFormatError, match="line 22, key 'FileName_BTS'.*not found: tried 'nowhere.bts'"):
         read_inflowwind(missing).field()
