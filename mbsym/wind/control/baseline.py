@@ -33,7 +33,8 @@ controller's pitch then is, as in ROSCO, the mean of its three previous commands
 One step, in ROSCO 2.10.6's order (ROSCO's own source and docs were read to learn
 the scheme; the code is ours):
 
-1. filters: generator and rotor speed (first- or second-order low-pass); the
+1. filters: generator and rotor speed (first- or second-order low-pass; the generator
+   speed then through the notch filters ``F_GenSpdNotch_Ind``, ROSCO's Tustin notch); the
    previous wind estimate (``F_WECornerFreq``); the previous torque demand and the
    previous pitch demand (second order, damping 0.7, corners ``F_LPFCornerFreq``
    and ``F_LPFCornerFreq/4``);
@@ -58,7 +59,11 @@ the scheme; the code is ours):
 6. pitch: the gain-scheduled PI (gains interpolated at the filtered pitch) between
    the previous minimum pitch and ``PC_MaxPit``; the minimum pitch is ``PC_FinePit``
    or, with peak shaving (``PS_Mode``), ``PS_BldPitchMin`` at the filtered wind
-   estimate; saturation and the rate limits ``PC_MinRat``/``PC_MaxRat``.
+   estimate; saturation and the rate limits ``PC_MinRat``/``PC_MaxRat``; the tower
+   damper's increment (``TD_Mode 1``, :mod:`.tower`) is added before the blades' saturation.
+
+The power reference (``PRC_Mode`` 1, 2 with constant ratings, :mod:`.power_reference`) changes
+the set-points of 3, the smoother's rated power in 4, the torque limit in 5 and the minimum pitch in 6.
 
 Differences from the library: ROSCO receives single-precision measurements and
 its time step in single precision (pass ``dt=float(numpy.float32(dt))`` to

@@ -19,7 +19,8 @@ scipy's bilinear transform of ROSCO's continuous notch.
 Tolerances: those of test_baseline_vs_rosco.py — ROSCO works on a float32 swap array (measurements, time
 step and commands in single precision), we in double; |Δpitch| < 1e-4 deg and |Δtorque| < 0.05 N m at every
 step; closed loop also |Δrotor speed| < 1e-5 rpm. Observed open loop: ≤ 3.6e-6 deg and 2.9e-3 N m; closed
-loop ≤ 5.0e-6 deg, 6.5e-3 N m and 2.8e-7 rpm (the float32 rounding fed back through the plant). Every case must move the commands by more than 100× the pitch tolerance against the same
+loop ≤ 5.0e-6 deg, 6.5e-3 N m and 2.8e-7 rpm (the float32 rounding fed back through the plant). Every case
+must move the commands by more than 100× the pitch tolerance against the same
 controller with the mode off (so the comparison can fail). Skips without the ROSCO wheel or the shared deck.
 """
 
@@ -186,3 +187,26 @@ def test_closed_loop_on_the_same_plant_and_wind(rosco_lib, tmp_path, case):
     assert dp.max() < PITCH_TOL_DEG and dq.max() < TORQUE_TOL and dw.max() < SPEED_TOL_RPM
     assert np.abs(off.output("BldPitch1") - theirs.output("BldPitch1")).max() > 100 * PITCH_TOL_DEG
     assert np.ptp(theirs.output("BldPitch1")) > 1.0                      # the step pitches the blades
+
+
+def test_written_discon_in_carries_the_modes(tmp_path):
+    # write_discon_in writes the notches, the damper and the ratings, and reads them back as the same settings
+    # (write_discon_in checks the round trip itself; here also that the modes are on in the file)
+    import json
+    from importlib import resources
+
+    from mbsym.wind.control import BaselineSettings, write_discon_in
+    from mbsym.wind.deck.discon_in import read_discon_in
+    from mbsym.wind.deck.performance import read_performance_table
+
+    settings = BaselineSettings.from_discon(discon_variant(tmp_path, {**NOTCH, **TOWER_DAMPER, **PRC_RATINGS}),
+                                            dt=0.01)
+    other = json.loads(resources.files("mbsym.wind.operation").joinpath("data/nrel5mw_discon.json")
+                       .read_text(encoding="utf-8"))["other"]
+    held = ("PRC_", "FA_", "TD_", "F_Notch", "F_NumNotch", "F_GenSpd")
+    other = {k: v for k, v in other.items() if not k.startswith(held)}
+    path = write_discon_in(settings, _folder(tmp_path / "written") / "DISCON.IN",
+                           performance=read_performance_table(tmp_path / "Cp_Ct_Cq.NREL5MW.txt"), other=other)
+    d = read_discon_in(path)
+    assert (d["TD_Mode"], d["PRC_Mode"], d["F_GenSpdNotch_N"], list(d["F_GenSpdNotch_Ind"])) == (1, 2, 2, [1, 2])
+    assert BaselineSettings.from_discon(path, dt=0.01).speed_notch_beta_num == (0.0, 0.05)
