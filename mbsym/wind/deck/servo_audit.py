@@ -20,11 +20,11 @@ the initial speed, GenTiStp with       or below the initial generator speed: onl
 TimGenOf < t_end (GenDOF)
 TPitManS(k) < t_end                    refused (override pitch maneuver)
 TPCOn > 0 with PCMode ≠ 0              refused (pitch control starting late)
-NumNStC, NumSStC > 0                   modelled: nacelle and platform tuned mass dampers
-                                       (mbsym.wind.operation.structural_control, which refuses the
-                                       StC modes and settings it does not model)
-AfCmode ≠ 0, NumBStC/NumTStC > 0,      refused (airfoil control, blade and tower structural
-CCmode ≠ 0                             controllers, cable control)
+NumNStC, NumTStC, NumSStC > 0          modelled: nacelle, tower and platform tuned mass dampers and
+                                       prescribed loads (mbsym.wind.operation.structural_control,
+                                       which refuses the StC modes and settings it does not model)
+AfCmode ≠ 0, NumBStC > 0, CCmode ≠ 0   refused (airfoil control, blade structural controllers, cable
+                                       control)
 PitSpr, PitDamp, PitNeut               inert: they act on ElastoDyn's PitchDOF, which mbsym refuses
 =====================================  =========================================================
 
@@ -150,9 +150,9 @@ def _problems(s, dofs: Mapping[str, bool], t_end: float, generator_speed: float 
                              "(the controller pitches from t = 0); set TPCOn = 0"))
     if s.airfoil_control_mode != 0:
         out.append(("AfCmode", f"airfoil control (AfCmode = {s.airfoil_control_mode}) is not modelled; set 0"))
-    for key, n in (("NumBStC", s.n_blade_structural_controllers), ("NumTStC", s.n_tower_structural_controllers)):
-        if n > 0:
-            out.append((key, f"{n} structural controller(s) (StC) are not modelled; set {key} = 0"))
+    if s.n_blade_structural_controllers > 0:
+        out.append(("NumBStC", f"{s.n_blade_structural_controllers} blade structural controller(s) (StC) are not "
+                               "modelled; set NumBStC = 0"))
     if s.cable_control_mode != 0:
         out.append(("CCmode", f"cable control (CCmode = {s.cable_control_mode}) is not modelled; set 0"))
     return out

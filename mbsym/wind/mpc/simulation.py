@@ -113,6 +113,8 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
         inputs: dict[str, Any] = {"Wind1VelX": wind, **held_commands(model, x0)}
         if model.platform is not None:              # the deck's sea (HydroDyn's excitation series), as simulate_turbine
             inputs.update(model.platform.sea_tables(tmax))
+        if getattr(model, "structural_controls", None) is not None:    # ServoDyn's prescribed StC loads
+            inputs.update(model.structural_controls.tables(tmax))
         res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=loop.controller(), method="rk4", dt=loop.dt,
                        t_out=t_out, p=p, compile=compile, progress=progress)
         t0 = time.perf_counter()

@@ -50,8 +50,9 @@ class FloatingStructure:
         Another platform-loads object instead of ``hydro``/``mooring``/``radiation``: a bottom-fixed SubDyn
         substructure (:class:`~.bottom_fixed.BottomFixedPlatform`, ``hydro=None``).
     structural_controls : StructuralControls, optional
-        ServoDyn's nacelle and platform tuned mass dampers (:mod:`mbsym.wind.operation.structural_control`): their
-        states after the others, their channels ``NStC1_XQ`` … after the others.
+        ServoDyn's nacelle, tower and platform tuned mass dampers and prescribed loads
+        (:mod:`mbsym.wind.operation.structural_control`): their states, inputs (``NStC1_Fx`` …) and channels
+        (``NStC1_XQ`` …) after the others.
     """
 
     model: Any
@@ -96,8 +97,12 @@ class FloatingStructure:
         return len(self.platform.state_names)
 
     def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """The deck's sea as input tables over ``[0, t_end]`` [s] ({} in still water)."""
-        return self.platform.sea_tables(t_end)
+        """The deck's input tables over ``[0, t_end]`` [s]: its sea ({} in still water) and ServoDyn's prescribed
+        StC loads (:meth:`~mbsym.wind.operation.structural_control.StructuralControls.tables`)."""
+        tables = dict(self.platform.sea_tables(t_end))
+        if self.structural_controls is not None:
+            tables.update(self.structural_controls.tables(t_end))
+        return tables
 
     def output_function(self):
         """The channels (``names``, ``units``, ``function`` of the Dynamics' ``(x, u, p)``)."""
@@ -128,14 +133,16 @@ class FloatingStructure:
         other = [u for u in eom.inputs if u not in PLATFORM_INPUTS]
         stc = self.structural_controls
         ns = len(stc.state_names) if stc is not None else 0
+        stc_inputs = stc.input_names if stc is not None else ()
         x = ca.SX.sym("x", 2 * n + nr + ns)
         sea_inputs = platform.sea_inputs
-        u = ca.SX.sym("u", len(other) + len(sea_inputs))
+        n_sea = len(other) + len(sea_inputs)
+        u = ca.SX.sym("u", n_sea + len(stc_inputs))
         p = ca.SX.sym("p", eom.n_p)
         q, qd, xr = x[:n], x[n:2 * n], x[2 * n:2 * n + nr]
         qp = ca.vertcat(*[q[i] if i is not None else fixed[k] for k, i in enumerate(index)])
         vp = ca.vertcat(*[qd[i] if i is not None else 0.0 for i in index])
-        loads = platform.loads(qp, vp, xr if nr else ca.DM(0, 1), u[len(other):])
+        loads = platform.loads(qp, vp, xr if nr else ca.DM(0, 1), u[len(other):n_sea])
         values = {name: u[k] for k, name in enumerate(other)}
         values.update({name: loads["load"][k] for k, name in enumerate(PLATFORM_INPUTS)})
         us = ca.vertcat(*[values[name] for name in eom.inputs])
@@ -148,7 +155,8 @@ class FloatingStructure:
         if stc is not None:                             # ServoDyn's StCs: their loads, the q̈-dependent part in M
             from ..operation.structural_control import stc_terms
 
-            terms = stc_terms(stc, eom, q, qd, us, p, x[2 * n + nr:], p[eom.parameters.index("gravity")])
+            terms = stc_terms(stc, eom, q, qd, us, p, x[2 * n + nr:], p[eom.parameters.index("gravity")],
+                              u_stc=u[n_sea:], structure=self.model)
             M, forcing = M + terms["mass"], forcing + terms["force"]
         qdd = ca.solve(M, forcing)
         xr_dot = loads["xr_dot"]
@@ -167,13 +175,14 @@ class FloatingStructure:
         opts = {"cse": True}
         rhs = ca.Function("floating_rhs", [x, u, p], [xd], ["x", "u", "p"], ["xd"], opts)
         outputs = ca.Function("floating_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"], opts)
-        inputs = tuple(other) + sea_inputs
+        inputs = tuple(other) + sea_inputs + stc_inputs
         return Dynamics(rhs, states=tuple(eom.states) + platform.state_names + (stc.state_names if ns else ()),
                         inputs=inputs,
                         parameters=tuple(eom.parameters), defaults=dict(eom.defaults), outputs=outputs,
                         output_names=names, output_units=units, x0=self.initial_state(),
                         name="floating_structure",
-                        input_units=[structural_input_unit(n) for n in other] + [sea_input_unit(n) for n in sea_inputs])
+                        input_units=[structural_input_unit(n) for n in other] + [sea_input_unit(n) for n in sea_inputs]
+                        + list(stc.input_units if stc is not None else ()))
 
     def rhs(self) -> ca.Function:
         """``x → ẋ`` (SX), the deck's parameter values bound, other inputs zero (still water)."""

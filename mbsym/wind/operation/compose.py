@@ -72,7 +72,9 @@ class Graph:
         self.passthrough = tuple(n for n in eom.inputs if n not in wired)
         sea = tuple(getattr(self.platform, "sea_inputs", ())) if self.platform is not None else ()
         brake = (BRAKE_INPUT,) if getattr(model, "hss_brake", None) is not None else ()   # ServoDyn's HSS brake
-        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough + sea + brake
+        stc_inputs = self.stc.input_names if self.stc is not None else ()     # ServoDyn's prescribed StC loads
+        self.inputs = tuple(self.wind_inputs()) + tuple(model.command_names) + self.passthrough + sea + brake \
+            + stc_inputs
         extra_p = [*self.aero_parameters(), *ACTUATOR_PARAMETERS]
         if not model.spins_freely:
             extra_p.append("rotor_speed")
@@ -297,8 +299,9 @@ class Graph:
             from .structural_control import stc_terms
 
             x_stc = ca.vertcat(*[self.X[n] for n in self.stc.state_names])
+            u_stc = ca.vertcat(*[self.U[n] for n in self.stc.input_names])
             self.stc_terms = stc_terms(self.stc, self.eom, self.q, self.qd, self.u_s, self.p_s, x_stc,
-                                       self.P["gravity"], self.kind)
+                                       self.P["gravity"], self.kind, u_stc=u_stc, structure=self.model.structure)
             M, F = M + self.stc_terms["mass"], F + self.stc_terms["force"]
         if self.kind is ca.SX:
             return ca.solve(M, F)

@@ -147,6 +147,9 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         inputs.update({n: v for n, v in model.platform.sea_tables(tmax).items() if n not in given})
     if model.hss_brake is not None and BRAKE_INPUT not in dict(commands or {}):   # ServoDyn's brake ramp
         inputs[BRAKE_INPUT] = model.hss_brake.table(tmax)
+    if model.structural_controls is not None:        # ServoDyn's prescribed StC loads (their files), unless given
+        given = dict(commands or {})
+        inputs.update({n: v for n, v in model.structural_controls.tables(tmax).items() if n not in given})
     options: dict[str, Any] = {"t_out": t_out, "p": p, "compile": compile, "progress": progress}
     if controller is not None:
         if accuracy is not None:

@@ -1,9 +1,10 @@
-"""ServoDyn's structural controllers (StC: tuned mass dampers) on the nacelle and the platform.
+"""ServoDyn's structural controllers (StC): tuned mass dampers and prescribed loads on the nacelle, tower, platform.
 
 Each StC is a point P fixed to a body of the structure (``NStC``: the nacelle, at ``StC_P_X/Y/Z`` in its axes from
-the yaw-bearing point, ElastoDyn's ``NacelleMotion``; ``SStC``: the platform, from its reference point
-``(0, 0, PtfmRefzt)``, ElastoDyn's ``PlatformPtMesh``) carrying masses that move relative to P in P's axes. Their
-states are ServoDyn's ``StC_x``: ``x, ẋ, y, ẏ, z, ż`` [m, m/s] (channels ``NStC1_XQ``, ``NStC1_XQD`` …). With P's
+the yaw-bearing point, ElastoDyn's ``NacelleMotion``; ``TStC``: the flexible tower, at ``StC_P_X/Y/Z`` from the tower
+base ``(0, 0, TowerBsHt)`` in its axes, ElastoDyn's ``TowerLn2Mesh``; ``SStC``: the platform, from its reference
+point ``(0, 0, PtfmRefzt)``, ElastoDyn's ``PlatformPtMesh``) carrying masses that move relative to P in P's axes. Their
+states are ServoDyn's ``StC_x``: ``x, ẋ, y, ẏ, z, ż`` [m, m/s] (channels ``NStC1_XQ``, ``TStC1_XQD`` …). With P's
 acceleration ``r̈``, angular velocity ω, angular acceleration α and gravity ``g`` (ground ``(0, 0, −g)``) all
 resolved in P's axes (OpenFAST v5.0.0 ``StrucCtrl.f90``, ``StC_CalcContStateDeriv``; the facts only, the code is
 mbsym's):
@@ -20,6 +21,21 @@ mbsym's):
   (plus ``PreLd/M`` along z), the structure gets ``K r + C ṙ − F_stop`` (minus ``PreLd`` along z) and ``r × F``.
 * Stops: beyond ``StC_*_PSP`` or below ``StC_*_NSP`` a spring ``StC_*_KS`` pushes the mass back, and a damper
   ``StC_*_CS`` acts while it moves further out (``StC_CalcStopForce``).
+* ``StC_DOF_MODE = 6`` (prescribed force): no states (ServoDyn holds them at zero; the channels ``*_XQ`` … are 0);
+  the force and moment of ``PrescribedForcesFile`` (``t Fx Fy Fz Mx My Mz``, interpolated linearly in time and held
+  beyond its ends, NWTC's ``InterpStp``) act at P, in ground axes (``PrescribedForcesCoordSys = 1``) or P's axes
+  (2). mbsym gives the model the inputs ``<name>_Fx`` … ``<name>_Mz`` [N, N m] (:meth:`StructuralControls.tables`
+  feeds them the file in a simulation; zero in trims and linear models unless given). The channels ``*l`` are the
+  file's values as given (ServoDyn's ``m%F_P``), the channels ``*i`` the load in ground axes.
+
+The tower point (TStC): OpenFAST maps ElastoDyn's tower line mesh onto P (``MapMotionMesh``, line-to-point:
+displacements interpolated linearly between the tower nodes, the orientation by its log map, P's offset from the
+tower axis carried rigidly) and the StC's load back onto the nearest of ElastoDyn's tower load points (``MapLoadMesh``
+to ``TowerPtLoads``, the force with its moment about that node). mbsym moves P with ElastoDyn's tower shapes
+interpolated linearly between the nodes as well (:func:`~mbsym.wind.structure.tower_points.tower_point_shapes`),
+turns it by ElastoDyn's small rotation of the slopes there (``SmllRotTrans``; angular velocity the slope rates), and
+applies the load at P itself: the same as OpenFAST's lumping when P is at a node height (``(k − ½) TowerHt /
+TwrNodes`` above the base on an even grid), within ``O((Δh/H)²)`` of it otherwise (Δh the node spacing).
 
 The StC's load on P is mapped onto the body as the glue code does (``MapLoadMesh``: force and its moment about the
 body's reference point): mbsym applies it as generalized forces ``Q = J_vᵀ F + J_ωᵀ M`` (``J_v = ∂v_P/∂q̇``,
@@ -28,9 +44,9 @@ OpenFAST v5 solves ServoDyn with StCs in its implicit input-output solve (``FAST
 "Option 1" module when it has StCs); mbsym moves that part to the mass matrix, ``(M − ∂Q/∂q̈) q̈ = F + Q|_{q̈=0}``,
 and drives the StC states with the solved ``q̈``.
 
-Not modelled (refused by :func:`structural_controls`, file/line/key): blade and tower StCs (``NumBStC``,
-``NumTStC``), TLCD (mode 5), prescribed forces (mode 6), forces from the DLL (mode 7), semi-active and active
-control (``StC_CMODE`` ≠ 0), the spring-force table (``Use_F_TBL``), an SStC on a SubDyn substructure.
+Not modelled (refused by :func:`structural_controls`, file/line/key): blade StCs (``NumBStC``), TLCD (mode 5),
+forces from the DLL (mode 7), semi-active and active control (``StC_CMODE`` ≠ 0), the spring-force table
+(``Use_F_TBL``), an SStC on a SubDyn substructure, a TStC off the tower's flexible length (``StC_P_Z``).
 The ElastoDyn load channels computed from locked joints (``TwrBsMyt``, ``YawBr*p`` …) do not include the StC's
 load; the motions do.
 """
@@ -44,21 +60,36 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import UnsupportedFeatureError
+from .structural_control_terms import stc_terms
 
-__all__ = ["StructuralControl", "StructuralControls", "structural_controls", "stc_terms"]
+__all__ = ["StructuralControl", "StructuralControls", "structural_controls", "stc_terms", "PRESCRIBED_INPUTS"]
 
 #: The structure's body each kind of StC sits on.
-_BODY = {"N": "nacelle", "S": "platform"}
+_BODY = {"N": "nacelle", "T": "tower", "S": "platform"}
 _STATES = ("XQ", "XQD", "YQ", "YQD", "ZQ", "ZQD")
+#: The inputs of a prescribed-load StC (``StC_DOF_MODE = 6``), after its name: force [N] and moment [N m].
+PRESCRIBED_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 
 @dataclass(frozen=True)
 class StructuralControl:
-    """One StC (module docstring): ``kind`` ``"N"`` or ``"S"``, its 1-based ``index`` and its file's settings."""
+    """One StC (module docstring): ``kind`` ``"N"``, ``"T"`` or ``"S"``, its 1-based ``index``, its file's settings
+    and, for ``StC_DOF_MODE = 6``, the prescribed-load table ``forces`` (rows ``t Fx Fy Fz Mx My Mz`` [s, N, N m])."""
 
     kind: str
     index: int
     settings: Any
+    forces: Any = None
+
+    @property
+    def prescribed(self) -> bool:
+        """Whether it is a prescribed load (``StC_DOF_MODE = 6``: no states, six inputs)."""
+        return self.settings.dof_mode == 6
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """``<name>_Fx`` … ``<name>_Mz`` for a prescribed load, else empty."""
+        return tuple(f"{self.name}_{c}" for c in PRESCRIBED_INPUTS) if self.prescribed else ()
 
     @property
     def name(self) -> str:
@@ -71,7 +102,8 @@ class StructuralControl:
 
     @property
     def state_names(self) -> tuple[str, ...]:
-        return tuple(f"{self.name}_{s}" for s in _STATES)
+        """``<name>_XQ`` … ``<name>_ZQD`` (none for a prescribed load)."""
+        return () if self.prescribed else tuple(f"{self.name}_{s}" for s in _STATES)
 
     @property
     def z_active(self) -> bool:
@@ -80,6 +112,8 @@ class StructuralControl:
 
     def initial_state(self) -> np.ndarray:
         """``StC_X_DSP``, 0, ``StC_Y_DSP``, 0, ``StC_Z_DSP`` (only with a Z DOF), 0 [m, m/s] (``StC_Init``)."""
+        if self.prescribed:
+            return np.zeros(0)
         v = self.settings.values
         return np.array([v["StC_X_DSP"], 0.0, v["StC_Y_DSP"], 0.0, v["StC_Z_DSP"] if self.z_active else 0.0, 0.0])
 
@@ -171,6 +205,30 @@ class StructuralControls:
     def initial_state(self) -> np.ndarray:
         return np.concatenate([c.initial_state() for c in self.controls]) if self.controls else np.zeros(0)
 
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """The prescribed loads' inputs (``NStC1_Fx`` … ``NStC1_Mz`` …), in StC order."""
+        return tuple(n for c in self.controls for n in c.input_names)
+
+    @property
+    def input_units(self) -> tuple[str, ...]:
+        return tuple(u for c in self.controls if c.prescribed for u in ("N",) * 3 + ("N-m",) * 3)
+
+    def tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """The prescribed loads as input tables over ``[0, t_end]`` [s] (the files' rows, their end values held as
+        ``InterpStp`` holds them): input name -> ``(t, value)`` [s, N or N m]."""
+        out = {}
+        for c in self.controls:
+            if not c.prescribed:
+                continue
+            data = np.asarray(c.forces, dtype=float)
+            t = data[:, 0]
+            lo, hi = min(0.0, float(t[0])) - 1.0, max(float(t_end), float(t[-1])) + 1.0
+            grid = np.concatenate([[lo], t, [hi]])
+            for k, name in enumerate(c.input_names):
+                out[name] = (grid, np.concatenate([[data[0, k + 1]], data[:, k + 1], [data[-1, k + 1]]]))
+        return out
+
     def channel_names(self) -> tuple[tuple[str, str], ...]:
         """ServoDyn's channels of each StC: name and unit (``ServoDyn_IO.f90``, ``Set_NStC_Outs_Instance``)."""
         units = ("m", "m/s") * 3 + ("kN",) * 3 + ("kN-m",) * 3 + ("kN",) * 3 + ("kN-m",) * 3
@@ -178,63 +236,14 @@ class StructuralControls:
         return tuple((f"{c.name}_{t}", u) for c in self.controls for t, u in zip(tails, units))
 
 
-def stc_terms(controls: StructuralControls, eom, q: Any, qd: Any, u_s: Any, p_s: Any, x_stc: Any,
-              gravity: Any, kind=ca.SX) -> dict[str, Any]:
-    """The StCs' contribution to the structure's equations (module docstring).
-
-    Parameters
-    ----------
-    controls : StructuralControls
-    eom : EquationsOfMotion
-        The structure's equations (its ``point_kinematics``).
-    q, qd, u_s, p_s : SX or MX
-        The structure's coordinates, speeds, inputs and parameters.
-    x_stc : SX or MX
-        The StC states (``controls.state_names``).
-    gravity : SX, MX or float
-        g [m/s²].
-    kind : casadi.SX or casadi.MX
-
-    Returns
-    -------
-    dict
-        ``mass`` (n, n) to add to the mass matrix, ``force`` (n,) to add to the forcing, and the functions
-        ``rates(qdd)`` (the StC state derivatives) and ``channels(qdd)`` (:meth:`StructuralControls.channel_names`
-        rows: states [m, m/s], loads on P [kN, kN-m] in ground (``i``) and P's (``l``) axes) of the solved ``q̈``.
-    """
-    n = q.size1()
-    qdd = kind.sym("qdd_stc", n)
-    mass, force = kind.zeros(n, n), kind.zeros(n, 1)
-    rates, chans = [], []
-    g_ground = ca.vertcat(0.0, 0.0, -gravity)
-    for k, c in enumerate(controls.controls):
-        f = eom.point_kinematics(c.body, c.settings.position)
-        _, R, v, w, a, wd = f(q, qd, qdd, u_s, p_s)
-        O = R.T                                            # ground -> P's axes (the mesh's Orientation)
-        x = x_stc[6 * k:6 * k + 6]
-        F_l, M_l, xd = c.local(x, ca.mtimes(O, a), ca.mtimes(O, w), ca.mtimes(O, wd), ca.mtimes(O, g_ground),
-                               gravity)
-        F_g, M_g = ca.mtimes(R, F_l), ca.mtimes(R, M_l)
-        Q = ca.mtimes(ca.jacobian(v, qd).T, F_g) + ca.mtimes(ca.jacobian(w, qd).T, M_g)
-        mass -= ca.jacobian(Q, qdd)
-        force += ca.substitute(Q, qdd, kind.zeros(n, 1))
-        rates.append(xd)
-        chans += [x, F_g / 1e3, M_g / 1e3, F_l / 1e3, M_l / 1e3]
-    rate_expr = ca.vertcat(*rates) if rates else kind(0, 1)
-    chan_expr = ca.vertcat(*chans) if chans else kind(0, 1)
-    return {"mass": mass, "force": force,
-            "rates": lambda solved: ca.substitute(rate_expr, qdd, solved),
-            "channels": lambda solved: ca.substitute(chan_expr, qdd, solved)}
-
-
 def structural_controls(servodyn, turbine) -> StructuralControls | None:
-    """The deck's nacelle and platform StCs (module docstring), after refusing what mbsym does not model.
+    """The deck's nacelle, tower and platform StCs (module docstring), after refusing what mbsym does not model.
 
     Parameters
     ----------
     servodyn : ServoDynSettings or None
     turbine : TurbineParameters
-        The deck (an SStC on a SubDyn substructure is refused).
+        The deck (an SStC on a SubDyn substructure is refused; a TStC must lie on the tower's flexible length).
 
     Returns
     -------
@@ -244,31 +253,41 @@ def structural_controls(servodyn, turbine) -> StructuralControls | None:
     Raises
     ------
     UnsupportedFeatureError
-        Blade or tower StCs, StC modes and settings not modelled (file, line, key and how to change it).
+        Blade StCs, StC modes and settings not modelled (file, line, key and how to change it).
     OpenFASTFormatError
-        A malformed StC file.
+        A malformed StC file or prescribed-force file.
     """
     if servodyn is None:
         return None
-    from ..deck.stc import read_stc, servodyn_stc_files
+    from ..deck.stc import read_prescribed_forces, read_stc, servodyn_stc_files
 
     files = servodyn_stc_files(servodyn)
     problems = []
-    for kind, what in (("B", "blade"), ("T", "tower")):
-        if kind in files:
-            key = "NumBStC" if kind == "B" else "NumTStC"
-            problems.append(f"{servodyn.path}, line {servodyn.lines.get(key, '?')}, key '{key}': {what} structural "
-                            f"controllers are not modelled; set {key} = 0 (nacelle NStC and platform SStC are)")
+    if "B" in files:
+        problems.append(f"{servodyn.path}, line {servodyn.lines.get('NumBStC', '?')}, key 'NumBStC': blade structural "
+                        "controllers are not modelled; set NumBStC = 0 (nacelle, tower and platform StCs are)")
     if "S" in files and int(getattr(turbine.simulation, "substructure_model", 0) or 0):
         problems.append(f"{servodyn.path}, line {servodyn.lines.get('NumSStC', '?')}, key 'NumSStC': an SStC on a "
                         "SubDyn substructure (CompSub = 1) is not modelled; set NumSStC = 0")
     controls = []
-    for kind in ("N", "S"):
+    flex = float(turbine.tower_height) - float(turbine.tower_base_height)
+    for kind in ("N", "T", "S"):
         for index, (path, _) in enumerate(files.get(kind, ()), 1):
             s = read_stc(path)
             problems += _refusals(s)
+            h = s.values["StC_P_Z"]
+            if kind == "T" and not -1e-3 <= h <= flex + 1e-3:
+                problems.append(f"{s.where('StC_P_Z')}: a tower StC must lie on the tower's flexible length, 0 to "
+                                f"TowerHt - TowerBsHt = {flex:g} m above the tower base; got {h:g} m")
+            forces = None
+            if s.dof_mode == 6:
+                if s.prescribed_file is None:
+                    problems.append(f"{s.where('PrescribedForcesFile')}: StC_DOF_MODE = 6 needs a prescribed force "
+                                    "file (seven columns t Fx Fy Fz Mx My Mz)")
+                else:
+                    forces = read_prescribed_forces(s.prescribed_file)
             if s.dof_mode != 0:
-                controls.append(StructuralControl(kind, index, s))
+                controls.append(StructuralControl(kind, index, s, forces))
     if problems:
         raise UnsupportedFeatureError(problems[0] + "." if len(problems) == 1 else
                                       f"{len(problems)} structural-control settings mbsym does not model:\n  - "
@@ -278,11 +297,11 @@ def structural_controls(servodyn, turbine) -> StructuralControls | None:
 
 def _refusals(s) -> list[str]:
     out = []
-    if s.dof_mode in (5, 6, 7):
-        what = {5: "a tuned liquid column damper (TLCD)", 6: "a prescribed force time series",
-                7: "a force from the DLL"}[s.dof_mode]
+    if s.dof_mode in (5, 7):
+        what = {5: "a tuned liquid column damper (TLCD)", 7: "a force from the DLL"}[s.dof_mode]
         out.append(f"{s.where('StC_DOF_MODE')}: StC_DOF_MODE = {s.dof_mode} ({what}) is not modelled; use 1 "
-                   "(independent X/Y/Z masses), 2 (omni-directional XY) or 3 (omni-directional XYZ)")
+                   "(independent X/Y/Z masses), 2 (omni-directional XY), 3 (omni-directional XYZ) or 6 "
+                   "(prescribed force time series)")
     if s.dof_mode in (1, 2, 3) and s.control_mode != 0:
         out.append(f"{s.where('StC_CMODE')}: StC_CMODE = {s.control_mode} (semi-active or active control) is not "
                    "modelled; set StC_CMODE = 0 (passive: StC_*_K and StC_*_C)")

@@ -85,7 +85,13 @@ def input_units(inputs: Sequence[str], wind_units: Mapping[str, str] | None = No
     return tuple(_input_unit(n, wind) for n in inputs)
 
 
+_STC_INPUT = re.compile(r"^[NTS]StC\d+_([FM])[xyz]$")       # ServoDyn's prescribed StC loads
+
+
 def _input_unit(name: str, wind: Mapping[str, str]) -> str:
     if name in wind:
         return wind[name]
+    stc = _STC_INPUT.match(name)
+    if stc:
+        return "N" if stc.group(1) == "F" else "N m"
     return INPUT_UNITS.get(name) or sea_input_unit(name) or structural_input_unit(name)

@@ -133,7 +133,7 @@ def test_deck_yaw_drive_reaches_the_model(rosco_deck, tmp_path):
     (r"^\s*0\s+HSSBrMode", "5   HSSBrMode", "HSSBrMode"),
     (r"^\s*9999.9\s+TimGenOf", "30   TimGenOf", "TimGenOf"),
     (r"^\s*9999.9\s+TPitManS\(2\)", "20   TPitManS(2)", "TPitManS(2)"),
-    (r"^0\s+NumTStC", "1   NumTStC", "NumTStC"),
+    (r"^0\s+NumBStC", "1   NumBStC", "NumBStC"),
     (r"^\s*0\s+AfCmode", "1   AfCmode", "AfCmode"),
 ])
 def test_servodyn_settings_that_act_are_refused(rosco_deck, tmp_path, old, new, key):
