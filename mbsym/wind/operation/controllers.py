@@ -49,9 +49,10 @@ FLOATING_MEASUREMENTS = ("NcIMURAys", "YawBrTAxp", "YawBrTAyp", "NacYaw")
 #: records 1001-1006: the platform's displacements [m, deg] (the exported floating NMPC's EKF reads pitch and surge).
 PLATFORM_MEASUREMENTS = ("PtfmSurge", "PtfmSway", "PtfmHeave", "PtfmRoll", "PtfmPitch", "PtfmYaw")
 #: Further channels a DISCON library receives from any plant that has them, as ServoDyn fills their records for
-#: every library: the measured generator torque [kN-m] (record 23) and the tower top's fore-aft acceleration
-#: [m/s^2] (53); the exported NMPC's estimator reads both.
-DISCON_MEASUREMENTS = ("GenTq", "YawBrTAxp")
+#: every library: the measured generator torque [kN-m] (record 23), the tower top's fore-aft and side-side
+#: accelerations [m/s^2] (53, 54) and the nacelle yaw [deg] (37); the exported NMPC's estimator reads the first two,
+#: ROSCO's tower damper (``TD_Mode`` 1) the last three on any plant.
+DISCON_MEASUREMENTS = ("GenTq", "YawBrTAxp", "YawBrTAyp", "NacYaw")
 #: Channel -> factor from its OpenFAST unit to SI.
 SI_FACTORS = {**dict(zip(MEASUREMENTS, TO_SI)), "NcIMURAys": math.pi / 180.0, "YawBrTAxp": 1.0, "YawBrTAyp": 1.0,
               "GenTq": 1e3,
