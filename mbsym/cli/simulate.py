@@ -183,7 +183,7 @@ def _model(deck, *, structure_only: bool = False):
         # an offshore deck without aerodynamics: the structure with the water, the sea and the mooring, or on its
         # SubDyn substructure
         from ..wind.offshore.floating import floating_structure
-        from ..wind.operation.structural_control import structure_servodyn
+        from ..wind.structure.structural_control import structure_servodyn
 
         modelled = {k: v | FLOATING_MODELLED.get(k, set()) for k, v in MODELLED.items()}
         check_modules(turbine, modelled=modelled | {"CompServo": {0, 1}})

@@ -21,7 +21,7 @@ TimGenOf < t_end (GenDOF)
 TPitManS(k) < t_end                    refused (override pitch maneuver)
 TPCOn > 0 with PCMode ≠ 0              refused (pitch control starting late)
 NumNStC, NumTStC, NumSStC > 0          modelled: nacelle, tower and platform tuned mass dampers and
-                                       prescribed loads (mbsym.wind.operation.structural_control,
+                                       prescribed loads (mbsym.wind.structure.structural_control,
                                        which refuses the StC modes and settings it does not model)
 AfCmode ≠ 0, NumBStC > 0, CCmode ≠ 0   refused (airfoil control, blade structural controllers, cable
                                        control)

@@ -12,7 +12,7 @@ number TLCD 3 and the prescribed force 4; OpenFAST v5 refuses those numbers, and
 spellings the wheel's files still use (``StC_XY_M``, ``PrescribedForcesCoord``) are accepted for ``StC_Omni_M`` and
 ``PrescribedForcesCoordSys``, as OpenFAST reads these files by position.
 
-What mbsym models of them is decided by :func:`mbsym.wind.operation.structural_control.structural_controls`.
+What mbsym models of them is decided by :func:`mbsym.wind.structure.structural_control.structural_controls`.
 """
 
 from __future__ import annotations

@@ -51,7 +51,7 @@ class FloatingStructure:
         substructure (:class:`~.bottom_fixed.BottomFixedPlatform`, ``hydro=None``).
     structural_controls : StructuralControls, optional
         ServoDyn's nacelle, tower and platform tuned mass dampers and prescribed loads
-        (:mod:`mbsym.wind.operation.structural_control`): their states, inputs (``NStC1_Fx`` …) and channels
+        (:mod:`mbsym.wind.structure.structural_control`): their states, inputs (``NStC1_Fx`` …) and channels
         (``NStC1_XQ`` …) after the others.
     """
 
@@ -98,7 +98,7 @@ class FloatingStructure:
 
     def sea_tables(self, t_end: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """The deck's input tables over ``[0, t_end]`` [s]: its sea ({} in still water) and ServoDyn's prescribed
-        StC loads (:meth:`~mbsym.wind.operation.structural_control.StructuralControls.tables`)."""
+        StC loads (:meth:`~mbsym.wind.structure.structural_control.StructuralControls.tables`)."""
         tables = dict(self.platform.sea_tables(t_end))
         if self.structural_controls is not None:
             tables.update(self.structural_controls.tables(t_end))
@@ -153,7 +153,7 @@ class FloatingStructure:
             + ca.mtimes([JS.T, ca.DM(platform.added_mass), JS]) + ca.mtimes([S.T, loads["mass"], S])
         forcing = eom.functions.forcing(q, qd, us, p) - ca.mtimes([JS.T, ca.DM(platform.added_mass), loads["bias"]])
         if stc is not None:                             # ServoDyn's StCs: their loads, the q̈-dependent part in M
-            from ..operation.structural_control import stc_terms
+            from ..structure.structural_control import stc_terms
 
             terms = stc_terms(stc, eom, q, qd, us, p, x[2 * n + nr:], p[eom.parameters.index("gravity")],
                               u_stc=u[n_sea:], structure=self.model)
@@ -224,7 +224,7 @@ def floating_structure(turbine, *, radiation: str | None = None, structural_cont
     radiation : {"fit", "ss", "none"} or None, keyword-only
         As :func:`~.operating.floating_platform` (None: the deck's ``RdtnMod``).
     structural_controls : StructuralControls, optional, keyword-only
-        ServoDyn's nacelle and platform StCs (:func:`mbsym.wind.operation.structural_control.structural_controls`).
+        ServoDyn's nacelle and platform StCs (:func:`mbsym.wind.structure.structural_control.structural_controls`).
 
     Raises
     ------

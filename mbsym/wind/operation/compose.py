@@ -296,7 +296,7 @@ class Graph:
             if lines is not None and not (isinstance(lines, (ca.SX, ca.MX, ca.DM)) and lines.is_zero()):
                 M = M + ca.mtimes([select.T, lines, select])
         if self.stc is not None:                       # the StCs' loads, their q̈-dependent part in M
-            from .structural_control import stc_terms
+            from ..structure.structural_control import stc_terms
 
             x_stc = ca.vertcat(*[self.X[n] for n in self.stc.state_names])
             u_stc = ca.vertcat(*[self.U[n] for n in self.stc.input_names])

@@ -217,7 +217,7 @@ class OperatingDeck:
             from .hss_brake import HssBrake                   # ServoDyn's brake ramp (HSSBrMode 1) within the run
 
             options.setdefault("hss_brake", HssBrake.from_servodyn(s))
-        from .structural_control import structural_controls    # ServoDyn's nacelle/platform StCs (or refused)
+        from ..structure.structural_control import structural_controls    # ServoDyn's nacelle/platform StCs (or refused)
 
         stc = structural_controls(s, self.turbine)
         if stc is not None:

@@ -232,7 +232,7 @@ class OperatingTurbine:
         self.name = str(name)
         self.platform = _platform(platform)
         self.hss_brake = _hss_brake(hss_brake, turbine, dofs)
-        from .structural_control import StructuralControls
+        from ..structure.structural_control import StructuralControls
 
         if structural_controls is not None and not isinstance(structural_controls, StructuralControls):
             raise TypeError(f"structural_controls must be a StructuralControls or None; got "

@@ -1,4 +1,4 @@
-"""ServoDyn's structural controllers (StC): reader, refusals, a closed form (mbsym.wind.operation.structural_control).
+"""ServoDyn's structural controllers (StC): reader, refusals, a closed form (mbsym.wind.structure.structural_control).
 
 Closed form: an SStC on a platform free in surge (PtfmSgDOF alone, no water, no mooring) is a two-mass system. With
 the X mass ``m`` on a spring ``k`` and damper ``c`` and the rigid Y mass ``m_y`` moving with the platform (its
@@ -57,7 +57,7 @@ def test_read_stc_bad_mode_names_line(tmp_path):
                                                ("Use_F_TBL", "True", "spring-force table")])
 def test_unmodelled_settings_refused(tmp_path, key, value, match):
     from mbsym.wind.deck.stc import read_stc
-    from mbsym.wind.operation.structural_control import _refusals
+    from mbsym.wind.structure.structural_control import _refusals
 
     problems = _refusals(read_stc(_stc_file(tmp_path, **{key: value})))
     assert any(match in p and f"key '{key}'" in p for p in problems), problems
@@ -66,7 +66,7 @@ def test_unmodelled_settings_refused(tmp_path, key, value, match):
 def test_blade_stcs_refused(tmp_path):
     from types import SimpleNamespace
 
-    from mbsym.wind.operation.structural_control import structural_controls
+    from mbsym.wind.structure.structural_control import structural_controls
 
     srvd = tmp_path / "srvd.dat"
     srvd.write_text("x\nx\n1 NumBStC\n\"a.dat\" BStCfiles\n0 NumNStC\n\"unused\" NStCfiles\n0 NumTStC\n"
@@ -98,7 +98,7 @@ def _servodyn_with(tmp_path: Path, kind: str, stc: Path):
 def test_tower_stc_refusals(tmp_path, values, match):
     from types import SimpleNamespace
 
-    from mbsym.wind.operation.structural_control import structural_controls
+    from mbsym.wind.structure.structural_control import structural_controls
 
     s = _servodyn_with(tmp_path, "T", _stc_file(tmp_path, **values))
     turbine = SimpleNamespace(simulation=SimpleNamespace(substructure_model=0), tower_height=87.6,
@@ -111,7 +111,7 @@ def test_prescribed_tables_hold_the_ends_as_interpstp(tmp_path):
     """ServoDyn interpolates the prescribed loads linearly in time and holds the end rows (NWTC ``InterpStp``)."""
     from types import SimpleNamespace
 
-    from mbsym.wind.operation.structural_control import structural_controls
+    from mbsym.wind.structure.structural_control import structural_controls
 
     (tmp_path / "f.dat").write_text("# t Fx Fy Fz Mx My Mz\n2 1 0 0 0 0 -4\n! a comment\n4 3 0 0 0 0 8\n")
     stc = _stc_file(tmp_path, StC_DOF_MODE=6, PrescribedForcesFile='"f.dat"')
@@ -130,7 +130,7 @@ def test_tower_point_at_the_top_moves_with_the_yaw_bearing():
     """A tower point at the top of the flexible length (with an offset) moves as the same point of the nacelle
     (no yaw DOF): position, orientation, velocity, angular velocity and both accelerations, at random states."""
     from mbsym.wind import nrel5mw
-    from mbsym.wind.operation.structural_control_terms import tower_point_motion
+    from mbsym.wind.structure.structural_control_terms import tower_point_motion
     from mbsym.wind.structure.turbine import TurbineModel
 
     t = nrel5mw()
@@ -156,8 +156,8 @@ def test_prescribed_load_power_on_the_tower(tmp_path):
     (global and local axes), and it adds nothing to the mass matrix."""
     from mbsym.wind import nrel5mw
     from mbsym.wind.deck.stc import read_stc
-    from mbsym.wind.operation.structural_control import StructuralControl, StructuralControls, stc_terms
-    from mbsym.wind.operation.structural_control_terms import tower_point_motion
+    from mbsym.wind.structure.structural_control import StructuralControl, StructuralControls, stc_terms
+    from mbsym.wind.structure.structural_control_terms import tower_point_motion
     from mbsym.wind.structure.turbine import TurbineModel
 
     model = TurbineModel(nrel5mw(), dofs=["TwFADOF1", "TwSSDOF1", "TwSSDOF2", "PtfmSgDOF", "PtfmRDOF", "PtfmYDOF"])
@@ -182,7 +182,7 @@ def test_prescribed_load_power_on_the_tower(tmp_path):
 def test_tmd_on_free_platform_matches_two_mass_closed_form(tmp_path):
     from mbsym.wind import nrel5mw
     from mbsym.wind.deck.stc import read_stc
-    from mbsym.wind.operation.structural_control import StructuralControl, StructuralControls, stc_terms
+    from mbsym.wind.structure.structural_control import StructuralControl, StructuralControls, stc_terms
     from mbsym.wind.structure.turbine import TurbineModel
 
     m, k, c, m_y = 5.0e4, 2.0e5, 3.0e4, 2.0e4

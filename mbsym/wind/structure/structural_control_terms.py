@@ -42,7 +42,7 @@ def tower_point_motion(structure, point, q: Any, qd: Any, qdd: Any, u: Any, p: A
     tuple
         ``R`` (3, 3) P's axes -> ground, ``v`` [m/s], ``w`` [rad/s], ``a`` [m/s²], ``wd`` [rad/s²] (3,), ground axes.
     """
-    from ..structure.tower_points import tower_point_shapes
+    from .tower_points import tower_point_shapes
 
     eom = structure.eom
     _, R0, v0, w0, a0, wd0 = eom.point_kinematics("tower")(q, qd, qdd, u, p)
