@@ -225,7 +225,10 @@ class InflowWindSettings:
         field = self.field()
         t0, t1 = field.time_range
         times = t0 + field.dt * np.arange(int(round((t1 - t0) / field.dt)) + 1)
-        u = field.velocity(times, np.array([[0.0, 0.0, field.reference_height]]))[:, 0, 0]
+        # read a billionth of a step inside the ends: t0 = -x0/URef lands a rounding error outside a non-periodic
+        # field's data (τ = t + x0/URef < 0), which InflowWind would refuse there; the values move by ~1e-9 of a step
+        inside = np.clip(times, t0 + 1e-9 * field.dt, t1 - 1e-9 * field.dt)
+        u = field.velocity(inside, np.array([[0.0, 0.0, field.reference_height]]))[:, 0, 0]
         source = f"{field.source or self.full_field_file} at (0, 0, {field.reference_height:g}) m"
         if field.cubic:                               # the slices joined by InflowWind's zero-slope cubic
             from ..inflow.cubic_signal import HermiteTableWind

@@ -144,3 +144,16 @@ def test_linearization_turns_cubic_off_as_inflowwind(tmp_path):
     with pytest.warns(ModelWarning, match="disables cubic interpolation of the wind for linearization"):
         settings = deck_inflowwind(fst)
     assert not settings.cubic_interpolation and not settings.field().cubic
+
+
+def test_hub_series_of_a_non_periodic_field(tmp_path):
+    """The hub-height series of a non-periodic field starts at t = -x0/URef, where the field's first slice is; read
+    there it once fell a rounding error outside the data (τ < 0) and was refused. Now it is the field's own hub
+    series (linear and cubic in time), within a billionth of a step of its ends."""
+    _, field = _deck_field(tmp_path, "tower_cubic")
+    settings = read_inflowwind(tmp_path / "tower_cubic_IfW.dat")
+    with pytest.warns(ModelWarning):
+        hub = settings.wind(allow_unmodelled=True)
+    t0, t1 = field.time_range
+    t = np.linspace(t0 + 0.05, t1 - 0.05, 57)
+    assert np.allclose(hub(t), field.velocity(t, [0.0, 0.0, field.reference_height])[:, 0], atol=1e-6)
