@@ -126,3 +126,28 @@ def notch(u, states, freq: float, beta_num: float, beta_den: float, dt: float, r
     a0 = (k**2 - 2.0 * w * beta_den * k + w**2) / den
     y = b2 * u + b1 * in1 + b0 * in2 - a1 * out1 - a0 * out2
     return y, (u, in1, y, out1)
+
+
+def round_float32(x):
+    """``x`` rounded to the nearest single-precision number (Veltkamp's split: ``c − (c − x)`` with
+    ``c = (2²⁹ + 1)·x`` keeps 24 significant bits), as ROSCO reads the time from its float32 swap array.
+    Exact for |x| < 1e300 away from single precision's subnormals; ties may round away from even."""
+    c = x * (2.0**29 + 1.0)
+    return c - (c - x)
+
+
+def controller_time(x: dict, nxt: dict, dt: float, reset):
+    """ROSCO's ``Time`` [s] at this call: the step count (state ``step_count``, 0 at the first call) times
+    ``dt``, rounded to single precision as the host's time is in the swap array (the run starting at t = 0)."""
+    n = ca.if_else(reset, 0.0, x["step_count"])
+    nxt["step_count"] = n + 1.0
+    return round_float32(n * dt)
+
+
+def sigma(t, t0, t1, y0, y1):
+    """ROSCO's ``sigma``: the cubic step from ``y0`` at ``t0`` to ``y1`` at ``t1`` (zero slope at both ends),
+    ``y0`` before ``t0`` and ``y1`` after ``t1``; its coefficients as ROSCO's Functions.f90 forms them."""
+    d3 = (t0 - t1) ** 3
+    a3, a2, a1, a0 = 2.0 / d3, -3.0 * (t0 + t1) / d3, 6.0 * t1 * t0 / d3, (t0 - 3.0 * t1) * t0**2 / d3
+    ramp = (a3 * t**3 + a2 * t**2 + a1 * t + a0) * (y1 - y0) + y0
+    return ca.if_else(t < t0, y0, ca.if_else(t > t1, y1, ramp))

@@ -63,7 +63,11 @@ the scheme; the code is ours):
    damper's increment (``TD_Mode 1``, :mod:`.tower`) is added before the blades' saturation.
 
 The power reference (``PRC_Mode`` 1, 2 with constant ratings, :mod:`.power_reference`) changes
-the set-points of 3, the smoother's rated power in 4, the torque limit in 5 and the minimum pitch in 6.
+the set-points of 3, the smoother's rated power in 4, the torque limit in 5 and the minimum pitch in 6;
+the start-up (``SU_Mode 1``, :mod:`.startup`, after 2) changes its speed and torque ratings by stage; the
+shut-down (``SD_Mode 1``, :mod:`.shutdown`, checked before 2) latches and then replaces the torque law's
+output in 5 and each blade's rate-limited pitch demand in 6 by its ramps. Both read ROSCO's time, which
+the controller counts from its first call (state ``step_count``, t = 0 there) in single precision.
 
 Differences from the library: ROSCO receives single-precision measurements and
 its time step in single precision (pass ``dt=float(numpy.float32(dt))`` to
@@ -84,10 +88,12 @@ import numpy as np
 from ...exceptions import DimensionError, ParameterError
 from . import power_reference as prc
 from . import tower
-from ._blocks import interp1, lpf1, lpf2, notch, pi, rate_limit, sat
+from ._blocks import controller_time, interp1, lpf1, lpf2, notch, pi, rate_limit, sat
 from .estimator import RANGE_TOLERANCE, wind_estimate  # noqa: F401 (re-exported)
 from .ipc import IPC_DIAGNOSTICS, ipc_states, ipc_step
 from .settings import BaselineSettings
+from .shutdown import shutdown_measurements, shutdown_pitch, shutdown_rates, shutdown_states, shutdown_torque
+from .startup import startup_ratings, startup_states
 from .tower import TRANSLATIONAL_MEASUREMENTS  # noqa: F401 (re-exported)
 
 __all__ = ["BaselineController", "MEASUREMENTS", "COMMANDS", "IPC_MEASUREMENTS", "IPC_COMMANDS",
@@ -115,6 +121,9 @@ TRANSLATIONAL_DIAGNOSTICS = ("FA_AccF", "FA_vel", "Fl_PitCom")
 #: Internal signals of the tower damper (``tower_damper_mode = 1``), last: the high-pass filtered fore-aft
 #: acceleration [m/s²] and the pitch increment [rad].
 TOWER_DAMPER_DIAGNOSTICS = ("FA_AccHPF", "FA_PitCom")
+#: Internal signals of the shut-down (``shutdown_mode = 1``) and the start-up (``startup_mode = 1``), last.
+SHUTDOWN_DIAGNOSTICS = ("SD_Trigger", "SD_Stage")
+STARTUP_DIAGNOSTICS = ("SU_Stage", "PRC_R_Speed", "PRC_R_Torque")
 #: Internal signals of :attr:`BaselineController.diagnostics`.
 DIAGNOSTICS = ("GenSpeedF", "RotSpeedF", "WE_Vw", "WE_Vw_F", "WE_Op", "PC_MinPit", "PC_RefSpd", "PC_SpdErr",
                "PC_KP", "PC_KI", "PC_PitComT", "VS_RefSpd", "VS_SpdErr", "SS_DelOmegaF", "VS_State", "Cp_op")
@@ -133,6 +142,10 @@ STATE_UNITS = {
     "ipc_integral": "rad", "ipc_filter": "rad", "floating_lowpass": "rad/s^2", "floating_highpass": "rad/s^2",
     "floating_integral": "rad/s", "actuator_filter": "rad", "speed_notch": "rad/s",
     "tower_damper_highpass": "m/s^2", "tower_damper_integral": "rad", "power_reference_filter": "m/s",
+    "step_count": "-", "shutdown_trigger": "-", "shutdown_stage": "-", "shutdown_stage_start": "s",
+    "shutdown_pitch_filter": "rad", "shutdown_yaw_filter": "-", "shutdown_speed_filter": "rad/s",
+    "shutdown_pitch": "rad", "shutdown_torque": "N m", "startup_stage": "-", "startup_stage_start": "s",
+    "startup_rotor_filter": "rad/s",
     "ekf_x": _EKF_X,
     "ekf_P": ("rad^2/s^2", "rad m/s^2", "rad m/s^2", "rad m/s^2", "m^2/s^2", "m^2/s^2", "rad m/s^2", "m^2/s^2",
               "m^2/s^2"),                                                # (x_i)(x_j)
@@ -218,11 +231,14 @@ class BaselineController:
         self.floating = settings.floating_mode > 0
         measured = tuple(IPC_MEASUREMENTS if self.ipc else MEASUREMENTS)
         translational = settings.floating_mode == 1
-        self.measurements = self.measurement_names = measured + tower.extra_measurements(settings)
+        self.measurements = self.measurement_names = measured + tower.extra_measurements(settings) + \
+            shutdown_measurements(settings)
         self.commands = self.command_names = tuple(IPC_COMMANDS if self.ipc else COMMANDS)
         self.diagnostic_names = DIAGNOSTICS + (IPC_DIAGNOSTICS if self.ipc else ()) + \
             ((TRANSLATIONAL_DIAGNOSTICS if translational else FLOATING_DIAGNOSTICS) if self.floating else ()) + \
-            (TOWER_DAMPER_DIAGNOSTICS if settings.tower_damper_mode else ())
+            (TOWER_DAMPER_DIAGNOSTICS if settings.tower_damper_mode else ()) + \
+            (SHUTDOWN_DIAGNOSTICS if settings.shutdown_mode else ()) + (STARTUP_DIAGNOSTICS if settings.startup_mode
+                                                                        else ())
         states = self._layout()
         x = ca.SX.sym("xc", len(states.names))
         y = ca.SX.sym("y", len(self.measurements))
@@ -292,6 +308,12 @@ class BaselineController:
             st.add("tower_damper_integral")
         if s.power_reference_mode == 1:
             st.add("power_reference_filter", 2)
+        if s.shutdown_mode or s.startup_mode:
+            st.add("step_count")
+        if s.shutdown_mode:
+            shutdown_states(st, s)
+        if s.startup_mode:
+            startup_states(st, s)
         return st
 
     # ------------------------------------------------------------------ one step
@@ -334,11 +356,20 @@ class BaselineController:
             fa_signal = tower.fore_aft_acceleration(self.measurements, y, r)
             fa_pitch, fa_acc = tower.tower_damper(s, dt, x, nxt, r, fa_signal)
 
+        # --- shut-down check (ROSCO's Shutdown, before the estimator): trigger latch, stage and ramp rates
+        time = controller_time(x, nxt, dt, r) if s.shutdown_mode or s.startup_mode else None
+        self._shutdown = None
+        if s.shutdown_mode:
+            yaw = y[self.measurements.index("YawErr")] if s.shutdown_on_yaw_error else None
+            self._shutdown = shutdown_rates(s, dt, x, nxt, r, time, pitch, gen_speed, yaw)
+
         # --- 2. wind-speed estimate
         estimate, op, cp_op = wind_estimate(s, dt, x, nxt, r, rot_f, pitch, torque_f, hub_wind, last_estimate)
 
         # --- 3. set-points (power reference: ROSCO's ratings, PRC_Mode 2, or speed table, PRC_Mode 1)
         r_speed, r_torque, r_pitch = prc.ratings(s)
+        if s.startup_mode:     # ROSCO's Startup: the ratings by stage
+            r_speed, r_torque, su_stage = startup_ratings(s, dt, x, nxt, r, time, rot_speed, r_speed, r_torque)
         prc_speed = prc.scheduled_speed(s, dt, x, nxt, r, estimate)
         ref_pitch_speed = s.pitch_reference_speed * r_speed if prc_speed is None else prc_speed
         ref_pitch_speed = ref_pitch_speed - ca.fmin(shift_prev, 0.0)
@@ -378,8 +409,10 @@ class BaselineController:
         # --- 6. pitch
         kp = interp1(s.schedule_pitch, s.schedule_kp, "pc_kp")(pitch_f)
         ki = interp1(s.schedule_pitch, s.schedule_ki, "pc_ki")(pitch_f)
-        total, nxt["pitch_integral"] = pi(pitch_error, kp, ki, x["min_pitch"], s.pitch_max, dt,
-                                          x["pitch_integral"], pitch_blade1, r)
+        lo, hi = x["min_pitch"], s.pitch_max
+        if s.startup_mode:     # before the start (stage -1) the PI's limits are the pitch: it holds
+            lo, hi = ca.if_else(su_stage == -1, pitch, lo), ca.if_else(su_stage == -1, pitch, hi)
+        total, nxt["pitch_integral"] = pi(pitch_error, kp, ki, lo, hi, dt, x["pitch_integral"], pitch_blade1, r)
         if self.ipc:
             ipc_pitch, ipc_diag = ipc_step(s, dt, x, nxt, r, [y[5], y[6], y[7]], y[8], rot_f, estimate, pitch)
         if s.peak_shaving:    # ROSCO's PitchSaturation: the higher of peak shaving and the pitch rating's pitch
@@ -404,7 +437,10 @@ class BaselineController:
 
         diag = [gen_f, rot_f, estimate, est_f, op, min_pitch, ref_pitch_speed, pitch_error, kp, ki, total, ref,
                 torque_error, shift_f, state_code, cp_op] + (ipc_diag if self.ipc else []) + \
-            ([acc_f, velocity, fl_pitch] if self.floating else []) + ([fa_acc, fa_pitch] if s.tower_damper_mode else [])
+            ([acc_f, velocity, fl_pitch] if self.floating else []) + \
+            ([fa_acc, fa_pitch] if s.tower_damper_mode else []) + \
+            (list(self._shutdown[0::3]) if s.shutdown_mode else []) + \
+            ([su_stage, r_speed, r_torque] if s.startup_mode else [])
         return nxt, commands + [ca.fmax(torque, 0.0)], diag
 
     def _blade_commands(self, x, nxt, r, demand, min_pitch, reset_pitch):
@@ -414,6 +450,9 @@ class BaselineController:
             demand = sat(demand, min_pitch, s.pitch_max)
         demand, nxt["pitch_last"] = rate_limit(demand, x["pitch_last"], s.pitch_rate_min, s.pitch_rate_max,
                                                dt, r, reset_pitch)
+        if self._shutdown is not None:     # ROSCO's PitCom_SD: after the trip, the ramp replaces the demand
+            trigger, rate = self._shutdown[0], self._shutdown[1]
+            demand = shutdown_pitch(x, nxt, r, trigger, rate, dt, demand)
         demand = self._actuator_model(x, nxt, r, demand)
         command = sat(demand, s.pitch_min, s.pitch_max)
         command, nxt["pitch_command_last"] = rate_limit(command, x["pitch_command_last"], s.pitch_rate_min,
@@ -456,6 +495,8 @@ class BaselineController:
         else:
             torque, code = self._torque_state_machine(x, nxt, r, gen_f, error, pitch, region3_pitch, last_torque,
                                                       const_power_torque)
+        if self._shutdown is not None:     # ROSCO's GenTq_SD: after the trip, the ramp replaces the law
+            torque = shutdown_torque(s, x, nxt, r, self._shutdown[0], self._shutdown[2], dt, torque)
         torque = sat(torque, s.torque_min, ca.fmin(s.torque_max, max_torque))
         torque, nxt["torque_last"] = rate_limit(torque, x["torque_last"], -s.torque_rate_max, s.torque_rate_max,
                                                 dt, r)

@@ -5,14 +5,15 @@ uses; :data:`DISCON_MAP` is the one documented mapping from ``DISCON.IN`` keys
 (``VS_GenEff`` % becomes a fraction, every other value keeps ROSCO's SI unit).
 :meth:`BaselineSettings.from_discon` reads a ``DISCON.IN`` (and the performance
 table it names, for the wind-speed estimator) and refuses, naming file and line,
-the ROSCO features the baseline does not implement (yaw control, start-up/shut-down,
-power reference from open-loop or ZeroMQ inputs, fixed-pitch torque control, the I&I
-estimator, ...); use :class:`~mbsym.wind.control.discon.DisconController` with the
+the ROSCO features the baseline does not implement (yaw control, power reference
+from open-loop or ZeroMQ inputs, fixed-pitch torque control, the I&I estimator, ...); use
+:class:`~mbsym.wind.control.discon.DisconController` with the
 library for those. Modelled besides the land scheme: the floating feedback, translational
 ``Fl_Mode 1`` and rotational ``Fl_Mode 2``, with its filters (:data:`FLOATING_MAP`), the pitch actuator
 model ``PA_Mode`` 1 and 2 (:data:`ACTUATOR_MAP`), the generator-speed notch filters (``F_GenSpdNotch_N``),
-the tower fore-aft damper ``TD_Mode 1`` (:data:`TOWER_DAMPER_MAP`) and the power reference ``PRC_Mode`` 1
-and 2 with constant ratings (``PRC_Comm 0``, :data:`POWER_REFERENCE_MAP`).
+the tower fore-aft damper ``TD_Mode 1`` (:data:`TOWER_DAMPER_MAP`), the power reference ``PRC_Mode`` 1
+and 2 with constant ratings (``PRC_Comm 0``, :data:`POWER_REFERENCE_MAP`), the shut-down ``SD_Mode 1``
+(:data:`~.shutdown.SHUTDOWN_MAP`) and the start-up ``SU_Mode 1`` (:data:`~.startup.STARTUP_MAP`).
 """
 
 from __future__ import annotations
@@ -74,7 +75,7 @@ POWER_REFERENCE_MAP = {
 }
 #: Modes the baseline does not implement: key → the values it accepts.
 UNSUPPORTED_MODES = {
-    "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0, 1, 2), "SU_Mode": (0,), "SD_Mode": (0,),
+    "IPC_ControlMode": (0, 1, 2), "Y_ControlMode": (0,), "PRC_Mode": (0, 1, 2), "SU_Mode": (0, 1), "SD_Mode": (0, 1),
     "Fl_Mode": (0, 1, 2), "TD_Mode": (0, 1), "TRA_Mode": (0,), "Flp_Mode": (0,), "OL_Mode": (0,), "PA_Mode": (0, 1, 2),
     "PF_Mode": (0,), "AWC_Mode": (0,), "Ext_Mode": (0,), "ZMQ_Mode": (0,), "CC_Mode": (0,), "StC_Mode": (0,),
     "VS_FBP": (0,), "VS_ControlMode": (1, 2, 3), "WE_Mode": (0, 2), "PC_ControlMode": (1,),
@@ -117,6 +118,20 @@ class BaselineSettings:
     ratings ``power_rating_speed``, ``power_rating_torque``, ``power_rating_pitch`` [-] scale the speed
     set-points, the torque limit and the smoother's rated power, and the minimum pitch (with peak shaving) is
     at least ``power_rating_min_pitch`` [rad] at ``power_rating_pitch`` in ``power_rating_table`` [-].
+
+    Shut-down (``shutdown_mode = 1``, ROSCO's ``SD_Mode``; :mod:`~mbsym.wind.control.shutdown`): from
+    ``shutdown_activation_time`` [s] on, the triggers ``shutdown_on_pitch`` (filtered pitch above
+    ``shutdown_max_pitch`` [rad], corner ``shutdown_pitch_corner`` [rad/s]), ``shutdown_on_yaw_error`` (filtered
+    yaw error above ``shutdown_max_yaw_error`` [rad], ``shutdown_yaw_error_corner`` [rad/s]),
+    ``shutdown_on_generator_speed`` (filtered speed above ``shutdown_max_generator_speed`` [rad/s],
+    ``shutdown_generator_speed_corner`` [rad/s]) and ``shutdown_on_time`` (after ``shutdown_time`` [s]) latch it;
+    then the pitch rises at ``shutdown_pitch_rates`` [rad/s] and the torque falls at ``shutdown_torque_rates``
+    [N m/s], one per stage, the stages timed (``shutdown_method`` 1, ``shutdown_stage_times`` [s]) or by pitch
+    (2, ``shutdown_stage_pitch`` [rad]). Start-up (``startup_mode = 1``, ROSCO's ``SU_Mode``;
+    :mod:`~mbsym.wind.control.startup`): pitch held until ``startup_time`` [s], free-wheeling without torque at
+    the rotor speed ``startup_rotor_speed`` [rad/s] (filter corner ``startup_rotor_speed_corner`` [rad/s]) for at
+    least ``startup_freewheel_duration`` [s], then the torque rating ramps to ``startup_loads`` [-] in
+    ``startup_ramp_durations`` [s] and holds for ``startup_hold_durations`` [s], stage by stage.
     """
 
     dt: float
@@ -203,6 +218,32 @@ class BaselineSettings:
     power_rating_pitch: float = 1.0
     power_rating_table: tuple[float, ...] = ()
     power_rating_min_pitch: tuple[float, ...] = ()
+    shutdown_mode: int = 0
+    shutdown_activation_time: float = 0.0
+    shutdown_on_pitch: bool = False
+    shutdown_on_yaw_error: bool = False
+    shutdown_on_generator_speed: bool = False
+    shutdown_on_time: bool = False
+    shutdown_max_pitch: float = 0.0
+    shutdown_pitch_corner: float = 0.0
+    shutdown_max_yaw_error: float = 0.0
+    shutdown_yaw_error_corner: float = 0.0
+    shutdown_max_generator_speed: float = 0.0
+    shutdown_generator_speed_corner: float = 0.0
+    shutdown_time: float = 0.0
+    shutdown_method: int = 1
+    shutdown_stage_times: tuple[float, ...] = ()
+    shutdown_stage_pitch: tuple[float, ...] = ()
+    shutdown_torque_rates: tuple[float, ...] = ()
+    shutdown_pitch_rates: tuple[float, ...] = ()
+    startup_mode: int = 0
+    startup_time: float = 0.0
+    startup_freewheel_duration: float = 0.0
+    startup_rotor_speed: float = 0.0
+    startup_rotor_speed_corner: float = 0.0
+    startup_loads: tuple[float, ...] = ()
+    startup_ramp_durations: tuple[float, ...] = ()
+    startup_hold_durations: tuple[float, ...] = ()
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -327,7 +368,10 @@ class BaselineSettings:
         elif self.tower_damper_mode and not (self.tower_damper_highpass_corner > 0 and self.tower_damper_limit >= 0):
             p.append("the tower damper needs tower_damper_highpass_corner > 0 [rad/s] and tower_damper_limit >= 0 "
                      "[rad]")
-        return p + power_reference_problems(self)
+        from .shutdown import shutdown_problems
+        from .startup import startup_problems
+
+        return p + power_reference_problems(self) + shutdown_problems(self) + startup_problems(self)
 
     def replace(self, **changes) -> BaselineSettings:
         """A copy with some settings changed (validated again)."""
@@ -384,6 +428,14 @@ class BaselineSettings:
             from .power_reference import power_reference_values
 
             values.update(power_reference_values(d))
+        if d["SD_Mode"] > 0:
+            from .shutdown import shutdown_values
+
+            values.update(shutdown_values(d))
+        if d["SU_Mode"] > 0:
+            from .startup import startup_values
+
+            values.update(startup_values(d))
         if d["WE_Mode"] == 2:
             table = performance if isinstance(performance, PerformanceTable) else \
                 read_performance_table(performance if performance is not None else _performance_path(d))

@@ -1,7 +1,8 @@
 """AeroDyn settings that change loads on DOFs mbsym models but that its rotor models leave out: refused.
 
 mbsym's rotors load the hub (rotor-effective performance surfaces) or the blades (blade-element
-rotor); the tower's drag (``TwrAero``) loads the tower with either, and its disturbance of the blade
+rotor); the tower's drag (``TwrAero``) loads the tower with either, the nacelle's drag (``NacelleDrag``,
+:mod:`mbsym.wind.aero.nacelle`) the tower top with either, and the tower's disturbance of the blade
 inflow (``TwrPotent``, ``TwrShadow``) enters the blade-element rotor node by node (:mod:`mbsym.wind.aero.tower`)
 and the rotor-effective surfaces as its azimuth average (:mod:`mbsym.wind.aero.tower_average`).
 AeroDyn switches that add loads on other DOFs or change the blade inflow in ways a model leaves out
@@ -10,7 +11,6 @@ are refused with the file, line and key, never ignored:
 ==================  ==========================================================================
 Key                 Why it is refused
 ==================  ==========================================================================
-NacelleDrag = True  nacelle drag (loads the tower top)
 TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
 SectAvg = True      sector-averaged inflow over each blade element
 MHK ≠ 0             marine hydrokinetic turbine (buoyancy, added mass, cavitation)
@@ -35,7 +35,6 @@ __all__ = ["aerodyn_problems", "check_aerodyn"]
 _TRUE = ("true", "t", ".true.")
 #: key -> (is it on?, why it is refused)
 _SWITCHES = {
-    "NacelleDrag": (lambda v: v.lower() in _TRUE, "nacelle drag is not modelled"),
     "TFinAero": (lambda v: v.lower() in _TRUE, "tail-fin aerodynamics are not modelled"),
     "SectAvg": (lambda v: v.lower() in _TRUE, "sector-averaged blade inflow is not modelled"),
     "MHK": (lambda v: _int(v) != 0, "marine hydrokinetic turbines are not modelled"),

@@ -122,7 +122,7 @@ class PredictionModel:
                                         dynamic_inflow=plant.dynamic_inflow if keep_inflow else False,
                                         saturation_width=plant.saturation_width, platform=platform,
                                         disk_moments=plant.structure.hub_moments, tower_aero=plant.tower_aero,
-                                        name="prediction")
+                                        nacelle_drag=getattr(plant, "nacelle_drag", None), name="prediction")
         full = self.turbine.dynamics()
         self.full = full
         self._p = dict(p or {})

@@ -39,7 +39,7 @@ from ..aero.bem import aerodyn_theta
 from ..structure.blade_points import blade_point_kinematics, blade_point_loads, blade_point_shapes
 from ..structure.turbine import BLADE_LOAD_INPUTS
 from .compose import WIRED_INPUTS, Graph, actuator_states
-from .tower_compose import tower_line, tower_load_inputs
+from .tower_compose import nacelle_load_inputs, tower_line, tower_load_inputs
 
 __all__ = ["BladeGraph", "blade_load_inputs", "aerodynamic_centres", "annulus_axes", "elastic_twist",
            "HUB_POINT_OUTPUTS", "INFLOW_OUTPUTS"]
@@ -88,7 +88,9 @@ class BladeGraph(Graph):
 
     def wired_inputs(self) -> tuple[str, ...]:
         pitch = tuple(f"{n}{sfx}" for n in self.model.pitch_names for sfx in ("", "_d", "_dd"))
-        return WIRED_INPUTS + pitch + blade_load_inputs(self.model.structure) + tower_load_inputs(self.model.structure)
+        structure = self.model.structure
+        return (WIRED_INPUTS + pitch + blade_load_inputs(structure) + tower_load_inputs(structure)
+                + nacelle_load_inputs(structure))
 
     def wind_inputs(self) -> tuple[str, ...]:
         return tuple(self.model.wind.inputs)

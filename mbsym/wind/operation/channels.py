@@ -48,6 +48,10 @@ A floating turbine (``model.platform``) adds its platform's channels (``HydroFxi
 and ``NcIMURAys`` [deg/s^2], the nacelle's angular acceleration about the tower-top (shaft) lateral axis
 (ElastoDyn's nacelle IMU channel; ServoDyn passes it to ROSCO's floating feedback as record 83).
 
+With AeroDyn's nacelle drag (``OperatingTurbine(nacelle_drag=...)``, :mod:`mbsym.wind.aero.nacelle`): ``NcFdx …
+NcFdz`` [N] and ``NcMdx … NcMdz`` [N-m], its force at the yaw bearing and moment about it in nacelle axes, and
+``NcFxi … NcMzi``, the same in ground axes (AeroDyn's total nacelle load: no buoyancy here).
+
 Signs follow OpenFAST: a downwind thrust gives positive ``TwrBsMyt``; the rotor's reaction
 torque on the nacelle gives positive ``TwrBsMxt``.
 """
@@ -61,6 +65,7 @@ import casadi as ca
 
 from ..structure.elastodyn_nodes import rotor_mass_properties
 from ..structure.gearbox import generator_torque_at_shaft, has_losses
+from ..aero.nacelle import NACELLE_CHANNELS
 from ..structure.load_cuts import reaction_rows
 
 __all__ = ["channel_rows", "OPERATION_CHANNELS"]
@@ -89,6 +94,11 @@ def channel_rows(g) -> list[tuple[str, str, Any]]:
     rows += [r for r in reaction_rows(g.eom.locked, reactions(g)) if r[0].startswith(("LSShft", "YawBr"))]
     if g.platform is not None:
         rows += _floating_rows(g)
+    drag = getattr(g, "nacelle_drag", None)
+    if drag is not None:                                            # AeroDyn's NcFd*, NcMd*, NcF*i, NcM*i
+        values = ca.vertcat(drag["force"], drag["moment"], ca.mtimes(drag["R"], drag["force"]),
+                            ca.mtimes(drag["R"], drag["moment"]))
+        rows += [(n, "N" if n[2] == "F" else "N-m", values[i]) for i, n in enumerate(NACELLE_CHANNELS)]
     if getattr(model, "hss_brake", None) is not None:               # ElastoDyn's HSSBrTq: the brake's torque
         rows.append(("HSSBrTq", "kN-m", g.brake_torque / 1e3))
     return rows

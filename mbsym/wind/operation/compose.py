@@ -45,7 +45,7 @@ from ...spd_solve import spd_solve
 from .actuators import ACTUATOR_PARAMETERS, pitch_actuator_rhs, torque_actuator_rhs
 from .channels import channel_rows
 from .hss_brake import BRAKE_INPUT
-from .tower_compose import tower_drag_loads, tower_load_inputs, tower_moves
+from .tower_compose import nacelle_drag_loads, nacelle_load_inputs, tower_drag_loads, tower_load_inputs, tower_moves
 from .units import input_units, state_units
 
 __all__ = ["compose", "check_structure", "Graph", "WIRED_INPUTS"]
@@ -105,7 +105,7 @@ class Graph:
 
     def wired_inputs(self) -> tuple[str, ...]:
         """Structural inputs driven by the composition."""
-        return WIRED_INPUTS + tower_load_inputs(self.model.structure)
+        return WIRED_INPUTS + tower_load_inputs(self.model.structure) + nacelle_load_inputs(self.model.structure)
 
     def wind_inputs(self) -> tuple[str, ...]:
         """The wind inputs (first inputs of the Dynamics)."""
@@ -123,6 +123,7 @@ class Graph:
             brake.torque_on_shaft(self.U[BRAKE_INPUT], self.generator_speed, self.model.brake_slip_speed)
         self._build_aero()
         self.loads.update(self._tower_loads())
+        self.loads.update(self._nacelle_loads())
         self.u_s = self.structural_inputs(**self.loads)
         self.qdd = self._accelerations()
         self.xd = ca.vertcat(self.qd, self.qdd, *self._extra_rhs())
@@ -255,6 +256,19 @@ class Graph:
         frame = self._kinematics("tower", zero)
         return tower_drag_loads(self.model, frame, self.q, self.qd, self.tower_wind, self.P["air_density"])
 
+    def _nacelle_loads(self) -> dict[str, Any]:
+        """AeroDyn's nacelle drag at the yaw bearing (:mod:`.tower_compose`), from :meth:`tower_wind` there: kept as
+        ``nacelle_drag`` (``force``, ``moment``, nacelle axes; ``R``) for the ``NcFd*`` channels."""
+        self.nacelle_drag = None
+        names = nacelle_load_inputs(self.model.structure)
+        if not names:
+            return {}
+        unloaded = {n: 0.0 for n in self.eom.inputs if n not in self.U}
+        frame = self._kinematics("nacelle", self.structural_inputs(**{"thrust": 0.0, "torque": 0.0, **unloaded}))
+        out = nacelle_drag_loads(self.model, frame, self.tower_wind, self.P["air_density"])
+        self.nacelle_drag = {"force": out.pop("force"), "moment": out.pop("moment"), "R": frame["R"]}
+        return out
+
     def tower_wind(self, points: Any) -> Any:
         """The wind at ``points`` (3, N) [m/s]: the rotor-effective rung's hub wind at every height."""
         return ca.repmat(ca.vertcat(self.U["Wind1VelX"], 0.0, 0.0), 1, points.size2())
@@ -265,6 +279,7 @@ class Graph:
         values = {"GenTq": X["GenTq"] + self.brake_torque, "RotTorq": torque, "RotThrust": thrust, "RotMomY": 0.0,
                   "RotMomZ": 0.0,
                   "RotFrcY": 0.0, "RotFrcZ": 0.0, **{n: 0.0 for n in tower_load_inputs(self.model.structure)},
+                  **{n: 0.0 for n in nacelle_load_inputs(self.model.structure)},
                   **self.platform_loads, **loads}
         for n in self.model.pitch_names:
             values.update({n: X[n], f"{n}_d": 0.0, f"{n}_dd": 0.0})         # ElastoDyn: quasi-static pitch

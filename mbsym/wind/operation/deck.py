@@ -166,6 +166,7 @@ class OperatingDeck:
         OpenFASTFormatError
             A ServoDyn or AeroDyn setting that would act and is not modelled (file, line, key).
         """
+        from ..aero.nacelle import NacelleDrag
         from ..aero.tower import TowerAero
         from ..deck.aero_audit import check_aerodyn
 
@@ -176,6 +177,7 @@ class OperatingDeck:
         if self.aerodyn is not None:
             check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
             options.setdefault("tower_aero", TowerAero.from_aerodyn(self.aerodyn))
+            options.setdefault("nacelle_drag", NacelleDrag.from_aerodyn(self.aerodyn))
         self._yaw_drive(dofs, t_end, options)
         options.setdefault("load_channels", self.outlist_needs_load_channels(aero))
         options.setdefault("platform", self.platform)

@@ -138,6 +138,10 @@ class OperatingTurbine:
         drag loads the tower and platform DOFs (both rotors; the rotor-effective rung's wind is the hub wind at
         every height); with ``potential`` or ``shadow`` it disturbs the blades' inflow (blade-element rotor only).
         Default None: no tower aerodynamics.
+    nacelle_drag : NacelleDrag, optional, keyword-only
+        AeroDyn's nacelle drag (:class:`~mbsym.wind.aero.nacelle.NacelleDrag`, ``NacelleDrag.from_aerodyn``): a force
+        at the yaw bearing and its moment, from the wind there (both rotors, as ``tower_aero``'s drag), and the
+        channels ``NcFdx`` … ``NcMzi``. Default None.
     platform : FloatingPlatform, optional, keyword-only
         The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
         structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
@@ -177,7 +181,7 @@ class OperatingTurbine:
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
-                 tower_aero=None, hss_brake=None, structural_controls=None,
+                 tower_aero=None, nacelle_drag=None, hss_brake=None, structural_controls=None,
                  name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
@@ -241,6 +245,11 @@ class OperatingTurbine:
         self.brake_slip_speed = 0.0
         self.tower_aero = _tower_aero(tower_aero, blade, getattr(rotor, "tower_inflow", False))
         _check_tower_in_field(self.tower_aero, self.wind)
+        from ..aero.nacelle import NacelleDrag
+
+        if nacelle_drag is not None and not isinstance(nacelle_drag, NacelleDrag):
+            raise TypeError(f"nacelle_drag must be a NacelleDrag or None; got {type(nacelle_drag).__name__}.")
+        self.nacelle_drag = nacelle_drag
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
@@ -249,7 +258,8 @@ class OperatingTurbine:
                                       blade_root_forces=blade and bool(load_channels),
                                       shaft_reactions=bool(load_channels), yaw_bearing_reactions=bool(load_channels),
                                       hub_moments=bool(disk_moments),
-                                      tower_loads=self.tower_aero is not None and self.tower_aero.drag)
+                                      tower_loads=self.tower_aero is not None and self.tower_aero.drag,
+                                      nacelle_loads=nacelle_drag is not None)
         if self.hss_brake is not None:                  # its slip zone against the inertia it turns (.hss_brake)
             self.brake_slip_speed = self.hss_brake.slip_speed(_brake_inertia(self.structure, self.gearbox_ratio))
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]

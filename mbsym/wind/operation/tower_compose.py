@@ -9,7 +9,10 @@ structure. AeroDyn's tower nodes (``TwrElev``) move with ElastoDyn's tower shape
   inputs (:data:`~mbsym.wind.structure.turbine.TOWER_LOAD_INPUTS` and ``{c}AeroQ``, the virtual work of the
   distributed load, exact as for the blades);
 - :func:`tower_line`: the lowest and highest nodes with their velocities, the straight line along which the
-  blade-element rotor evaluates the tower's disturbance of its inflow.
+  blade-element rotor evaluates the tower's disturbance of its inflow;
+- :func:`nacelle_drag_loads`: AeroDyn's nacelle drag (:class:`~mbsym.wind.aero.nacelle.NacelleDrag`) from the wind
+  at the yaw bearing minus its velocity, the structure's nacelle-load inputs (force at the yaw bearing and moment
+  about it, nacelle axes: ElastoDyn's ``NacelleLoads``, which OpenFAST fills from AeroDyn's ``NacelleLoad``).
 """
 
 from __future__ import annotations
@@ -21,9 +24,11 @@ import numpy as np
 
 from ..structure.blade_points import blade_point_kinematics, blade_point_loads
 from ..structure.tower_points import tower_coordinates, tower_point_shapes
+from ..structure.load_inputs import NACELLE_LOAD_INPUTS
 from ..structure.turbine import TOWER_LOAD_INPUTS
 
-__all__ = ["tower_load_inputs", "tower_drag_loads", "tower_line", "tower_moves"]
+__all__ = ["tower_load_inputs", "tower_drag_loads", "tower_line", "tower_moves", "nacelle_load_inputs",
+           "nacelle_drag_loads"]
 
 
 def tower_load_inputs(structure) -> tuple[str, ...]:
@@ -31,6 +36,13 @@ def tower_load_inputs(structure) -> tuple[str, ...]:
     if not getattr(structure, "tower_loads", False):
         return ()
     return tuple(f"TwrAero{c}" for c in TOWER_LOAD_INPUTS) + tuple(f"{c}AeroQ" for c in tower_coordinates(structure))
+
+
+def nacelle_load_inputs(structure) -> tuple[str, ...]:
+    """The structure's nacelle-load inputs (empty without ``nacelle_loads``)."""
+    if not getattr(structure, "nacelle_loads", False):
+        return ()
+    return tuple(f"NacAero{c}" for c in NACELLE_LOAD_INPUTS)
 
 
 def tower_moves(structure) -> bool:
@@ -99,3 +111,28 @@ def tower_line(model, frame: dict[str, Any], q: Any, qd: Any) -> dict[str, Any]:
     kin = _points(model, _heights(model, elevation[[0, -1]]), q, qd, frame)
     return {"start": kin["r"][:, 0], "end": kin["r"][:, 1], "start_velocity": kin["v"][:, 0],
             "end_velocity": kin["v"][:, 1]}
+
+
+def nacelle_drag_loads(model, frame: dict[str, Any], wind: Callable[[Any], Any], rho: Any) -> dict[str, Any]:
+    """The nacelle-load inputs of AeroDyn's nacelle drag and its force and moment (module docstring).
+
+    Parameters
+    ----------
+    model : OperatingTurbine
+        With ``nacelle_drag`` and a structure built with ``nacelle_loads``.
+    frame : dict
+        The nacelle body frame at the yaw bearing (``point_kinematics("nacelle")``: ``r``, ``R``, ``v``).
+    wind : callable
+        ``wind(points (3, N)) -> (3, N)`` wind velocity [m/s] at ground positions [m].
+    rho : SX or float
+        Air density [kg/m³].
+
+    Returns
+    -------
+    dict
+        ``NacAeroFx`` … ``NacAeroMz`` (nacelle axes), and ``force``, ``moment`` (3, 1) the same in nacelle axes.
+    """
+    force, moment = model.nacelle_drag.loads(wind(frame["r"]) - frame["v"], frame["R"], rho)
+    out = dict(zip(nacelle_load_inputs(model.structure), list(ca.vertsplit(force)) + list(ca.vertsplit(moment))))
+    out.update(force=force, moment=moment)
+    return out

@@ -8,6 +8,8 @@
   axes, :data:`BLADE_LOAD_INPUTS`) and ``{c}AeroQ`` per elastic blade coordinate;
 - with ``tower_loads``, the force ``TwrAeroFx/Fy/Fz`` at the tower base and moment ``TwrAeroMx/My/Mz`` about it
   (tower-base axes, :data:`TOWER_LOAD_INPUTS`) and ``{c}AeroQ`` per tower coordinate (:mod:`.tower_points`);
+- with ``nacelle_loads``, the force ``NacAeroFx/Fy/Fz`` at the yaw bearing (the nacelle's origin, the tower top) and
+  moment ``NacAeroMx/My/Mz`` about it, nacelle axes (:data:`NACELLE_LOAD_INPUTS`; AeroDyn's nacelle drag);
 - with a platform DOF, ``PtfmFx`` … ``PtfmMz`` on the platform (ground axes).
 """
 
@@ -17,12 +19,15 @@ from .dof_tables import PLATFORM_FLAGS
 from .gearbox import add_gearbox_losses, generator_torque_at_shaft, has_losses
 from .tower_points import tower_coordinates
 
-__all__ = ["add_load_inputs", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS"]
+__all__ = ["add_load_inputs", "BLADE_LOAD_INPUTS", "TOWER_LOAD_INPUTS", "NACELLE_LOAD_INPUTS"]
 
 #: Per-blade load inputs with ``blade_loads=True``: ``B{k}Aero`` + these (root force [N], moment [N m], blade axes).
 BLADE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: Tower load inputs with ``tower_loads=True``: ``TwrAero`` + these (base force [N], moment [N m], tower axes).
 TOWER_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+#: Nacelle load inputs with ``nacelle_loads=True``: ``NacAero`` + these (force [N] at the yaw bearing, moment [N m]
+#: about it, nacelle axes).
+NACELLE_LOAD_INPUTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 
 def add_load_inputs(model, platform, shaft, hub) -> None:
@@ -50,6 +55,8 @@ def add_load_inputs(model, platform, shaft, hub) -> None:
                         model.blade_coordinates(k))
     if model.tower_loads:
         _body_loads(model, model.bodies["tower"], "TwrAero", TOWER_LOAD_INPUTS, tower_coordinates(model))
+    if getattr(model, "nacelle_loads", False):
+        _body_loads(model, model.bodies["nacelle"], "NacAero", NACELLE_LOAD_INPUTS, ())
     if any(model.dofs.get(f) for f in PLATFORM_FLAGS):
         fx, fy, fz, mx, my, mz = sys.inputs("PtfmFx PtfmFy PtfmFz PtfmMx PtfmMy PtfmMz")
         sys.add_force(platform, [fx, fy, fz])

@@ -145,6 +145,9 @@ class TurbineModel:
         Loads along the tower as inputs (AeroDyn's tower drag): a force ``TwrAeroFx/Fy/Fz`` [N] at the tower base
         and a moment ``TwrAeroMx/My/Mz`` [N m] about it, tower-base axes, and per tower coordinate ``c`` its
         generalized force ``{c}AeroQ`` [N] (:mod:`.tower_points`). Default False.
+    nacelle_loads : bool, optional, keyword-only
+        A force ``NacAeroFx/Fy/Fz`` [N] at the yaw bearing and moment ``NacAeroMx/My/Mz`` [N m] about it, nacelle
+        axes, as inputs (AeroDyn's nacelle drag, :mod:`.load_inputs`). Default False.
 
     Raises
     ------
@@ -175,13 +178,13 @@ class TurbineModel:
                  pitch_input: bool = False,
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
                  blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
-                 shaft_reactions: bool = False, yaw_bearing_reactions: bool = False,
+                 shaft_reactions: bool = False, yaw_bearing_reactions: bool = False, nacelle_loads: bool = False,
                  hub_moments: bool = False, tower_loads: bool = False) -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
         self.turbine = turbine
         self.hub_moments = bool(hub_moments)
-        self.tower_loads = bool(tower_loads)
+        self.tower_loads, self.nacelle_loads = bool(tower_loads), bool(nacelle_loads)
         self.dofs, problems = _resolve_dofs(turbine, dofs)
         problems += unsupported_features(turbine, self.dofs)
         if problems:

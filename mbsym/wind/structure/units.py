@@ -19,7 +19,7 @@ STRUCTURAL_INPUT_UNITS = {"GenTq": "N m", "RotTorq": "N m", "RotThrust": "N", "R
                           "PtfmMz": "N m"}
 
 _ANGLE = re.compile(r"^(BlPitch\d?|GeAz)(_d|_dd)?$")
-_BLADE_LOAD = re.compile(r"^B\d+Aero([FM])[xyz]$")
+_BLADE_LOAD = re.compile(r"^(?:B\d+|Twr|Nac)Aero([FM])[xyz]$")     # blade, tower, nacelle loads
 _MODE_LOAD = re.compile(r"^.+AeroQ$")
 _RATE_SUFFIX = {None: "", "_d": "/s", "_dd": "/s^2"}
 

@@ -127,10 +127,10 @@ def _steady_zi(b, a):
     return lfilter_zi(b, a)
 
 
-def test_refused_power_reference_inputs_and_shutdown_by_name(tmp_path):
+def test_refused_power_reference_inputs_and_yaw_control_by_name(tmp_path):
     from mbsym.exceptions import ControllerError
 
-    for changes, key in (({"PRC_Mode": 2, "PRC_Comm": 1}, "PRC_Comm"), ({"SD_Mode": 1}, "SD_Mode")):
+    for changes, key in (({"PRC_Mode": 2, "PRC_Comm": 1}, "PRC_Comm"), ({"Y_ControlMode": 1}, "Y_ControlMode")):
         folder = tmp_path / key
         folder.mkdir()
         with pytest.raises(ControllerError, match=rf"line \d+, key '{key}': {key} = 1 is not supported"):

@@ -87,13 +87,13 @@ def test_stock_deck_runs_on_the_rotor_rung_with_its_tower_and_airfoils(rosco_dec
     assert "tower's potential flow/shadow averaged" in source and "UA_Mod 3 at its steady state" in source
 
     fst, _ = _copy_deck(rosco_deck, tmp_path)
-    _edit(fst.parent / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat", r"^False\s+NacelleDrag", "True   NacelleDrag")
+    _edit(fst.parent / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat", r"^False(\s+TFinAero)", r"True\1")
     err = io.StringIO()
     with redirect_stderr(err), redirect_stdout(io.StringIO()):
         status = main(["simulate", str(fst), "--aero", "rotor", "--discon", str(rosco_lib), "--tmax", "1",
                        "--wind", "steady:14"])
     assert status == 2
-    assert "AeroDyn15.dat, line 11, key 'NacelleDrag'" in err.getvalue()
+    assert "AeroDyn15.dat, line 84, key 'TFinAero'" in err.getvalue()
 
 
 def test_yaw_friction_is_refused(rosco_deck, tmp_path):
