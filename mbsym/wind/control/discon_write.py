@@ -6,9 +6,10 @@ line in ROSCO's layout ``<value(s)>   ! <Key>``. The keys of :data:`~.settings.D
 :data:`~.settings.IPC_MAP` / :data:`~.settings.ACTUATOR_MAP` when their mode is on) come from the
 settings, converted back to ROSCO's units (``VS_GenEff`` in %); so do, when the settings have them, the
 generator-speed notch filters (``F_NumNotchFilts``, ``F_Notch*``, ``F_GenSpdNotch_N``/``_Ind``), the tower
-damper (:data:`~.settings.TOWER_DAMPER_MAP`) and the power reference (:data:`~.settings.POWER_REFERENCE_MAP`
-with ``PRC_Comm`` 0, ``PRC_n``, ``PRC_Table_n``); the lengths of their vectors
-(``PC_GS_n``, ``VS_n``, ``WE_FOPoles_N``, ``PS_BldPitchMin_N``) and the performance file
+damper (:data:`~.settings.TOWER_DAMPER_MAP`), the power reference (:data:`~.settings.POWER_REFERENCE_MAP`
+with ``PRC_Comm`` 0, ``PRC_n``, ``PRC_Table_n``), the shut-down (:data:`~.shutdown.SHUTDOWN_MAP`, ``SD_Stage_N``;
+``SD_MaxYawError`` in deg) and the start-up (:data:`~.startup.STARTUP_MAP`, ``SU_LoadStages_N``); the lengths
+of their vectors (``PC_GS_n``, ``VS_n``, ``WE_FOPoles_N``, ``PS_BldPitchMin_N``) and the performance file
 (``PerfFileName``, ``PerfTableSize``) follow from them; every other key takes its value from
 ``other`` (the modes the baseline does not implement, their parameters, logging), else ROSCO's
 default (0, or as :data:`~mbsym.wind.deck.discon_in.DISCON_KEYS` lists). The settings' power
@@ -29,6 +30,8 @@ import numpy as np
 
 from ...exceptions import ControllerError, ParameterError
 from .settings import ACTUATOR_MAP, DISCON_MAP, IPC_MAP, POWER_REFERENCE_MAP, TOWER_DAMPER_MAP, BaselineSettings
+from .shutdown import SHUTDOWN_MAP
+from .startup import STARTUP_MAP
 
 __all__ = ["write_discon_in", "discon_in_values", "HEADER"]
 
@@ -89,6 +92,12 @@ def _from_settings(s: BaselineSettings, performance_file: str) -> dict[str, Any]
             out.update({key: getattr(s, attr) for key, attr in table.items()})
     if s.power_reference_mode:
         out.update(PRC_Comm=0, PRC_n=len(s.power_reference_wind_speeds), PRC_Table_n=len(s.power_rating_table))
+    if s.shutdown_mode:
+        out.update({key: getattr(s, attr) for key, attr in SHUTDOWN_MAP.items() if getattr(s, attr) != ()})
+        out.update(SD_MaxYawError=float(f"{np.rad2deg(s.shutdown_max_yaw_error):.12g}"),
+                   SD_Stage_N=len(s.shutdown_pitch_rates))
+    if s.startup_mode:
+        out.update({key: getattr(s, attr) for key, attr in STARTUP_MAP.items()}, SU_LoadStages_N=len(s.startup_loads))
     n = len(s.speed_notch_freqs)
     if n:
         out.update(F_NumNotchFilts=n, F_NotchFreqs=s.speed_notch_freqs, F_NotchBetaNum=s.speed_notch_beta_num,
@@ -141,7 +150,8 @@ def write_discon_in(settings: BaselineSettings, path, *, performance=None, other
     lines = [HEADER] + ([f"! {title}"] if title else []) + \
         ["! Keys mapped to BaselineSettings are marked with the attribute; the others are the modes and",
          "! parameters mbsym's baseline does not model (see mbsym.wind.control.settings).", ""]
-    attrs = {**DISCON_MAP, **IPC_MAP, **ACTUATOR_MAP, **TOWER_DAMPER_MAP, **POWER_REFERENCE_MAP}
+    attrs = {**DISCON_MAP, **IPC_MAP, **ACTUATOR_MAP, **TOWER_DAMPER_MAP, **POWER_REFERENCE_MAP, **SHUTDOWN_MAP,
+             **STARTUP_MAP}
     for key, value in values.items():
         note = f" - BaselineSettings.{attrs[key]}" if key in attrs else ""
         lines.append(f"{_format(value):<23s} ! {key}{note}")
