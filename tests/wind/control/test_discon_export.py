@@ -157,6 +157,26 @@ def test_notches_tower_damper_and_power_rating_export_and_match(compiler, tmp_pa
     assert np.max(np.abs(np.rad2deg(plain[:, 0] - law[:, 0]))) > 0.01           # the modes act
 
 
+def test_shutdown_and_startup_export_and_match(compiler, tmp_path):
+    # The start-up (SU_Mode 1) and a timed shut-down (SD_Mode 1 at 38 s) at once, on the start-up measurements of
+    # test_baseline_shutdown.py: the library counts ROSCO's time from its first call as the law does, bit for bit.
+    from _ctrl_data import discon_variant
+    from test_baseline_shutdown import CASES, STARTUP, _measurements
+
+    dt = 0.0125
+    discon = discon_variant(tmp_path, {**STARTUP, **CASES["sd-time"], "SD_Time": 38.004})
+    ctrl = BaselineController.from_discon(discon, dt=dt)
+    out = export_discon(discon, tmp_path / "stages", sample_time=dt)
+    t, y = _measurements("startup", dt)
+    y = _f32(y)
+    law, _ = ctrl.run(y, compiled=True)
+    lib = _library_run(out, t, y, ctrl.measurements, ("BlPitchCom1", "GenTqCom"), dt)
+    assert np.array_equal(lib, _f32(law))
+    (tmp_path / "plain").mkdir()
+    plain = BaselineController.from_discon(discon_variant(tmp_path / "plain", {}), dt=dt).run(y, compiled=True)[0]
+    assert np.max(np.abs(np.rad2deg(plain[:, 0] - law[:, 0]))) > 0.01           # the modes act
+
+
 # ---------------------------------------------------------------------------------------------- bad input
 class _Raw:
     """The library called through ctypes directly (a private copy), to send what DisconController refuses."""
