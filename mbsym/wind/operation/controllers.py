@@ -95,6 +95,13 @@ def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", 
     f = controller.function
     measured = tuple(getattr(controller, "measurements", MEASUREMENTS))
     commands = tuple(getattr(controller, "commands", ACTUATED))
+    unknown = [n for n in measured if n not in SI_FACTORS]
+    if unknown:
+        from ...exceptions import ControllerError
+
+        raise ControllerError(f"baseline_in_loop: the plants measure no {unknown} (the shut-down's yaw-error trigger, "
+                              "SD_EnableYawError 1, reads YawErr, swap record 24); switch that trigger off, or run the "
+                              "controller open loop (BaselineController.run) or exported (export_discon).")
     xc = ca.SX.sym("xc", f.numel_in(0))
     y = ca.SX.sym("y", len(measured))
     x_next, u = f(xc, y * ca.DM([SI_FACTORS[n] for n in measured]))

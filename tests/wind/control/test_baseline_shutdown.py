@@ -166,3 +166,13 @@ def test_bad_stages_are_refused(tmp_path):
                           ({"SD_Mode": 1, **ONE_STAGE, "SD_MaxPitchRate": "0.5"}, "shutdown_pitch_rates")):
         with pytest.raises(ControllerError, match=what):
             BaselineController.from_discon(discon_variant(_folder(tmp_path / what), changes), dt=0.01)
+
+
+def test_yaw_error_trigger_needs_a_plant_measuring_it(tmp_path):
+    # The operating plants do not measure the yaw error (record 24): the loop says so instead of a KeyError
+    from mbsym.exceptions import ControllerError
+    from mbsym.wind.operation.controllers import baseline_in_loop
+
+    ctrl = BaselineController.from_discon(discon_variant(tmp_path, CASES["sd-yaw"]), dt=0.01)
+    with pytest.raises(ControllerError, match="YawErr"):
+        baseline_in_loop(ctrl)
