@@ -7,6 +7,7 @@
 - :mod:`.ipc`: its individual pitch control (ROSCO's ``IPC_ControlMode`` 1 and 2);
 - :mod:`.estimator`, :mod:`.tower`, :mod:`.power_reference`: its wind-speed estimator, its floating feedback and
   tower damper (``Fl_Mode``, ``TD_Mode``), its power reference (``PRC_Mode`` 1 and 2);
+- :mod:`.shutdown`, :mod:`.startup`: its shut-down (``SD_Mode 1``) and start-up (``SU_Mode 1``);
 - :mod:`.tuning`: ROSCO's tuning (:func:`tune_rosco`) and :func:`pi_gains`;
 - :mod:`.discon_export`: :func:`export_discon`, the baseline compiled into a self-contained DISCON library;
 - :mod:`.discon_write`: :func:`write_discon_in`, settings written out as ROSCO's ``DISCON.IN`` for its library;

@@ -67,8 +67,12 @@ from .baseline import BaselineController
 __all__ = ["LinearizedController", "controller_fixed_point", "linearize_controller", "LOGICAL_STATES",
            "SETTLE_TIME", "COMMAND_MEMORIES", "CONNECTION_TOLERANCE", "FIXED_POINT_TOLERANCE"]
 
-#: States that hold logic (0/1 flags), kept at the values the controller's own steps give them.
-LOGICAL_STATES = ("first", "estimator_on")
+#: States that hold logic (flags, stages, the shut-down's latch, the step count that is ROSCO's clock), kept at
+#: the values the controller's own steps give them (the shut-down and start-up sit where :data:`SETTLE_TIME`
+#: leaves them: normal operation when the start-up has ended and no trigger has tripped).
+LOGICAL_STATES = ("first", "estimator_on", "step_count", "shutdown_trigger", "shutdown_stage", "startup_stage")
+#: States that advance by one every step (their fixed-point residual is ``xc_next - xc - 1``).
+CLOCK_STATES = ("step_count",)
 #: Time [s] the controller runs at constant measurements, its command memories held, before the search.
 SETTLE_TIME = 60.0
 #: States equal to a command at a fixed point (state -> command), held there while settling: the memories of
@@ -264,7 +268,8 @@ def controller_fixed_point(controller: BaselineController, measurements, command
     x = _start(controller, y, u)
     free = [i for i, n in enumerate(controller.state_names) if n not in LOGICAL_STATES]
     weights = 1.0 / np.concatenate([np.maximum(np.abs(x), 1.0), np.maximum(np.abs(u), 1.0)])
-    target = np.concatenate([np.zeros(x.size), u])
+    advance = np.array([1.0 if n in CLOCK_STATES else 0.0 for n in controller.state_names])
+    target = np.concatenate([advance, u])
     G = _residual_function(controller)
 
     def residual(xv):
@@ -274,7 +279,7 @@ def controller_fixed_point(controller: BaselineController, measurements, command
 
     x = _levenberg_marquardt(residual, x, free, POLISH_TOLERANCE, max_iter)
     xn, un = (np.array(v, dtype=float).reshape(-1) for v in controller.function(x, y))
-    r = np.concatenate([xn - x, un - u]) * weights           # the controller itself, rate limits included
+    r = np.concatenate([xn - x - advance, un - u]) * weights  # the controller itself, rate limits included
     worst = float(np.max(np.abs(r)))
     if not worst <= tol:
         names = list(controller.state_names) + list(controller.commands)

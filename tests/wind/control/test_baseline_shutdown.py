@@ -176,3 +176,34 @@ def test_yaw_error_trigger_needs_a_plant_measuring_it(tmp_path):
     ctrl = BaselineController.from_discon(discon_variant(tmp_path, CASES["sd-yaw"]), dt=0.01)
     with pytest.raises(ControllerError, match="YawErr"):
         baseline_in_loop(ctrl)
+
+
+def test_linearized_in_normal_operation_as_without_the_modes():
+    # The step count (ROSCO's clock) advances at a fixed point and the stages are logic: the linearization about
+    # a 16 m/s trim, after the start-up has ended and with no trigger tripped, is the plain controller's
+    import dataclasses
+    import math
+
+    pytest.importorskip("control")
+    from mbsym.wind import OperatingTurbine
+    from mbsym.wind.analysis.closed_loop import closed_loop_sweep
+    from mbsym.wind.control.linear import linearize_controller
+    from mbsym.wind.operation.nrel5mw import nrel5mw_baseline_settings
+
+    s = nrel5mw_baseline_settings()
+    plain = BaselineController(s)
+    sweep = closed_loop_sweep(OperatingTurbine.nrel5mw(dofs=["GenDOF"]), [16.0], plain)
+    assert sweep.success, sweep.messages
+    op = sweep.models[0].controller.operating_point
+    modes = BaselineController(dataclasses.replace(
+        s, shutdown_mode=1, shutdown_on_generator_speed=True, shutdown_max_generator_speed=140.0,
+        shutdown_generator_speed_corner=0.4, shutdown_on_time=True, shutdown_time=9999.0, shutdown_pitch_rates=(0.05,),
+        shutdown_torque_rates=(2000.0,), shutdown_stage_times=(10.0,), startup_mode=1, startup_time=1.0,
+        startup_freewheel_duration=2.0, startup_rotor_speed=0.6, startup_rotor_speed_corner=0.4,
+        startup_loads=(0.5, 1.0), startup_ramp_durations=(3.0, 3.0), startup_hold_durations=(2.0, 2.0)))
+    a = linearize_controller(plain, op["y"], op["u"]).to_statespace()
+    b = linearize_controller(modes, op["y"], op["u"]).to_statespace()
+    assert a.nstates == b.nstates
+    for f in (1e-3, 1e-2, 0.1, 1.0, 10.0):
+        z = np.exp(2j * math.pi * f * plain.dt)
+        assert np.max(np.abs(a(z) - b(z))) <= 1e-9 * np.max(np.abs(a(z))), f
