@@ -121,6 +121,14 @@ class BladeGraph(Graph):
         names = blade_load_inputs(model.structure)
         self.loads = {"thrust": 0.0, "torque": 0.0, **{n: out["loads"][i] for i, n in enumerate(names)}}
         self.lag_rhs = out["states_dot"]
+        ua = getattr(rotor, "unsteady", None)
+        if ua is not None and ua.continuous:     # UA_Mod 4, 6: ż at the live states, the held part's inputs
+            from ..aero.blade.ua_continuous import rates_function
+
+            n_ua = len([n for n in rotor.state_names if "_ua_" in n])
+            live = ca.vertcat(*[self.X[n] for n in rotor.state_names[-n_ua:]])
+            self.lag_rhs = ca.vertcat(self.lag_rhs[:self.lag_rhs.numel() - n_ua],
+                                      rates_function(ua, rotor.polars)(live, out["ua_inputs"]))
         self.blade_aero = out
         shaft = self._kinematics("shaft", zero)
         hub = self._kinematics("hub", zero)
@@ -200,8 +208,12 @@ class _AeroBuilder:
             # the wind's rate along each node's path (DBEMT's rate term, UA's update: AeroDyn v5's wind copy)
             rate = model.wind.path_rate(kin["r_ac"], kin["v_ac"], U)
             wind_rate = (_dot(rate, frames["x_n"]).T, _dot(rate, frames["y_n"]).T)
+        extra = {}
+        if getattr(rotor, "unsteady", None) is not None and rotor.unsteady.continuous:
+            # BEMT's omega_z: the section's rotation rate about the annulus z axis x_n × y_n (UA_Mod 4, 6)
+            extra["ua_omega"] = _dot(kin["w_ac"], _pair_cross(frames["x_n"], frames["y_n"])).T
         aero = rotor.evaluate(frames["vx"].T, frames["vy"].T, frames["r_local"].T, theta.T, frames["azimuth"].T,
-                              states, rho=rho, wind_rate=wind_rate, **frames["rotor"])
+                              states, rho=rho, wind_rate=wind_rate, **frames["rotor"], **extra)
         force = frames["x_n"] * ca.repmat(aero["fn"].T, 3, 1) - frames["y_n"] * ca.repmat(aero["ft"].T, 3, 1)
         # AeroDyn (BEM_Mod 1, BEMT.f90 SetOutputsFromBEMT) puts the airfoil's pitching moment along the annulus z axis,
         # x_n × y_n: the coned root's span axis turned by the node's curve angle (not the bent or straight span
@@ -211,6 +223,8 @@ class _AeroBuilder:
         outs = {"loads": ca.vertcat(*loads), "states_dot": aero["states_dot"], "rotor_force": rotor_force,
                 "rotor_moment": rotor_moment, "disk_velocity": frames["disk_velocity"], "hub_wind": W[:, n],
                 }
+        if "ua_inputs" in aero:
+            outs["ua_inputs"] = aero["ua_inputs"]
         for key in ("alpha", "vrel", "phi", "axial_induction", "tangential_induction", "cl", "cd", "fn", "ft"):
             if key in aero:
                 outs[f"node_{key}"] = aero[key]
@@ -231,7 +245,8 @@ class _AeroBuilder:
         AeroDyn's local axes (``x_ann``, ``y_ann``: :func:`annulus_axes`)."""
         model, rotor, eom = self.model, self.rotor, self.eom
         cache = model._parts.setdefault("blade_shapes", {})
-        rows = {"r": [], "v": [], "tangent": [], "slope": [], "r_ac": [], "v_ac": [], "x_ann": [], "y_ann": []}
+        rows = {"r": [], "v": [], "tangent": [], "slope": [], "r_ac": [], "v_ac": [], "w_ac": [], "x_ann": [],
+                "y_ann": []}
         offsets = np.vstack([rotor.curve_ac, rotor.sweep_ac])
         self.blades = []
         for k in range(rotor.n_blades):
@@ -331,7 +346,8 @@ def aerodynamic_centres(shapes, frame: dict[str, Any], kin: dict[str, Any], qde:
     Returns
     -------
     dict
-        ``r_ac``, ``v_ac`` (3, N), ground axes [m], [m/s].
+        ``r_ac``, ``v_ac`` (3, N), ground axes [m], [m/s]; ``w_ac`` (3, N): the section's angular velocity [rad/s]
+        (the blade's plus the bending slopes' rates).
     """
     n = kin["r"].size2()
     o = ca.vertcat(ca.DM(np.asarray(offsets, dtype=float)), ca.DM.zeros(1, n))
@@ -344,7 +360,8 @@ def aerodynamic_centres(shapes, frame: dict[str, Any], kin: dict[str, Any], qde:
     bend_d = ca.vertcat(-rate[1], rate[0], ca.SX.zeros(1, n))
     arm = frame["R"] @ (o + _pair_cross(bend, o))
     w = ca.repmat(frame["w"], 1, n)
-    return {"r_ac": kin["r"] + arm, "v_ac": kin["v"] + _pair_cross(w, arm) + frame["R"] @ _pair_cross(bend_d, o)}
+    return {"r_ac": kin["r"] + arm, "v_ac": kin["v"] + _pair_cross(w, arm) + frame["R"] @ _pair_cross(bend_d, o),
+            "w_ac": w + frame["R"] @ bend_d}
 
 
 def annulus_axes(R: Any, tangent: Any, pitch: Any, curve_angle: Any = None) -> tuple[Any, Any]:

@@ -11,7 +11,7 @@ import casadi as ca
 import numpy as np
 
 from ....exceptions import ParameterError
-from . import dbemt, unsteady
+from . import dbemt, ua_continuous, unsteady
 
 __all__ = ["wake_states", "unsteady_states"]
 
@@ -27,11 +27,14 @@ def unsteady_states(rotor, args: list, azimuth: Any, wake: np.ndarray, rotor_inp
         syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta", "azimuth")]
         x = ca.SX.sym("x", wake.size)
         extra = {k: ca.SX.sym(k) for k in given}
-        m_ua = len(unsteady.STATE_SUFFIXES) * rotor.unsteady.size
+        ua = rotor.unsteady
+        m_ua = len(rotor.state_names) - wake.size
         out = rotor.evaluate(*syms, ca.vertcat(x, ca.SX.zeros(m_ua)), rho=1.0, **extra)
-        idx = [int(i) for i in rotor.unsteady.index]
-        z = unsteady.steady_states(rotor.unsteady, out["alpha"][idx], out["vrel"][idx],
-                                   rotor._static_polars(rotor.unsteady))
+        idx = [int(i) for i in ua.index]
+        if ua.continuous:                        # HGM_Steady at the rest's inputs, no section rotation
+            z = ua_continuous.steady(ua, rotor.polars, out["alpha"][idx], out["vrel"][idx])
+        else:
+            z = unsteady.steady_states(ua, out["alpha"][idx], out["vrel"][idx], rotor._static_polars(ua))
         f = ca.Function("blade_ua_steady", [*syms, x, *extra.values()], [z])
         rotor._cache[("ua_steady", given)] = f  # type: ignore[attr-defined]
     psi = np.zeros(n) if azimuth is None else np.asarray(azimuth, dtype=float).ravel()

@@ -25,7 +25,7 @@ import numpy as np
 from ....exceptions import DimensionError, ParameterError, UnsupportedFeatureError
 from ...deck.aerodyn import AeroDynInput, read_aerodyn
 from ..bem import BEMRotor
-from . import dbemt, rest, unsteady
+from . import dbemt, rest, ua_continuous, unsteady
 from .corrections import low_tsr_weight, skewed_wake
 from .induction import A_LIMITS, AP_LIMITS, ElementData, induction, solve_phi
 from .polars import NodePolars
@@ -298,7 +298,8 @@ class BladeElementRotor:
         if self.unsteady is None:
             return wake
         ua = self.unsteady
-        return wake + unsteady.state_names([(int(i) // self.n_nodes, int(i) % self.n_nodes) for i in ua.index])
+        return wake + unsteady.state_names([(int(i) // self.n_nodes, int(i) % self.n_nodes) for i in ua.index],
+                                           ua.mode)
 
     def __repr__(self) -> str:
         wake = f"DBEMT_Mod {self.dbemt_mode}" if self.dbemt_mode else "quasi-steady"
@@ -308,7 +309,8 @@ class BladeElementRotor:
     # ------------------------------------------------------------------ evaluation
     def evaluate(self, vx: Any, vy: Any, r_local: Any, theta: Any, azimuth: Any, states: Any = None, *,
                  rho: Any, skew: Any = 0.0, skew_azimuth: Any = 0.0, tip_radius: Any = None,
-                 tsr: Any = None, un_disk: Any = None, wind_rate: Any = None) -> dict[str, Any]:
+                 tsr: Any = None, un_disk: Any = None, wind_rate: Any = None,
+                 ua_omega: Any = None) -> dict[str, Any]:
         """Loads per unit length, state derivatives and diagnostics of every node (SX).
 
         Parameters
@@ -343,6 +345,9 @@ class BladeElementRotor:
             when :attr:`dbemt_wind_rate` is False: that part of ``dv_s/dt`` is taken out of Øye's
             rate term (:mod:`.dbemt`). None: no such rate is known, the whole rate stays in. With UA
             (:attr:`ua_step_end_wind`) the update's flow gets ``DTAero`` times it (:mod:`.unsteady`).
+        ua_omega : SX column, length n, optional
+            ``UA_Mod`` 4, 6: each node's section rotation rate about AeroDyn's annulus z axis [rad/s] (BEMT's
+            ``omega_z``; :mod:`.ua_continuous`); default 0.
 
         Returns
         -------
@@ -393,13 +398,13 @@ class BladeElementRotor:
         if tsr is not None and self.bem.low_tsr_blend:
             weight = low_tsr_weight(tsr)
             a, ap = a * weight, ap * weight
-        loads = self._loads(vx, vy, theta, a, ap, rho, ua_states, ua_rate)
+        loads = self._loads(vx, vy, theta, a, ap, rho, ua_states, ua_rate, ua_omega)
         out["states_dot"] = ca.vertcat(out["states_dot"], loads.pop("ua_states_dot"))
         out.update(loads)
         return out
 
     def _loads(self, vx: Any, vy: Any, theta: Any, a: Any, ap: Any, rho: Any, ua_states: Any = None,
-               ua_rate: Any = None) -> dict[str, Any]:
+               ua_rate: Any = None, ua_omega: Any = None) -> dict[str, Any]:
         """Loads and diagnostics at the final inductions (AeroDyn's SetOutputsFromBEMT, BEM_Mod 1), with the
         unsteady airfoil coefficients on the UA nodes."""
         n = self.n_blades * self.n_nodes
@@ -408,7 +413,7 @@ class BladeElementRotor:
         alpha = phi - theta
         coef = self.polars(alpha, np.tile(np.arange(self.n_nodes), self.n_blades))
         cl, cd, cm = coef["cl"], coef["cd"], coef["cm"]
-        ua_dot = ca.SX(0, 1)
+        ua_dot, ua_inputs = ca.SX(0, 1), None
         if self.unsteady is not None:
             ua = self.unsteady
             idx = [int(i) for i in ua.index]
@@ -417,7 +422,12 @@ class BladeElementRotor:
             if ua_rate is not None:            # AeroDyn v5: the update sees the wind of the step's end (.unsteady)
                 ux_u, uy_u = ux[idx] + ua.dt * ua_rate[0][idx], uy[idx] + ua.dt * ua_rate[1][idx]
                 update = (ca.atan2(ux_u, uy_u) - theta[idx], ca.sqrt(ux_u**2 + uy_u**2))
-            if self.polar_method == "spline":                  # one node's chain, mapped: a loop in the C code
+            if ua.continuous:                                  # UA_Mod 4, 6: continuous states (.ua_continuous)
+                w = ca.SX.zeros(len(idx), 1) if ua_omega is None else self._column(ua_omega, n, "ua_omega")[idx]
+                chain = ua_continuous.evaluate(ua, self.polars, alpha[idx], speed, w, ua_states,
+                                               None if update is None else (*update, w))
+                chain["inputs"] = ca.vertcat(*(update or (alpha[idx], speed)), w)
+            elif self.polar_method == "spline":                # one node's chain, mapped: a loop in the C code
                 chain = unsteady.kelvin_chain_mapped(ua, alpha[idx], speed, ua_states, self.polars, update)
             else:
                 static = self._static_polars(ua)
@@ -426,6 +436,7 @@ class BladeElementRotor:
             cl, cd, cm = ca.SX(cl), ca.SX(cd), ca.SX(cm)
             cl[idx], cd[idx], cm[idx] = chain["cl"], chain["cd"], chain["cm"]
             ua_dot = chain["states_dot"]
+            ua_inputs = chain.get("inputs")
         sin_phi, cos_phi = ca.sin(phi), ca.cos(phi)
         cx, cy = cl * cos_phi + cd * sin_phi, cl * sin_phi - cd * cos_phi
         vrel2 = ux**2 + uy**2
@@ -434,7 +445,7 @@ class BladeElementRotor:
         m = q_c * chord * cm if self.bem.pitching_moment else ca.SX.zeros(n, 1)
         return {"fn": q_c * cx, "ft": q_c * cy, "m": m, "alpha": alpha, "phi": phi, "vrel": ca.sqrt(vrel2),
                 "axial_induction": a, "tangential_induction": ap, "cl": cl, "cd": cd, "cm": cm, "cx": cx,
-                "cy": cy, "ua_states_dot": ua_dot}
+                "cy": cy, "ua_states_dot": ua_dot, **({"ua_inputs": ua_inputs} if ua_inputs is not None else {})}
 
     def _static_polars(self, ua: unsteady.UnsteadyNodes):
         """``alpha (m, 1) -> {"cl", "cd", "cm"}`` of the UA nodes' static polars (the same polars as the BEM)."""

@@ -63,7 +63,7 @@ def steady_airfoil_loads(bem: Any, nodes: unsteady.UnsteadyNodes | None, *,
     callable or None
         ``(alpha (..., n), speed (..., n) per m/s of wind, coefficients (..., n, 3)) -> coefficients``.
     """
-    if nodes is None:
+    if nodes is None or nodes.continuous:   # UA_Mod 4, 6: the static polar at rest (.ua_continuous)
         return None
     wind = np.asarray(reference_wind, dtype=float)
     if not (np.all(np.isfinite(wind)) and np.all(wind > 0)):

@@ -74,9 +74,13 @@ _EQ_TOL_SINGLE = 50.0 * float(np.finfo(np.float32).eps)
 _I = {name: k for k, name in enumerate(STATE_SUFFIXES)}
 
 
-def state_names(nodes: list[tuple[int, int]]) -> tuple[str, ...]:
-    """``("B1N5_ua_alpha_filt", …)`` for ``nodes`` = (blade, node) pairs, 0-based; node-major, suffixes inner."""
-    return tuple(f"B{b + 1}N{j + 1}_ua_{s}" for b, j in nodes for s in STATE_SUFFIXES)
+def state_names(nodes: list[tuple[int, int]], mode: int = 3) -> tuple[str, ...]:
+    """``("B1N5_ua_alpha_filt", …)`` for ``nodes`` = (blade, node) pairs, 0-based; node-major, suffixes inner
+    (``UA_Mod`` 4 and 6: the continuous states ``x1`` … ``x4`` of :mod:`.ua_continuous`)."""
+    from .ua_continuous import CONTINUOUS_MODES
+
+    suffixes = STATE_SUFFIXES if int(mode) == 3 else CONTINUOUS_MODES[int(mode)]
+    return tuple(f"B{b + 1}N{j + 1}_ua_{s}" for b, j in nodes for s in suffixes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,6 +103,8 @@ class UnsteadyNodes:
         Each node's place among all nodes of all blades (blade by blade).
     node : ndarray of int (m,)
         Each node's number on its blade (0-based: its polar).
+    mode : int
+        ``UA_Mod``: 3 (this module), 4 or 6 (:mod:`.ua_continuous`).
     """
 
     chord: np.ndarray
@@ -108,6 +114,12 @@ class UnsteadyNodes:
     has_cm: bool = True
     index: np.ndarray | None = None
     node: np.ndarray | None = None
+    mode: int = 3
+
+    @property
+    def continuous(self) -> bool:
+        """``UA_Mod`` 4 or 6: continuous states (:mod:`.ua_continuous`), not the discrete recursion."""
+        return int(self.mode) != 3
 
     @property
     def size(self) -> int:
@@ -422,27 +434,34 @@ def unsteady_nodes(aerodyn: Any, bem: Any, n_blades: int, *, dt: float | None,
     Raises
     ------
     UnsupportedFeatureError
-        ``UA_Mod`` other than 0 and 3, or ``FLookup = False``.
+        ``UA_Mod`` other than 0, 3, 4 and 6, or ``FLookup = False``.
     ParameterError
         UA on without a positive ``dt`` or ``speed_of_sound``.
     """
     from ....exceptions import ParameterError, UnsupportedFeatureError
+    from . import ua_continuous
 
     mode = int(aerodyn.unsteady_model)
     if mode == 0:
         return None
     extra = {k.lower(): v for k, v in dict(aerodyn.extra or {}).items()}
-    if mode != 3:
+    if mode not in (3, 4, 6):
         raise UnsupportedFeatureError(
-            f"{aerodyn.source}: UA_Mod = {mode} is not modelled; mbsym runs 0 (steady polars) and 3 (Beddoes-Leishman, "
-            "Minnema/Pierce, OpenFAST's recursion). Set UA_Mod to 0 or 3.")
+            f"{aerodyn.source}: UA_Mod = {mode} is not modelled; mbsym runs 0 (steady polars), 3 (Beddoes-Leishman, "
+            "Minnema/Pierce, OpenFAST's recursion), 4 (HGM, continuous states) and 6 (Oye). UA_Mod 2 (Gonzalez), "
+            "5 (HGM with vortex) and 7 (Boeing-Vertol) are refused. Set UA_Mod to 0, 3, 4 or 6.")
     if str(extra.get("flookup", "true")).strip().strip('"').lower() in ("false", "f", "0"):
         raise UnsupportedFeatureError(f"{aerodyn.source}: FLookup = False (the best-fit f curves of S1..S4) is not "
-                                      "modelled with UA_Mod 3; set FLookup = True (the separation point from the "
-                                      "polar).")
+                                      f"modelled with UA_Mod {mode} (OpenFAST v5 refuses it too); set FLookup = True "
+                                      "(the separation point from the polar).")
+    if mode != 3:                # AeroDyn integrates these states itself; mbsym's integrator does (.ua_continuous)
+        method = str(extra.get("integrationmethod", "3")).strip().strip('"').lower()
+        if method not in ("1", "2", "3", "4", "default"):
+            raise ParameterError(f"{aerodyn.source}: IntegrationMethod = {method!r}: must be 1 (RK4), 2 (AB4), "
+                                 "3 (ABM4) or 4 (BDF2).")
     for value, name in ((dt, "dt (DTAero)"), (speed_of_sound, "speed_of_sound (SpdSound)")):
         if value is None or not (math.isfinite(float(value)) and float(value) > 0):
-            raise ParameterError(f"{aerodyn.source}: UA_Mod 3 needs a positive {name}; got {value!r}.")
+            raise ParameterError(f"{aerodyn.source}: UA_Mod {mode} needs a positive {name}; got {value!r}.")
     radius = np.asarray(bem.local_radius, dtype=float)
     frac = radius / radius.max()
     start, end = (_fraction(extra, key, default) for key, default in (("uastartrad", 0.0), ("uaendrad", 1.0)))
@@ -455,18 +474,22 @@ def unsteady_nodes(aerodyn: Any, bem: Any, n_blades: int, *, dt: float | None,
         on[outer.min():] = False
     for j, polar in enumerate(bem.polars):
         coef = getattr(polar, "ua", None)
-        if getattr(polar, "constant_data", False) or coef is None or coef.C_nalpha == 0.0:
+        slope = "C_nalpha" if mode == 3 else "C_lalpha"       # UA_TurnOff_param
+        if getattr(polar, "constant_data", False) or coef is None or getattr(coef, slope) == 0.0:
             on[j] = False
+        elif mode != 3 and not np.any(ua_continuous.separation_columns(polar.alpha, polar.cl, coef)[0] != 0.0):
+            on[j] = False                                      # separation function 0 at all angles
     per_blade = np.flatnonzero(on)
     if per_blade.size == 0:
         return None
-    params = {k: np.array([float(getattr(bem.polars[j].ua, k)) for j in per_blade]) for k in UA_PARAMETERS}
+    keys = UA_PARAMETERS if mode == 3 else ua_continuous.PARAMETERS
+    params = {k: np.array([float(getattr(bem.polars[j].ua, k)) for j in per_blade]) for k in keys}
     index = np.concatenate([b * radius.size + per_blade for b in range(n_blades)])
     params = {k: np.tile(v, n_blades) for k, v in params.items()}
     has_cm = len(aerodyn.airfoil_columns) > 3 and int(aerodyn.airfoil_columns[3] or 0) > 0
     return UnsteadyNodes(chord=np.tile(np.asarray(bem.chord, float)[per_blade], n_blades), params=params,
                          dt=float(dt), speed_of_sound=float(speed_of_sound), has_cm=has_cm, index=index,
-                         node=np.tile(per_blade, n_blades))
+                         node=np.tile(per_blade, n_blades), mode=mode)
 
 
 def _fraction(extra: dict, key: str, default: float) -> float:
