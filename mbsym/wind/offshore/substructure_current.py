@@ -34,21 +34,11 @@ drag, through the grid's interpolation to the lowest nodes.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from .current import SeaCurrent, current_at, sea_current
+from .current import current_at, sea_current
 
 __all__ = ["grid_current", "current_problems_with_waves"]
-
-
-@dataclass(frozen=True)
-class _SingleHeights(SeaCurrent):
-    """The profile at heights rounded to single precision, as SeaState's ``Calc_Current`` receives them."""
-
-    def velocity(self, z) -> np.ndarray:
-        return super().velocity(np.asarray(z, dtype=np.float32).astype(float))
 
 
 def grid_current(sea, water_depth: float, points) -> np.ndarray | None:
@@ -72,7 +62,7 @@ def grid_current(sea, water_depth: float, points) -> np.ndarray | None:
     current = sea_current(sea, water_depth)
     if current is None:
         return None
-    return current_at(_SingleHeights(**vars(current)), sea, points)
+    return current_at(current, sea, points)           # the grid's heights in single precision (.current)
 
 
 def current_problems_with_waves(sea) -> list[str]:

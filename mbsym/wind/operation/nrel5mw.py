@@ -4,7 +4,7 @@
 for the NREL 5 MW as ROSCO 2.10.6 configures it: the wheel's ``Examples/Test_Cases/NREL-5MW/DISCON.IN``
 (VS_ControlMode 2 with the EKF wind-speed estimator, constant power, set-point smoothing, peak
 shaving, the 30-point pitch gain schedule) and the power-coefficient table its estimator uses
-(``Cp_Ct_Cq.NREL5MW.txt`` of the same wheel). ``tests/wind/operation/test_operation_data.py``
+(``Cp_Ct_Cq.NREL5MW.txt`` of the same wheel). ``tests/wind/operation/test_operation_components.py``
 regenerates the file from the DISCON.IN of the shared OpenFAST runs (the wheel's file with
 LoggingLevel 0) and compares.
 

@@ -38,10 +38,13 @@ def baseline_settings_data(discon_in: Path) -> dict:
     from mbsym.wind.control import BaselineSettings
 
     s = BaselineSettings.from_discon(discon_in, dt=0.01)
-    # IPC, floating feedback and pitch actuator model off (the NREL 5 MW file): their settings keep their
-    # defaults and are not stored
+    # IPC, floating feedback, pitch actuator model, generator-speed notches, tower damper, power reference,
+    # shut-down and start-up off (the NREL 5 MW file): their settings keep their defaults and are not stored
     groups = ((s.ipc_mode, ("ipc_",)), (s.floating_mode, ("floating_", "tower_notch_")),
-              (s.actuator_mode, ("actuator_",)))
+              (s.actuator_mode, ("actuator_",)), (getattr(s, "speed_notch_freqs", ()), ("speed_notch_",)),
+              (getattr(s, "tower_damper_mode", 0), ("tower_damper_",)),
+              (getattr(s, "power_reference_mode", 0), ("power_reference_", "power_rating_")),
+              (getattr(s, "shutdown_mode", 0), ("shutdown_",)), (getattr(s, "startup_mode", 0), ("startup_",)))
     off = tuple(prefix for on, prefixes in groups if not on for prefix in prefixes)
     values = {k: v for k, v in dataclasses.asdict(s).items()
               if k not in ("dt", "source") and not k.startswith(off)}
