@@ -12,7 +12,7 @@ are refused with the file, line and key, never ignored:
 Key                 Why it is refused
 ==================  ==========================================================================
 TFinAero = True     tail-fin aerodynamics (loads the yaw DOF)
-SectAvg = True      sector-averaged inflow over each blade element
+SectAvg = True      (rotor-effective rung only) sector-averaged inflow needs blade nodes
 MHK ≠ 0             marine hydrokinetic turbine (buoyancy, added mass, cavitation)
 Buoyancy = True     buoyant loads (MHK)
 ==================  ==========================================================================
@@ -36,10 +36,16 @@ _TRUE = ("true", "t", ".true.")
 #: key -> (is it on?, why it is refused)
 _SWITCHES = {
     "TFinAero": (lambda v: v.lower() in _TRUE, "tail-fin aerodynamics are not modelled"),
-    "SectAvg": (lambda v: v.lower() in _TRUE, "sector-averaged blade inflow is not modelled"),
+    "SectAvg": (lambda v: v.lower() in _TRUE, "sector-averaged blade inflow needs blade nodes: the rotor-effective "
+                "rung's wind is one hub-height speed, uniform over the disk, which no sector average changes (run "
+                "the blade-element rung, --aero blade)"),
     "MHK": (lambda v: _int(v) != 0, "marine hydrokinetic turbines are not modelled"),
     "Buoyancy": (lambda v: v.lower() in _TRUE, "buoyancy is not modelled"),
 }
+
+
+#: Switches the blade-element rotor models (refused on the rotor-effective rung only).
+_BLADE_MODELLED = ("SectAvg",)
 
 
 def _int(text: str) -> int:
@@ -57,11 +63,13 @@ def aerodyn_problems(aerodyn, *, rotor_effective: bool) -> list[str]:
     aerodyn : AeroDynInput
         From :func:`~mbsym.wind.deck.aerodyn.read_aerodyn` (its ``extra`` keys and ``source`` file).
     rotor_effective : bool, keyword-only
-        The rotor-effective model (performance surfaces); today both rotors refuse the same settings.
+        The rotor-effective model (performance surfaces): it also refuses ``SectAvg``, which the blade-element
+        rotor models.
     """
     lines = _lines(aerodyn.source)
     found = [(key, why) for key, (on, why) in _SWITCHES.items()
-             if key in aerodyn.extra and on(str(aerodyn.extra[key]).strip().strip("\"'"))]
+             if key in aerodyn.extra and on(str(aerodyn.extra[key]).strip().strip("\"'"))
+             and (rotor_effective or key not in _BLADE_MODELLED)]
     return [f"{aerodyn.source}, line {lines.get(key.lower(), '?')}, key '{key}': {why}; set {key} = {_off(key)} "
             "to run the deck" for key, why in found]
 

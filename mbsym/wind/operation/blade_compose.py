@@ -9,7 +9,8 @@ and tower-base rotations for the reactions), the blade-element rotor
    ElastoDyn's shapes interpolated to the node, as OpenFAST's mesh mapping does), so its position, velocity
    and deflected span direction are expressions of ``(q, q̇)``; AeroDyn's node is the aerodynamic centre, off
    the pitch axis by ``BlCrvAC``, ``BlSwpAC`` (:func:`aerodynamic_centres`);
-2. the wind at the aerodynamic centre's position minus its velocity is the relative flow; in AeroDyn's
+2. the wind at the aerodynamic centre's position (with ``SectAvg``, its average over the node's sector:
+   :mod:`mbsym.wind.aero.sector_average`) minus its velocity is the relative flow; in AeroDyn's
    ``BEM_Mod = 1`` axes without sweep, pitch and twist (:func:`annulus_axes`: the unpitched root's in-plane
    axis ``y``, the normal ``x`` tilted by the section's out-of-plane angle; not turned by in-plane bending) it
    gives ``Vx`` and ``Vy``, with the node's distance from the shaft axis ``r_local`` and ``θ`` = aerodynamic
@@ -191,6 +192,10 @@ class _AeroBuilder:
         hub_point = ca.DM([0.0, 0.0, float(model.turbine.hub_height)])
         W = model.wind.velocity(ca.horzcat(kin["r_ac"], hub_point), U)
         n = kin["r"].size2()
+        sector = getattr(model, "sector_average", None)
+        if sector is not None:                                  # AeroDyn's SectAvg (aero/sector_average.py)
+            hub = (kin["hub"]["r"], kin["hub"]["R"][:, 0])
+            W = ca.horzcat(sector.average(model.wind.velocity(sector.points(kin["r_ac"], *hub), U)), W[:, n:])
         tower = model.tower_aero
         if tower is not None and tower.disturbs_inflow:          # AeroDyn's TwrPotent, TwrShadow (aero/tower.py)
             f = eom.point_kinematics("tower")
@@ -206,7 +211,11 @@ class _AeroBuilder:
         wind_rate = None
         if rotor.dbemt_mode and not rotor.dbemt_wind_rate or rotor.needs_ua_wind_rate:
             # the wind's rate along each node's path (DBEMT's rate term, UA's update: AeroDyn v5's wind copy)
-            rate = model.wind.path_rate(kin["r_ac"], kin["v_ac"], U)
+            if sector is None:
+                rate = model.wind.path_rate(kin["r_ac"], kin["v_ac"], U)
+            else:                                               # the average's rate: the points turn with the node
+                v = sector.velocities(kin["r_ac"], kin["v_ac"], kin["hub"]["r"], kin["hub"]["v"], kin["hub"]["R"][:, 0])
+                rate = sector.average(model.wind.path_rate(sector.points(kin["r_ac"], *hub), v, U))
             wind_rate = (_dot(rate, frames["x_n"]).T, _dot(rate, frames["y_n"]).T)
         extra = {}
         if getattr(rotor, "unsteady", None) is not None and rotor.unsteady.continuous:

@@ -167,6 +167,7 @@ class OperatingDeck:
             A ServoDyn or AeroDyn setting that would act and is not modelled (file, line, key).
         """
         from ..aero.nacelle import NacelleDrag
+        from ..aero.sector_average import SectorAverage
         from ..aero.tower import TowerAero
         from ..deck.aero_audit import check_aerodyn
 
@@ -178,6 +179,8 @@ class OperatingDeck:
             check_aerodyn(self.aerodyn, rotor_effective=aero == "rotor")
             options.setdefault("tower_aero", TowerAero.from_aerodyn(self.aerodyn))
             options.setdefault("nacelle_drag", NacelleDrag.from_aerodyn(self.aerodyn))
+            if aero == "blade":
+                options.setdefault("sector_average", SectorAverage.from_aerodyn(self.aerodyn))
         self._yaw_drive(dofs, t_end, options)
         options.setdefault("load_channels", self.outlist_needs_load_channels(aero))
         options.setdefault("platform", self.platform)
@@ -285,9 +288,9 @@ class OperatingDeck:
     def default_aero(self, dofs: Sequence[str] | None = None) -> str:
         """``"blade"`` when a rotor-effective model cannot represent the deck: a full-field wind, a wind with
         shear, direction, vertical speed or upflow, blade or yaw DOFs that the aerodynamics must load, or
-        AeroDyn's tower disturbing the blade inflow (``TwrPotent``, ``TwrShadow``), or unsteady airfoil
-        aerodynamics (``UA_Mod`` ≠ 0); ``"rotor"`` otherwise (uniform hub-height wind on a rigid rotor: the cheap
-        rung is exact enough)."""
+        AeroDyn's tower disturbing the blade inflow (``TwrPotent``, ``TwrShadow``), sector-averaged inflow
+        (``SectAvg``), or unsteady airfoil aerodynamics (``UA_Mod`` ≠ 0); ``"rotor"`` otherwise (uniform
+        hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
         if self.path is None:
             return "rotor"
         if self.inflow is not None and _varies_over_rotor(self.inflow):
@@ -297,6 +300,8 @@ class OperatingDeck:
 
             tower = TowerAero.from_aerodyn(self.aerodyn)
             if tower is not None and tower.disturbs_inflow or self.aerodyn.unsteady_model != 0:
+                return "blade"
+            if str(self.aerodyn.extra.get("SectAvg", "False")).strip().lower() in ("true", "t", ".true."):
                 return "blade"
         flags = {f for f, on in self.turbine.dofs.items() if on} if dofs is None else set(dofs)
         return "blade" if flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} else "rotor"

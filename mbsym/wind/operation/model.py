@@ -142,6 +142,9 @@ class OperatingTurbine:
         AeroDyn's nacelle drag (:class:`~mbsym.wind.aero.nacelle.NacelleDrag`, ``NacelleDrag.from_aerodyn``): a force
         at the yaw bearing and its moment, from the wind there (both rotors, as ``tower_aero``'s drag), and the
         channels ``NcFdx`` … ``NcMzi``. Default None.
+    sector_average : SectorAverage, optional, keyword-only
+        AeroDyn's ``SectAvg`` (:class:`~mbsym.wind.aero.sector_average.SectorAverage`): every blade node takes the
+        wind averaged over its sector. Blade-element rotor only. Default None.
     platform : FloatingPlatform, optional, keyword-only
         The water and the mooring on the platform (:func:`mbsym.wind.offshore.floating_platform`); the
         structure needs all six platform DOFs. Default None (no platform loads: they stay inputs).
@@ -181,7 +184,7 @@ class OperatingTurbine:
                  saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
-                 tower_aero=None, nacelle_drag=None, hss_brake=None, structural_controls=None,
+                 tower_aero=None, nacelle_drag=None, sector_average=None, hss_brake=None, structural_controls=None,
                  name: str = "operating_turbine") -> None:
         if not isinstance(turbine, TurbineParameters):
             raise TypeError(f"turbine must be TurbineParameters (read_openfast or nrel5mw); got {type(turbine).__name__}.")
@@ -250,6 +253,12 @@ class OperatingTurbine:
         if nacelle_drag is not None and not isinstance(nacelle_drag, NacelleDrag):
             raise TypeError(f"nacelle_drag must be a NacelleDrag or None; got {type(nacelle_drag).__name__}.")
         self.nacelle_drag = nacelle_drag
+        from ..aero.sector_average import SectorAverage
+
+        if sector_average is not None and (not isinstance(sector_average, SectorAverage) or not blade):
+            raise ParameterError("sector_average must be a SectorAverage, with a blade-element rotor (aero='blade'): "
+                                 "the rotor-effective rung's wind is one hub-height speed, uniform over the disk.")
+        self.sector_average = sector_average
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
