@@ -181,3 +181,18 @@ def test_strip_theory_platform_in_waves_and_a_current_matches_openfast(tmp_path)
                    tmp_path, {"PtfmSurge": 0.015, "PtfmHeave": 0.015, "PtfmPitch": 0.02, "PtfmSway": 0.04,
                               "PtfmYaw": 0.04})
     assert got["PtfmSurge"] == pytest.approx(_reference("morison_only_current_waves")["PtfmSurge"].mean(), rel=5e-3)
+
+
+@needs_deck
+def test_floating_current_example_runs_and_matches_its_closed_form():
+    """examples/floating_current.py: the drag at rest equals ½ ρ C_d Σ D L U² (its own closed form, printed beside
+    it, to the printed 0.1 kN), and the mean surge grows with the current."""
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[3]
+    out = subprocess.run([sys.executable, str(root / "examples" / "floating_current.py")], capture_output=True,
+                         text=True, timeout=300, check=True).stdout
+    rows = [[float(v) for v in line.split()] for line in out.splitlines()[1:6]]
+    assert all(abs(drag - closed) <= 0.11 for _, drag, closed, _ in rows)
+    assert all(b[3] > a[3] > 0 for a, b in zip(rows, rows[1:]))
