@@ -3,7 +3,8 @@
 AeroDyn v5.0.0 (AeroDyn.f90 ``SetSectAvgInflow``, called from ``SetInputs`` before ``SetInputsForBEMT``;
 inputs ``SectAvgWeighting``, ``SectAvgNPoints``, ``SectAvgPsiBwd``, ``SectAvgPsiFwd`` read in AeroDyn_IO.f90 with
 the defaults 1, 5, −60°, 60°), written here from its equations. For every blade node ``A`` (AeroDyn's node: the
-aerodynamic centre, at its displaced position) and the hub ``H`` with its x axis ``x̂`` (the shaft axis as the hub turns):
+aerodynamic centre, at its displaced position) and the hub ``H`` with its x axis ``x̂`` (the shaft axis as the hub
+turns):
 
 - split ``r = A − H`` into ``r_∥ = (r·x̂) x̂`` and ``r_⊥ = r − r_∥``; with ``e_r = r_⊥/|r_⊥|`` and ``e_t = x̂ × e_r``
   (the direction the rotor turns about ``x̂``), the sector's points are

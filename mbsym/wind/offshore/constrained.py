@@ -17,8 +17,8 @@ spectrum ``S_k`` (zero outside the cut-offs), ``m_0 = Δω Σ S_k`` and ``m_2 = 
    (SeaState's secant-Newton iteration from ``A = CrestHmax/2`` with a 1 mm step and 1 mm tolerance, at most 21
    passes — reproduced step by step, so the same ``A``);
 3. the crest is moved to ``(CrestXi, CrestYi)`` at ``CrestTime``:
-   ``C_k ← C_k e^{i(κ_k (x cos β_k + y sin β_k) − ω_k t)}`` for ``0 < k < N/2`` (κ from the finite-depth dispersion relation, ``β_k`` each component's heading, spread or
-   not).
+   ``C_k ← C_k e^{i(κ_k (x cos β_k + y sin β_k) − ω_k t)}`` for ``0 < k < N/2`` (κ from the finite-depth dispersion
+   relation, ``β_k`` each component's heading, spread or not).
 
 Everything downstream (the elevation at any point, HydroDyn's excitation, the members' kinematics) follows from the
 modified ``C_k``, as in SeaState. SeaState refuses ``CrestHmax < WaveHs`` with a JONSWAP sea; so does mbsym.

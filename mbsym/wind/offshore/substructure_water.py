@@ -31,7 +31,8 @@ The structure's motion enters these loads through the added mass and the drag's 
 higher orders in the nodes' velocity and its slope's correlation with the waves, the change of the buoyancy, fill
 and growth loads with the displacement (a hydrostatic stiffness, first order in the rotation of the members' end
 plates and axes: none for a vertical pile cut by the seabed, whose sides carry no vertical pressure), the added
-mass's and the rigid parts' centripetal and gyroscopic terms (second order in the rates). The waves are read at the undisplaced nodes, as HydroDyn does (``WaveDisp = 0``).
+mass's and the rigid parts' centripetal and gyroscopic terms (second order in the rates). The waves are read at the
+undisplaced nodes, as HydroDyn does (``WaveDisp = 0``).
 HydroDyn ignores ``AddF0``, ``AddCLin``, ``AddBLin`` and ``AddBQuad`` without potential flow (``HydroDyn.f90``: only
 with ``PotMod = 1``), and so does this module (the IEA 15 MW monopile deck's heave ``AddBLin`` is not applied).
 

@@ -157,10 +157,11 @@ class BladeGraph(Graph):
         return out
 
     def parts(self) -> dict[str, Any]:
-        """``blade_inflow``: ``(x, u, p) ->`` :data:`INFLOW_OUTPUTS` (wake equilibrium, diagnostics)."""
+        """``blade_inflow``: ``(x, u, p) ->`` :data:`INFLOW_OUTPUTS` (wake equilibrium, diagnostics), and with
+        ``UA_Mod`` 4 or 6 ``node_ua_omega``: the sections' ``omega_z`` their states start from (``HGM_Steady``)."""
+        names = INFLOW_OUTPUTS + tuple(k for k in ("node_ua_omega",) if k in self.blade_aero)
         f = ca.Function(f"{self.model.name}_blade_inflow", [self.x, self.u, self.p],
-                        self.close([self.blade_aero[k] for k in INFLOW_OUTPUTS]), ["x", "u", "p"],
-                        list(INFLOW_OUTPUTS))
+                        self.close([self.blade_aero[k] for k in names]), ["x", "u", "p"], list(names))
         return {"blade_inflow": f}
 
     def aero_function(self) -> ca.Function:
@@ -234,6 +235,8 @@ class _AeroBuilder:
                 }
         if "ua_inputs" in aero:
             outs["ua_inputs"] = aero["ua_inputs"]
+        if "ua_omega" in extra:                     # the rate HGM_Steady starts the states from (rest.py)
+            outs["node_ua_omega"] = extra["ua_omega"]
         for key in ("alpha", "vrel", "phi", "axial_induction", "tangential_induction", "cl", "cd", "fn", "ft"):
             if key in aero:
                 outs[f"node_{key}"] = aero[key]

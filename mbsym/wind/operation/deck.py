@@ -222,7 +222,7 @@ class OperatingDeck:
             from .hss_brake import HssBrake                   # ServoDyn's brake ramp (HSSBrMode 1) within the run
 
             options.setdefault("hss_brake", HssBrake.from_servodyn(s))
-        from ..structure.structural_control import structural_controls    # ServoDyn's nacelle/platform StCs (or refused)
+        from ..structure.structural_control import structural_controls    # ServoDyn's StCs (or refused)
 
         stc = structural_controls(s, self.turbine)
         if stc is not None:
@@ -486,7 +486,8 @@ def builtin_deck(*, dofs: Sequence[str] = OPERATING_DOFS) -> OperatingDeck:
     from .nrel5mw import NREL5MW_CONTROLLER_DT
 
     dbemt = dbemt_settings(nrel5mw_aerodyn())
-    return OperatingDeck(turbine=nrel5mw(), rotor_source=nrel5mw_rotor(), dofs=tuple(dofs), dynamic_inflow=dbemt is not None,
+    return OperatingDeck(turbine=nrel5mw(), rotor_source=nrel5mw_rotor(), dofs=tuple(dofs),
+                         dynamic_inflow=dbemt is not None,
                          dbemt=dbemt, actuators=ActuatorSettings.nrel5mw(), controller_dt=NREL5MW_CONTROLLER_DT,
                          servodyn=None, inflow=None, discon_in=None, library=None, uses_library=False,
                          label="NREL 5 MW onshore (built-in)", cut_out_wind_speed=NREL5MW_CUT_OUT[0],

@@ -400,7 +400,8 @@ class OperatingTurbine:
         rotor = {k: float(values[f"rotor_{k}"][0]) for k in ("skew", "skew_azimuth", "un_disk")
                  if f"rotor_{k}" in values}
         states = self.rotor.steady_states(values["node_vx"], values["node_vy"], values["node_r_local"],
-                                          values["node_theta"], values["node_azimuth"], **rotor)
+                                          values["node_theta"], values["node_azimuth"],
+                                          ua_omega=values.get("node_ua_omega"), **rotor)
         return dict(zip(self.rotor.state_names, np.asarray(states, dtype=float).ravel()))
 
     def _wind_inputs(self, wind) -> dict[str, float]:

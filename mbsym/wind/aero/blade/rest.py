@@ -16,30 +16,41 @@ from . import dbemt, ua_continuous, unsteady
 __all__ = ["wake_states", "unsteady_states"]
 
 
-def unsteady_states(rotor, args: list, azimuth: Any, wake: np.ndarray, rotor_inputs: dict) -> np.ndarray:
+def unsteady_states(rotor, args: list, azimuth: Any, wake: np.ndarray, rotor_inputs: dict,
+                    ua_omega: Any = None) -> np.ndarray:
     """The UA states at rest (:func:`.unsteady.steady_states`) at the nodes' angle of attack and speed with
-    the wake states ``wake`` and the rotor-level inputs (skew, ``un_disk``, ``tsr``, ``tip_radius``)."""
+    the wake states ``wake`` and the rotor-level inputs (skew, ``un_disk``, ``tsr``, ``tip_radius``).
+
+    ``ua_omega`` (n values, blade by blade; default 0): the sections' rotation rate ``omega_z`` that the
+    continuous models (``UA_Mod`` 4, 6) read: ``HGM_Steady`` sets their states from the first step's inputs, so
+    from the 3/4-chord angle ``alpha_34`` with that rate (UnsteadyAero.f90 v5.0.0 ``HGM_Steady`` calls
+    ``Get_HGM_constants`` with ``u%omega``). The discrete model (``UA_Mod 3``) does not read it."""
     n = rotor.n_blades * rotor.n_nodes
     keys = ("skew", "skew_azimuth", "tip_radius", "tsr", "un_disk")
     given = tuple(k for k in keys if rotor_inputs.get(k) is not None)
     f = rotor._cache.get(("ua_steady", given))  # type: ignore[attr-defined]
     if f is None:
         syms = [ca.SX.sym(name, n) for name in ("vx", "vy", "r", "theta", "azimuth")]
+        omega = ca.SX.sym("omega", n)
         x = ca.SX.sym("x", wake.size)
         extra = {k: ca.SX.sym(k) for k in given}
         ua = rotor.unsteady
         m_ua = len(rotor.state_names) - wake.size
         out = rotor.evaluate(*syms, ca.vertcat(x, ca.SX.zeros(m_ua)), rho=1.0, **extra)
         idx = [int(i) for i in ua.index]
-        if ua.continuous:                        # HGM_Steady at the rest's inputs, no section rotation
-            z = ua_continuous.steady(ua, rotor.polars, out["alpha"][idx], out["vrel"][idx])
+        if ua.continuous:                        # HGM_Steady at the rest's inputs and section rotation rate
+            z = ua_continuous.steady(ua, rotor.polars, out["alpha"][idx], out["vrel"][idx], omega[idx])
         else:
             z = unsteady.steady_states(ua, out["alpha"][idx], out["vrel"][idx], rotor._static_polars(ua))
-        f = ca.Function("blade_ua_steady", [*syms, x, *extra.values()], [z])
+        f = ca.Function("blade_ua_steady", [*syms, x, omega, *extra.values()], [z])
         rotor._cache[("ua_steady", given)] = f  # type: ignore[attr-defined]
     psi = np.zeros(n) if azimuth is None else np.asarray(azimuth, dtype=float).ravel()
     psi = np.repeat(psi, rotor.n_nodes) if psi.size == rotor.n_blades else psi
-    return np.asarray(f(*args, psi, wake, *[float(rotor_inputs[k]) for k in given]), dtype=float).ravel()
+    omega = np.zeros(n) if ua_omega is None else np.asarray(ua_omega, dtype=float).ravel()
+    if omega.size != n or not np.all(np.isfinite(omega)):
+        raise ParameterError(f"ua_omega must hold {n} finite numbers (one per node of every blade); got "
+                             f"{omega.size}.")
+    return np.asarray(f(*args, psi, wake, omega, *[float(rotor_inputs[k]) for k in given]), dtype=float).ravel()
 
 
 def wake_states(rotor, args: list, tol: float, max_iter: int, guess: float) -> np.ndarray:

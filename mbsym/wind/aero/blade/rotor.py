@@ -161,7 +161,7 @@ class BladeElementRotor:
         Raises
         ------
         UnsupportedFeatureError
-            Unsteady airfoil aerodynamics other than ``UA_Mod = 3`` (:func:`.unsteady.unsteady_nodes`),
+            Unsteady airfoil aerodynamics other than ``UA_Mod`` 3, 4 and 6 (:func:`.unsteady.unsteady_nodes`),
             ``Skew_Mod = -1``, frozen wake
             (``DBEMT_Mod = -1``), or anything :meth:`BEMRotor.from_aerodyn` refuses (BEM_Mod 2,
             OLAF).
@@ -483,7 +483,8 @@ class BladeElementRotor:
 
     # ------------------------------------------------------------------ numeric helpers
     def steady_states(self, vx: Any, vy: Any, r_local: Any, theta: Any, azimuth: Any = None, *,
-                      tol: float = 1e-12, max_iter: int = 50, **ignored_rotor_inputs: Any) -> np.ndarray:
+                      tol: float = 1e-12, max_iter: int = 50, ua_omega: Any = None,
+                      **ignored_rotor_inputs: Any) -> np.ndarray:
         """Equilibrium of the DBEMT states for numeric inputs (empty array when quasi-steady).
 
         At rest ``v = v_s`` and ``w = (1 - k) v_s`` whatever τ₁, τ₂ (and the skew, TSR and
@@ -500,6 +501,10 @@ class BladeElementRotor:
         tol : float, optional
             Largest change of a state between iterations at convergence [m/s].
         max_iter : int, optional
+        ua_omega : array_like, length n, optional
+            The sections' rotation rate ``omega_z`` [rad/s] (as :meth:`evaluate`'s): the continuous UA models
+            (``UA_Mod`` 4, 6) start from ``HGM_Steady`` at the 3/4-chord angle with it, as AeroDyn does at its
+            first step; default 0.
 
         Returns
         -------
@@ -519,7 +524,8 @@ class BladeElementRotor:
         wake = rest.wake_states(self, args, tol, max_iter, QS_GUESS_INDUCTION) if self.dbemt_mode else np.zeros(0)
         if self.unsteady is None:
             return wake
-        return np.concatenate([wake, rest.unsteady_states(self, args, azimuth, wake, ignored_rotor_inputs)])
+        return np.concatenate([wake, rest.unsteady_states(self, args, azimuth, wake, ignored_rotor_inputs,
+                                                          ua_omega)])
 
     def _disk_weights(self) -> np.ndarray:
         w = dbemt.integrate_weights(self.local_radius, self.n_blades)

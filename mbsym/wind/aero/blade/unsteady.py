@@ -434,7 +434,7 @@ def unsteady_nodes(aerodyn: Any, bem: Any, n_blades: int, *, dt: float | None,
     Raises
     ------
     UnsupportedFeatureError
-        ``UA_Mod`` other than 0, 3 and 6, or ``FLookup = False``.
+        ``UA_Mod`` other than 0, 3, 4 and 6, or ``FLookup = False``.
     ParameterError
         UA on without a positive ``dt`` or ``speed_of_sound``.
     """
@@ -445,14 +445,11 @@ def unsteady_nodes(aerodyn: Any, bem: Any, n_blades: int, *, dt: float | None,
     if mode == 0:
         return None
     extra = {k.lower(): v for k, v in dict(aerodyn.extra or {}).items()}
-    if mode not in (3, 6):
-        # UA_Mod 4's equations are in .ua_continuous, but against OpenFAST v5.0.0 (ss14_yaw10_flex, 2026-11-30) its
-        # node Cl is no closer than the steady polars' (mean |dCl| 0.017-0.022 against 0.014-0.068): refused
-        # until that is found
+    if mode not in (3, 4, 6):
         raise UnsupportedFeatureError(
             f"{aerodyn.source}: UA_Mod = {mode} is not modelled; mbsym runs 0 (steady polars), 3 (Beddoes-Leishman, "
-            "Minnema/Pierce, OpenFAST's recursion) and 6 (Oye). UA_Mod 2 (Gonzalez), 4 (HGM: not yet validated "
-            "against OpenFAST), 5 (HGM with vortex) and 7 (Boeing-Vertol) are refused. Set UA_Mod to 0, 3 or 6.")
+            "Minnema/Pierce, OpenFAST's recursion), 4 (HGM) and 6 (Oye). UA_Mod 2 (Gonzalez), 5 (HGM with vortex) "
+            "and 7 (Boeing-Vertol) are refused. Set UA_Mod to 0, 3, 4 or 6.")
     if str(extra.get("flookup", "true")).strip().strip('"').lower() in ("false", "f", "0"):
         raise UnsupportedFeatureError(f"{aerodyn.source}: FLookup = False (the best-fit f curves of S1..S4) is not "
                                       f"modelled with UA_Mod {mode} (OpenFAST v5 refuses it too); set FLookup = True "
