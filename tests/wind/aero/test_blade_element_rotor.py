@@ -318,12 +318,12 @@ def test_bad_inputs(bem):
         rotor(bem, polar_method="cubic")
 
 
-def test_unsteady_aerodynamics_other_than_ua_mod_3_and_6_are_refused():
+def test_unsteady_aerodynamics_other_than_ua_mod_3_4_and_6_are_refused():
     import dataclasses
 
     from mbsym.exceptions import ParameterError
 
-    for mode in (2, 4, 5, 7):
+    for mode in (2, 5, 7):
         aerodyn = dataclasses.replace(nrel5mw_aerodyn(), unsteady_model=mode)
         with pytest.raises(UnsupportedFeatureError, match=f"UA_Mod = {mode} is not modelled"):
             BladeElementRotor.from_aerodyn(aerodyn, hub_radius=1.5, precone=-0.04, n_blades=3, ua_dt=0.01,

@@ -43,14 +43,14 @@ def _nodes(rotor, mode):
 def test_modes_accepted_and_refused(rotor):
     from mbsym.wind.deck.aerodyn import read_aerodyn
 
-    for mode, n_states in ((6, 1),):
+    for mode, n_states in ((4, 4), (6, 1)):
         nodes = _nodes(rotor, mode)
         assert nodes.mode == mode and nodes.continuous
         # UA off on the cylinders (constant data) only: AeroDyn's UA_TurnOff_param for C_lalpha = 0
         assert all(rotor.bem.polars[j].ua is not None for j in nodes.node)
         assert len(ua.state_names([(0, int(j)) for j in nodes.node], mode)) == n_states * nodes.size
     aerodyn = read_aerodyn(AD, n_blades=3)
-    for mode in (2, 4, 5, 7):            # 4: HGM's equations are below, not yet validated against OpenFAST
+    for mode in (2, 5, 7):
         with pytest.raises(UnsupportedFeatureError, match="UA_Mod = "):
             ua.unsteady_nodes(dataclasses.replace(aerodyn, unsteady_model=mode), rotor.bem, 3, dt=0.00625,
                               speed_of_sound=340.0)
@@ -117,3 +117,36 @@ def test_pitch_rate_term(rotor):
     a34 = math.atan2(u * math.sin(alpha) + w * chord / 2, u * math.cos(alpha))
     cl_move = float(f(a34, u, 0.0, z, c, a34, u, 0.0)[0]) - float(a[0])
     assert float(b[0]) - float(a[0]) == pytest.approx(math.pi * tu * w + cl_move, rel=1e-9)
+
+
+@pytest.mark.parametrize("mode", [4, 6])
+def test_rest_states_read_the_section_rate(mode):
+    """``HGM_Steady`` sets the states from the first step's inputs with ``u%omega`` (UnsteadyAero.f90 v5.0.0:
+    ``Get_HGM_constants`` -> ``alpha_34``): x1 = A1 α34, x2 = A2 α34, x3 = C_lα (α34 − α0), x4 = f_st(α34) with
+    ``α34 = atan2(U sin α + ω c/2, U cos α)``. ``steady_states(..., ua_omega=)`` passes the rate on; without it
+    the states are those at ω = 0."""
+    from mbsym.wind.deck.aerodyn import read_aerodyn
+
+    if not AD.exists():
+        pytest.skip(f"shared OpenFAST decks not found at {AD}")
+    aerodyn = dataclasses.replace(read_aerodyn(AD, n_blades=3), unsteady_model=mode)
+    rot = BladeElementRotor.from_aerodyn(aerodyn, hub_radius=1.5, precone=-0.04363, n_blades=3, ua_dt=0.00625,
+                                         speed_of_sound=340.0, polar_method="linear", dynamic_wake=False)
+    n = rot.n_blades * rot.n_nodes
+    r = np.tile(np.asarray(rot.bem.local_radius, float), 3)
+    vx, vy, theta = np.full(n, 10.0), r * 1.2, np.tile(np.asarray(rot.bem.twist, float), 3) + 0.05
+    w = np.linspace(-0.2, 0.3, n)
+    z0, zw = rot.steady_states(vx, vy, r, theta), rot.steady_states(vx, vy, r, theta, ua_omega=w)
+    out = rot.evaluate(vx, vy, r, theta, np.zeros(n), ca.DM(z0), rho=1.2)
+    alpha, vrel = (np.asarray(ca.evalf(out[k])).ravel() for k in ("alpha", "vrel"))
+    ua_nodes, names = rot.unsteady, uc.state_suffixes(mode)
+    sep = uc.separation_polars(rot.polars)
+    zw = zw.reshape(ua_nodes.size, len(names))
+    z0 = z0.reshape(ua_nodes.size, len(names))
+    for k, i in enumerate(np.asarray(ua_nodes.index, int)):
+        chord, prm = float(ua_nodes.chord[k]), {q: float(ua_nodes.params[q][k]) for q in uc.PARAMETERS}
+        for z, rate in ((z0, 0.0), (zw, w[i])):
+            a34 = math.atan2(vrel[i] * math.sin(alpha[i]) + rate * chord / 2, vrel[i] * math.cos(alpha[i]))
+            want = {"x1": prm["A1"] * a34, "x2": prm["A2"] * a34, "x3": prm["C_lalpha"] * (a34 - prm["alpha0"]),
+                    "x4": float(ca.evalf(sep(ca.SX(a34), [int(ua_nodes.node[k])])["cl"]))}
+            assert z[k] == pytest.approx([want[q] for q in names], rel=1e-10, abs=1e-12)
