@@ -448,8 +448,10 @@ def unsteady_nodes(aerodyn: Any, bem: Any, n_blades: int, *, dt: float | None,
     if mode not in (3, 4, 6):
         raise UnsupportedFeatureError(
             f"{aerodyn.source}: UA_Mod = {mode} is not modelled; mbsym runs 0 (steady polars), 3 (Beddoes-Leishman, "
-            "Minnema/Pierce, OpenFAST's recursion), 4 (HGM) and 6 (Oye). UA_Mod 2 (Gonzalez), 5 (HGM with vortex) "
-            "and 7 (Boeing-Vertol) are refused. Set UA_Mod to 0, 3, 4 or 6.")
+            "Minnema/Pierce, OpenFAST's recursion), 4 (HGM) and 6 (Oye). Refused: UA_Mod 2 (Gonzalez), 5 (HGM with "
+            "vortex: Cn-based columns and a vortex switch AeroDyn updates after each step, not validated) and 7 "
+            "(Boeing-Vertol: a discrete model, alpha rate by finite difference over DTAero). Set UA_Mod to 0, 3, 4 "
+            "or 6.")
     if str(extra.get("flookup", "true")).strip().strip('"').lower() in ("false", "f", "0"):
         raise UnsupportedFeatureError(f"{aerodyn.source}: FLookup = False (the best-fit f curves of S1..S4) is not "
                                       f"modelled with UA_Mod {mode} (OpenFAST v5 refuses it too); set FLookup = True "
