@@ -10,8 +10,13 @@ Setting                                What mbsym does
 YawSpr, YawDamp, YawNeut (YawDOF)      modelled: ``YawMom = -YawSpr (NacYaw - YawNeut) - YawDamp
                                        YawRate`` (ServoDyn's ``Yaw_CalcOutput`` with ``YCMode = 0``
                                        or before ``TYCOn``: the command is the neutral yaw at rest)
-YCMode ≠ 0 with TYCOn < t_end          refused (active yaw control is not modelled)
-TYawManS < t_end                       refused (override yaw maneuver)
+TYawManS < t_end (YCMode 0, or before  modelled: the override yaw maneuver moves the command (``YawPosCom``,
+TYCOn), YawManRat, NacYawF             ``YawRateCom``) from YawNeut to NacYawF at YawManRat
+                                       (mbsym.wind.operation.yaw_control.YawManeuver)
+YCMode 5 with TYCOn < t_end            modelled with the DISCON library in the loop: its yaw-rate demand
+                                       (record 48) integrated by ServoDyn (yaw_control.DllYaw)
+YCMode 3, 4 with TYCOn < t_end;        refused (user routine, Simulink; the maneuver from a library's
+TYawManS after TYCOn with YCMode 5     integrated command)
 HSSBrMode 1 (THSSBrDp, HSSBrDT,        modelled by the operating turbine (GenDOF): the brake ramp as
 HSSBrTqF)                              the input HSSBrTqC (mbsym.wind.operation.hss_brake); HSSBrMode 3,
                                        4, 5 refused
@@ -56,11 +61,14 @@ class YawDrive:
         YawDamp [N m s/rad].
     neutral : float
         YawNeut [rad].
+    control : YawManeuver or DllYaw or None
+        ServoDyn's commanded yaw when it moves within the run (:mod:`mbsym.wind.operation.yaw_control`).
     """
 
     spring: float
     damping: float
     neutral: float
+    control: object = None
 
 
 def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float, *,
@@ -102,7 +110,19 @@ def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float, *,
                                   + "\n  - ".join(problems))
     if not dofs.get("YawDOF"):
         return None
-    return YawDrive(float(servodyn.yaw_spring), float(servodyn.yaw_damping), float(servodyn.yaw_neutral))
+    return YawDrive(float(servodyn.yaw_spring), float(servodyn.yaw_damping), float(servodyn.yaw_neutral),
+                    _yaw_control(servodyn, float(t_end)))
+
+
+def _yaw_control(s, t_end: float):
+    """The commanded yaw that moves within the run (after the refusals of :func:`_problems`), or None."""
+    from ..operation.yaw_control import DllYaw, YawManeuver
+
+    if s.yaw_maneuver_start_time < t_end:
+        return YawManeuver.from_servodyn(s)
+    if s.yaw_control_mode == 5 and s.yaw_control_start_time < t_end:
+        return DllYaw.from_servodyn(s)
+    return None
 
 
 def _when(t: float) -> str:
@@ -114,13 +134,18 @@ def _problems(s, dofs: Mapping[str, bool], t_end: float, generator_speed: float 
     out = []
     later = f"set it beyond the simulated time ({t_end:g} s)"
     if dofs.get("YawDOF"):
-        if s.yaw_control_mode != 0 and s.yaw_control_start_time < t_end:
+        control = s.yaw_control_mode != 0 and s.yaw_control_start_time < min(t_end, s.yaw_maneuver_start_time)
+        if control and s.yaw_control_mode != 5:
             out.append(("YCMode", f"active yaw control (YCMode = {s.yaw_control_mode}, TYCOn = "
                                   f"{s.yaw_control_start_time:g} s) is not modelled; set YCMode = 0 (the yaw spring "
-                                  f"and damper hold the nacelle at YawNeut) or TYCOn: {later}"))
-        if s.yaw_maneuver_start_time < t_end:
-            out.append(("TYawManS", f"the override yaw maneuver {_when(s.yaw_maneuver_start_time)} is not "
-                                    f"modelled; {later}"))
+                                  f"and damper hold the nacelle at YawNeut), 5 (a DISCON library's yaw rate) or "
+                                  f"TYCOn: {later}"))
+        if s.yaw_maneuver_start_time < t_end and control:
+            out.append(("TYawManS", f"the override yaw maneuver {_when(s.yaw_maneuver_start_time)} after active yaw "
+                                    f"control started (TYCOn = {s.yaw_control_start_time:g} s) is not modelled; "
+                                    f"{later}, or TYCOn after it"))
+        elif s.yaw_maneuver_start_time < t_end and s.yaw_maneuver_rate == 0.0:
+            out.append(("YawManRat", "the override yaw maneuver needs YawManRat ≠ 0 (as ServoDyn)"))
     if dofs.get("GenDOF"):
         brake = s.hss_brake_mode
         if brake in (3, 4, 5):

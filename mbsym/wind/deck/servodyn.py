@@ -84,6 +84,8 @@ _KEYS = (
     _k("YawSpr", "yaw_spring", default=0.0, check=(lambda v: v >= 0, "must not be negative [N m/rad]")),
     _k("YawDamp", "yaw_damping", default=0.0, check=(lambda v: v >= 0, "must not be negative [N m s/rad]")),
     _k("TYawManS", "yaw_maneuver_start_time", default=math.inf),
+    _k("YawManRat", "yaw_maneuver_rate", scale=_DEG, default=0.0),
+    _k("NacYawF", "yaw_maneuver_final", scale=_DEG, default=0.0),
     _k("AfCmode", "airfoil_control_mode", "int", default=0),
     _k("NumBStC", "n_blade_structural_controllers", "int", default=0),
     _k("NumNStC", "n_nacelle_structural_controllers", "int", default=0),
@@ -159,6 +161,8 @@ class ServoDynSettings:
     yaw_spring: float = 0.0
     yaw_damping: float = 0.0
     yaw_maneuver_start_time: float = math.inf
+    yaw_maneuver_rate: float = 0.0
+    yaw_maneuver_final: float = 0.0
     airfoil_control_mode: int = 0
     n_blade_structural_controllers: int = 0
     n_nacelle_structural_controllers: int = 0

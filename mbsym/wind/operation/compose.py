@@ -451,11 +451,11 @@ def _held_part(model, g: Graph, y: Any, measured: Any, opts: dict) -> HeldPart |
 
 
 def _input_defaults(model, g: Graph) -> list[float] | None:
-    """Default inputs: the wind's (blade-element model), zero otherwise."""
-    wind = getattr(model, "wind", None)
-    if wind is None:
+    """Default inputs: the wind's (blade-element model), ServoDyn's commanded yaw at its neutral, zero otherwise."""
+    wind, yaw = getattr(model, "wind", None), getattr(model, "yaw_control", None)
+    if wind is None and yaw is None:
         return None
-    values = dict(wind.defaults)
+    values = {**(dict(wind.defaults) if wind is not None else {}), **({"YawPosCom": yaw.neutral} if yaw else {})}
     return [float(values.get(n, 0.0)) for n in g.inputs]
 
 

@@ -69,7 +69,16 @@ def measurement_names(model) -> tuple[str, ...]:
     :data:`PLATFORM_MEASUREMENTS`, then :data:`DISCON_MEASUREMENTS` not among them)."""
     names = MEASUREMENTS + (BLADE_MEASUREMENTS if getattr(model, "aero", "rotor") == "blade" else ()) + \
         (FLOATING_MEASUREMENTS + PLATFORM_MEASUREMENTS if getattr(model, "platform", None) is not None else ())
-    return names + tuple(c for c in DISCON_MEASUREMENTS if c not in names)
+    names += tuple(c for c in DISCON_MEASUREMENTS if c not in names)
+    return names + _yaw_measurements(model, names)
+
+
+def _yaw_measurements(model, names) -> tuple[str, ...]:
+    """With a library's yaw (``YCMode = 5``): the hub wind's cross component, for its yaw error (record 24)."""
+    from .yaw_control import DllYaw
+
+    yaw = isinstance(getattr(model, "yaw_control", None), DllYaw) and getattr(model, "aero", "rotor") == "blade"
+    return ("Wind1VelY",) if yaw and "Wind1VelY" not in names else ()
 
 
 def baseline_in_loop(controller: BaselineController, *, name: str = "baseline", model=None,
@@ -154,6 +163,12 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon", model=
     individual = getattr(model, "pitch", "collective") == "individual"
     n = model.turbine.number_of_blades if individual else 1
     commands = tuple(f"BlPitchCom{k + 1}" for k in range(n)) + ("GenTqCom",)
+    actuates = model.command_names if individual else ACTUATED
+    from .yaw_control import DllYaw
+
+    yaw = getattr(model, "yaw_control", None)
+    if isinstance(yaw, DllYaw):
+        return _with_library_yaw(controller, yaw, measured, commands, tuple(actuates), name)
     step = controller.callable(measured, commands)
     scale = np.asarray([SI_FACTORS[m] for m in measured])
     empty = np.zeros(0)
@@ -161,8 +176,35 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon", model=
     def law(t: float, xc: np.ndarray, y: np.ndarray):
         return empty, step(t, y * scale)
 
-    actuates = model.command_names if individual else ACTUATED
     return DiscreteController(law, controller.dt, measurements=measured, actuates=actuates, name=name)
+
+
+def _with_library_yaw(controller: DisconController, yaw, measured: tuple, commands: tuple, actuates: tuple,
+                      name: str) -> DiscreteController:
+    """:func:`discon_in_loop` with ServoDyn's ``YCMode = 5``: the library also gets the yaw error (record 24,
+    ``atan2(Wind1VelY, Wind1VelX) − NacYaw``, as OpenFAST's glue code fills ServoDyn's ``YawErr``) and its yaw-rate
+    demand (record 48) is integrated as ServoDyn does (:class:`~.yaw_control.DllYaw`) into the commands
+    ``YawPosCom``, ``YawRateCom``; the controller's state is ServoDyn's ``YawPosComInt`` [rad]."""
+    from .yaw_control import YAW_INPUTS
+
+    known = tuple(m for m in measured if m in SI_FACTORS)
+    step = controller.callable(known + ("YawErr",), commands + ("YawRateCom",))
+    scale = np.asarray([SI_FACTORS[m] for m in known])
+    pick = [measured.index(m) for m in known]
+    yaw_at = measured.index("NacYaw")
+    cross = measured.index("Wind1VelY") if "Wind1VelY" in measured else None
+    along = measured.index("Wind1VelX")
+    dt = controller.dt
+
+    def law(t: float, xc: np.ndarray, y: np.ndarray):
+        wind_dir = math.atan2(y[cross], y[along]) if cross is not None else 0.0
+        u = step(t, np.r_[y[pick] * scale, wind_dir - y[yaw_at] * SI_FACTORS["NacYaw"]])
+        integrated, position, rate = yaw.step(t, float(xc[0]), float(u[-1]), dt, first=bool(xc[1]))
+        return np.array([integrated, 0.0]), np.r_[u[:-1], position, rate]
+
+    return DiscreteController(law, dt, [yaw.neutral, 1.0], measurements=measured, actuates=actuates + YAW_INPUTS,
+                              state_names=[f"{name}.YawPosComInt", f"{name}.first"], state_units=["rad", "-"],
+                              name=name)
 
 
 def held_commands(model, x0) -> dict[str, float]:

@@ -217,6 +217,8 @@ class OperatingDeck:
             options.setdefault("yaw_spring", drive.spring)
             options.setdefault("yaw_damping", drive.damping)
             options.setdefault("yaw_neutral", drive.neutral)
+            if drive.control is not None:                 # ServoDyn's maneuver or library yaw (.yaw_control)
+                options.setdefault("yaw_control", drive.control)
         s = self.servodyn
         if s is not None and flags.get("GenDOF") and s.hss_brake_mode == 1 and s.hss_brake_start_time < end:
             from .hss_brake import HssBrake                   # ServoDyn's brake ramp (HSSBrMode 1) within the run

@@ -66,6 +66,7 @@ from ..structure.gearbox import generator_torque_at_shaft, has_losses, hss_torqu
 from ..structure.turbine import TurbineModel
 from .actuators import ActuatorSettings
 from .dynamic_inflow import DynamicInflow
+from .yaw_control import checked_yaw_control
 
 if TYPE_CHECKING:
     from ..aero.blade import BladeElementRotor
@@ -108,6 +109,8 @@ class OperatingTurbine:
         Yaw bearing spring [N m/rad] and damper [N m s/rad] (with YawDOF).
     yaw_neutral : float, optional, keyword-only
         Yaw where the spring is relaxed [rad] (ServoDyn's YawNeut; default the initial NacYaw).
+    yaw_control : YawManeuver or DllYaw, optional, keyword-only
+        ServoDyn's commanded yaw (:mod:`.yaw_control`): the inputs ``YawPosCom``, ``YawRateCom`` move the spring.
     saturation_width : float, optional, keyword-only
         Relative half-width of the smooth saturation corners (:func:`~.actuators.smooth_clip`).
     wind : UniformWindInputs, FieldWindInputs or FullFieldWind, optional, keyword-only
@@ -181,7 +184,7 @@ class OperatingTurbine:
                  dofs: Sequence[str] | None = None, actuators: ActuatorSettings | None = None,
                  dynamic_inflow: "bool | DynamicInflow | None" = None, inflow_lag: bool = False,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
-                 saturation_width: float = 1e-4,
+                 yaw_control=None, saturation_width: float = 1e-4,
                  wind=None, output_nodes: Sequence[int] = (), pitch: str = "collective",
                  load_channels: bool = False, disk_moments: bool | None = None, platform=None,
                  tower_aero=None, nacelle_drag=None, sector_average=None, hss_brake=None, structural_controls=None,
@@ -262,6 +265,7 @@ class OperatingTurbine:
         self.structure = TurbineModel(turbine, dofs, pitch_input="individual" if pitch == "individual" else True,
                                       tower_base_reactions=True,
                                       yaw_spring=yaw_spring, yaw_damping=yaw_damping, yaw_neutral=yaw_neutral,
+                                      yaw_command=yaw_control is not None,
                                       prescribed_azimuth=True,
                                       blade_loads=blade, blade_root_reactions=blade,
                                       blade_root_forces=blade and bool(load_channels),
@@ -269,6 +273,7 @@ class OperatingTurbine:
                                       hub_moments=bool(disk_moments),
                                       tower_loads=self.tower_aero is not None and self.tower_aero.drag,
                                       nacelle_loads=nacelle_drag is not None)
+        self.yaw_control = checked_yaw_control(yaw_control, self.structure)
         if self.hss_brake is not None:                  # its slip zone against the inertia it turns (.hss_brake)
             self.brake_slip_speed = self.hss_brake.slip_speed(_brake_inertia(self.structure, self.gearbox_ratio))
         unloaded = [f for f in _UNLOADED if self.structure.dofs.get(f)]

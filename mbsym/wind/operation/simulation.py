@@ -147,6 +147,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         inputs.update({n: v for n, v in model.platform.sea_tables(tmax).items() if n not in given})
     if model.hss_brake is not None and BRAKE_INPUT not in dict(commands or {}):   # ServoDyn's brake ramp
         inputs[BRAKE_INPUT] = model.hss_brake.table(tmax)
+    _yaw_command(model, controller, commands, tmax, inputs)      # ServoDyn's commanded yaw (.yaw_control)
     if model.structural_controls is not None:        # ServoDyn's prescribed StC loads (their files), unless given
         given = dict(commands or {})
         inputs.update({n: v for n, v in model.structural_controls.tables(tmax).items() if n not in given})
@@ -194,6 +195,20 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     _state_deck_method(res, model, controller, method is not None)
     check_physical(res, model)
     return res
+
+
+def _yaw_command(model: OperatingTurbine, controller, commands, tmax: float, inputs: dict) -> None:
+    """ServoDyn's yaw maneuver as input tables (unless given); a library's yaw (``YCMode = 5``) needs the library."""
+    from .yaw_control import YAW_INPUTS, DllYaw, YawManeuver
+
+    yaw, given = getattr(model, "yaw_control", None), dict(commands or {})
+    if isinstance(yaw, YawManeuver):
+        inputs.update({n: v for n, v in yaw.tables(tmax).items() if n not in given})
+    elif isinstance(yaw, DllYaw) and not set(YAW_INPUTS) <= set(given) and not (
+            controller is not None and set(YAW_INPUTS) <= set(controller.actuates)):
+        raise SimulationOptionError("the model's yaw follows a DISCON library's yaw-rate demand (ServoDyn YCMode 5): "
+                                    "run it with the library in the loop (discon_in_loop) or give YawPosCom and "
+                                    "YawRateCom in commands.")
 
 
 def deck_method(model: OperatingTurbine) -> int | None:

@@ -104,6 +104,10 @@ class TurbineModel:
     yaw_neutral : float, optional, keyword-only
         Yaw at which the spring is relaxed [rad] (ServoDyn's YawNeut); default the initial
         ``NacYaw``.
+    yaw_command : bool, optional, keyword-only
+        ServoDyn's commanded yaw as the inputs ``YawPosCom`` [rad], ``YawRateCom`` [rad/s]: the generalized force
+        ``yaw_spring (YawPosCom - yaw_neutral) + yaw_damping YawRateCom`` on the yaw DOF
+        (:mod:`mbsym.wind.operation.yaw_control`).
     pitch_input : bool, optional, keyword-only
         ``False`` (default): each blade pitched at the deck's BlPitch. ``True``: collective
         pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
@@ -175,7 +179,7 @@ class TurbineModel:
 
     def __init__(self, turbine: TurbineParameters, dofs: Sequence[str] | None = None, *,
                  yaw_spring: float = 0.0, yaw_damping: float = 0.0, yaw_neutral: float | None = None,
-                 pitch_input: bool = False,
+                 yaw_command: bool = False, pitch_input: bool = False,
                  prescribed_azimuth: bool = False, tower_base_reactions: bool = False,
                  blade_loads: bool = False, blade_root_reactions: bool = False, blade_root_forces: bool = False,
                  shaft_reactions: bool = False, yaw_bearing_reactions: bool = False, nacelle_loads: bool = False,
@@ -194,6 +198,7 @@ class TurbineModel:
         self._blade_data: dict[int, ElastoDynBladeData] = {}
         self._yaw = (float(yaw_spring), float(yaw_damping),
                      float(turbine.initial_conditions.nacelle_yaw if yaw_neutral is None else yaw_neutral))
+        self.yaw_command = bool(yaw_command)
         if pitch_input not in (True, False, "individual"):
             raise ModelDefinitionError(f"pitch_input must be False, True (collective) or 'individual'; got "
                                        f"{pitch_input!r}.")
@@ -472,6 +477,9 @@ class TurbineModel:
                 self.system.add_spring(self.coords["Yaw"], k, rest=neutral)
             if c:
                 self.system.add_damper(self.coords["Yaw"], c)
+            if self.yaw_command:                  # ServoDyn's commanded yaw and rate (operation.yaw_control)
+                position, rate = self.system.inputs(["YawPosCom", "YawRateCom"])
+                self.system.add_generalized_force(self.coords["Yaw"], k * (position - neutral) + c * rate)
         else:
             self._add(Fixed(tower, nacelle, offset=top, rotation=rotation("z", t.initial_conditions.nacelle_yaw)))
         return nacelle

@@ -16,7 +16,7 @@ __all__ = ["STRUCTURAL_INPUT_UNITS", "structural_input_unit"]
 STRUCTURAL_INPUT_UNITS = {"GenTq": "N m", "RotTorq": "N m", "RotThrust": "N", "RotMomY": "N m", "RotMomZ": "N m",
                           "RotFrcY": "N", "RotFrcZ": "N",
                           "PtfmFx": "N", "PtfmFy": "N", "PtfmFz": "N", "PtfmMx": "N m", "PtfmMy": "N m",
-                          "PtfmMz": "N m"}
+                          "PtfmMz": "N m", "YawPosCom": "rad", "YawRateCom": "rad/s"}
 
 _ANGLE = re.compile(r"^(BlPitch\d?|GeAz)(_d|_dd)?$")
 _BLADE_LOAD = re.compile(r"^(?:B\d+|Twr|Nac)Aero([FM])[xyz]$")     # blade, tower, nacelle loads

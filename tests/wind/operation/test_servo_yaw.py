@@ -128,8 +128,7 @@ def test_deck_yaw_drive_reaches_the_model(rosco_deck, tmp_path):
 
 
 @pytest.mark.parametrize("old, new, key", [
-    (r"^\s*0\s+YCMode", "5   YCMode", "YCMode"),
-    (r"^\s*9999.9\s+TYawManS", "10   TYawManS", "TYawManS"),
+    (r"^\s*0\s+YCMode", "3   YCMode", "YCMode"),
     (r"^\s*0\s+HSSBrMode", "5   HSSBrMode", "HSSBrMode"),
     (r"^\s*9999.9\s+TimGenOf", "30   TimGenOf", "TimGenOf"),
     (r"^\s*9999.9\s+TPitManS\(2\)", "20   TPitManS(2)", "TPitManS(2)"),
@@ -146,7 +145,7 @@ def test_servodyn_settings_that_act_are_refused(rosco_deck, tmp_path, old, new, 
     deck = operating_deck(fst)
     with pytest.raises(OpenFASTFormatError, match=rf"ServoDyn\.dat, line \d+, key '{re.escape(key)}'"):
         deck.model(dofs=["YawDOF", "GenDOF"], aero="rotor", t_end=60.0)
-    if key in ("TYawManS", "TimGenOf", "TPitManS(2)"):     # triggered after the end: does not act
+    if key in ("TimGenOf", "TPitManS(2)"):     # triggered after the end: does not act
         from mbsym.wind.deck.servo_audit import servo_audit
 
         drive = servo_audit(deck.servodyn, {"YawDOF": True, "GenDOF": True}, 5.0)
@@ -178,9 +177,9 @@ def test_all_problems_listed_at_once(rosco_deck, tmp_path):
     from mbsym.wind.operation.deck import operating_deck
 
     fst, servo = _copy_deck(rosco_deck, tmp_path)
-    _edit(servo, r"^\s*9999.9\s+TYawManS", "10   TYawManS")
     _edit(servo, r"^\s*9999.9\s+TimGenOf", "30   TimGenOf")
-    with pytest.raises(OpenFASTFormatError, match=r"(?s)2 ServoDyn settings.*TYawManS.*TimGenOf"):
+    _edit(servo, r"^\s*9999.9\s+TPitManS\(2\)", "20   TPitManS(2)")
+    with pytest.raises(OpenFASTFormatError, match=r"(?s)2 ServoDyn settings.*TimGenOf.*TPitManS\(2\)"):
         operating_deck(fst).model(dofs=["YawDOF", "GenDOF"], aero="rotor", t_end=60.0)
 
 
