@@ -12,7 +12,7 @@ YawSpr, YawDamp, YawNeut (YawDOF)      modelled: ``YawMom = -YawSpr (NacYaw - Ya
                                        or before ``TYCOn``: the command is the neutral yaw at rest)
 TYawManS < t_end (YCMode 0, or before  modelled: the override yaw maneuver moves the command (``YawPosCom``,
 TYCOn), YawManRat, NacYawF             ``YawRateCom``) from YawNeut to NacYawF at YawManRat
-                                       (mbsym.wind.operation.yaw_control.YawManeuver)
+                                       (mbsym.wind.deck.yaw_control.YawManeuver)
 YCMode 5 with TYCOn < t_end            modelled with the DISCON library in the loop: its yaw-rate demand
                                        (record 48) integrated by ServoDyn (yaw_control.DllYaw)
 YCMode 3, 4 with TYCOn < t_end;        refused (user routine, Simulink; the maneuver from a library's
@@ -62,7 +62,7 @@ class YawDrive:
     neutral : float
         YawNeut [rad].
     control : YawManeuver or DllYaw or None
-        ServoDyn's commanded yaw when it moves within the run (:mod:`mbsym.wind.operation.yaw_control`).
+        ServoDyn's commanded yaw when it moves within the run (:mod:`mbsym.wind.deck.yaw_control`).
     """
 
     spring: float
@@ -116,7 +116,7 @@ def servo_audit(servodyn, dofs: Mapping[str, bool], t_end: float, *,
 
 def _yaw_control(s, t_end: float):
     """The commanded yaw that moves within the run (after the refusals of :func:`_problems`), or None."""
-    from ..operation.yaw_control import DllYaw, YawManeuver
+    from .yaw_control import DllYaw, YawManeuver
 
     if s.yaw_maneuver_start_time < t_end:
         return YawManeuver.from_servodyn(s)

@@ -75,7 +75,7 @@ def measurement_names(model) -> tuple[str, ...]:
 
 def _yaw_measurements(model, names) -> tuple[str, ...]:
     """With a library's yaw (``YCMode = 5``): the hub wind's cross component, for its yaw error (record 24)."""
-    from .yaw_control import DllYaw
+    from ..deck.yaw_control import DllYaw
 
     yaw = isinstance(getattr(model, "yaw_control", None), DllYaw) and getattr(model, "aero", "rotor") == "blade"
     return ("Wind1VelY",) if yaw and "Wind1VelY" not in names else ()
@@ -164,7 +164,7 @@ def discon_in_loop(controller: DisconController, *, name: str = "discon", model=
     n = model.turbine.number_of_blades if individual else 1
     commands = tuple(f"BlPitchCom{k + 1}" for k in range(n)) + ("GenTqCom",)
     actuates = model.command_names if individual else ACTUATED
-    from .yaw_control import DllYaw
+    from ..deck.yaw_control import DllYaw
 
     yaw = getattr(model, "yaw_control", None)
     if isinstance(yaw, DllYaw):
@@ -185,7 +185,7 @@ def _with_library_yaw(controller: DisconController, yaw, measured: tuple, comman
     ``atan2(Wind1VelY, Wind1VelX) − NacYaw``, as OpenFAST's glue code fills ServoDyn's ``YawErr``) and its yaw-rate
     demand (record 48) is integrated as ServoDyn does (:class:`~.yaw_control.DllYaw`) into the commands
     ``YawPosCom``, ``YawRateCom``; the controller's state is ServoDyn's ``YawPosComInt`` [rad]."""
-    from .yaw_control import YAW_INPUTS
+    from ..deck.yaw_control import YAW_INPUTS
 
     known = tuple(m for m in measured if m in SI_FACTORS)
     step = controller.callable(known + ("YawErr",), commands + ("YawRateCom",))

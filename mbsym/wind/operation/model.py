@@ -66,7 +66,7 @@ from ..structure.gearbox import generator_torque_at_shaft, has_losses, hss_torqu
 from ..structure.turbine import TurbineModel
 from .actuators import ActuatorSettings
 from .dynamic_inflow import DynamicInflow
-from .yaw_control import checked_yaw_control
+from ..deck.yaw_control import checked_yaw_control
 
 if TYPE_CHECKING:
     from ..aero.blade import BladeElementRotor

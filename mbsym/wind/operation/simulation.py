@@ -199,7 +199,7 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
 
 def _yaw_command(model: OperatingTurbine, controller, commands, tmax: float, inputs: dict) -> None:
     """ServoDyn's yaw maneuver as input tables (unless given); a library's yaw (``YCMode = 5``) needs the library."""
-    from .yaw_control import YAW_INPUTS, DllYaw, YawManeuver
+    from ..deck.yaw_control import YAW_INPUTS, DllYaw, YawManeuver
 
     yaw, given = getattr(model, "yaw_control", None), dict(commands or {})
     if isinstance(yaw, YawManeuver):

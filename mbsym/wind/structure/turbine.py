@@ -107,7 +107,7 @@ class TurbineModel:
     yaw_command : bool, optional, keyword-only
         ServoDyn's commanded yaw as the inputs ``YawPosCom`` [rad], ``YawRateCom`` [rad/s]: the generalized force
         ``yaw_spring (YawPosCom - yaw_neutral) + yaw_damping YawRateCom`` on the yaw DOF
-        (:mod:`mbsym.wind.operation.yaw_control`).
+        (:mod:`mbsym.wind.deck.yaw_control`).
     pitch_input : bool, optional, keyword-only
         ``False`` (default): each blade pitched at the deck's BlPitch. ``True``: collective
         pitch as a prescribed coordinate (inputs ``BlPitch`` [rad], ``BlPitch_d``,
@@ -477,7 +477,7 @@ class TurbineModel:
                 self.system.add_spring(self.coords["Yaw"], k, rest=neutral)
             if c:
                 self.system.add_damper(self.coords["Yaw"], c)
-            if self.yaw_command:                  # ServoDyn's commanded yaw and rate (operation.yaw_control)
+            if self.yaw_command:                  # ServoDyn's commanded yaw and rate (deck.yaw_control)
                 position, rate = self.system.inputs(["YawPosCom", "YawRateCom"])
                 self.system.add_generalized_force(self.coords["Yaw"], k * (position - neutral) + c * rate)
         else:

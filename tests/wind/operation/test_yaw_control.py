@@ -1,4 +1,4 @@
-"""ServoDyn's commanded yaw on the operating turbine (mbsym.wind.operation.yaw_control).
+"""ServoDyn's commanded yaw on the operating turbine (mbsym.wind.deck.yaw_control).
 
 References: ServoDyn's override yaw maneuver and its integration of a DISCON library's yaw-rate demand (OpenFAST
 v5.0.0 ``ServoDyn.f90``: ``Yaw_CalcOutput``, ``Yaw_UpdateStates``, ``CalculateStandardYaw``; closed forms below);
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from mbsym.exceptions import ParameterError
-from mbsym.wind.operation.yaw_control import YAW_INPUTS, DllYaw, YawManeuver
+from mbsym.wind.deck.yaw_control import YAW_INPUTS, DllYaw, YawManeuver
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "openfast_yaw_control"
 SHARED = Path(__file__).resolve().parents[3].parent / "shared" / "openfast" / "aero" / "openfast_inputs"

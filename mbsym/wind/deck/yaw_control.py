@@ -145,7 +145,7 @@ def checked_yaw_control(control, structure):
     if control is None:
         return None
     if not isinstance(control, (YawManeuver, DllYaw)):
-        raise TypeError(f"yaw_control must be a YawManeuver or DllYaw (mbsym.wind.operation.yaw_control) or None; "
+        raise TypeError(f"yaw_control must be a YawManeuver or DllYaw (mbsym.wind.deck.yaw_control) or None; "
                         f"got {type(control).__name__}.")
     if not structure.dofs.get("YawDOF"):
         raise ParameterError("yaw_control commands the yaw spring and damper: enable YawDOF.")
