@@ -128,6 +128,9 @@ class RotorAero:
         forces = None if moments is None or getattr(moments, "hw", None) is None else SurfaceSpline.from_values(
             moments.tsr, moments.pitch, {"hw": moments.hw, "hp": moments.hp}, degree=self.degree)
         object.__setattr__(self, "_force_spline", forces)
+        r2 = None if moments is None else getattr(moments, "r2", None)
+        object.__setattr__(self, "_r2_spline", None if r2 is None else SurfaceSpline.from_values(
+            moments.tsr, moments.pitch, {"r2": r2}, degree=self.degree))
         tower = None if moments is None else getattr(moments, "tower", None)
         object.__setattr__(self, "_tower_spline", None if tower is None else SurfaceSpline.from_values(
             moments.tsr, moments.pitch, tower, degree=self.degree))
@@ -254,6 +257,15 @@ class RotorAero:
         """
         return self._skewed(self._force_spline, ("hw", "hp"), 2, u_rel, cross, axis, omega, pitch,  # type: ignore
                             rho)
+
+    def thrust_radius2(self, u_rel: Any, omega: Any, pitch: Any) -> Any:
+        """``⟨r²⟩_T`` [m²], the second radial moment of the thrust's frozen-wake response to the wind
+        (:func:`~mbsym.wind.aero.surfaces.thrust_radius2`), or None without the table (then a caller assumes the
+        derivative ∝ r: ``(R² + r_hub²)/2``)."""
+        if self._r2_spline is None:  # type: ignore[attr-defined]
+            return None
+        tsr = omega * self.radius / self._speed(u_rel)
+        return self.radius**2 * self._r2_spline(tsr, pitch)["r2"]  # type: ignore[attr-defined]
 
     def tower_loads(self, u_rel: Any, omega: Any, pitch: Any, rho: Any = None) -> Any:
         """The disk's steady moment [N m] and in-plane force [N] from the tower's inflow disturbance

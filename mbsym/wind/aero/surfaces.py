@@ -39,11 +39,11 @@ from scipy.interpolate import RectBivariateSpline
 from ...exceptions import ParameterError
 
 from ..deck.performance import PerformanceTable
-from .bem import BEMRotor, solve_bem
+from .bem import BEMRotor, _lookup, _velocities, solve_bem
 from .tower_average import TOWER_AZIMUTHS
 
-__all__ = ["performance_surface", "disk_moment_surface", "rotor_surfaces", "DiskMomentTable", "DEFAULT_TSR",
-           "DEFAULT_PITCH"]
+__all__ = ["performance_surface", "disk_moment_surface", "rotor_surfaces", "DiskMomentTable", "thrust_radius2",
+           "DEFAULT_TSR", "DEFAULT_PITCH"]
 
 #: Default tip-speed-ratio grid: 1 to 16 in steps of 0.25 (61 values).
 DEFAULT_TSR = np.round(np.arange(1.0, 16.0 + 1e-9, 0.25), 12)
@@ -118,6 +118,11 @@ class DiskMomentTable:
     source : str or None
     hw, hp : ndarray (n_tsr, n_pitch) or None
         The in-plane force ``F·e_w``, ``F·e_p`` over ``½ ρ V² π R² tan χ`` [-] (None: not tabulated).
+    r2 : ndarray (n_tsr, n_pitch) or None
+        The second radial moment of the blades' frozen-wake thrust derivative over ``R²`` [-]:
+        ``⟨r²⟩_T / R² = Σ ∫ (∂f_n/∂u) r² ds / (Σ ∫ (∂f_n/∂u) ds R²)``, the radius of gyration of the thrust's
+        response to a wind change, which sets the disk's damping against tilt and yaw rates (compose
+        ``_disk_moments``). None: not tabulated.
     tower : dict or None
         The part of the disk's moment and in-plane force the tower's inflow disturbance adds
         (:mod:`.tower_average`), which does not scale with the skew: ``"mu"``, ``"ms"`` (moment along the disk's
@@ -135,6 +140,7 @@ class DiskMomentTable:
     hw: np.ndarray | None = None
     hp: np.ndarray | None = None
     tower: dict | None = None
+    r2: np.ndarray | None = None
 
 
 def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew: float | None = None,
@@ -173,10 +179,47 @@ def rotor_surfaces(rotor: BEMRotor, tsr: Any = None, pitch: Any = None, *, skew:
             return table, None
         zero = np.zeros_like(ct)                # no skew: only the tower's part of the disk's moment
         return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=zero, cp=zero, skew=0.0, source=source,
-                                      hw=zero, hp=zero, tower=extra)
+                                      hw=zero, hp=zero, tower=extra, r2=thrust_radius2(rotor, solution, used_skew))
     cw, cp, hw, hp = _disk_moment(rotor, solution.fn, solution.ft, used_skew)   # the tower's part: module docstring
     return table, DiskMomentTable(tsr=tsr_axis, pitch=pitch_axis, cw=cw, cp=cp, skew=used_skew, source=source,
-                                  hw=hw, hp=hp, tower=extra)
+                                  hw=hw, hp=hp, tower=extra, r2=thrust_radius2(rotor, solution, used_skew))
+
+
+def thrust_radius2(rotor: BEMRotor, solution, skew: float) -> np.ndarray:
+    """``⟨r²⟩_T / R²`` (:class:`DiskMomentTable` ``r2``) at every point of a :func:`~.bem.solve_bem` solution.
+
+    The wake frozen (each element's induced velocities held, as over a tower period), a change ``δu`` of the
+    wind along the shaft changes an element's normal load by ``(∂f_n/∂u) δu``; a tilt or yaw rate ``ω⊥`` moves
+    it along the shaft at ``ω⊥ r cos ψ``, so the disk's moment changes by ``−½ Σ ∫ (∂f_n/∂u) r² ds ω⊥``.
+    With the derivative ∝ ``r`` along a blade (element speed ∝ r) the ratio would be ``½ (1 + r_hub²/R²)``; the
+    chord's taper and the tip loss make it smaller: 0.82-0.85 of that on the NREL 5 MW over its operating
+    range (wind 10-18 m/s), which the OpenFAST v5 run of docs/identification.md confirms: the rotor's
+    tilt moment against the tower-top rate there is 7.43e7 N m s, this ratio gives 7.2e7, ``½ (R² + r_hub²)/2``
+    8.6e7. ``∂f_n/∂u`` by a central difference of the element's normal load at its solved induction.
+    """
+    g = rotor._geometry  # type: ignore[attr-defined]
+    n_azimuth = solution.phi.shape[-2]
+    vx, vy, _ = _velocities(rotor, solution.tsr, abs(skew), n_azimuth, None)
+    ux, uy = vx * (1.0 - solution.a), vy * (1.0 + solution.ap)
+    theta = solution.phi - solution.alpha
+
+    def normal(dux: float) -> np.ndarray:
+        phi = np.arctan2(ux + dux, uy)
+        coef = _lookup(rotor._tables, phi - theta, rotor._tables["which"])  # type: ignore[attr-defined]
+        return 0.5 * ((ux + dux) ** 2 + uy**2) * rotor.chord * (coef[..., 0] * np.cos(phi) + coef[..., 1] * np.sin(phi))
+
+    step = 1e-4
+    d = np.nan_to_num((normal(step) - normal(-step)) / (2.0 * step)) * g["cos_cone"]
+    d = np.where(np.asarray(g["fixed"]), 0.0, d).mean(axis=-2)            # the azimuth average (..., n)
+    length, r = g["length"], g["r"]
+
+    def line(values: np.ndarray) -> np.ndarray:
+        return 0.5 * np.sum((values[..., 1:] + values[..., :-1]) * length, axis=-1)
+
+    total = line(d)
+    ratio = line(d * r**2) / np.where(np.abs(total) > 1e-12, total, 1.0) / rotor.radius**2
+    fallback = 0.5 * (1.0 + (rotor.hub_radius / rotor.radius) ** 2)
+    return np.where((np.abs(total) > 1e-12) & np.isfinite(ratio) & (ratio > 0.0) & (ratio < 1.0), ratio, fallback)
 
 
 def _coarse(axis: np.ndarray, n: int = 16) -> np.ndarray:

@@ -200,9 +200,11 @@ class Graph:
         azimuth ``ψ`` along the shaft at ``ω⊥ r cos ψ``: its load changes by ``(∂F/∂u) ω⊥ r cos ψ`` (the
         inflow frozen, as over a tower period), the thrust not at all (the cos ψ average is zero) but the
         moment by ``−K ω⊥`` with ``K = ½ Σ (∂F/∂u) r² = ½ (∂T/∂U) ⟨r²⟩``. ``∂T/∂U`` is the model's own
-        thrust derivative (frozen with dynamic inflow); ``⟨r²⟩ = (R² + r_hub²)/2`` weights the span by
-        ``∂F/∂u ∝ r`` (element speed ∝ r). Without it the rotor-effective model damps the tower fore-aft mode
-        at 14 m/s by 5.5 % against 7.3 % for the blade-element rotor (docs/identification.md).
+        thrust derivative (frozen with dynamic inflow); ``⟨r²⟩`` is the BEM's (:meth:`RotorAero.thrust_radius2
+        <mbsym.wind.aero.rotor.RotorAero.thrust_radius2>`: 0.82-0.85 of ``(R² + r_hub²)/2``, the value for
+        ``∂F/∂u ∝ r``, on the NREL 5 MW; that value without a BEM table). Without the moment the
+        rotor-effective model damps the tower fore-aft mode at 14 m/s by 5.5 % against 7.3 % for the
+        blade-element rotor (docs/identification.md).
         """
         if "RotMomY" not in self.eom.inputs:
             return {}
@@ -212,7 +214,9 @@ class Graph:
         torque = self.torque if self.model.dynamic_inflow is not None or not self.model.inflow_lag \
             else self.aero["torque"]
         dT_dU = ca.jacobian(thrust, self.u)[:, self.inputs.index("Wind1VelX")] / c1[0]
-        r2 = 0.5 * (float(self.model.rotor.radius) ** 2 + float(self.model.turbine.hub_radius) ** 2)
+        r2 = self.model.rotor.thrust_radius2(self.u_rel, self.rotor_speed, self.X["BlPitch"])
+        if r2 is None:                                  # no BEM table (a Cp/Ct file): the derivative ∝ r
+            r2 = 0.5 * (float(self.model.rotor.radius) ** 2 + float(self.model.turbine.hub_radius) ** 2)
         k = 0.5 * r2 * dT_dU
         w = shaft["w"]
         # the hub moving across the shaft at v⊥ moves each element along its rotation at v⊥ cos ψ: the

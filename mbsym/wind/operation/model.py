@@ -131,8 +131,8 @@ class OperatingTurbine:
         rates, its steady moment and in-plane force in a skewed flow (the rotor's ``moment_table``, when its
         surfaces have one) and its in-plane force against the hub's velocity across the shaft (``RotMomY``, ``RotMomZ``,
         ``RotFrcY``, ``RotFrcZ`` on the hub; :meth:`.compose.Graph._disk_moments`), which the blade-element
-        rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 % to 7.2 %
-        (blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
+        rotor has by construction. It raises the tower fore-aft damping at 14 m/s from 5.5 % to 6.9 % from a
+        deck (7.2 % for the built-in turbine's Cp/Ct-file rotor; blade-element rotor: 7.3 %). Default None: on for a floating turbine (``platform``; its roll, yaw
         and sway move the rotor across its shaft: docs/offshore.md §7c), off on land for now
         (docs/operation.md); ``mbsym identify``, ``mbsym linearize`` and ``mbsym operating-points`` switch it on
         (OpenFAST's linearization: docs/operating_points.md).

@@ -124,12 +124,15 @@ def test_aerodynamic_damping_of_the_tower_fore_aft_mode(quasi_steady, disk_momen
           - float(rotor.steady(y["RtVAvgxh"] - h, omega_r, guess.pitch)["thrust"])) / (2 * h)
     M = eom.mass_matrix(guess.state[:eom.n_q], u=np.asarray(ca.Function("us", [g.x, g.u, g.p], [g.u_s])(
         guess.state, u, p)).reshape(-1))[i, i]
-    # + the disk's moment against the shaft's tilt rate psi per unit TFA1 velocity: K = 1/2 dT/dU <r^2>,
-    # <r^2> = (R^2 + r_hub^2)/2 (compose._disk_moments; the blade-element rotor checks it in test_operating)
+    # + the disk's moment against the shaft's tilt rate psi per unit TFA1 velocity: K = 1/2 dT/dU <r^2>, <r^2>
+    # the BEM's thrust-weighted one, else (R^2 + r_hub^2)/2 (compose._disk_moments; OpenFAST's K checks it in
+    # tests/identify/test_rotor_loads.py)
     shaft = g._kinematics("shaft", g.u_s)
     tilt = ca.vertcat(ca.dot(shaft["w"], shaft["R"][:, 1]), ca.dot(shaft["w"], shaft["R"][:, 2]))
     psi = np.asarray(ca.Function("psi", [g.x, g.u, g.p], [ca.jacobian(tilt, g.qd)[:, i]])(guess.state, u, p))
-    K = 0.5 * dT * 0.5 * (rotor.radius ** 2 + model.turbine.hub_radius ** 2) if model.structure.hub_moments else 0.0
+    r2 = rotor.thrust_radius2(y["RtVAvgxh"], omega_r, guess.pitch)
+    r2 = 0.5 * (rotor.radius ** 2 + model.turbine.hub_radius ** 2) if r2 is None else float(ca.evalf(r2))
+    K = 0.5 * dT * r2 if model.structure.hub_moments else 0.0
     predicted = (dT * phi**2 + K * float(np.sum(psi**2))) / (2 * omega_still * M)
     assert zeta_wind - zeta_still == pytest.approx(predicted, rel=0.10)
     assert omega == pytest.approx(omega_still, rel=0.02)
