@@ -4,13 +4,17 @@ Contract (kept for acceptance checks)::
 
     mbsym identify DECK --data OPENFAST.csv --params KEY[,KEY...] [--channels CH[,CH...]] [--json]
                    [--initial KEY=V[,KEY=V...]] [--estimate-x0] [--method M] [--no-compile]
-                   [--model auto|operating|structure] [--aero rotor|blade] [--max-time S] [--quiet]
+                   [--model auto|loads|operating|structure] [--aero rotor|blade] [--max-time S] [--quiet]
 
 KEY: an ElastoDyn key (``TwrFADmp(1)``, ``FAStTunr(1)``, ``NacMass``, ``PtfmPIner`` ...; see
 :mod:`mbsym.wind.structure.named_parameters`) or a descriptive parameter name, values in
 the deck's units; the starting values are the deck's unless ``--initial`` gives others.
 
-The model (``--model``, default ``auto``): a deck with AeroDyn (``CompAero = 2``) is an
+The model (``--model``, default ``auto``): a deck with AeroDyn whose record holds the rotor's aerodynamic
+loads (``RtAeroFxh`` ... ``RtAeroMzh``, ``Azimuth``) is its structure driven by those **loads**, the pitch and
+the generator torque (:class:`~mbsym.wind.operation.measured_loads.MeasuredLoadTurbine`: the aerodynamic
+damping is in the recorded loads, so no aerodynamic model biases a structural estimate; rigid blades, no
+platform, no tower or nacelle drag); otherwise a deck with AeroDyn (``CompAero = 2``) is an
 **operating** turbine: its structure, its aerodynamics (``--aero``, default the deck's:
 rotor-effective, with the disk's moment against tilt and yaw rates, unless its wind or DOFs need blade
 elements) and its wind, driven by the
@@ -41,7 +45,10 @@ from pathlib import Path
 __all__ = ["add_parser", "run"]
 
 
-_EPILOG = ("A deck with AeroDyn is fitted as the operating turbine: the deck's structure, aerodynamics and wind, driven "
+_EPILOG = ("A deck with AeroDyn whose record has the rotor loads (RtAeroFxh ... RtAeroMzh, Azimuth) is fitted as its "
+           "structure driven by those loads, pitch and generator torque (--model loads). Otherwise a deck with "
+           "AeroDyn "
+           "is fitted as the operating turbine: the deck's structure, aerodynamics and wind, driven "
            "by the record's measured hub wind (Wind1VelX), collective pitch (BldPitch1) and generator torque (GenTq), "
            "so the controller and actuators are out of the loop; it starts from the steady state at the record's "
            "first inputs (start the record where the turbine is steady, or --estimate-x0); the rotor azimuth is not "
@@ -63,10 +70,14 @@ def add_parser(sub) -> None:
     p.add_argument("--estimate-x0", action="store_true", help="also estimate the initial state")
     p.add_argument("--method", default="gauss-newton", help="gauss-newton (default), sqpmethod or ipopt")
     p.add_argument("--no-compile", action="store_true", help="CasADi's virtual machine instead of compiled C")
-    p.add_argument("--model", choices=("auto", "operating", "structure"), default="auto",
-                   help="operating: structure + the deck's aerodynamics and wind, driven by the measured pitch "
-                        "(BldPitch1), generator torque (GenTq) and hub wind (Wind1VelX); structure: the structure "
-                        "alone (free decays); auto (default): operating when the deck has AeroDyn")
+    p.add_argument("--model", choices=("auto", "loads", "operating", "structure"), default="auto",
+                   help="loads: the structure driven by the record's aerodynamic rotor loads (RtAeroFxh ... "
+                        "RtAeroMzh, "
+                        "turned by Azimuth), pitch and generator torque; operating: structure + the deck's "
+                        "aerodynamics and wind, driven by the measured pitch (BldPitch1), generator torque (GenTq) "
+                        "and hub wind (Wind1VelX); structure: the structure alone (free decays); auto (default): "
+                        "loads when the deck has AeroDyn and the record the rotor loads, else operating when the "
+                        "deck has AeroDyn")
     p.add_argument("--aero", choices=("rotor", "blade"), help="operating model's aerodynamics: rotor-effective or "
                    "blade elements (default: the deck's choice)")
     p.add_argument("--max-time", type=float, metavar="S", help="wall-time limit of the iteration [s]")
@@ -155,6 +166,51 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     return model, {"inputs": U, "x0": x0}, own or channels, PERIODS
 
 
+def _load_model(deck_path):
+    """:class:`~mbsym.wind.operation.measured_loads.MeasuredLoadTurbine` of a deck (raises ModelDefinitionError)."""
+    from ..wind.operation.deck import operating_deck
+    from ..wind.operation.measured_loads import MeasuredLoadTurbine
+
+    return MeasuredLoadTurbine(operating_deck(deck_path).model(aero="rotor", disk_moments=True, wind_given=True))
+
+
+def _loads(args, series, keys: list[str], t0: float, model=None):
+    """(model, options for mb.identify, default channels) of the structure driven by the recorded rotor loads."""
+    model = _load_model(args.deck) if model is None else model
+    _log(args, "the structure driven by the record's rotor loads (RtAeroFxh ... RtAeroMzh), pitch and generator "
+               "torque: the aerodynamics are in the measured loads, no aerodynamic model is fitted")
+    U = model.inputs_from(series)
+    x0 = model.initial_state_from(series, U[0])
+    _log(args, "at rest under the record's first loads: " + ", ".join(
+        f"{k} {v:.4g}" for k, v in zip(model.dynamics().states, x0) if not k.startswith("GeAz"))
+        + f" ({time.perf_counter() - t0:.1f} s)")
+    own = _parameter_channels(model, keys, series.names)
+    return model, {"inputs": U, "x0": x0}, own or default_channels(model.structure, series.names,
+                                                                   skip=("Q_GeAz", "QD_GeAz"))
+
+
+def _auto_kind(args, series, has_aero: bool):
+    """``auto``: (kind, the load-driven model or None); loads when the deck has AeroDyn, the record the rotor
+    loads, the deck no load they miss and no ``--aero`` asks for the aerodynamics."""
+    from ..exceptions import ModelDefinitionError
+    from ..wind.operation.measured_loads import rotor_loads_recorded
+
+    if not has_aero:
+        return "structure", None
+    if args.aero is not None:
+        return "operating", None
+    missing = rotor_loads_recorded(series.names)
+    if missing:
+        _log(args, f"the record lacks the rotor-load channels {missing}: fitting through the deck's aerodynamics")
+        return "operating", None
+    try:
+        model = _load_model(args.deck)
+    except ModelDefinitionError as e:
+        _log(args, f"rotor loads recorded, but {e}")
+        return "operating", None
+    return "loads", model
+
+
 def _parameter_channels(model, keys: list[str], names) -> list[str]:
     """``Q_``/``QD_`` channels of the DOFs the parameters act on (e.g. ``TwrFADmp(1)``: TFA1), when every
     parameter names its DOFs; else []. The other DOFs' misfit (model-form differences, such as the missing
@@ -189,14 +245,17 @@ def run(args: argparse.Namespace) -> int:
     for key in keys:
         structure.resolve_parameter(key)            # unknown or absent keys fail before any heavy work
     has_aero = turbine.source_files.get("aerodyn") is not None
-    kind = ("operating" if has_aero else "structure") if args.model == "auto" else args.model
-    if kind == "operating" and not has_aero:
-        raise OptionError(f"--model operating: {args.deck} has no AeroDyn input (CompAero = 2 and AeroFile); an "
+    kind, load_model = _auto_kind(args, series, has_aero) if args.model == "auto" else (args.model, None)
+    if kind in ("operating", "loads") and not has_aero:
+        raise OptionError(f"--model {kind}: {args.deck} has no AeroDyn input (CompAero = 2 and AeroFile); an "
                           "operating turbine needs its aerodynamics. Use --model structure for a free decay.")
     if args.aero is not None and kind != "operating":
         raise OptionError("--aero describes the operating turbine's aerodynamics; it needs --model operating.")
     if kind == "operating":
         model, options, default, periods = _operating(args, structure, series, keys, t0)
+    elif kind == "loads":
+        model, options, default = _loads(args, series, keys, t0, load_model)
+        periods = WRAPPED
     else:
         if has_aero:
             _log(args, "--model structure: the deck's aerodynamics, controller and wind are NOT modelled (a free "
@@ -217,7 +276,8 @@ def run(args: argparse.Namespace) -> int:
                           **options)
     out = res.to_json()
     out["wall_s"] = time.perf_counter() - t0           # the whole command: reading, building, identifying
-    what = "operating turbine, measured pitch/torque/wind as inputs" if kind == "operating" else "structure alone"
+    what = {"operating": "operating turbine, measured pitch/torque/wind as inputs", "structure": "structure alone",
+            "loads": "structure driven by the measured rotor loads, pitch and torque"}[kind]
     print(f"{Path(args.deck).name} ({what}): {len(series.time)} samples of {', '.join(channels)}")
     print(res.summary())
     if args.json:

@@ -169,16 +169,11 @@ def test_estimate_x0_on_operating_data_is_bounded_and_warned(step):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="model form (measured, docs/identification.md): 1 % TwrFADmp(1) is 0.36 points "
-                   "of the ~7 % operating fore-aft damping. Identified: rotor-effective rung (the default) 0.27 %; "
-                   "blade-element rung 1.33 % (least-squares optimum by a cost scan: its multiple-shooting Jacobians "
-                   "do not compile in 600 s). Cause: OpenFAST v5's AeroDyn builds both DBEMT inputs of a step with "
-                   "the newer wind, so the 10->14 m/s wind change drops out of Oye's derivative term and the "
-                   "induction undershoots for ~20 s (benchmarks/dbemt_wind_step.py: replayed to 0.003 m/s); mbsym "
-                   "integrates Oye's ODE. With that behaviour emulated (diagnostic only) the blade rung's optimum is "
-                   "~0.87 % and its fit cost 16x lower")
 def test_tower_damping_from_the_step_within_10_percent(step, capsys):
-    """Issue 22's check: TwrFADmp(1) from step_10_14 with the matching deck within 10 % of the deck's 1 %."""
+    """Issue 22's check: TwrFADmp(1) from step_10_14 with the matching deck within 10 % of the deck's 1 %
+    (measured 0.922 %, the default rotor-effective model). It missed (0.2-0.27 %) while the rotor-effective
+    model's disk damping against the tower-top rate used ⟨r²⟩ = (R² + r_hub²)/2, 16 % above OpenFAST's
+    (tests/identify/test_rotor_loads.py measures it); the BEM's thrust-weighted ⟨r²⟩ closes it."""
     from mbsym.cli import main
 
     code = main(["identify", str(STEP_FST), "--data", str(STEP_CSV), "--params", "TwrFADmp(1)", "--json"])
@@ -246,8 +241,10 @@ def _fore_aft_damping(model, u_values: dict, tower_fa: float) -> float:
 def test_rotor_effective_fore_aft_damping_matches_the_blade_element_rotor(step):
     """The rotor disk's moment against tilt and yaw rates (compose._disk_moments): with it, the rotor-effective
     model's tower fore-aft damping at 14 m/s (pitch 8.57 deg, 43.1 kN m: OpenFAST's steady state) is the
-    blade-element rotor's within 0.3 points of critical (issue 22 item 6 asks 0.5 points like-for-like; measured
-    7.18 % vs 7.30 %; without the moment 5.5 %)."""
+    blade-element rotor's within 0.5 points of critical (issue 22 item 6's like-for-like bound; measured 6.93 %
+    vs 7.30 %; without the moment 5.5 %). It was 7.18 % with ⟨r²⟩ = (R² + r_hub²)/2, a moment 16 % above the one
+    OpenFAST's time series show (tests/identify/test_rotor_loads.py), which made up for the rotor-averaged
+    inflow's frozen thrust slope, about 5 % below the blade elements' (docs/operating_points.md)."""
     from mbsym.wind.operation import OperatingTurbine
     from mbsym.wind.operation.measured import MeasuredInputTurbine
 
@@ -257,4 +254,5 @@ def test_rotor_effective_fore_aft_damping_matches_the_blade_element_rotor(step):
     rotor = _fore_aft_damping(MeasuredInputTurbine(plant), u, 0.239)
     blade = _fore_aft_damping(MeasuredInputTurbine(OperatingTurbine.from_openfast(fst, aero="blade")), u, 0.239)
     assert 0.06 < blade < 0.09
-    assert rotor == pytest.approx(blade, abs=0.003)
+    assert rotor == pytest.approx(blade, abs=0.005)
+    assert rotor < blade                              # the rotor-averaged inflow's lower frozen thrust slope
