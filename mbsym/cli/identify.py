@@ -153,6 +153,10 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     deck = operating_deck(args.deck)
     aero = deck.default_aero() if args.aero is None else args.aero
     options = {"disk_moments": True} if aero == "rotor" else {}         # the disk's tilt/yaw damping
+    if deck.individual_pitch_control:
+        _log(args, f"the deck's controller pitches the blades individually; the record's blades stay within "
+                   f"{_pitch_spread(series):.3g} deg of blade 1: fitted with one collective pitch (BldPitch1)")
+        options["pitch"] = "collective"
     model = MeasuredInputTurbine(deck.model(aero=aero, **options))
     dyn = model.dynamics()
     U = model.inputs_from(series)
@@ -209,6 +213,37 @@ def _auto_kind(args, series, has_aero: bool):
         _log(args, f"rotor loads recorded, but {e}")
         return "operating", None
     return "loads", model
+
+
+#: Largest difference of the blades' recorded pitch from blade 1 that one collective pitch may stand for [deg].
+PITCH_SPREAD_DEG = 0.1
+
+
+def _pitch_spread(series) -> float:
+    """Largest |BldPitch<k> - BldPitch1| of a record [deg]; DataError when the blades are not recorded or pitch
+    apart by more than :data:`PITCH_SPREAD_DEG` (the operating identification takes one measured pitch)."""
+    import numpy as np
+
+    from ..exceptions import DataError
+    from ..wind.operation.measured import match_channel
+
+    names = list(series.names)
+    found = {n: match_channel(names, n) for n in ("BldPitch1", "BldPitch2", "BldPitch3")}
+    missing = [n for n, f in found.items() if f is None]
+    if missing:
+        raise DataError(f"the deck's controller pitches the blades individually and the record has no {missing}: the "
+                        "operating identification takes one measured pitch, so it needs every blade's to check they "
+                        "agree. Record BldPitch1-3, or record AeroDyn's rotor loads (RtAeroFxh ... RtAeroMzh) and "
+                        "fit the structure they drive (--model loads).")
+    data = np.asarray(series.data, dtype=float)
+    first = data[:, names.index(found["BldPitch1"])]
+    spread = max(float(np.max(np.abs(data[:, names.index(found[n])] - first))) for n in ("BldPitch2", "BldPitch3"))
+    if spread > PITCH_SPREAD_DEG:
+        raise DataError(f"the record's blades pitch up to {spread:.3g} deg apart (individual pitch control): the "
+                        f"operating identification takes one measured pitch (within {PITCH_SPREAD_DEG} deg). Record "
+                        "AeroDyn's rotor loads (RtAeroFxh ... RtAeroMzh) and fit the structure they drive "
+                        "(--model loads).")
+    return spread
 
 
 def _parameter_channels(model, keys: list[str], names) -> list[str]:

@@ -97,6 +97,36 @@ def test_inputs_from_a_record_convert_units(measured):
         measured.inputs_from({k: v for k, v in rec.items() if k != "GenTq"})
 
 
+def test_channel_names_match_ignoring_case(measured):
+    """OpenFAST's channel names are case-insensitive and its output repeats the OutList's spelling (the NREL
+    2.8-127 deck's InflowWind writes ``Wind1Velx``): the same inputs either way; a missing channel's error lists
+    a long record briefly."""
+    rec = {"time": [0.0, 0.05], "Wind1VelX": [10.0, 10.5], "BldPitch1": [1.0, 2.0], "GenTq": [30.0, 31.0]}
+    lower = {"time": rec["time"], "Wind1Velx": rec["Wind1VelX"], "bldpitch1": rec["BldPitch1"], "GENTQ": rec["GenTq"]}
+    np.testing.assert_array_equal(measured.inputs_from(lower), measured.inputs_from(rec))
+    many = {"time": rec["time"], **{f"Ch{k:03d}": [0.0, 0.0] for k in range(500)}}
+    with pytest.raises(DataError, match=r"501 channels \(Ch000, .*, \.\.\.\)") as info:
+        measured.inputs_from(many)
+    assert len(str(info.value)) < 600
+
+
+def test_individual_pitch_decks_take_one_pitch_only_when_the_blades_agree():
+    """A deck whose controller pitches individually: the operating identification takes the record's BldPitch1 as
+    the collective pitch when every blade is within 0.1 deg of it, and refuses otherwise (or without blades 2-3)."""
+    from types import SimpleNamespace
+
+    from mbsym.cli.identify import _pitch_spread
+
+    names = ("Time", "BldPitch1", "BldPitch2", "bldpitch3")
+    agree = SimpleNamespace(names=names, data=np.array([[0.0, 1.0, 1.05, 0.98], [0.05, 2.0, 2.0, 2.0]]))
+    assert _pitch_spread(agree) == pytest.approx(0.05)
+    apart = SimpleNamespace(names=names, data=np.array([[0.0, 1.0, 1.5, 1.0]]))
+    with pytest.raises(DataError, match="0.5 deg apart"):
+        _pitch_spread(apart)
+    with pytest.raises(DataError, match="BldPitch2"):
+        _pitch_spread(SimpleNamespace(names=("Time", "BldPitch1"), data=np.zeros((2, 2))))
+
+
 # ---------------------------------------------------------------- the failures of issue 22 item 2
 def test_structure_alone_on_operating_data_is_a_typed_error(step):
     """Before: LAPACK's 'DLASCL parameter number 4' and numpy's 'SVD did not converge'. The structure alone (no

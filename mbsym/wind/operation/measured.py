@@ -32,7 +32,7 @@ import numpy as np
 from ...dynamics import Dynamics
 from ...exceptions import DataError, ModelDefinitionError, SolverError
 
-__all__ = ["MeasuredInputTurbine", "MEASURED_INPUTS", "PERIODS"]
+__all__ = ["MeasuredInputTurbine", "MEASURED_INPUTS", "PERIODS", "match_channel", "channel_listing"]
 
 #: Inputs replacing the commands: name -> (unit, data channels read in order of preference, to SI factors).
 MEASURED_INPUTS = {"BlPitchMeas": "rad", "GenTqMeas": "N m"}
@@ -152,14 +152,14 @@ class MeasuredInputTurbine:
         out = []
         for name in self._dynamics.inputs:
             channels, factors = _SOURCES.get(name, ((name,), {}))
-            found = next((c for c in channels if c in names), None)
+            found = next((m for m in (match_channel(names, c) for c in channels) if m is not None), None)
             if found is None and name in deck_wind and name not in _SOURCES:
                 out.append(_signal(deck_wind[name], _time(record)))       # the deck's wind (InflowWind columns)
                 continue
             if found is None:
                 raise DataError(f"input {name!r} needs one of the data channels {list(channels)}; the record has "
-                                f"{sorted(names)}. Record the channel, or build the model with its wind as inputs "
-                                "the record has.")
+                                f"{channel_listing(names)}. Record the channel, or build the model with its wind as "
+                                "inputs the record has.")
             unit = units.get(found)
             if factors and unit is not None and unit not in factors:
                 raise DataError(f"channel {found!r} is in {unit!r}; expected one of {list(factors)}.")
@@ -176,8 +176,8 @@ class MeasuredInputTurbine:
         names, columns, _ = _columns(record)
         guess = {}
         for s in self._dynamics.states:
-            ch = f"QD_{s[:-2]}" if s.endswith("_d") else f"Q_{s}"
-            if ch in names:
+            ch = match_channel(names, f"QD_{s[:-2]}" if s.endswith("_d") else f"Q_{s}")
+            if ch is not None:
                 guess[s] = float(columns[ch][0])
         return self.trim(u0, guess=guess)
 
@@ -260,6 +260,23 @@ def _depends_on_azimuth(full: Dynamics) -> bool:
     fa, fb = full.rhs_value(a, u), full.rhs_value(b, u)
     keep = [i for i, s in enumerate(full.states) if s != "GeAz"]
     return not np.allclose(fa[keep], fb[keep], rtol=1e-9, atol=1e-9)
+
+
+def match_channel(names, wanted: str) -> str | None:
+    """The record's name of channel ``wanted``: exact, else ignoring case (OpenFAST's channel names are
+    case-insensitive and its output repeats the OutList's spelling, e.g. ``Wind1Velx``); None if absent."""
+    if wanted in names:
+        return wanted
+    folded = wanted.casefold()
+    return next((n for n in sorted(names) if n.casefold() == folded), None)
+
+
+def channel_listing(names, limit: int = 12) -> str:
+    """A short listing of a record's channels for an error message."""
+    names = sorted(names)
+    if len(names) <= limit:
+        return str(names)
+    return f"{len(names)} channels ({', '.join(names[:limit])}, ...)"
 
 
 def _time(record: Any) -> np.ndarray:

@@ -34,7 +34,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ...exceptions import DataError, ModelDefinitionError, SolverError
-from .measured import _columns
+from .measured import _columns, channel_listing, match_channel
 
 __all__ = ["MeasuredLoadTurbine", "ROTOR_LOAD_CHANNELS", "rotor_loads_recorded"]
 
@@ -57,7 +57,7 @@ _PLATFORM = ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "Ptf
 
 def rotor_loads_recorded(names) -> list[str]:
     """The channels of :data:`ROTOR_LOAD_CHANNELS` missing from ``names`` (empty: the record drives the model)."""
-    return [c for c in ROTOR_LOAD_CHANNELS if c not in set(names)]
+    return [c for c in ROTOR_LOAD_CHANNELS if match_channel(set(names), c) is None]
 
 
 class MeasuredLoadTurbine:
@@ -132,14 +132,16 @@ class MeasuredLoadTurbine:
         missing = rotor_loads_recorded(names)
         if missing:
             raise DataError(f"the structure driven by the rotor loads needs the channels {missing}; the record has "
-                            f"{sorted(names)}. Record AeroDyn's RtAeroFxh ... RtAeroMzh and ElastoDyn's Azimuth, or "
+                            f"{channel_listing(names)}. Record AeroDyn's RtAeroFxh ... RtAeroMzh and ElastoDyn's "
+                            "Azimuth, or "
                             "identify through the aerodynamics (mbsym identify --model operating).")
         si = {}
         for ch, factors in ROTOR_LOAD_CHANNELS.items():
-            unit = units.get(ch) or _DEFAULT_UNIT[ch]
+            found = match_channel(names, ch)
+            unit = units.get(found) or _DEFAULT_UNIT[ch]
             if unit not in factors:
-                raise DataError(f"channel {ch!r} is in {unit!r}; expected one of {list(factors)}.")
-            si[ch] = columns[ch] * factors[unit]
+                raise DataError(f"channel {found!r} is in {unit!r}; expected one of {list(factors)}.")
+            si[ch] = columns[found] * factors[unit]
         psi = si["Azimuth"]
         c, s = np.cos(psi), np.sin(psi)
         values = {"BlPitch": si["BldPitch1"], "GenTq": si["GenTq"], "RotThrust": si["RtAeroFxh"],
@@ -170,14 +172,15 @@ class MeasuredLoadTurbine:
         ``RotSpeed``) and azimuth: where :func:`mbsym.identify` starts (pass ``x0=`` or ``estimate_x0`` for a
         record that does not start steady)."""
         names, columns, _ = _columns(record)
-        if "QD_GeAz" in names:
-            speed = float(columns["QD_GeAz"][0])
-        elif "RotSpeed" in names:
-            speed = float(columns["RotSpeed"][0]) * np.pi / 30
+        qd, rpm, q = (match_channel(names, n) for n in ("QD_GeAz", "RotSpeed", "Q_GeAz"))
+        if qd is not None:
+            speed = float(columns[qd][0])
+        elif rpm is not None:
+            speed = float(columns[rpm][0]) * np.pi / 30
         else:
             raise DataError("the record needs the rotor speed (QD_GeAz [rad/s] or RotSpeed [rpm]) to start from.")
-        azimuth = float(ROTOR_LOAD_CHANNELS["Azimuth"]["deg"] * columns["Azimuth"][0]) \
-            if "Q_GeAz" not in names else float(columns["Q_GeAz"][0])
+        azimuth = float(columns[q][0]) if q is not None else \
+            float(ROTOR_LOAD_CHANNELS["Azimuth"]["deg"] * columns[match_channel(names, "Azimuth")][0])
         return self.static_state(u0, rotor_speed=speed, azimuth=azimuth)
 
     def static_state(self, u: np.ndarray, *, rotor_speed: float, azimuth: float = 0.0,
