@@ -15,9 +15,9 @@ loads (``RtAeroFxh`` ... ``RtAeroMzh``, ``Azimuth``) is its structure driven by 
 the generator torque (:class:`~mbsym.wind.operation.measured_loads.MeasuredLoadTurbine`: the aerodynamic
 damping is in the recorded loads, so no aerodynamic model biases a structural estimate; rigid blades, no
 platform, no tower or nacelle drag); otherwise a deck with AeroDyn (``CompAero = 2``) is an
-**operating** turbine: its structure, its aerodynamics (``--aero``, default the deck's:
-rotor-effective, with the disk's moment against tilt and yaw rates, unless its wind or DOFs need blade
-elements) and its wind, driven by the
+**operating** turbine: its structure, its aerodynamics (``--aero``, default rotor-effective, with the
+disk's moment against tilt and yaw rates, unless blade or yaw DOFs need the blade elements' loads:
+``_fit_aero``) and its wind, driven by the
 record's measured hub wind ``Wind1VelX``, collective pitch ``BldPitch1`` and generator torque
 ``GenTq`` (the controller and the actuators out of the loop: :class:`~mbsym.wind.operation.measured.
 MeasuredInputTurbine`), started from the steady state at the record's first inputs (trim); the
@@ -79,7 +79,7 @@ def add_parser(sub) -> None:
                         "loads when the deck has AeroDyn and the record the rotor loads, else operating when the "
                         "deck has AeroDyn")
     p.add_argument("--aero", choices=("rotor", "blade"), help="operating model's aerodynamics: rotor-effective or "
-                   "blade elements (default: the deck's choice)")
+                   "blade elements (default: rotor-effective unless blade or yaw DOFs need blade elements)")
     p.add_argument("--max-time", type=float, metavar="S", help="wall-time limit of the iteration [s]")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object on the last line")
@@ -151,7 +151,7 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
 
     _log(args, "building the operating turbine (structure, aerodynamics, wind; measured pitch and torque as inputs)")
     deck = operating_deck(args.deck)
-    aero = deck.default_aero() if args.aero is None else args.aero
+    aero = _fit_aero(args, deck) if args.aero is None else args.aero
     options = {"disk_moments": True} if aero == "rotor" else {}         # the disk's tilt/yaw damping
     if deck.individual_pitch_control:
         _log(args, f"the deck's controller pitches the blades individually; the record's blades stay within "
@@ -159,6 +159,10 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
         options["pitch"] = "collective"
     model = MeasuredInputTurbine(deck.model(aero=aero, **options))
     dyn = model.dynamics()
+    if dyn.n_x > LARGE_FIT:
+        _log(args, f"the model has {dyn.n_x} states (blade elements' wake and airfoil states per node): setting up "
+                   "its shooting functions can take tens of minutes, beyond --max-time (a 2166-state model had not "
+                   "finished after 7 min); --aero rotor fits in seconds")
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])
     _log(args, f"trimmed at the record's first inputs (wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s): "
@@ -168,6 +172,31 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     channels = default_channels(turbine, series.names, skip=("Q_GeAz", "QD_GeAz"))
     own = _parameter_channels(model, keys, series.names)
     return model, {"inputs": U, "x0": x0}, own or channels, PERIODS
+
+
+#: States beyond which the operating model's fit says its set-up is long (the 234-state blade-element NREL 5 MW's
+#: interval Jacobian did not compile in 600 s, docs/identification.md).
+LARGE_FIT = 200
+
+
+def _fit_aero(args, deck) -> str:
+    """The aerodynamic rung an identification fits by default: the rotor-effective one unless blade or yaw DOFs
+    need the blade elements' loads.
+
+    A deck's simulations take blade elements also for what only disturbs the inflow (AeroDyn's tower, unsteady
+    airfoils, shear, a full field); with DBEMT and UA per node that is thousands of states, whose shooting
+    functions take longer to set up than an identification may. The rotor-effective rung takes those features as
+    their averages and steady states (docs/operation.md), driven by the record's hub wind.
+    """
+    aero = deck.default_aero()
+    flags = {f for f, on in deck.turbine.dofs.items() if on}
+    if aero == "rotor" or flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"}:
+        return aero
+    _log(args, "rotor-effective aerodynamics for the fit (the deck simulates with blade elements for its inflow "
+               "features; their per-node wake and airfoil states make a fit take far longer): the tower's "
+               "disturbance as its azimuth average and unsteady airfoils at their steady state; --aero blade to fit "
+               "the blade elements")
+    return "rotor"
 
 
 def _load_model(deck_path):

@@ -19,7 +19,9 @@ never estimated (:attr:`MeasuredInputTurbine.fixed_states`), and its channels wr
 :meth:`MeasuredInputTurbine.inputs_from` reads the inputs off a record (OpenFAST channel names and
 units), :meth:`MeasuredInputTurbine.trim` gives the steady state at a record's first inputs (the
 rotor speed, tower deflections and inflow states that balance them), which is where an
-identification starts.
+identification starts. A blade-element rotor is balanced at the record's azimuth: a root in the structure's
+positions and the rotor speed only, its wake and airfoil states (hundreds to thousands) at equilibrium with
+the inflow they give.
 """
 
 from __future__ import annotations
@@ -183,7 +185,8 @@ class MeasuredInputTurbine:
 
     def trim(self, u: np.ndarray, *, guess: Mapping[str, float] | None = None,
              p: Mapping[str, float] | None = None) -> np.ndarray:
-        """The steady state at inputs ``u`` (SI): ``rhs(x, u) = 0`` for every state but the azimuth.
+        """The steady state at inputs ``u`` (SI): ``rhs(x, u) = 0`` for every state but the azimuth (blade-element
+        rotor: the structure's and the rotor speed's rates, the wake and airfoil states at their equilibrium).
 
         ``guess``: states by name (e.g. the measured ``GeAz_d``, tower deflections). The rotor speed
         is the one where the measured generator torque balances the aerodynamic torque. Raises
@@ -198,6 +201,8 @@ class MeasuredInputTurbine:
         for k, v in dict(guess or {}).items():
             if k in dyn.states:
                 x[dyn.states.index(k)] = float(v)
+        if self.turbine.aero == "blade":
+            return self._trim_blade(x, u, p)
         free = [i for i, s in enumerate(dyn.states) if s not in self.fixed_states]
         free_inflow = self._inflow_guess(x, u, p)
         for k, v in free_inflow.items():
@@ -217,6 +222,50 @@ class MeasuredInputTurbine:
                               f"(largest scaled rate {bad:.2e}): start the record where the turbine is steady, or "
                               "give the initial state (x0=) and estimate it (estimate_x0).")
         return x
+
+    def _trim_blade(self, x: np.ndarray, u: np.ndarray, p) -> np.ndarray:
+        """Blade-element rotor: the structure's positions and the rotor speed that balance the inputs at the
+        guess's azimuth, every wake and airfoil state at its equilibrium with that inflow.
+
+        The unknowns are the structural coordinates' positions (but the azimuth) and the rotor speed, their
+        velocities at rest; the wake and unsteady-airfoil states are not unknowns of the root but follow from
+        the blade's inflow (:meth:`~.model.OperatingTurbine.initial_state`'s equilibrium) at every step, so the
+        root has a few unknowns however many nodes the blades have.
+        """
+        from scipy.optimize import root
+
+        dyn, t = self._dynamics, self.turbine
+        coords = [c for c in t.structure.eom.coordinates if c != "GeAz" and c in dyn.states]
+        unknown = [dyn.states.index(c) for c in coords] + [dyn.states.index("GeAz_d")]
+        balance = [dyn.states.index(f"{c}_d") for c in coords] + [dyn.states.index("GeAz_d")]
+        wind = {n: float(u[dyn.inputs.index(n)]) for n in self.wind_inputs}
+        full = self.full
+        x = x.copy()
+        x[[dyn.states.index(f"{c}_d") for c in coords]] = 0.0
+        scale = np.maximum(np.abs(x[unknown]), 1e-2)
+
+        def state(z: np.ndarray) -> np.ndarray:
+            xx = x.copy()
+            xx[unknown] = z * scale
+            values = dict(zip(dyn.states, xx))
+            values.update(BlPitch=float(u[dyn.inputs.index("BlPitchMeas")]), BlPitch_d=0.0,
+                          GenTq=float(u[dyn.inputs.index("GenTqMeas")]))
+            values.update(t._wake_equilibrium({s: values.get(s, 0.0) for s in full.states}, wind, p))
+            return np.array([values[s] for s in dyn.states])
+
+        def residual(z: np.ndarray) -> np.ndarray:
+            xx = state(z)
+            return np.asarray(dyn.rhs(xx, u, dyn.parameter_vector(p)), dtype=float).reshape(-1)[balance] / scale
+
+        z0 = x[unknown] / scale
+        sol = root(residual, z0, method="hybr", options={"xtol": 1e-12})
+        bad = float(np.max(np.abs(residual(sol.x))))
+        if not np.isfinite(bad) or bad > 1e-6:
+            raise SolverError(f"no balance of the blade-element rotor at the record's first inputs "
+                              f"{dict(zip(dyn.inputs, u.round(6)))} (largest scaled acceleration {bad:.2e}): start "
+                              "the record where the turbine is steady, or give the initial state (x0=) and estimate "
+                              "it (estimate_x0).")
+        return state(sol.x)
 
     def _inflow_guess(self, x: np.ndarray, u: np.ndarray, p) -> dict[str, float]:
         """Inflow states at equilibrium with the state guess (rotor-effective model with inflow states)."""
