@@ -16,8 +16,8 @@ the generator torque (:class:`~mbsym.wind.operation.measured_loads.MeasuredLoadT
 damping is in the recorded loads, so no aerodynamic model biases a structural estimate; rigid blades, no
 platform, no tower or nacelle drag); otherwise a deck with AeroDyn (``CompAero = 2``) is an
 **operating** turbine: its structure, its aerodynamics (``--aero``, default rotor-effective, with the
-disk's moment against tilt and yaw rates, unless blade or yaw DOFs need the blade elements' loads:
-``_fit_aero``) and its wind, driven by the
+disk's moment against tilt and yaw rates, unless blade or yaw DOFs or a wind that differs over the rotor
+need the blade elements: ``_fit_aero``) and its wind, driven by the
 record's measured hub wind ``Wind1VelX``, collective pitch ``BldPitch1`` and generator torque
 ``GenTq`` (the controller and the actuators out of the loop: :class:`~mbsym.wind.operation.measured.
 MeasuredInputTurbine`), started from the steady state at the record's first inputs (trim); the
@@ -79,7 +79,8 @@ def add_parser(sub) -> None:
                         "loads when the deck has AeroDyn and the record the rotor loads, else operating when the "
                         "deck has AeroDyn")
     p.add_argument("--aero", choices=("rotor", "blade"), help="operating model's aerodynamics: rotor-effective or "
-                   "blade elements (default: rotor-effective unless blade or yaw DOFs need blade elements)")
+                   "blade elements (default: rotor-effective unless blade or yaw DOFs or a wind that differs over the "
+                   "rotor need blade elements)")
     p.add_argument("--max-time", type=float, metavar="S", help="wall-time limit of the iteration [s]")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object on the last line")
@@ -160,12 +161,17 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     model = MeasuredInputTurbine(deck.model(aero=aero, **options))
     dyn = model.dynamics()
     if dyn.n_x > LARGE_FIT:
+        rotor = "--aero rotor fits in seconds" if not deck.wind_varies_over_rotor() else \
+            "the rotor-effective rung takes a hub-height wind only; with rigid blades, a record of AeroDyn's rotor " \
+            "loads (RtAeroFxh ... RtAeroMzh, Azimuth) is fitted in seconds (--model loads)"
         _log(args, f"the model has {dyn.n_x} states (blade elements' wake and airfoil states per node): setting up "
                    "its shooting functions can take tens of minutes, beyond --max-time (a 2166-state model had not "
-                   "finished after 7 min); --aero rotor fits in seconds")
+                   f"finished after 7 min); {rotor}")
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])
-    _log(args, f"trimmed at the record's first inputs (wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s): "
+    wind = (f"wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s" if "Wind1VelX" in dyn.inputs else
+            ", ".join(f"{n} {U[0, dyn.inputs.index(n)]:.4g}" for n in model.wind_inputs))    # a field: WindTime
+    _log(args, f"trimmed at the record's first inputs ({wind}): "
                + ", ".join(f"{k} {v:.4g}" for k, v in zip(dyn.states, x0)
                            if f"Q_{k}" in series.names or f"QD_{k[:-2]}" in series.names)
                + f" ({time.perf_counter() - t0:.1f} s)")
@@ -181,21 +187,22 @@ LARGE_FIT = 200
 
 def _fit_aero(args, deck) -> str:
     """The aerodynamic rung an identification fits by default: the rotor-effective one unless blade or yaw DOFs
-    need the blade elements' loads.
+    need the blade elements' loads or the wind differs over the rotor.
 
-    A deck's simulations take blade elements also for what only disturbs the inflow (AeroDyn's tower, unsteady
-    airfoils, shear, a full field); with DBEMT and UA per node that is thousands of states, whose shooting
-    functions take longer to set up than an identification may. The rotor-effective rung takes those features as
-    their averages and steady states (docs/operation.md), driven by the record's hub wind.
+    A deck's simulations take blade elements also for AeroDyn's features that only disturb the blade inflow (the
+    tower's potential flow and shadow, unsteady airfoils, sector averaging); with DBEMT and UA per node that is
+    hundreds to thousands of states, whose shooting functions take longer to set up than an identification may.
+    The rotor-effective rung takes those as their azimuth averages and steady states (docs/operation.md), driven by
+    the record's hub wind, which is the rotor's wind only where the deck's wind is uniform over it.
     """
     aero = deck.default_aero()
     flags = {f for f, on in deck.turbine.dofs.items() if on}
-    if aero == "rotor" or flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"}:
+    if aero == "rotor" or flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} or deck.wind_varies_over_rotor():
         return aero
-    _log(args, "rotor-effective aerodynamics for the fit (the deck simulates with blade elements for its inflow "
-               "features; their per-node wake and airfoil states make a fit take far longer): the tower's "
-               "disturbance as its azimuth average and unsteady airfoils at their steady state; --aero blade to fit "
-               "the blade elements")
+    _log(args, "rotor-effective aerodynamics for the fit (the deck simulates with blade elements for AeroDyn's "
+               "tower or unsteady airfoils; their per-node wake and airfoil states make a fit take far longer): the "
+               "tower's disturbance as its azimuth average, unsteady airfoils at their steady state; --aero blade "
+               "to fit the blade elements")
     return "rotor"
 
 

@@ -131,6 +131,48 @@ def test_blade_element_trim_balances_the_measured_torque(step, ua_deck, unsteady
     assert balance == pytest.approx(43093.0, rel=1e-6)
 
 
+def test_blade_element_trim_in_a_full_field(step):
+    """A full-field deck (ff14_rigid): the wind is the field at the record's time (``WindTime``), the trim balances
+    the torque there (balancing_torque with the same wind, 1e-6) at the record's azimuth. (The CLI had then failed
+    on its progress line with "tuple.index(x): x not in tuple": it printed the input Wind1VelX.)"""
+    from mbsym.wind.analysis.compare import read_csv
+    from mbsym.wind.operation import OperatingTurbine
+    from mbsym.wind.operation.measured import MeasuredInputTurbine
+
+    fst = AERO / "openfast_inputs" / "ff14_rigid" / "ff14_rigid.fst"
+    series = read_csv(AERO / "ff14_rigid.csv")
+    model = MeasuredInputTurbine(OperatingTurbine.from_openfast(fst, aero="blade"))
+    dyn = model.dynamics()
+    assert dyn.inputs == ("WindTime", "BlPitchMeas", "GenTqMeas")
+    U = model.inputs_from(series)
+    x = model.initial_state_from(series, U[0])
+    rates = dyn.rhs_value(x, U[0])
+    mechanical = [i for i, s in enumerate(dyn.states) if s.endswith("_d") or s in ("TFA1", "TSS1")]
+    assert np.max(np.abs(rates[mechanical])) < 1e-6
+    full = model.full
+    xf = dict(zip(full.states, full.x0))
+    xf.update(zip(dyn.states, x))
+    xf.update(BlPitch=U[0, 1], GenTq=U[0, 2], BlPitch_d=0.0)
+    balance = model.turbine.balancing_torque(np.array([xf[s] for s in full.states]), {"WindTime": U[0, 0]})
+    assert balance == pytest.approx(U[0, 2], rel=1e-6)
+
+
+@pytest.mark.parametrize("case, rung", [("step", "rotor"), ("ua", "rotor"), ("ff14_rigid", "blade"),
+                                        ("ff14_flex", "blade")])
+def test_identification_rung(step, ua_deck, case, rung, capsys):
+    """The rung a fit takes by default: rotor-effective where the blade elements only carry AeroDyn's tower or UA
+    (said), blade elements where the wind differs over the rotor (a full field: the record's hub wind is not the
+    rotor's) or blade DOFs need their loads."""
+    import argparse
+
+    from mbsym.cli.identify import _fit_aero
+    from mbsym.wind.operation.deck import operating_deck
+
+    fst = {"step": step[0], "ua": ua_deck}.get(case) or AERO / "openfast_inputs" / case / f"{case}.fst"
+    assert _fit_aero(argparse.Namespace(quiet=False), operating_deck(fst)) == rung
+    assert ("rotor-effective aerodynamics for the fit" in capsys.readouterr().out) == (case == "ua")
+
+
 def test_trim_without_a_steady_state_is_a_solver_error(measured):
     with pytest.raises(SolverError, match="no steady state at the record's first inputs"):
         measured.trim(np.array([14.0, 0.0, 1.0e6]), guess={"GeAz_d": 1.27})    # 97 MN m on the rotor: it stops

@@ -295,7 +295,7 @@ class OperatingDeck:
         hub-height wind on a rigid rotor: the cheap rung is exact enough)."""
         if self.path is None:
             return "rotor"
-        if self.inflow is not None and _varies_over_rotor(self.inflow):
+        if self.wind_varies_over_rotor():
             return "blade"
         if self.aerodyn is not None:
             from ..aero.tower import TowerAero
@@ -307,6 +307,11 @@ class OperatingDeck:
                 return "blade"
         flags = {f for f, on in self.turbine.dofs.items() if on} if dofs is None else set(dofs)
         return "blade" if flags & {"FlapDOF1", "FlapDOF2", "EdgeDOF", "YawDOF"} else "rotor"
+
+    def wind_varies_over_rotor(self) -> bool:
+        """Whether the deck's wind differs over the rotor (a full field, shear, direction, vertical flow or upflow),
+        which only the blade-element rotor sees."""
+        return self.inflow is not None and _varies_over_rotor(self.inflow)
 
     def wind(self):
         """The deck's hub-height wind (InflowWind), or None without InflowWind."""
