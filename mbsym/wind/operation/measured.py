@@ -250,7 +250,7 @@ class MeasuredInputTurbine:
             values = dict(zip(dyn.states, xx))
             values.update(BlPitch=float(u[dyn.inputs.index("BlPitchMeas")]), BlPitch_d=0.0,
                           GenTq=float(u[dyn.inputs.index("GenTqMeas")]))
-            values.update(t._wake_equilibrium({s: values.get(s, 0.0) for s in full.states}, wind, p))
+            values.update(t.wake_equilibrium({s: values.get(s, 0.0) for s in full.states}, wind, p))
             return np.array([values[s] for s in dyn.states])
 
         def residual(z: np.ndarray) -> np.ndarray:

@@ -376,7 +376,7 @@ class OperatingTurbine:
                                          f"coordinates are {list(coords)}.")
                 x[mode] = float(value)
         if wind_speed is not None and self.aero == "blade":
-            x.update(self._wake_equilibrium(x, wind_speed, p))
+            x.update(self.wake_equilibrium(x, wind_speed, p))
         elif wind_speed is not None:
             vec = np.array([x[s] for s in dyn.states])
             u = dyn.input_vector(self._wind_inputs(wind_speed))
@@ -393,9 +393,9 @@ class OperatingTurbine:
             x["DrTr"] = self.gearbox_ratio * generator_torque_at_shaft(x["GenTq"], self.gearbox_efficiency) / stiffness
         return np.array([x[s] for s in dyn.states])
 
-    def _wake_equilibrium(self, x: dict, wind, p) -> dict[str, float]:
-        """Blade-element rotor: the wake states at equilibrium with the inflow of state ``x`` (wind: hub speed
-        [m/s] or the wind inputs by name)."""
+    def wake_equilibrium(self, x: dict, wind, p: Mapping[str, float] | None = None) -> dict[str, float]:
+        """Blade-element rotor: the wake (DBEMT) and unsteady-airfoil states at equilibrium with the inflow of state
+        ``x`` (states by name; wind: hub speed [m/s] or the wind inputs by name), by name."""
         dyn = self.dynamics()
         vec = np.array([x[s] for s in dyn.states])
         u = dyn.input_vector(self._wind_inputs(wind))

@@ -73,7 +73,7 @@ def test_blades_share_the_load_of_an_axisymmetric_inflow(steady14):
         x = x0.copy()
         x[i] = az
         s = dict(zip(d.states, x))
-        s.update(steady14._wake_equilibrium(s, wind, None))
+        s.update(steady14.wake_equilibrium(s, wind, None))
         x = np.array([s[n] for n in d.states])
         y = _outputs(steady14, x, wind)
         loads.append([y["RtAeroFxh"], y["RtAeroMxh"], y["RootMyc1"] + y["RootMyc2"] + y["RootMyc3"]])
