@@ -18,7 +18,11 @@ is then checked on the controller itself. It starts from the state after the con
 with the states that remember the previous commands and the PI integrals (:data:`COMMAND_MEMORIES`) held
 at ``u*``: that cuts the loops inside the controller (previous pitch and torque → wind-speed estimate →
 minimum pitch, torque reference and set-point smoother → commands), which without the turbine can drift,
-so the filters and the estimator settle to their values at the trim. The logical states
+so the filters and the estimator settle to their values at the trim. The estimator's covariance and gain
+(:data:`COVARIANCE_STATES`) are then advanced by the controller's own recursion, every other state held, until they
+stop changing: the stabilizing solution of the EKF's Riccati equation, from which the search starts (from
+farther away it had found another solution, an indefinite covariance with a gain of the wrong sign, and with it
+closed loops unstable where the controller runs stably). The logical states
 (:data:`LOGICAL_STATES`: the first-call flag, the estimator's in-range flag) keep the values the
 controller gives them. If no such state exists the trim and the controller disagree (a
 :class:`~mbsym.exceptions.SolverError` says so).
@@ -73,6 +77,14 @@ __all__ = ["LinearizedController", "controller_fixed_point", "linearize_controll
 LOGICAL_STATES = ("first", "estimator_on", "step_count", "shutdown_trigger", "shutdown_stage", "startup_stage")
 #: States that advance by one every step (their fixed-point residual is ``xc_next - xc - 1``).
 CLOCK_STATES = ("step_count",)
+#: The estimator's covariance and gain: at a fixed point they solve the EKF's Riccati equation, which has other
+#: solutions than the one its recursion converges to (an indefinite covariance, a gain of the wrong sign: found by
+#: a root search on the whole state, it made the NREL 5 MW deck's region-2 loop unstable at 5-6 m/s where the
+#: controller runs stably). They are settled by the recursion itself, never moved by the search.
+COVARIANCE_STATES = ("ekf_P", "ekf_K")
+#: Steps per round of the covariance's recursion, and the most rounds (the change per round must fall below
+#: :data:`POLISH_TOLERANCE`, scaled).
+COVARIANCE_STEPS, COVARIANCE_ROUNDS = 2000, 200
 #: Time [s] the controller runs at constant measurements, its command memories held, before the search.
 SETTLE_TIME = 60.0
 #: States equal to a command at a fixed point (state -> command), held there while settling: the memories of
@@ -266,6 +278,8 @@ def controller_fixed_point(controller: BaselineController, measurements, command
     y = _vector(measurements, controller.measurements, "measurements")
     u = _vector(commands, controller.commands, "commands")
     x = _start(controller, y, u)
+    cov = _covariance_indices(controller)
+    x = _settle_covariance(controller, x, y, cov)
     free = [i for i, n in enumerate(controller.state_names) if n not in LOGICAL_STATES]
     weights = 1.0 / np.concatenate([np.maximum(np.abs(x), 1.0), np.maximum(np.abs(u), 1.0)])
     advance = np.array([1.0 if n in CLOCK_STATES else 0.0 for n in controller.state_names])
@@ -277,7 +291,7 @@ def controller_fixed_point(controller: BaselineController, measurements, command
         return (np.array(r, dtype=float).reshape(-1) - target) * weights, \
             (np.array(J, dtype=float) * weights[:, None])[:, free]
 
-    x = _levenberg_marquardt(residual, x, free, POLISH_TOLERANCE, max_iter)
+    x = _levenberg_marquardt(residual, x, free, POLISH_TOLERANCE, max_iter)      # from the recursion's limit
     xn, un = (np.array(v, dtype=float).reshape(-1) for v in controller.function(x, y))
     r = np.concatenate([xn - x - advance, un - u]) * weights  # the controller itself, rate limits included
     worst = float(np.max(np.abs(r)))
@@ -290,6 +304,36 @@ def controller_fixed_point(controller: BaselineController, measurements, command
                           f"{bad!r}, tolerance {tol:g}). The trim's steady laws and the controller must describe the "
                           "same controller: trim with SteadyControl.from_baseline(controller.settings).")
     return x, worst
+
+
+def _covariance_indices(controller: BaselineController) -> list[int]:
+    """Indices of :data:`COVARIANCE_STATES` in the controller's state."""
+    return [i for i, n in enumerate(controller.state_names) if n.split("[")[0] in COVARIANCE_STATES]
+
+
+def _settle_covariance(controller: BaselineController, x: np.ndarray, y: np.ndarray, cov: list[int]) -> np.ndarray:
+    """``x`` with the covariance states advanced by the controller's own steps, every other state held, until they
+    stop changing: the recursion's limit, the stabilizing solution of the Riccati equation (at a fixed point the
+    innovation is zero, so the covariance does not move the other states)."""
+    if not cov:
+        return x
+    cache = controller.__dict__.setdefault("_linear_functions", {})
+    if "covariance" not in cache:
+        f = controller.function
+        xs, ys = ca.SX.sym("xc", f.numel_in(0)), ca.SX.sym("y", f.numel_in(1))
+        xn = f(xs, ys)[0]
+        mask = np.zeros(f.numel_in(0))
+        mask[cov] = 1.0
+        step = ca.Function("baseline_covariance_step", [xs, ys], [xs + ca.DM(mask) * (xn - xs)])
+        cache["covariance"] = step.mapaccum("baseline_covariance", COVARIANCE_STEPS, [0], [0])
+    scale = np.maximum(np.abs(x[cov]), 1e-12)
+    for _ in range(COVARIANCE_ROUNDS):
+        nxt = np.array(cache["covariance"](x, y), dtype=float)[:, -1]
+        change = float(np.max(np.abs(nxt[cov] - x[cov]) / scale))
+        x = nxt
+        if change <= POLISH_TOLERANCE * COVARIANCE_STEPS:
+            break
+    return x
 
 
 def _levenberg_marquardt(residual, x: np.ndarray, free: list[int], tol: float, max_iter: int) -> np.ndarray:

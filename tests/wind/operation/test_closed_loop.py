@@ -200,33 +200,49 @@ def test_wind_step_region2_and_the_error_is_second_order(operating, controller, 
 
 
 @pytest.mark.slow
-def test_sweep_stable_from_6_ms_and_unstable_below_confirmed_by_simulation(operating, controller):
-    """Over 4-25 m/s the closed loop is stable from 6 m/s on, with finite margins wherever a loop is active.
-    At 4 m/s the region-2 trim is unstable (a real pole at +0.25 rad/s in the loop torque → estimator → torque
-    reference): the nonlinear simulation after a 0.001 m/s step leaves the trim exactly as the linear model
-    predicts (within 3 % over 12 s while the deviation grows 60-fold)."""
-    sweep = closed_loop_sweep(operating, np.arange(4.0, 25.5, 1.0), controller)
-    assert sweep.success, sweep.messages
-    d = sweep.to_dict()
-    for k, u in enumerate(d["wind_speed"]):
-        if u >= 6.0:
-            assert d["stable"][k], u
-        for loop in ("pitch", "torque"):
-            if d[f"{loop}_active"][k]:
-                assert d[f"{loop}_gain_margin_db"][k] is not None or d[f"{loop}_phase_margin_deg"][k] is not None
-    model = sweep.models[0]
-    assert not model.stable and model.spectral_radius > 1.0
+def test_sweep_stable_and_the_fixed_point_is_the_running_controllers(operating, controller):
+    """Over 4-25 m/s the closed loop is stable, with margins wherever a loop is active.
+
+    Until 2026-11-30 the region-2 points below 6 m/s came out unstable (a pole at +0.25 rad/s in the loop torque ->
+    estimator -> torque reference; on the shared deck's BEM rotor at 5-6 m/s too, where OpenFAST and mbsym run
+    stably): the fixed point's EKF covariance was another root of its Riccati equation than the recursion's limit
+    (indefinite, a gain of the wrong sign on the rotor speed), found by a root search over the whole controller
+    state; a nonlinear run started from that state diverged too, which had seemed to confirm it. Checked against
+    the controller as it runs, independently of the fixed-point search: from the ordinary start (the deck's
+    initial state at 10 rpm, the controller's first call) the nonlinear closed loop at 4 m/s settles at the trim
+    (rotor speed 4.5862 rpm after 600 s against 4.5860: within 1e-4, bound 2e-4; a slow mode is still decaying) with
+    the fixed point's Kalman gain on the rotor speed (2e-4, bound 2e-3), and a 0.01 m/s step from the fixed point
+    follows the linear model within 3 % of its peak."""
     from mbsym.wind.inflow.signals import StepWind
     from mbsym.wind.operation.controllers import baseline_in_loop
     from mbsym.wind.operation.simulation import simulate_turbine
 
+    sweep = closed_loop_sweep(operating, np.arange(4.0, 25.5, 1.0), controller)
+    assert sweep.success, sweep.messages
+    d = sweep.to_dict()
+    assert all(d["stable"]), [u for u, ok in zip(d["wind_speed"], d["stable"]) if not ok]
+    for k in range(len(d["wind_speed"])):
+        for loop in ("pitch", "torque"):
+            if d[f"{loop}_active"][k]:
+                assert d[f"{loop}_gain_margin_db"][k] is not None or d[f"{loop}_phase_margin_deg"][k] is not None
+    model = sweep.models[0]
+    xc = model.controller.operating_point["xc"]
+    names = list(controller.state_names)
+    P = np.asarray(xc)[[names.index(f"ekf_P[{i}]") for i in range(9)]].reshape(3, 3)
+    assert np.min(np.linalg.eigvalsh(0.5 * (P + P.T))) > 0.0                  # a covariance
+    run = simulate_turbine(operating, StepWind(4.0, 4.0, 1.0), 600.0, x0=operating.initial_state(4.0),
+                           controller=baseline_in_loop(controller), t_out=np.arange(0.0, 600.0 + 1e-9, 0.5))
+    out = list(run.output_names)
+    last = np.asarray(run.y)[-1]
+    assert last[out.index("RotSpeed")] == pytest.approx(model.point["RotSpeed"], rel=2e-4)
+    gain = xc[names.index("ekf_K[0]")]
+    assert last[out.index("baseline.ekf_K[0]")] == pytest.approx(gain, rel=2e-3)
     t_out = np.arange(0.0, 13.0 + 1e-9, controller.dt)
-    res = simulate_turbine(operating, StepWind(4.0, 4.001, 1.0), 13.0, t_out=t_out, x0=model.point.state,
-                           controller=baseline_in_loop(controller, x0=model.controller.operating_point["xc"]))
+    res = simulate_turbine(operating, StepWind(4.0, 4.01, 1.0), 13.0, t_out=t_out, x0=model.point.state,
+                           controller=baseline_in_loop(controller, x0=xc))
     speed = np.asarray(res.y)[100:, list(res.output_names).index("RotSpeed")] * math.pi / 30.0
     dy = speed - model.point["RotSpeed"] * math.pi / 30.0
-    ly = model.step_response("Wind1VelX", 0.001, 12.0)["RotSpeed"][:dy.size]
-    assert abs(ly[-1]) > 50 * abs(ly[100])
+    ly = model.step_response("Wind1VelX", 0.01, 12.0)["RotSpeed"][:dy.size]
     assert np.max(np.abs(dy - ly)) <= 0.03 * np.max(np.abs(ly))
 
 
