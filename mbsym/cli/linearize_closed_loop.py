@@ -53,14 +53,28 @@ def _turbine_and_controller(deck_path, discon_in):
 
     if deck_path is None:
         deck = builtin_deck()
-        return deck.model(disk_moments=True), BaselineController(deck.baseline_settings(discon_in=discon_in)), \
-            deck.label
+        return deck.model(disk_moments=True), BaselineController(_collective(deck.baseline_settings(
+            discon_in=discon_in))), deck.label
     deck = operating_deck(deck_path)
     if discon_in is None and deck.discon_in is None:
         raise ControllerError(f"{deck_path}: the deck names no controller input file (ServoDyn DLL_InFile); the "
                               "closed loop needs the controller's settings (a ROSCO DISCON.IN): pass --discon-input.")
-    controller = BaselineController(deck.baseline_settings(discon_in=discon_in))
+    controller = BaselineController(_collective(deck.baseline_settings(discon_in=discon_in)))
     return deck.model(aero="rotor", disk_moments=True, wind_given=True), controller, deck.label
+
+
+def _collective(settings):
+    """``settings`` without individual pitch control, said on stderr: IPC acts on the blade-root moments' 1P, which
+    the rotor-effective model of the loops has not, and adds nothing to the collective pitch (its inverse Coleman
+    transform has zero mean over the blades), so the loops about a steady point are the same without it."""
+    import dataclasses
+
+    if settings.ipc_mode == 0:
+        return settings
+    print(f"mbsym linearize --closed-loop: the controller's individual pitch control (IPC_ControlMode "
+          f"{settings.ipc_mode}) is left out: it acts on the blade-root moments' 1P, which the rotor-effective model "
+          "has not, and adds nothing to the collective pitch of these loops", file=sys.stderr)
+    return dataclasses.replace(settings, ipc_mode=0)
 
 
 def run_closed_loop(args) -> int:

@@ -306,3 +306,33 @@ def test_cli_closed_loop_on_a_deck_and_the_sample_time(capsys):
     assert abs(deck["pitch_gain_margin_db"][0] - builtin["pitch_gain_margin_db"][0]) <= 0.2
     assert abs(deck["pitch_phase_margin_deg"][0] - builtin["pitch_phase_margin_deg"][0]) <= 1.0
     assert deck["stable"] == [True]
+
+
+def test_cli_closed_loop_leaves_individual_pitch_out(tmp_path, capsys):
+    """A DISCON.IN with IPC_ControlMode 1 (the ROSCO wheel's NREL 2.8-127 has it): the loops are the collective ones,
+    said on stderr, and equal to the same file's with IPC off (IPC adds nothing to the collective pitch). It had
+    failed on "unknown output channels ['RootMyc1', ...]"."""
+    import shutil
+    from pathlib import Path
+
+    from mbsym.cli import main
+
+    deck = Path(__file__).resolve().parents[3].parent / "shared" / "openfast" / "aero" / "openfast_inputs" / "deck"
+    if not deck.is_dir():
+        pytest.skip(f"shared OpenFAST data not found at {deck}")
+    reports = {}
+    for mode in (0, 1):
+        folder = tmp_path / f"ipc{mode}"
+        folder.mkdir()
+        shutil.copy(deck / "Cp_Ct_Cq.NREL5MW.txt", folder)
+        text = (deck / "DISCON.IN").read_text()
+        edited = text.replace("0                   ! IPC_ControlMode", f"{mode}                   ! IPC_ControlMode")
+        assert mode == 0 or edited != text
+        (folder / "DISCON.IN").write_text(edited)
+        assert main(["linearize", "--wind", "8,16", "--closed-loop", "--json", "--discon-input",
+                     str(folder / "DISCON.IN")]) == 0
+        cap = capsys.readouterr()
+        reports[mode] = json.loads(cap.out.strip().splitlines()[-1])
+        assert ("individual pitch control (IPC_ControlMode 1) is left out" in cap.err) == (mode == 1)
+    for key in ("pitch_gain_margin_db", "torque_phase_margin_deg", "stable", "spectral_radius"):
+        assert reports[1][key] == reports[0][key], key
