@@ -157,7 +157,8 @@ _POSITIVE = (lambda v: v > 0, "must be greater than 0")
 
 
 def _platform(f: _Lines) -> dict:
-    out = {"potential_model": f.key("PotMod", "int", check=_switch(0, 1, 2)),
+    potential = f.key("PotMod", "int", check=_switch(0, 1, 2))
+    out = {"potential_model": potential,
            "excitation_model": f.key("ExctnMod", "int", check=_switch(0, 1, 2)),
            "excitation_displaced": f.key("ExctnDisp", "int", check=_switch(0, 1, 2)),
            "excitation_cutoff_hz": f.key("ExctnCutOff", check=_POSITIVE),
@@ -167,7 +168,8 @@ def _platform(f: _Lines) -> dict:
            "n_excitation_headings": f.key("NExctnHdg", "int"),
            "radiation_model": f.key("RdtnMod", "int", check=_switch(0, 1, 2)),
            "radiation_time_max": f.key("RdtnTMax", check=(lambda v: v >= 0, "must not be negative")),
-           "radiation_time_step": f.key("RdtnDT", "float|default", check=_POSITIVE),
+           # OpenFAST reads RdtnDT only with potential flow (PotMod 1): a deck without it may leave 0 there
+           "radiation_time_step": f.key("RdtnDT", "float|default", check=_POSITIVE if potential == 1 else None),
            "n_bodies": f.key("NBody", "int", check=(lambda v: v >= 1, "must be at least 1")),
            "body_coupling": f.key("NBodyMod", "int", check=_switch(1, 2, 3))}
     n_body = out["n_bodies"] or 1

@@ -109,6 +109,7 @@ def test_hydrodyn_morison_member_table_is_read(tmp_path):
     ("9.23E+05\t0.00E+00\t0.00E+00\t0.00E+00\t-8.92E+06", "9.23E+05\tabc\t0.00E+00\t0.00E+00\t-8.92E+06", 52, "AddBQuad"),
     ("   20206.34889   PtfmVol0", "   20206.34889   PtfmVolume", 24, "PtfmVol0"),
     ("             1   PotMod ", "             7   PotMod ", 5, "PotMod"),
+    ('     "DEFAULT"   RdtnDT ', "           0.0   RdtnDT ", 15, "RdtnDT"),
 ])
 def test_hydrodyn_errors_name_file_line_key(tmp_path, old, new, line, key):
     from mbsym.wind.deck.hydrodyn import read_hydrodyn
@@ -117,6 +118,18 @@ def test_hydrodyn_errors_name_file_line_key(tmp_path, old, new, line, key):
     _replace(path, old, new)
     with pytest.raises(OpenFASTFormatError, match=rf"{path.name}, line {line}, key '{key}'"):
         read_hydrodyn(path)
+
+
+def test_hydrodyn_time_step_of_the_radiation_is_checked_with_potential_flow_only(tmp_path):
+    """OpenFAST (HydroDyn_Input.f90) checks ``RdtnDT > 0`` only with ``PotMod = 1``: the ROSCO wheel's monopile
+    (PotMod 0) has 0.0 there, which was refused."""
+    from mbsym.wind.deck.hydrodyn import read_hydrodyn
+
+    path = _copy(tmp_path, "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat")
+    _replace(path, '     "DEFAULT"   RdtnDT ', "           0.0   RdtnDT ")
+    _replace(path, "             1   PotMod ", "             0   PotMod ")
+    hd = read_hydrodyn(path)
+    assert hd.potential_model == 0 and hd.radiation_time_step == 0.0
 
 
 def test_hydrodyn_missing_file():
