@@ -65,6 +65,9 @@ MARGIN_GRID_HZ = (1e-4, 100)
 #: ~eps^(1/k) (3e-6 for k = 3, 1e-4 for k = 4); |z| = 1e-3 is a continuous equivalent of 110 Hz at dt = 0.01 s,
 #: far above every physical mode of the model (the torque actuator's 16 Hz is the fastest).
 DEADBEAT = 1e-3
+#: Distance from the unit circle [-] within which an eigenvalue no input reaches counts as marginal, not unstable
+#: (:attr:`ClosedLoopLinear.unreached`; a pure integrator's comes out within ~1e-11 of z = 1).
+MARGINAL = 1e-9
 #: Names of the closed loop's command-disturbance inputs.
 _DIST = {"BlPitchCom": "BlPitchCom_dist", "GenTqCom": "GenTqCom_dist"}
 
@@ -183,8 +186,30 @@ class ClosedLoopLinear:
 
     @property
     def stable(self) -> bool:
-        """Whether every closed-loop eigenvalue lies inside the unit circle."""
-        return self.spectral_radius < 1.0
+        """Whether every closed-loop eigenvalue lies inside the unit circle, but marginal ones no input reaches
+        (:attr:`unreached`)."""
+        z = np.linalg.eigvals(self.closed_loop.A)
+        outside = z[np.abs(z) >= 1.0]
+        return all(any(abs(v - u) <= MARGINAL for u in self.unreached) for v in outside)
+
+    @property
+    def unreached(self) -> tuple[complex, ...]:
+        """Eigenvalues on the unit circle (within :data:`MARGINAL`) that no input of the closed loop reaches (a left
+        eigenvector orthogonal to ``B`` to 1e-9): a controller integrator behind a high-pass filter, e.g. ROSCO's
+        floating feedback (nacelle acceleration → high-pass → integral → pitch), whose pole at ``z = 1`` the filter's
+        zero leaves in the realization. Such a state stays where it starts; the loop is stable without it."""
+        cl = self.closed_loop
+        w, V = np.linalg.eig(np.asarray(cl.A).T)
+        B = np.asarray(cl.B)
+        scale = float(np.linalg.norm(B)) or 1.0
+        return tuple(complex(z) for z, v in zip(w, V.T)
+                     if abs(abs(z) - 1.0) <= MARGINAL and np.linalg.norm(v @ B) <= 1e-9 * scale * np.linalg.norm(v))
+
+    def least_damped(self) -> ClosedLoopPole | None:
+        """The oscillating or real pole with the smallest damping ratio, the :attr:`unreached` ones left out."""
+        skip = self.unreached
+        return min((p for p in self.poles if p.freq_hz > 0 and not any(abs(p.z - u) <= MARGINAL for u in skip)),
+                   key=lambda p: p.damping_ratio, default=None)
 
     def step_response(self, input: str = "Wind1VelX", amplitude: float = 0.1, duration: float = 30.0) -> dict:
         """Deviations after a step of ``amplitude`` in ``input`` at t = 0 (discrete simulation of the closed loop).
@@ -227,7 +252,7 @@ class ClosedLoopLinear:
     def __repr__(self) -> str:
         m = ", ".join(f"{k}: GM {v.gain_margin_db:.3g} dB, PM {v.phase_margin_deg:.3g} deg" if v.active
                       else f"{k}: inactive" for k, v in self.margins.items())
-        least = min((p for p in self.poles if p.freq_hz > 0), key=lambda p: p.damping_ratio, default=None)
+        least = self.least_damped()
         worst = f", least damped {least.label} {least.freq_hz:.3g} Hz ζ {least.damping_ratio:.3g}" if least else ""
         return (f"ClosedLoopLinear(U={self.wind_speed:g} m/s, region {self.region}, dt={self.dt:g} s, {m}, "
                 f"{'stable' if self.stable else 'UNSTABLE'}{worst})")
@@ -571,7 +596,7 @@ class ClosedLoopSweep:
                 lines.append(f"{u:8.3g}  failed: {msg}")
                 continue
             p, t = m.margins["pitch"], m.margins["torque"]
-            least = min((q for q in m.poles if q.freq_hz > 0), key=lambda q: q.damping_ratio, default=None)
+            least = m.least_damped()
             pole = f"{least.label} {least.freq_hz:.3g} Hz, zeta {least.damping_ratio:.3g}" if least else "-"
             lines.append(f"{u:8.3g} {m.region:>6}  {fmt(p.gain_margin_db):>13} {fmt(p.phase_margin_deg):>8}  "
                          f"{fmt(t.gain_margin_db):>14} {fmt(t.phase_margin_deg):>8}  {str(m.stable):>6}  {pole}")

@@ -336,3 +336,20 @@ def test_cli_closed_loop_leaves_individual_pitch_out(tmp_path, capsys):
         assert ("individual pitch control (IPC_ControlMode 1) is left out" in cap.err) == (mode == 1)
     for key in ("pitch_gain_margin_db", "torque_phase_margin_deg", "stable", "spectral_radius"):
         assert reports[1][key] == reports[0][key], key
+
+
+def test_an_integrator_behind_a_high_pass_is_marginal_not_unstable(operating):
+    """ROSCO's tower damper (TD_Mode 1) and floating feedback integrate a high-passed acceleration: the filter's zero
+    at z = 1 leaves the integrator's pole at z = 1 in the realization, reached by no input. It had made every such
+    loop 'unstable' (spectral radius 1 + 2e-16; the ROSCO wheel's IEA 15 MW semi-submersible at 6 and 14 m/s).
+    Now it is listed as unreached and left out of the verdict, and only it: the other poles are inside."""
+    import dataclasses
+
+    settings = dataclasses.replace(nrel5mw_baseline_settings(), tower_damper_mode=1, tower_damper_ki=0.0087,
+                                   tower_damper_highpass_corner=0.1, tower_damper_limit=0.0873)
+    model = closed_loop_sweep(operating, [16.0], BaselineController(settings)).models[0]
+    assert len(model.unreached) == 1 and abs(model.unreached[0] - 1.0) < 1e-12
+    assert model.spectral_radius >= 1.0 - 1e-12 and model.stable
+    z = np.linalg.eigvals(model.closed_loop.A)
+    assert np.sum(np.abs(z) > 1.0 - 1e-9) == 1                          # the integrator alone is on the circle
+    assert "tower_damper_integral" not in model.least_damped().label
