@@ -40,15 +40,16 @@ __all__ = ["run_operating", "operating_report"]
 
 def operating_report(lin, point) -> dict:
     """The ``--json`` object of an operating linear model (module docstring)."""
-    from ..wind.analysis.trim_linear import mode_label
+    from ..wind.analysis.trim_linear import mode_label, whirl_labels
 
     modes = lin.modes()
+    labels = whirl_labels([mode_label(m) for m in modes], [m.freq_hz for m in modes])
     op = lin.operating_point
     return {"wind_speed": float(point.wind_speed), "region": point.region,
             "states": list(lin.states), "inputs": list(lin.inputs), "outputs": list(lin.outputs),
             "A": lin.A.tolist(), "B": lin.B.tolist(), "C": lin.Cy.tolist(), "D": lin.Dy.tolist(),
-            "modes": [m.as_dict() | {"label": mode_label(m), "rigid_body": bool(m.rigid_body),
-                                     "participation": m.participation} for m in modes],
+            "modes": [m.as_dict() | {"label": label, "rigid_body": bool(m.rigid_body),
+                                     "participation": m.participation} for m, label in zip(modes, labels)],
             "units": {"states": [lin.units.get(s, "") for s in lin.states], "inputs": list(lin.input_units),
                       "outputs": list(lin.output_units), "freq_hz": "Hz", "damping_ratio": "-"},
             "operating_point": {"x": dict(zip(lin.states, np.asarray(op["x"], dtype=float).tolist())),

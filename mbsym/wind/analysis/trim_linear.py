@@ -36,6 +36,7 @@ from ..operation.units import INPUT_UNITS as OPERATION_INPUT_UNITS
 from ..structure.mbc import rotating_triplets
 
 __all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell", "SI_UNITS", "to_si",
+           "whirl_labels",
            "INPUT_UNITS", "STATE_LABELS", "mode_label"]
 
 
@@ -418,3 +419,30 @@ def mode_label(mode) -> str:
     if name in DOF_LABELS:
         return DOF_LABELS[name]
     return f"controller state {name}" if "." in name else name
+
+
+def whirl_labels(labels: Sequence[str], freqs_hz: Sequence[float]) -> list[str]:
+    """``labels`` with each pair of cyclic modes of one blade mode told apart by their whirl.
+
+    In multi-blade coordinates a blade mode of rotating-frame frequency ``ω`` appears in the fixed frame as a
+    backward-whirling mode near ``ω − Ω`` and a forward-whirling one near ``ω + Ω`` (Bir 2008); the dominant
+    coordinate (cos or sin) of each is a matter of phase, so both were often labelled "(cos)". Where exactly two
+    modes carry a family's cyclic label ("1st flap cyclic (cos)", "... (sin)"), the lower frequency becomes
+    "1st flap cyclic (backward whirl)" and the higher "(forward whirl)"; other labels are returned unchanged.
+
+    Examples
+    --------
+    >>> whirl_labels(["1st flap cyclic (cos)", "1st flap collective", "1st flap cyclic (cos)"], [0.92, 0.7, 0.52])
+    ['1st flap cyclic (forward whirl)', '1st flap collective', '1st flap cyclic (backward whirl)']
+    """
+    out = list(labels)
+    families: dict[str, list[int]] = {}
+    for i, label in enumerate(out):
+        for part in (" cyclic (cos)", " cyclic (sin)"):
+            if label.endswith(part):
+                families.setdefault(label[:-len(part)], []).append(i)
+    for family, idx in families.items():
+        if len(idx) == 2 and freqs_hz[idx[0]] != freqs_hz[idx[1]]:
+            low, high = sorted(idx, key=lambda i: freqs_hz[i])
+            out[low], out[high] = f"{family} cyclic (backward whirl)", f"{family} cyclic (forward whirl)"
+    return out

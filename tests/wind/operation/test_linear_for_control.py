@@ -183,6 +183,8 @@ def test_linearize_wind_on_a_full_field_deck_with_flexible_blades():
                                rtol=1e-9, atol=1e-12)
     flap = sorted(m["freq_hz"] for m in report["modes"] if m["label"].startswith("1st flap cyclic"))
     assert len(flap) == 2 and flap[1] - flap[0] == pytest.approx(2 * 12.1 / 60, rel=0.02)
+    whirl = {m["label"]: m["freq_hz"] for m in report["modes"] if m["label"].startswith("1st flap cyclic")}
+    assert whirl == {"1st flap cyclic (backward whirl)": flap[0], "1st flap cyclic (forward whirl)": flap[1]}
     labels = {m["label"] for m in report["modes"]}
     assert {"1st flap collective", "1st tower fore-aft", "drivetrain torsion", "pitch actuator"} <= labels
     out = io.StringIO()
