@@ -40,10 +40,11 @@ __all__ = ["run_operating", "operating_report"]
 
 def operating_report(lin, point) -> dict:
     """The ``--json`` object of an operating linear model (module docstring)."""
-    from ..wind.analysis.trim_linear import mode_label, whirl_labels
+    from ..wind.analysis.trim_linear import mode_label, numbered_labels, whirl_labels
 
     modes = lin.modes()
-    labels = whirl_labels([mode_label(m) for m in modes], [m.freq_hz for m in modes])
+    freqs = [m.freq_hz for m in modes]
+    labels = numbered_labels(whirl_labels([mode_label(m) for m in modes], freqs), freqs)
     op = lin.operating_point
     return {"wind_speed": float(point.wind_speed), "region": point.region,
             "states": list(lin.states), "inputs": list(lin.inputs), "outputs": list(lin.outputs),

@@ -499,7 +499,7 @@ def _response(L, w: np.ndarray, dt: float) -> np.ndarray:
 def _poles(closed, dt: float) -> tuple[tuple[ClosedLoopPole, ...], int]:
     """Closed-loop eigenvalues with their continuous equivalents and dominant states (module docstring)."""
     from ...linear.state_modes import StateMode, participation_factors
-    from .trim_linear import mode_label, whirl_labels
+    from .trim_linear import mode_label, numbered_labels, whirl_labels
 
     lam, P = participation_factors(closed.A)
     groups = _groups(closed.state_labels)
@@ -520,7 +520,8 @@ def _poles(closed, dt: float) -> tuple[tuple[ClosedLoopPole, ...], int]:
         zeta = -s.real / wn if wn > 0 else 1.0
         label = mode_label(StateMode(wn / (2 * math.pi), zeta, abs(s.imag) / (2 * math.pi), s, dominant))
         poles.append(ClosedLoopPole(z, s, wn / (2 * math.pi), zeta, dominant, label))
-    labels = whirl_labels([p.label for p in poles], [p.freq_hz for p in poles])
+    freqs = [p.freq_hz for p in poles]
+    labels = numbered_labels(whirl_labels([p.label for p in poles], freqs), freqs)
     poles = [dataclasses.replace(p, label=label) for p, label in zip(poles, labels)]
     return tuple(sorted(poles, key=lambda p: p.freq_hz)), deadbeat
 

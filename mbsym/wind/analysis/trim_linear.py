@@ -36,7 +36,7 @@ from ..operation.units import INPUT_UNITS as OPERATION_INPUT_UNITS
 from ..structure.mbc import rotating_triplets
 
 __all__ = ["linearize_dynamics", "linearize_point", "aero_campbell", "AeroCampbell", "SI_UNITS", "to_si",
-           "whirl_labels",
+           "whirl_labels", "numbered_labels",
            "INPUT_UNITS", "STATE_LABELS", "mode_label"]
 
 
@@ -445,4 +445,24 @@ def whirl_labels(labels: Sequence[str], freqs_hz: Sequence[float]) -> list[str]:
         if len(idx) == 2 and freqs_hz[idx[0]] != freqs_hz[idx[1]]:
             low, high = sorted(idx, key=lambda i: freqs_hz[i])
             out[low], out[high] = f"{family} cyclic (backward whirl)", f"{family} cyclic (forward whirl)"
+    return out
+
+
+def numbered_labels(labels: Sequence[str], freqs_hz: Sequence[float]) -> list[str]:
+    """``labels`` made distinct: where several modes share a label (one dominant state for two modes, e.g. a
+    monopile's first and second tower-substructure modes both led by ``TFA1``, or the two poles of a controller's
+    second-order filter), the lowest frequency keeps it and the others get " (2)", " (3)", … by frequency.
+
+    Examples
+    --------
+    >>> numbered_labels(["1st tower fore-aft", "pitch actuator", "1st tower fore-aft"], [1.16, 7.96, 0.175])
+    ['1st tower fore-aft (2)', 'pitch actuator', '1st tower fore-aft']
+    """
+    out = list(labels)
+    groups: dict[str, list[int]] = {}
+    for i, label in enumerate(out):
+        groups.setdefault(label, []).append(i)
+    for label, idx in groups.items():
+        for k, i in enumerate(sorted(idx, key=lambda j: freqs_hz[j])[1:], start=2):
+            out[i] = f"{label} ({k})"
     return out

@@ -137,6 +137,7 @@ def test_linearize_wind_json_contract():
         assert {"freq_hz", "damping_ratio", "dominant_dof", "label"} <= set(mode)
     labels = [mode["label"] for mode in report["modes"]]
     assert "pitch actuator" in labels and "1st tower fore-aft" in labels
+    assert len(set(labels)) == len(labels)                      # numbered where one state leads several modes
     assert report["units"]["inputs"][report["inputs"].index("BlPitchCom")] == "rad"
     assert report["units"]["outputs"][report["outputs"].index("BldPitch1")] == "rad"
 
@@ -187,11 +188,14 @@ def test_linearize_wind_on_a_full_field_deck_with_flexible_blades():
     assert whirl == {"1st flap cyclic (backward whirl)": flap[0], "1st flap cyclic (forward whirl)": flap[1]}
     labels = {m["label"] for m in report["modes"]}
     assert {"1st flap collective", "1st tower fore-aft", "drivetrain torsion", "pitch actuator"} <= labels
+    assert len(labels) == len(report["modes"])      # the second mode DrTr leads (3.9 Hz): "drivetrain torsion (2)"
     out = io.StringIO()
     with redirect_stdout(out), redirect_stderr(io.StringIO()):                 # the closed loop too
         assert main(["linearize", str(fst), "--wind", "14", "--closed-loop", "--json"]) == 0
     loop = json.loads(out.getvalue().strip().splitlines()[-1])
     assert loop["success"] == [True] and loop["pitch_gain_margin_db"][0] > 0
+    poles = [p["label"] for p in loop["closed_loop_poles"][0]]
+    assert len(set(poles)) == len(poles)
 
 
 @pytest.mark.slow
