@@ -236,8 +236,9 @@ class MeasuredInputTurbine:
 
         dyn, t = self._dynamics, self.turbine
         coords = [c for c in t.structure.eom.coordinates if c != "GeAz" and c in dyn.states]
-        unknown = [dyn.states.index(c) for c in coords] + [dyn.states.index("GeAz_d")]
-        balance = [dyn.states.index(f"{c}_d") for c in coords] + [dyn.states.index("GeAz_d")]
+        spin = [dyn.states.index("GeAz_d")] if "GeAz_d" in dyn.states else []    # GenDOF off: a set speed
+        unknown = [dyn.states.index(c) for c in coords] + spin
+        balance = [dyn.states.index(f"{c}_d") for c in coords] + spin
         wind = {n: float(u[dyn.inputs.index(n)]) for n in self.wind_inputs}
         full = self.full
         x = x.copy()
