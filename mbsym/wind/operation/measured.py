@@ -259,6 +259,8 @@ class MeasuredInputTurbine:
             return np.asarray(dyn.rhs(xx, u, dyn.parameter_vector(p)), dtype=float).reshape(-1)[balance] / scale
 
         z0 = x[unknown] / scale
+        if not unknown:                                  # nothing moves: the wake at equilibrium is the trim
+            return state(z0)
         sol = root(residual, z0, method="hybr", options={"xtol": 1e-12})
         bad = float(np.max(np.abs(residual(sol.x))))
         if not np.isfinite(bad) or bad > 1e-6:
