@@ -161,12 +161,7 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     model = MeasuredInputTurbine(deck.model(aero=aero, **options))
     dyn = model.dynamics()
     if dyn.n_x > LARGE_FIT:
-        rotor = "--aero rotor fits in seconds" if not deck.wind_varies_over_rotor() else \
-            "the rotor-effective rung takes a hub-height wind only; with rigid blades, a record of AeroDyn's rotor " \
-            "loads (RtAeroFxh ... RtAeroMzh, Azimuth) is fitted in seconds (--model loads)"
-        _log(args, f"the model has {dyn.n_x} states (blade elements' wake and airfoil states per node): setting up "
-                   "its shooting functions can take tens of minutes, beyond --max-time (a 2166-state model had not "
-                   f"finished after 7 min); {rotor}")
+        _large_fit(args, deck, dyn.n_x)
     U = model.inputs_from(series)
     x0 = model.initial_state_from(series, U[0])
     wind = (f"wind {U[0, dyn.inputs.index('Wind1VelX')]:.3g} m/s" if "Wind1VelX" in dyn.inputs else
@@ -180,9 +175,29 @@ def _operating(args, turbine, series, keys: list[str], t0: float):
     return model, {"inputs": U, "x0": x0}, own or channels, PERIODS
 
 
-#: States beyond which the operating model's fit says its set-up is long (the 234-state blade-element NREL 5 MW's
-#: interval Jacobian did not compile in 600 s, docs/identification.md).
+#: States beyond which a blade-element fit is refused unless asked for (--aero blade), its set-up being long (the
+#: 234-state blade-element NREL 5 MW's interval Jacobian did not compile in 600 s, docs/identification.md).
 LARGE_FIT = 200
+
+
+def _large_fit(args, deck, n_states: int) -> None:
+    """A blade-element fit of ``n_states`` states: refused when the rung was the default (its set-up takes tens of
+    minutes, beyond ``--max-time``), said when the user asked for it (``--aero blade``)."""
+    from ..exceptions import IdentificationOptionError
+
+    flexible = {f for f, on in deck.turbine.dofs.items() if on} & {"FlapDOF1", "FlapDOF2", "EdgeDOF"}
+    why = (f"the operating model has {n_states} states (the blade elements' wake and airfoil states per node; "
+           f"{'flexible blades' if flexible else 'a wind that differs over the rotor'} need them): setting up its "
+           "shooting functions takes tens of minutes, beyond --max-time (the stock NREL 5 MW deck's 1385 states did "
+           "not compile in 10 min)")
+    if args.aero == "blade":
+        _log(args, why)
+        return
+    others = ("--aero rotor leaves the blades without aerodynamic loads (a biased fit)" if flexible else
+              "with rigid blades, a record of AeroDyn's rotor loads (RtAeroFxh ... RtAeroMzh, Azimuth) is fitted in "
+              "seconds (--model loads)")
+    raise IdentificationOptionError(f"{why}. Pass --aero blade to fit it anyway; {others}; see "
+                                    "docs/identification.md.")
 
 
 def _fit_aero(args, deck) -> str:
