@@ -49,6 +49,7 @@ library without exporting again (:mod:`mbsym.wind.mpc.runtime_settings`, docs/di
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -140,6 +141,10 @@ def _run_nmpc(args) -> int:
     initial = "hub-wind" if args.initial_wind is None else "fixed"
     deck = operating_deck(args.deck) if args.deck is not None else builtin_deck()
     settings = deck.baseline_settings(discon_in=args.discon_input, dt=args.sample_time)
+    if settings.ipc_mode:                           # the NMPC pitches collectively, its fallback too
+        print(f"mbsym export-discon: the fallback baseline leaves out the deck's individual pitch control "
+              f"(IPC_ControlMode {settings.ipc_mode}): the NMPC commands one collective pitch to every blade")
+        settings = dataclasses.replace(settings, ipc_mode=0)
     baseline = BaselineController(settings)
     model = controller_model(deck, say=lambda line: print(f"mbsym export-discon: {line}"))
     observed = estimation_model(model)

@@ -221,9 +221,12 @@ class TurbineLoop:
         from ...simulate.controller import DiscreteController
 
         x0 = np.concatenate([self._xb0, self.estimator.x if self.estimator is not None else np.zeros(0)])
-        return DiscreteController(self.law, self.dt, x0, measurements=self.measurements,
-                                  actuates=("BlPitchCom", "GenTqCom"), state_names=self.state_names,
-                                  state_units=self.state_units,
+        law, actuates = self.law, ("BlPitchCom", "GenTqCom")
+        plant = tuple(getattr(self.plant, "command_names", actuates))
+        if "BlPitchCom" not in plant:                    # a plant pitched blade by blade: one collective command
+            law, actuates = _collective(self.law, len(plant) - 1), plant
+        return DiscreteController(law, self.dt, x0, measurements=self.measurements, actuates=actuates,
+                                  state_names=self.state_names, state_units=self.state_units,
                                   name="nmpc" if self.nmpc is not None else "baseline")
 
     def law(self, t: float, xc: np.ndarray, y: np.ndarray):
@@ -346,3 +349,12 @@ def warn_failures(stats: dict[str, Any]) -> list[str]:
     for message in messages:
         warnings.warn(message, ConvergenceWarning, stacklevel=3)
     return messages
+
+
+def _collective(law, blades: int):
+    """``law`` with its collective pitch command given to each of ``blades`` pitch inputs."""
+    def spread(t, xc, y):
+        xn, u = law(t, xc, y)
+        return xn, np.concatenate([np.full(blades, u[0]), u[1:]])
+
+    return spread

@@ -103,7 +103,8 @@ class PredictionModel:
         platform = plant.platform
         if dofs is None:                # a bottom-fixed substructure (floating = False) is held still like land
             floats = platform is not None and getattr(platform, "floating", True)
-            dofs = FLOATING_PREDICTION_DOFS if floats else PREDICTION_DOFS
+            on = plant.dofs                                    # those the plant has (a deck without a tower DOF)
+            dofs = tuple(d for d in (FLOATING_PREDICTION_DOFS if floats else PREDICTION_DOFS) if on.get(d, False))
         dofs = tuple(dofs)
         if "GenDOF" not in dofs:
             raise ModelDefinitionError(f"the prediction model needs GenDOF (the rotor speed is what it controls); "

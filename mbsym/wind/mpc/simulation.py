@@ -168,7 +168,8 @@ def _estimated_channels(loop, res, X: np.ndarray, dyn) -> tuple[np.ndarray, list
     est = loop.estimator
     cols = [list(res.output_names).index(f"est.{n}") for n in est.names]
     Z = np.asarray(res.y)[:, cols]
-    pitch, torque = X[:, dyn.states.index("BlPitch")], X[:, dyn.states.index("GenTq")]
+    blades = [dyn.states.index(n) for n in getattr(loop.plant, "pitch_names", ("BlPitch",))]
+    pitch, torque = X[:, blades].mean(axis=1), X[:, dyn.states.index("GenTq")]    # a blade-pitched plant: mean
     m = est.dynamics
     n = m.n_x
     U = np.column_stack([Z[:, -1], pitch, torque, Z[:, n:-1]])          # wind, measured actuators, wave loads
