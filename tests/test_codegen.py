@@ -320,3 +320,22 @@ def test_registered_c_source_is_compiled_with_a_graph_that_calls_it(tmp_path):
         register_c_source("not a name", src)
     with pytest.raises(ValueError, match="not found"):
         register_c_source("mbsym_test_missing", tmp_path / "none.c")
+
+
+@pytest.mark.skipif(os.name != "posix" or shutil.which("sh") is None or shutil.which("pgrep") is None,
+                    reason="process groups, sh and pgrep")
+def test_a_compiler_past_its_time_limit_is_killed_with_its_children():
+    """``gcc`` stopped at the time limit left ``cc1`` running (14.5 GB, a full core, on a 1385-state model): the
+    whole process group goes now. A shell whose child outlives it stands in for the compiler."""
+    import subprocess
+    import time
+
+    from mbsym.codegen import _run_compiler
+
+    marker = "31.7391"
+    with pytest.raises(subprocess.TimeoutExpired):
+        _run_compiler(["sh", "-c", f"sleep {marker} & wait"], 0.5)
+    time.sleep(0.2)
+    left = subprocess.run(["pgrep", "-f", f"sleep {marker}"], capture_output=True, text=True)
+    assert left.stdout.strip() == ""
+    assert _run_compiler(["sh", "-c", "echo oops >&2; exit 3"], 10.0) == (3, "oops\n")
