@@ -8,9 +8,12 @@ deck configures the controller the same way in both (issue 21's contract):
   DOFs the controller models (:data:`~mbsym.wind.mpc.PREDICTION_DOFS` and
   :data:`~mbsym.wind.mpc.ESTIMATOR_DOFS` the deck switches on). The controller never sees the field:
   its estimator reads the turbine's sensors.
-* :func:`full_field_wind`: whether the deck's wind is a full field (then the NMPC and the EKF take their
-  full-field tunings, :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`,
-  :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field`);
+* :func:`full_field_wind`: whether the deck's wind is a full field; :func:`blade_element_plant`: whether the
+  deck's plant is blade-element (a full field, flexible blades, shear, AeroDyn's tower or unsteady airfoils):
+  then the NMPC and the EKF take their tunings for such a plant, :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`,
+  :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field` (tuned in OpenFAST on the flexible-blade ff14_flex; with the
+  rotor-effective tunings the EKF's wind on the ROSCO wheel's NREL 5 MW deck at a steady 16 m/s ran to −1.7 m/s
+  and the rotor to 24 rpm; with these it holds 12.1 rpm and 5.0 MW);
 * :func:`nmpc_tuning`, :func:`estimator_tuning`: the NMPC's and its estimator's tunings for the deck (full field,
   floating platform, preview).
 """
@@ -20,12 +23,19 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
-__all__ = ["controller_model", "full_field_wind", "nmpc_tuning", "estimator_tuning"]
+__all__ = ["controller_model", "full_field_wind", "blade_element_plant", "nmpc_tuning", "estimator_tuning"]
 
 
 def full_field_wind(deck) -> bool:
     """Whether the deck's InflowWind is a full field (TurbSim, Bladed or HAWC boxes: WindType 3, 4, 5, 7)."""
     return deck.inflow is not None and deck.inflow.wind_type in (3, 4, 5, 7)
+
+
+def blade_element_plant(deck) -> bool:
+    """Whether the deck's plant is blade-element (:meth:`OperatingDeck.default_aero`), a full field included: the
+    NMPC and its EKF then take the tunings made for it (``field=True`` of :func:`nmpc_tuning`,
+    :func:`estimator_tuning`; module docstring)."""
+    return full_field_wind(deck) or deck.default_aero() == "blade"
 
 
 def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
@@ -36,8 +46,8 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
     prediction : PredictionModel
         The NMPC's model (a platform DOF in it makes the tuning the floating one).
     field : bool, keyword-only
-        The deck's wind is a full field (:func:`full_field_wind`): :meth:`~mbsym.wind.mpc.NMPCTuning.full_field`
-        on land.
+        The deck's plant is blade-element (:func:`blade_element_plant`: a full field, flexible blades, ...):
+        :meth:`~mbsym.wind.mpc.NMPCTuning.full_field` on land.
     preview : float, optional, keyword-only
         A preview of the plant's own wind [s] (``mbsym simulate --preview``): the ideal-wind tuning (with a cost
         on the platform's pitch rate when floating). Otherwise :meth:`~mbsym.wind.mpc.NMPCTuning.floating` on a
@@ -58,8 +68,8 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
 def estimator_tuning(prediction, *, field: bool):
     """The :class:`~mbsym.wind.mpc.EstimatorTuning` a deck's NMPC estimator gets.
 
-    :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field` for a land turbine in a full-field wind (tuned inside
-    OpenFAST on the NREL 5 MW); the default :class:`~mbsym.wind.mpc.EstimatorTuning` otherwise, on a floating
+    :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field` for a land turbine whose plant is blade-element (``field``:
+    :func:`blade_element_plant`; tuned inside OpenFAST on the NREL 5 MW with flexible blades); the default :class:`~mbsym.wind.mpc.EstimatorTuning` otherwise, on a floating
     platform in any wind: the floating NMPC was tuned with it, and with the full-field tuning the exported
     floating NMPC in OpenFAST (IEA 15 MW, 13 m/s TurbSim field, 4 m waves, 60-660 s) ran the rotor below rated
     (speed RMS error 0.83 rpm against ROSCO's 0.32) and made 11.5 % less energy than ROSCO (with the default:

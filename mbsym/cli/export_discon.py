@@ -30,8 +30,9 @@ operation at the hub wind measured at its first sample (swap record 27), or at `
 m/s when given. For a deck whose plant needs blade-element aerodynamics (full field, shear, blade DOFs)
 the controller's models are the deck's rotor-effective model with the DOFs they use (GenDOF,
 TwFADOF1, TwSSDOF1, DrTrDOF: the estimator's model carries the drivetrain torsion where the deck has it).
-A deck whose wind is a full field gets the tunings for a rotor-averaged wind (``NMPCTuning.full_field``,
-``EstimatorTuning.full_field``: measured inside OpenFAST, benchmarks/nmpc_openfast.py; a floating deck keeps
+A deck whose plant is blade-element (a full field, flexible blades, shear, AeroDyn's tower or unsteady airfoils)
+gets the tunings made for such a plant (``NMPCTuning.full_field``, ``EstimatorTuning.full_field``: measured
+inside OpenFAST on the flexible-blade NREL 5 MW, benchmarks/nmpc_openfast.py; a floating deck keeps
 ``NMPCTuning.floating`` and the default ``EstimatorTuning``). ``--estimator mhe`` exports the
 moving-horizon estimator of ``mbsym simulate DECK --controller nmpc --estimator mhe`` instead (the same
 tuning; a window of ``EstimatorTuning.window`` intervals, one Gauss–Newton QP per sample by qrqp, the EKF's
@@ -53,7 +54,7 @@ import dataclasses
 import json
 import math
 
-from .controller_model import full_field_wind  # noqa: F401 (public here since issue 21)
+from .controller_model import blade_element_plant, full_field_wind  # noqa: F401 (full_field_wind: public here)
 
 __all__ = ["add_parser", "run"]
 
@@ -148,7 +149,7 @@ def _run_nmpc(args) -> int:
     baseline = BaselineController(settings)
     model = controller_model(deck, say=lambda line: print(f"mbsym export-discon: {line}"))
     observed = estimation_model(model)
-    field = full_field_wind(deck)
+    field = blade_element_plant(deck)
     kind = args.estimator or "ekf"
     estimator = TurbineEstimator(observed, kind, compile=False, tuning=estimator_tuning(observed, field=field),
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
@@ -159,9 +160,9 @@ def _run_nmpc(args) -> int:
     nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints))
     floating = any(d.startswith("Ptfm") for d in prediction.dofs)
     if field:
-        print("mbsym export-discon: the deck's wind is a full field: " + (
+        print("mbsym export-discon: the deck's plant is blade-element: " + (
             "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning())" if floating else
-            "the NMPC and EKF tunings for a rotor-averaged wind (NMPCTuning.full_field, EstimatorTuning.full_field)"))
+            "the NMPC and EKF tunings made for it (NMPCTuning.full_field, EstimatorTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
     what = "EKF" if kind == "ekf" else f"MHE, window {estimator.tuning.window} intervals,"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its {what} ({estimator.dt:g} s) and "

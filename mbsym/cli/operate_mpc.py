@@ -96,11 +96,11 @@ class MpcOptions:
         from ..wind.mpc.nmpc import TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
         from ..wind.mpc.setpoints import SetPoints
-        from .controller_model import controller_model, estimator_tuning, full_field_wind, nmpc_tuning
+        from .controller_model import blade_element_plant, controller_model, estimator_tuning, nmpc_tuning
 
         blade = model.aero == "blade"
         own = controller_model(deck, say=say) if blade else model
-        field = blade and full_field_wind(deck)
+        field = blade and blade_element_plant(deck)
         prediction = PredictionModel(own)
         estimator = nmpc = baseline = None
         settings = deck.baseline_settings()
