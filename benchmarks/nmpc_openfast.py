@@ -23,7 +23,8 @@ the peaks of power and rotor speed; each as a ratio to ROSCO's, checked against 
 plant gap.
 
 Run: ``python benchmarks/nmpc_openfast.py run [--case ff14_flex] [--seconds 660] [--work DIR] [--mbsym-plant]
-[--estimator ekf|mhe] [--tuning FIELD=VALUE ...] [--set KEY=VALUE ...]``
+[--estimator ekf|mhe] [--preview lidar [--lidar-distance D]] [--tuning FIELD=VALUE ...]
+[--set KEY=VALUE ...]``
 (``--tuning``: an ``NMPCTuning`` field changed in the tuning the export gives the deck, e.g.
 ``tower_deflection_scale=0.05`` to compile a term in; ``--set``: a run-time setting of the library's input file
 edited before the OpenFAST run, e.g. ``TowerDeflectionScale=0.02``, docs/discon_export.md)
@@ -132,9 +133,14 @@ LIDAR_KEYS = {"SensorType": "1", "NumBeam": "5", "FocalDistanceX": "-60 -60 -60 
               "ConsiderHubMotion": "0"}
 
 
-def _add_lidar(fst: Path) -> None:
+def _add_lidar(fst: Path, distance: float | None = None) -> None:
+    """Write LIDAR_KEYS into the deck's InflowWind file; ``distance`` [m] moves every focal point that far
+    upstream of the hub instead."""
     ifw = fst.parent / f"{fst.stem}_IfW.dat"
-    for key, value in LIDAR_KEYS.items():
+    keys = dict(LIDAR_KEYS)
+    if distance is not None:
+        keys["FocalDistanceX"] = " ".join([f"{-distance:g}"] * 5)
+    for key, value in keys.items():
         _set(ifw, key, value)
 
 
@@ -182,13 +188,13 @@ def _edited(infile: str, settings: dict) -> str:
 
 def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | None, mbsym_plant: bool,
         rosco_out: str | None = None, preview: str = "none", estimator: str = "ekf", tuning: dict | None = None,
-        settings: dict | None = None) -> None:
+        settings: dict | None = None, lidar_distance: float | None = None) -> None:
     if not (SHARED / "tools" / "openfast" / "openfast").is_file():
         sys.exit(f"needs {SHARED / 'tools' / 'openfast' / 'openfast'}")
     work.mkdir(parents=True, exist_ok=True)
     fst = _copy_case(work / "nmpc", case)
     if preview == "lidar":
-        _add_lidar(fst)
+        _add_lidar(fst, lidar_distance)
     c0 = time.perf_counter()
     if tuning:
         lib = _export(fst, work / "lib", estimator, tuning)
@@ -220,7 +226,7 @@ def run(case: str, seconds: float, work: Path, bts: str | None, rosco: str | Non
         runs["OpenFAST + ROSCO"] = {"file": str(ref_csv), "wall_s": None}
     meta = {"case": case, "seconds": seconds, "bts": bts, "export_wall_s": export_wall, "runs": runs,
             "library": lib, "fst": str(fst), "preview": preview, "estimator": estimator, "tuning": tuning or {},
-            "settings": settings or {}}
+            "settings": settings or {}, "lidar_distance": lidar_distance}
     (work / "metrics.json").write_text(json.dumps(meta, indent=1))
     if mbsym_plant:
         plant(work)
@@ -328,6 +334,7 @@ def main() -> None:
     p.add_argument("--rosco-out", help="an earlier ROSCO run (.out) of the same deck and wind, instead of a new one")
     p.add_argument("--preview", choices=("none", "lidar"), default="none",
                    help="lidar: add a 5-beam lidar 60 m upstream to the deck (LIDAR_KEYS); the export previews from it")
+    p.add_argument("--lidar-distance", type=float, help="with --preview lidar: the focal points this far upstream [m]")
     p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf", help="the exported NMPC's estimator")
     p.add_argument("--tuning", nargs="*", default=[], metavar="FIELD=VALUE",
                    help="NMPCTuning fields changed in the deck's tuning at export (floats)")
@@ -341,7 +348,7 @@ def main() -> None:
         tuning = {k: float(v) for k, v in (a.split("=", 1) for a in args.tuning)}
         settings = dict(a.split("=", 1) for a in args.settings)
         run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant, args.rosco_out,
-            args.preview, args.estimator, tuning, settings)
+            args.preview, args.estimator, tuning, settings, args.lidar_distance)
     elif args.what == "plant":
         plant(Path(args.work))
     else:
