@@ -15,7 +15,7 @@ deck configures the controller the same way in both (issue 21's contract):
   rotor-effective tunings the EKF's wind on the ROSCO wheel's NREL 5 MW deck at a steady 16 m/s ran to −1.7 m/s
   and the rotor to 24 rpm; with these it holds 12.1 rpm and 5.0 MW);
 * :func:`nmpc_tuning`, :func:`estimator_tuning`: the NMPC's and its estimator's tunings for the deck (full field,
-  floating platform, preview).
+  floating platform, preview, a nacelle moving in modes the estimator does not hold: :func:`flexible_nacelle`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
-__all__ = ["controller_model", "full_field_wind", "blade_element_plant", "nmpc_tuning", "estimator_tuning"]
+__all__ = ["controller_model", "full_field_wind", "blade_element_plant", "nmpc_tuning", "estimator_tuning",
+           "flexible_nacelle"]
 
 
 def full_field_wind(deck) -> bool:
@@ -65,20 +66,33 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
     return NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
 
 
-def estimator_tuning(prediction, *, field: bool):
+def estimator_tuning(prediction, *, field: bool, flexible: bool = False):
     """The :class:`~mbsym.wind.mpc.EstimatorTuning` a deck's NMPC estimator gets.
 
     :meth:`~mbsym.wind.mpc.EstimatorTuning.full_field` for a land turbine whose plant is blade-element (``field``:
-    :func:`blade_element_plant`; tuned inside OpenFAST on the NREL 5 MW with flexible blades); the default :class:`~mbsym.wind.mpc.EstimatorTuning` otherwise, on a floating
-    platform in any wind: the floating NMPC was tuned with it, and with the full-field tuning the exported
-    floating NMPC in OpenFAST (IEA 15 MW, 13 m/s TurbSim field, 4 m waves, 60-660 s) ran the rotor below rated
-    (speed RMS error 0.83 rpm against ROSCO's 0.32) and made 11.5 % less energy than ROSCO (with the default:
-    0.30 rpm, 3 % more; measured, benchmarks/floating_nmpc_openfast.py).
+    :func:`blade_element_plant`; tuned inside OpenFAST on the NREL 5 MW with flexible blades); the default
+    :class:`~mbsym.wind.mpc.EstimatorTuning` otherwise, on a floating platform in any wind: the floating NMPC was
+    tuned with it, and with the full-field tuning the exported floating NMPC in OpenFAST (IEA 15 MW, 13 m/s TurbSim
+    field, 4 m waves, 60-660 s) ran the rotor below rated (speed RMS error 0.83 rpm against ROSCO's 0.32) and made
+    11.5 % less energy than ROSCO (with the default: 0.30 rpm, 3 % more; measured,
+    benchmarks/floating_nmpc_openfast.py). A floating plant whose nacelle moves in modes the estimator does not
+    hold (``flexible``: :func:`flexible_nacelle`) gets :meth:`~mbsym.wind.mpc.EstimatorTuning.flexible_floating`.
     """
     from ..wind.mpc.estimator import EstimatorTuning
 
     floating = any(s.startswith("Ptfm") for s in prediction.dofs)
-    return EstimatorTuning.full_field() if field and not floating else EstimatorTuning()
+    if floating:
+        return EstimatorTuning.flexible_floating() if flexible else EstimatorTuning()
+    return EstimatorTuning.full_field() if field else EstimatorTuning()
+
+
+def flexible_nacelle(dofs) -> bool:
+    """Whether a plant with these ElastoDyn DOF flags (names switched on, or a name -> flag mapping) moves its
+    nacelle in modes the estimator's model does not hold (:data:`~mbsym.wind.mpc.estimator.NACELLE_MODES`)."""
+    from ..wind.mpc.estimator import NACELLE_MODES
+
+    on = {d for d, flag in dofs.items() if flag} if isinstance(dofs, dict) else set(dofs)
+    return bool(on & set(NACELLE_MODES))
 
 
 def controller_model(deck, say: Callable[[str], None] | None = None):

@@ -133,7 +133,7 @@ def _run_nmpc(args) -> int:
     )
     from ..wind.mpc.discon_nmpc import export_nmpc_discon
     from ..wind.operation.deck import builtin_deck, operating_deck
-    from .controller_model import controller_model, estimator_tuning, nmpc_tuning
+    from .controller_model import controller_model, estimator_tuning, flexible_nacelle, nmpc_tuning
     from .operate_mpc import _initial_estimate
 
     wind0 = 10.0 if args.initial_wind is None else args.initial_wind
@@ -151,7 +151,9 @@ def _run_nmpc(args) -> int:
     observed = estimation_model(model)
     field = blade_element_plant(deck)
     kind = args.estimator or "ekf"
-    estimator = TurbineEstimator(observed, kind, compile=False, tuning=estimator_tuning(observed, field=field),
+    flexible = flexible_nacelle(deck.turbine.dofs if deck.dofs is None else deck.dofs)
+    estimator = TurbineEstimator(observed, kind, compile=False,
+                                 tuning=estimator_tuning(observed, field=field, flexible=flexible),
                                  x0=_initial_estimate(model, observed, lambda t: np.full_like(
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
@@ -161,7 +163,8 @@ def _run_nmpc(args) -> int:
     floating = any(d.startswith("Ptfm") for d in prediction.dofs)
     if field:
         print("mbsym export-discon: the deck's plant is blade-element: " + (
-            "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning())" if floating else
+            "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning"
+            f"{'.flexible_floating()' if flexible else '()'})" if floating else
             "the NMPC and EKF tunings made for it (NMPCTuning.full_field, EstimatorTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
     what = "EKF" if kind == "ekf" else f"MHE, window {estimator.tuning.window} intervals,"

@@ -96,7 +96,13 @@ class MpcOptions:
         from ..wind.mpc.nmpc import TurbineNMPC
         from ..wind.mpc.prediction import PredictionModel
         from ..wind.mpc.setpoints import SetPoints
-        from .controller_model import blade_element_plant, controller_model, estimator_tuning, nmpc_tuning
+        from .controller_model import (
+            blade_element_plant,
+            controller_model,
+            estimator_tuning,
+            flexible_nacelle,
+            nmpc_tuning,
+        )
 
         blade = model.aero == "blade"
         own = controller_model(deck, say=say) if blade else model
@@ -107,7 +113,8 @@ class MpcOptions:
         if self.estimator is not None:
             observed = estimation_model(own)
             start = _start_speed(model, wind)
-            estimator = TurbineEstimator(observed, self.estimator, tuning=estimator_tuning(observed, field=field),
+            est_tuning = estimator_tuning(observed, field=field, flexible=flexible_nacelle(model.dofs))
+            estimator = TurbineEstimator(observed, self.estimator, tuning=est_tuning,
                                          x0=_initial_estimate(own, observed, lambda t: start, settings))
         if self.controller == "nmpc":
             tuning = nmpc_tuning(prediction, field=field, preview=self.preview)

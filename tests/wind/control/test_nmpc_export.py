@@ -316,7 +316,7 @@ def test_simulate_and_export_tune_the_nmpc_alike():
     # pitch oscillation grow from 0.01 to 1.3 deg in 250 s, in mbsym and in OpenFAST alike).
     from types import SimpleNamespace
 
-    from mbsym.cli.controller_model import estimator_tuning, nmpc_tuning
+    from mbsym.cli.controller_model import estimator_tuning, flexible_nacelle, nmpc_tuning
     from mbsym.wind.mpc import EstimatorTuning, NMPCTuning
 
     land = SimpleNamespace(dofs=("GenDOF", "TwFADOF1"))
@@ -329,6 +329,13 @@ def test_simulate_and_export_tune_the_nmpc_alike():
     # the EKF: full-field tuning on land only (on the floating IEA 15 MW in OpenFAST: 11.5 % less energy)
     assert estimator_tuning(land, field=True) == EstimatorTuning.full_field()
     assert estimator_tuning(land, field=False) == estimator_tuning(floating, field=True) == EstimatorTuning()
+    # a floating plant whose nacelle rings in modes the EKF does not model: accelerations trusted less (on land the
+    # full-field tuning was tuned in OpenFAST on a plant with those modes, and stays)
+    assert estimator_tuning(floating, field=True, flexible=True) == EstimatorTuning.flexible_floating()
+    assert estimator_tuning(land, field=True, flexible=True) == EstimatorTuning.full_field()
+    assert EstimatorTuning.flexible_floating().accel_sd > 5 * EstimatorTuning().accel_sd
+    assert flexible_nacelle({"TwFADOF1": True, "TwFADOF2": True}) and flexible_nacelle(("GenDOF", "FlapDOF1"))
+    assert not flexible_nacelle({"TwFADOF1": True, "TwFADOF2": False, "PtfmPDOF": True, "DrTrDOF": True})
 
 
 @pytest.mark.slow
