@@ -123,8 +123,9 @@ class MpcOptions:
         else:
             baseline = BaselineController(settings)
         lidar = lidar if nmpc is not None and self.preview is None and estimator is not None else None
+        restart = None if estimator is None else (lambda w: _initial_estimate(own, observed, lambda t: w, settings))
         return TurbineLoop(model, deck.controller_dt, nmpc=nmpc, baseline=baseline, estimator=estimator,
-                           preview=self.preview, wind=wind, lidar=lidar,
+                           preview=self.preview, wind=wind, lidar=lidar, restart=restart,
                            lidar_preview=None if lidar is None else PreviewSettings.for_lidar(deck.inflow.lidar))
 
 

@@ -337,6 +337,7 @@ class TurbineEstimator:
         else:
             self.filter = MHE(self.model, window=tuning.window, compile=compile,
                               bounds={"Wind1VelX": (0.5, 60.0)}, **common)
+        self._P0 = np.array(self.filter.P, dtype=float) if kind == "ekf" else None       # restart's covariance
         self.names = self.model.names
         self.rigid_speed_weight = rigid_speed_weight(prediction)
         self.x = np.asarray(z0, dtype=float).copy()
@@ -410,6 +411,22 @@ class TurbineEstimator:
     def wind(self) -> float:
         """Estimated hub-height wind [m/s]."""
         return float(self.x[-1])
+
+    def restart(self, z) -> None:
+        """Start the EKF again from the estimate ``z`` (as :func:`steady_estimate` gives it; the ripple's states
+        are inserted, :meth:`complete`) with its prior covariance: what the exported library does with an
+        implausible estimate (:mod:`.sample`).
+
+        Raises
+        ------
+        ControlDefinitionError
+            The estimator is an MHE (its wind is bounded instead) or ``z`` has the wrong size.
+        """
+        if self.kind != "ekf":
+            raise ControlDefinitionError("restart is for the EKF; the MHE bounds its wind instead.")
+        x = np.asarray(self.model.state_vector(self.complete(z)), dtype=float).reshape(-1)
+        self.filter.x, self.filter.P = x.copy(), self._P0.copy()
+        self.x = x.copy()
 
     def control_state(self, pitch: float, torque: float, states: Sequence[str] | None = None) -> np.ndarray:
         """The NMPC state from the estimate and the measured pitch [rad] and torque [N m].

@@ -107,6 +107,12 @@ class TurbineLoop:
         it); needs ``lidar_preview`` and an estimator, excludes ``preview``.
     lidar_preview : PreviewSettings, optional, keyword-only
         How the lidar's measurements become the stage winds.
+    restart : callable, optional, keyword-only
+        ``hub wind [m/s] -> estimate`` (e.g. :func:`~.estimator.steady_estimate` with the turbine's settings):
+        with an NMPC and an EKF, an estimate that is not finite or whose wind leaves 0.5 times the lowest to
+        1.5 times the highest of the NMPC's reference winds restarts the EKF from ``restart`` of the measured
+        hub wind (``Wind1VelX``, clipped to the reference winds) with its prior covariance, as the exported library does; the times are in
+        :attr:`restarts` (``estimator_restarts`` in :meth:`statistics`). Default: no restart.
 
     Raises
     ------
@@ -117,7 +123,8 @@ class TurbineLoop:
 
     def __init__(self, plant, sample_time: float, *, nmpc=None, baseline=None, estimator=None,
                  preview: float | None = None, wind: Callable | None = None,
-                 noise: SensorNoise | None = None, lidar: Callable | None = None, lidar_preview=None) -> None:
+                 noise: SensorNoise | None = None, lidar: Callable | None = None, lidar_preview=None,
+                 restart: Callable[[float], Any] | None = None) -> None:
         if (nmpc is None) == (baseline is None):
             raise SimulationOptionError("give exactly one of nmpc= and baseline= to the loop.")
         if (lidar is None) != (lidar_preview is None):
@@ -150,6 +157,11 @@ class TurbineLoop:
             lo = 0.5 * float(nmpc.references.winds[0])
             hi = 1.5 * float(nmpc.references.winds[-1])
             self._lidar_preview = LidarPreview(lidar_preview, nmpc.dt, nmpc.horizon, (lo, hi))
+        self._restart = restart if nmpc is not None and estimator is not None and estimator.kind == "ekf" else None
+        #: Times [s] at which the EKF was restarted from an implausible estimate (``restart``).
+        self.restarts: list[float] = []
+        self._wind_range = (0.5 * float(nmpc.references.winds[0]), 1.5 * float(nmpc.references.winds[-1])) \
+            if nmpc is not None else (0.0, math.inf)
         self._kn = _multiple(nmpc.dt, self.dt, "NMPC") if nmpc is not None else 0
         self._ke = _multiple(estimator.dt, self.dt, "estimator") if estimator is not None else 0
         self.prediction = nmpc.prediction if nmpc is not None else (estimator.prediction if estimator else None)
@@ -247,6 +259,11 @@ class TurbineLoop:
             if k % self._ke == 0:
                 mean = self._acc / self._n_acc if self._n_acc else np.array([pitch, torque])
                 z = self.estimator.step(y[0], y[6], mean[0], mean[1], *y[self._est_rows])
+                if self._restart is not None and not self._plausible(z):
+                    winds = self.nmpc.references.winds                        # y[4]: the measured hub wind
+                    self.estimator.restart(self._restart(min(max(float(y[4]), winds[0]), winds[-1])))
+                    z = self.estimator.x.copy()
+                    self.restarts.append(t)
                 self.estimates.append((t, z.copy()))
                 self._acc[:] = 0.0
                 self._n_acc = 0
@@ -265,6 +282,10 @@ class TurbineLoop:
             t_a, p_a, q_a, r = self._anchor
             u = np.array(self.prediction.commands(p_a, q_a, r[0], r[1], t - t_a))
         return np.concatenate([xb, z]), u
+
+    def _plausible(self, z: np.ndarray) -> bool:
+        lo, hi = self._wind_range
+        return bool(np.all(np.isfinite(z)) and lo <= z[-1] <= hi)
 
     def _ramp_start(self, t: float, pitch: float, torque: float) -> tuple[float, float]:
         """Where the new ramps start: the previous ramps' values now (continuous demands; the measured
@@ -313,7 +334,7 @@ class TurbineLoop:
             e = self.estimator.summary()
             out.update(estimator=e["kind"], estimator_step_median_s=e["step_median_s"],
                        estimator_step_max_s=e["step_max_s"], estimator_failures=e["failures"],
-                       estimator_dt=self.estimator.dt)
+                       estimator_dt=self.estimator.dt, estimator_restarts=len(self.restarts))
         return out
 
 
@@ -340,6 +361,10 @@ def warn_failures(stats: dict[str, Any]) -> list[str]:
         fallback = "it fell back to the EKF estimate there" if kind == "mhe" else "its estimate was held there"
         messages.append(f"the {kind} estimator failed {n} time{'s' if n != 1 else ''}; {fallback} "
                         "(see estimator_failures in --stats)")
+    n = int(stats.get("estimator_restarts") or 0)
+    if n:
+        messages.append(f"the EKF's wind estimate left its plausible range {n} time{'s' if n != 1 else ''}; it was "
+                        "restarted from steady operation at the measured hub wind (see estimator_restarts in --stats)")
     n = int(stats.get("controller_failures") or 0)
     if n:
         steps = stats.get("controller_steps")

@@ -116,3 +116,41 @@ def _nmpc():
     from _mpc_setup import nmpc_default
 
     return nmpc_default()
+
+
+@pytest.mark.parametrize("restart", [True, False])
+def test_loop_restarts_an_implausible_ekf_from_the_hub_wind(restart):
+    # The exported library restarts its EKF when the wind estimate leaves [0.5, 1.5] x the NMPC's reference winds
+    # (tests/wind/control/test_nmpc_export.py); the Python loop does the same when given the start (restart=),
+    # and without it the estimate stays where the bad sample sent it. A generator speed of 3000 rpm at one
+    # estimator sample (the NREL 5 MW at 14 m/s turns it at 1174 rpm) sends the wind beyond 45 m/s.
+    from mbsym.wind.mpc import TurbineLoop, estimation_model
+    from mbsym.wind.mpc.estimator import TurbineEstimator, steady_estimate
+    from mbsym.wind.operation.steady import steady_guess
+
+    from _mpc_setup import nmpc_default
+
+    t = turbine()
+    settings = t.deck.baseline_settings()
+    observed = estimation_model(t.plant)
+    est = TurbineEstimator(observed, "ekf", x0=steady_estimate(observed, 14.0, settings=settings), compile=False)
+    start = (lambda w: steady_estimate(observed, w, settings=settings)) if restart else None
+    nmpc = nmpc_default()
+    nmpc.reset()
+    loop = TurbineLoop(t.plant, t.deck.controller_dt, nmpc=nmpc, estimator=est, restart=start)
+    g = steady_guess(t.plant, 14.0, settings=settings)
+    rpm = g.rotor_speed * 30.0 / np.pi
+    y = np.array([rpm * 97.0, rpm, np.degrees(g.pitch), 5000.0, 14.0, g.torque / 1e3, 0.0])   # LOOP_CHANNELS
+    xc = loop.controller().x0
+    ke = int(round(est.dt / loop.dt))
+    for k in range(4 * ke):
+        yk = y.copy()
+        if k == 2 * ke:
+            yk[0] = 3000.0
+        xc, _ = loop.law(k * loop.dt, xc, yk)
+        if k == 2 * ke:
+            assert (len(loop.restarts) == 1) == restart
+            assert (est.wind == pytest.approx(14.0, abs=1e-9)) == restart          # the steady start at 14 m/s
+    lo, hi = 0.5 * nmpc.references.winds[0], 1.5 * nmpc.references.winds[-1]
+    assert (lo <= est.wind <= hi) == restart
+    assert loop.statistics()["estimator_restarts"] == len(loop.restarts)
