@@ -271,6 +271,8 @@ static int nmpc_sample(float *swap, double t, char *err, size_t n_err)
             streak = 0;
         }} else if (have_plan && streak < HOLD_MAX) {{     /* hold: the previous plan's next rates */
             plan_hold();
+            if (r == 0 && all_finite(lam_next, NLAM))    /* the capped QP's active set: the next QP goes on from it */
+                memcpy(lam, lam_next, sizeof lam);
             ++streak; ++holds;
             snprintf(err, n_err, "the NMPC's QP failed at t = %g s (code %d, violation %.3g): the previous plan's "
                      "next rates applied (%d in a row, at most %d; %ld holds so far)", t, r, viol, streak, HOLD_MAX,

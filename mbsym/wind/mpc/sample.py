@@ -350,6 +350,12 @@ class SampledLoop:
         self.stage_winds: np.ndarray | None = None
         self.mhe = None if functions.mhe is None else MHEMirror(functions.mhe, functions.z0, QP_ACCEPT)
 
+    @staticmethod
+    def _after_failure(held: np.ndarray, capped: np.ndarray) -> np.ndarray:
+        """The next QP's multipliers after a failed one: the failed (capped) QP's, so that its active-set search
+        goes on from where the cap stopped it, or the held plan's when they are not finite (the library's C)."""
+        return capped if np.all(np.isfinite(capped)) else held
+
     def step(self, t: float, gen_speed_rpm: float, accel: float, pitch: float, torque: float,
              hub_wind: float | None = None, lidar=None, more=()) -> tuple[float, float] | None:
         """Pitch [rad] and torque [N m] demands at loop sample ``t`` [s] from the measurements.
@@ -409,7 +415,8 @@ class SampledLoop:
             if np.all(np.isfinite(w)) and np.all(np.isfinite(rates)) and viol[0] <= QP_ACCEPT:
                 self.w, self.lam, self._streak = w, lam, 0
             elif self.w is not None and self._streak < f.horizon - 1:         # hold the previous plan
-                rates, self.w, self.lam = f.hold(self.w, self.lam, self.settings.rate_bounds)
+                rates, self.w, held = f.hold(self.w, self.lam, self.settings.rate_bounds)
+                self.lam = self._after_failure(held, lam)
                 self._streak += 1
                 self.holds.append(t)
             else:                                                              # the library's baseline
