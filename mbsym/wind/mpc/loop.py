@@ -111,8 +111,9 @@ class TurbineLoop:
         ``hub wind [m/s] -> estimate`` (e.g. :func:`~.estimator.steady_estimate` with the turbine's settings):
         with an NMPC and an EKF, an estimate that is not finite or whose wind leaves 0.5 times the lowest to
         1.5 times the highest of the NMPC's reference winds restarts the EKF from ``restart`` of the measured
-        hub wind (``Wind1VelX``, clipped to the reference winds) with its prior covariance, as the exported library does; the times are in
-        :attr:`restarts` (``estimator_restarts`` in :meth:`statistics`). Default: no restart.
+        hub wind (``Wind1VelX``, clipped to the reference winds) with its prior covariance, as the exported
+        library does; the times are in :attr:`restarts` (``estimator_restarts`` in :meth:`statistics`).
+        Default: no restart.
 
     Raises
     ------
