@@ -71,7 +71,6 @@ def _replay(observed, tuning, z0, r):
     return np.array(out)
 
 
-@pytest.mark.slow
 def test_the_floating_ekf_keeps_the_wind_through_a_ringing_start(setup):
     # The deck's plant has the modes (flexible_nacelle) and gets EstimatorTuning.flexible_floating. Bounds: this
     # replay measured 0.46 m/s RMS over 5-60 s and 6.5 m/s at most during the start, 0.03 rpm; 1 m/s, 10 m/s and
@@ -89,7 +88,6 @@ def test_the_floating_ekf_keeps_the_wind_through_a_ringing_start(setup):
     assert speed_rms < 0.1, speed_rms              # the generator speed is measured to 0.5 rpm
 
 
-@pytest.mark.slow
 def test_the_default_floating_ekf_loses_the_wind_in_that_start(setup):
     # Why the tuning exists: with accelerations trusted to 0.02 (m/s², deg/s²) the same replay loses the wind.
     from mbsym.wind.mpc import EstimatorTuning
