@@ -35,8 +35,11 @@ often (the communication interval divides the sample time; commands held in betw
 
 **QP failure** (the generated QP returns an error, a non-finite result, or a step violating the
 QP's constraints by more than :data:`~.sample.QP_ACCEPT` relative): the previous plan's next rates
-are applied (the ramps go on from where they are; the plan and multipliers move one stage ahead,
-:meth:`~.sample.SampleFunctions.hold`), at most ``N - 1`` samples in a row; after that, or when the
+are applied (the ramps go on from where they are; the plan moves one stage ahead,
+:meth:`~.sample.SampleFunctions.hold`) and the next QP starts from the failed QP's own multipliers when
+they are finite (a QP stopped at its iteration cap hands its active set on; from the held plan's
+multipliers every QP restarted the same search: 39 failures in a row on the stock NREL 5 MW's start in
+OpenFAST, tests/wind/control/test_nmpc_start.py), at most ``N - 1`` samples in a row; after that, or when the
 EKF restarts, the baseline law's commands until the next NMPC sample, which starts again with the
 start-up iterations, reached from the NMPC's last demands at the NMPC's rate bounds (the baseline's
 integrator is not synchronized with the NMPC's pitch). Each hold and fallback is counted and reported
@@ -146,7 +149,8 @@ static void shift_stages(double *v, int block)
     if (NSTAGE > 1) memmove(v, v + block, sizeof(double) * (size_t)((NSTAGE - 1) * block));
 }}
 
-/* After a failed QP: the stored plan's first rates (clipped), the plan and multipliers one more stage ahead. */
+/* After a failed QP: the stored plan's first rates (clipped), the plan and multipliers one more stage ahead
+   (the caller then takes the failed QP's multipliers when they are finite). */
 static void plan_hold(void)
 {{
     rates[0] = clip(plan[NXS], RATE_LIM[0], RATE_LIM[1]);
