@@ -13,8 +13,9 @@ original Function is returned (CasADi's virtual machine) with a
 :class:`CompilationWarning`; results are the same, only slower.
 
 Cache directory: ``$MBSYM_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbsym``, else
-``~/.cache/mbsym``. Compiler: ``compiler=``, else ``$MBSYM_CC``, else ``$CC``,
-else ``gcc`` or ``cc`` on the ``PATH``; a command of several words (``"ccache
+``~/.cache/mbsym``; bounded in size (``$MBSYM_CACHE_MAX_MB``, default 2000 MB: the least recently
+used libraries are deleted after a build, :mod:`mbsym.codegen_cache`). Compiler: ``compiler=``,
+else ``$MBSYM_CC``, else ``$CC``, else ``gcc`` or ``cc`` on the ``PATH``; a command of several words (``"ccache
 gcc"``, ``"gcc -march=native"``) is used whole. ``MBSYM_NO_COMPILE=1`` turns
 compilation off (fallback without a warning, checked before any other work).
 
@@ -486,10 +487,15 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
     flags = tuple(str(s) for s in flags)
     key = _memo_key(f, flags, cc, jacobian)
     library = _library_path(f, key, directory)
+    from . import codegen_cache
+
+    bound = codegen_cache.limit_bytes()               # a bad $MBSYM_CACHE_MAX_MB is refused before any work
     if library.exists():
         try:
-            return CompiledFunction(ca.external(f.name(), str(library)), True, True, key, library,
-                                    time.perf_counter() - t0)
+            loaded = CompiledFunction(ca.external(f.name(), str(library)), True, True, key, library,
+                                      time.perf_counter() - t0)
+            codegen_cache.mark_used(library)
+            return loaded
         except RuntimeError:
             library.unlink(missing_ok=True)        # exists but does not load (truncated, other ABI): rebuild once
     import subprocess
@@ -499,6 +505,8 @@ def compile_function(f: ca.Function, *, flags: Sequence[str] = DEFAULT_FLAGS, co
         _build(f, cc, flags, library, jacobian)
     except (OSError, subprocess.SubprocessError, RuntimeError) as exc:
         return _fallback(f, key, t0, f"Compiling {f.name()!r} with {shlex.join(cc)} failed: {_tail(exc)}", warn=True)
+    codegen_cache.prune(library.parent, keep=library, limit=bound, stale_after=2.0 * COMPILE_TIMEOUT_S,
+                        temp_prefix=_TEMP_PREFIX)
     try:
         g = ca.external(f.name(), str(library))
     except RuntimeError as exc:
@@ -564,7 +572,7 @@ def clear_disk_cache(directory: str | os.PathLike | None = None) -> int:
     compilation): those older than :data:`COMPILE_TIMEOUT_S`, so that a build running
     in another process is left alone.
     """
-    import shutil
+    from .codegen_cache import remove_stale_builds
 
     folder = Path(directory).expanduser() if directory is not None else cache_dir()
     if not folder.is_dir():
@@ -573,12 +581,5 @@ def clear_disk_cache(directory: str | os.PathLike | None = None) -> int:
     for lib in folder.glob("*.so"):
         lib.unlink(missing_ok=True)
         count += 1
-    now = time.time()
-    for tmp in folder.glob(f"{_TEMP_PREFIX}*"):
-        try:
-            stale = tmp.is_dir() and now - tmp.stat().st_mtime > COMPILE_TIMEOUT_S
-        except OSError:                       # removed meanwhile
-            continue
-        if stale:
-            shutil.rmtree(tmp, ignore_errors=True)
+    remove_stale_builds(folder, COMPILE_TIMEOUT_S, _TEMP_PREFIX)
     return count
