@@ -1,6 +1,7 @@
 """The exported NMPC + EKF library (``mbsym export-discon --controller nmpc``): step time and a run inside OpenFAST.
 
-``python benchmarks/nmpc_discon_export.py loop [--seconds 20] [--pitch-acceleration 2] [--estimator mhe]``: the library (built-in NREL 5 MW, 0.01 s) closed on
+``python benchmarks/nmpc_discon_export.py loop [--seconds 20] [--pitch-acceleration 2] [--estimator mhe] [--lidar-ocp]``:
+the library (built-in NREL 5 MW, 0.01 s) closed on
 mbsym's rotor-effective plant (GenDOF, TwFADOF1, TwSSDOF1, dynamic inflow) in mbsym's DISCON loop at 14 m/s
 (Kaimal, seed 3), each call timed; then the Python loop (:class:`TurbineLoop`: RTI driven from Python with hpipm,
 numpy EKF) on the same float32 measurements, its NMPC steps timed (``TurbineNMPC.step``, the EKF apart), in the
@@ -9,7 +10,8 @@ call and the swap-array writes of ``DisconController.step``), at the other calls
 RTI step, and the largest command differences. With ``--pitch-acceleration A`` a second library with
 ``NMPCTuning.estimated_wind(pitch_acceleration_scale=A deg/s²)`` runs the same, and the ratio of the two libraries'
 median calls at NMPC samples is printed; with ``--estimator mhe`` a second library with the MHE
-(``--estimator mhe``) runs the same, and the ratios of its median calls to the EKF library's.
+(``--estimator mhe``) runs the same, and the ratios of its median calls to the EKF library's; with ``--lidar-ocp``
+a second library whose OCP has the size of ``NMPCTuning.full_field_lidar``'s (0.05 s, 80 stages) runs the same.
 
 ``python benchmarks/nmpc_discon_export.py openfast [--case step_10_14] [--seconds 60] [--keep DIR]``: the deck of
 ``../shared/openfast/aero/openfast_inputs/<case>`` copied, ``mbsym export-discon <case>.fst --controller nmpc``,
@@ -35,15 +37,24 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parent), str(HERE.parent / "tests" / "wind" / "control")]
 
 
-def loop(seconds: float, pitch_acceleration: float | None = None, estimator: str = "ekf") -> None:
+def loop(seconds: float, pitch_acceleration: float | None = None, estimator: str = "ekf",
+         lidar_ocp: bool = False) -> None:
     """The default library; with ``pitch_acceleration`` [deg/s²] then the library with that term, same run; with
-    ``estimator="mhe"`` then the library with the MHE, same run, and the ratios of its calls to the EKF library's."""
+    ``estimator="mhe"`` then the library with the MHE, same run, and the ratios of its calls to the EKF library's; with
+    ``lidar_ocp`` then a library whose OCP has the size of :meth:`NMPCTuning.full_field_lidar`'s (0.05 s, 80 stages)."""
     base = _loop(seconds, None)
     if estimator == "mhe":
         print("\n-- with the MHE (window 20 intervals, one real-time iteration per 0.05 s) --")
         other = _loop(seconds, None, "mhe")
         print(f"ratio of the median calls (MHE / EKF library): NMPC samples {other[0] / base[0]:.2f}, estimator-only "
               f"samples {other[1] / base[1]:.2f}")
+    if lidar_ocp:
+        from mbsym.wind.mpc import NMPCTuning
+
+        print("\n-- the OCP of NMPCTuning.full_field_lidar: 0.05 s, 80 stages --")
+        other = _loop(seconds, NMPCTuning.estimated_wind(dt=0.05, horizon=80))
+        print(f"ratio of the library's median call at NMPC samples (80 stages at 0.05 s / 40 at 0.1 s): "
+              f"{other[0] / base[0]:.2f}")
     if pitch_acceleration is None:
         return
     import math
@@ -113,8 +124,9 @@ def _loop(seconds: float, tuning, kind: str = "ekf") -> tuple[float, float]:
         ref.append(u)
     ref, got, walls = np.array(ref), np.array([u for _, _, u in rows[1:]]), np.array(walls)
     k = np.arange(walls.size) - 1        # schedule index: 0 at the first step call
-    at_nmpc, other = walls[(k % 10 == 0) & (k > 0)], walls[(k % 5 != 0) & (k > 0)]
-    at_est = walls[(k % 5 == 0) & (k % 10 != 0) & (k > 0)]
+    per = int(round(nmpc.dt / 0.01))     # loop calls per NMPC sample (the EKF: every 5)
+    at_nmpc, other = walls[(k % per == 0) & (k > 0)], walls[(k % 5 != 0) & (k > 0)]
+    at_est = walls[(k % 5 == 0) & (k % per != 0) & (k > 0)]
     py = np.array(lp.controller_times[1:])
     ms = 1e3
     print(f"{seconds:g} s closed loop, {walls.size} DISCON calls, library messages: {messages or 'none'}")
@@ -199,13 +211,15 @@ def main() -> None:
                    help="then the library with NMPCTuning(pitch_acceleration_scale) in the same run, and the ratio")
     p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf",
                    help="mhe: then the library with the MHE in the same run, and the ratios")
+    p.add_argument("--lidar-ocp", action="store_true",
+                   help="then a library with the OCP size of NMPCTuning.full_field_lidar (0.05 s, 80 stages)")
     p = sub.add_parser("openfast")
     p.add_argument("--case", default="step_10_14")
     p.add_argument("--seconds", type=float, default=60.0)
     p.add_argument("--keep", metavar="DIR")
     args = parser.parse_args()
     if args.what == "loop":
-        loop(args.seconds, args.pitch_acceleration, args.estimator)
+        loop(args.seconds, args.pitch_acceleration, args.estimator, args.lidar_ocp)
     else:
         openfast(args.case, args.seconds, args.keep)
 

@@ -146,25 +146,35 @@ def _add_lidar(fst: Path, distance: float | None = None) -> None:
 
 def _export(fst: Path, out: Path, estimator: str, tuning: dict) -> dict:
     """``mbsym export-discon FST --controller nmpc --estimator E --out OUT`` (in this process, the deck's tuning with
-    ``tuning``'s fields changed); its JSON line."""
+    ``tuning``'s fields changed: ``NMPCTuning`` fields by name, ``EstimatorTuning`` fields as ``ekf.<name>``); its
+    JSON line."""
     import contextlib
+    import dataclasses
     import io
 
     import mbsym.cli.controller_model as cm
+    import mbsym.cli.export_discon as ex
     from mbsym.cli import main as cli
 
-    deck_tuning = cm.nmpc_tuning
+    deck_tuning, deck_estimator = cm.nmpc_tuning, cm.estimator_tuning
+    nmpc_changes = {k: v for k, v in tuning.items() if not k.startswith("ekf.")}
+    ekf_changes = {k[4:]: bool(v) if k == "ekf.blade_passing" else v for k, v in tuning.items() if k.startswith("ekf.")}
 
     def changed(prediction, **options):
-        return deck_tuning(prediction, **options).replace(**tuning)
+        return deck_tuning(prediction, **options).replace(**nmpc_changes)
+
+    def changed_estimator(observed, **options):
+        return dataclasses.replace(deck_estimator(observed, **options), **ekf_changes)
 
     buf = io.StringIO()
-    cm.nmpc_tuning = changed
+    cm.nmpc_tuning = ex.nmpc_tuning = changed
+    cm.estimator_tuning = ex.estimator_tuning = changed_estimator
     try:
         with contextlib.redirect_stdout(buf):
             code = cli(["export-discon", str(fst), "--controller", "nmpc", "--estimator", estimator, "--out", str(out)])
     finally:
-        cm.nmpc_tuning = deck_tuning
+        cm.nmpc_tuning = ex.nmpc_tuning = deck_tuning
+        cm.estimator_tuning = ex.estimator_tuning = deck_estimator
     if code != 0:
         sys.exit(f"mbsym export-discon failed (exit {code})")
     return json.loads(buf.getvalue().strip().splitlines()[-1])
@@ -337,7 +347,8 @@ def main() -> None:
     p.add_argument("--lidar-distance", type=float, help="with --preview lidar: the focal points this far upstream [m]")
     p.add_argument("--estimator", choices=("ekf", "mhe"), default="ekf", help="the exported NMPC's estimator")
     p.add_argument("--tuning", nargs="*", default=[], metavar="FIELD=VALUE",
-                   help="NMPCTuning fields changed in the deck's tuning at export (floats)")
+                   help="NMPCTuning fields (and EstimatorTuning fields as ekf.<name>) changed in the deck's tunings at "
+                        "export (floats; horizon an integer)")
     p.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", dest="settings",
                    help="run-time settings written into the library's input file before the run")
     for name in ("plant", "report"):
@@ -345,7 +356,7 @@ def main() -> None:
         p.add_argument("--work", default="/tmp/mbsym_nmpc_openfast")
     args = parser.parse_args()
     if args.what == "run":
-        tuning = {k: float(v) for k, v in (a.split("=", 1) for a in args.tuning)}
+        tuning = {k: int(v) if k == "horizon" else float(v) for k, v in (a.split("=", 1) for a in args.tuning)}
         settings = dict(a.split("=", 1) for a in args.settings)
         run(args.case, args.seconds, Path(args.work), args.bts, args.rosco, args.mbsym_plant, args.rosco_out,
             args.preview, args.estimator, tuning, settings, args.lidar_distance)

@@ -39,7 +39,7 @@ def blade_element_plant(deck) -> bool:
     return full_field_wind(deck) or deck.default_aero() == "blade"
 
 
-def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
+def nmpc_tuning(prediction, *, field: bool, preview: float | None = None, lidar: bool = False):
     """The :class:`~mbsym.wind.mpc.NMPCTuning` a deck's NMPC gets, before ``for_turbine``.
 
     Parameters
@@ -55,6 +55,9 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
         floating platform in any wind (without its platform term the speed loop pumps the platform's pitch),
         :meth:`~mbsym.wind.mpc.NMPCTuning.full_field` or :meth:`~mbsym.wind.mpc.NMPCTuning.estimated_wind` on
         land.
+    lidar : bool, optional, keyword-only
+        The NMPC's stage winds come from the deck's nacelle lidar: on land with ``field``,
+        :meth:`~mbsym.wind.mpc.NMPCTuning.full_field_lidar`.
     """
     from ..wind.mpc.nmpc import NMPCTuning
 
@@ -63,7 +66,9 @@ def nmpc_tuning(prediction, *, field: bool, preview: float | None = None):
         return NMPCTuning(platform_pitch_rate_scale=5e-4) if floating else NMPCTuning()
     if floating:
         return NMPCTuning.floating()
-    return NMPCTuning.full_field() if field else NMPCTuning.estimated_wind()
+    if field:
+        return NMPCTuning.full_field_lidar() if lidar else NMPCTuning.full_field()
+    return NMPCTuning.estimated_wind()
 
 
 def estimator_tuning(prediction, *, field: bool, flexible: bool = False):

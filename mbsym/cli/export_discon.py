@@ -158,19 +158,20 @@ def _run_nmpc(args) -> int:
                                      np.asarray(t, dtype=float), wind0), settings))
     setpoints = SetPoints.from_settings(settings, model.rotor)
     prediction = PredictionModel(model)
-    tuning = nmpc_tuning(prediction, field=field)
+    preview = _preview(args, deck)
+    tuning = nmpc_tuning(prediction, field=field, lidar=preview is not None)
     nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints))
     floating = any(d.startswith("Ptfm") for d in prediction.dofs)
     if field:
         print("mbsym export-discon: the deck's plant is blade-element: " + (
             "the floating NMPC's tunings (NMPCTuning.floating, EstimatorTuning"
             f"{'.flexible_floating()' if flexible else '()'})" if floating else
-            "the NMPC and EKF tunings made for it (NMPCTuning.full_field, EstimatorTuning.full_field)"))
+            "the NMPC and EKF tunings made for it (NMPCTuning.full_field"
+            f"{'_lidar' if preview is not None else ''}, EstimatorTuning.full_field)"))
     source = settings.source or "built-in NREL 5 MW"
     what = "EKF" if kind == "ekf" else f"MHE, window {estimator.tuning.window} intervals,"
     print(f"mbsym export-discon: NMPC ({nmpc.dt:g} s, {nmpc.horizon} stages) with its {what} ({estimator.dt:g} s) and "
           f"the baseline from {source} as fallback; library sample time {baseline.dt:g} s")
-    preview = _preview(args, deck)
     out = export_nmpc_discon(nmpc, estimator, baseline, args.out, loop_dt=baseline.dt, name=args.name or "nmpc_discon",
                              initial=initial, preview=preview)
     print(f"wrote {out['library']}\nwrote {out['input']}\nServoDyn: DLL_FileName \"{out['library']}\", "

@@ -117,7 +117,8 @@ class MpcOptions:
             estimator = TurbineEstimator(observed, self.estimator, tuning=est_tuning,
                                          x0=_initial_estimate(own, observed, lambda t: start, settings))
         if self.controller == "nmpc":
-            tuning = nmpc_tuning(prediction, field=field, preview=self.preview)
+            previewing = lidar is not None and self.preview is None and estimator is not None
+            tuning = nmpc_tuning(prediction, field=field, preview=self.preview, lidar=previewing)
             setpoints = SetPoints.from_settings(settings, own.rotor)
             nmpc = TurbineNMPC(prediction, setpoints, tuning=tuning.for_turbine(setpoints), deadline=self.deadline)
         else:

@@ -509,7 +509,9 @@ def _input_text(nmpc, estimator, baseline, loop_dt: float, fingerprint: str, fns
         "divide it",
         f"{fingerprint:<24} Fingerprint  ! identity of the compiled controller (pairs this file with its library)",
         *input_lines(fns.layout),
-        f"!   NMPC: real-time iteration with qrqp; estimator: {_estimator_label(estimator)}",
+        f"!   NMPC: real-time iteration with qrqp; estimator: {_estimator_label(estimator)}; references: steady "
+        + ("operation with the controller's peak-shaving minimum pitch" if nmpc.tuning.peak_shaving else
+           "operation at fine pitch below rated"),
         f"!   EKF noise: wind_walk {e.wind_walk:g}, gen_speed_sd {e.gen_speed_sd:g} rpm, accel_sd {e.accel_sd:g}"
         + (f"; blade-passing ripple states, walks {e.harmonic_speed_walk:g} rpm, {e.harmonic_accel_walk:g} m/s^2"
            if e.blade_passing else ""),

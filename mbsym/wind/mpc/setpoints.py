@@ -51,6 +51,10 @@ class SetPoints:
     gearbox_ratio : float
     fine_pitch : float
         [rad].
+    min_pitch_winds, min_pitch_values : tuple of float
+        The controller's peak-shaving minimum pitch (ROSCO ``PS_WindSpeeds`` [m/s], ``PS_BldPitchMin`` [rad],
+        with ``PS_Mode`` 1); empty without peak shaving. Used by :func:`reference_table` with
+        ``peak_shaving=True``.
     """
 
     rated_generator_speed: float
@@ -62,6 +66,8 @@ class SetPoints:
     radius: float
     gearbox_ratio: float
     fine_pitch: float = 0.0
+    min_pitch_winds: tuple = ()
+    min_pitch_values: tuple = ()
 
     @classmethod
     def from_settings(cls, settings, rotor) -> "SetPoints":
@@ -70,9 +76,19 @@ class SetPoints:
         pitch = float(settings.fine_pitch)
         cp = rotor.steady(10.0, tsr * 10.0 / rotor.radius, pitch)["cp"]
         i = int(np.argmax(cp))
+        shaving = bool(getattr(settings, "peak_shaving", False))
+        winds = tuple(float(w) for w in settings.min_pitch_wind_speeds) if shaving else ()
+        values = tuple(float(b) for b in settings.min_pitch_schedule) if shaving else ()
         return cls(float(settings.pitch_reference_speed), float(settings.min_generator_speed),
                    float(settings.rated_power), float(settings.generator_efficiency), float(tsr[i]), float(cp[i]),
-                   float(rotor.radius), abs(float(settings.gearbox_ratio)), pitch)
+                   float(rotor.radius), abs(float(settings.gearbox_ratio)), pitch, winds, values)
+
+    def min_pitch(self, wind: float) -> float:
+        """The lowest pitch of steady operation at the wind [m/s]: fine pitch, or the peak-shaving minimum
+        (interpolated, ends held) where that is higher [rad]."""
+        if not self.min_pitch_winds:
+            return self.fine_pitch
+        return max(self.fine_pitch, float(np.interp(wind, self.min_pitch_winds, self.min_pitch_values)))
 
     @property
     def rated_torque(self) -> float:
@@ -149,10 +165,12 @@ def _balance(prediction, fixed: str, unknown: str):
     return cache[key]
 
 
-def reference_state(prediction, setpoints: SetPoints, wind: float, *, p=None, guess=None) -> np.ndarray:
+def reference_state(prediction, setpoints: SetPoints, wind: float, *, p=None, guess=None,
+                    peak_shaving: bool = False) -> np.ndarray:
     """The steady state of the prediction model's control form on the speed schedule at a wind [m/s].
 
-    Region 2 (and 2.5): fine pitch, the torque balancing the rotor; if that power exceeds the
+    Region 2 (and 2.5): fine pitch (with ``peak_shaving``: :meth:`SetPoints.min_pitch`, the controller's
+    peak-shaving minimum where higher), the torque balancing the rotor; if that power exceeds the
     rated power, region 3: the rated torque, the pitch balancing. The platform, tower, drivetrain and inflow
     states are solved for rest (Newton's method with the exact Jacobian).
 
@@ -180,21 +198,24 @@ def reference_state(prediction, setpoints: SetPoints, wind: float, *, p=None, gu
 
     torque0 = base[states.index("GenTq")] if guess is not None else \
         setpoints.rated_torque * min(1.0, (wind / 11.4) ** 2)
-    x = solve("BlPitch", setpoints.fine_pitch, "GenTq", torque0)
+    pitch = setpoints.min_pitch(wind) if peak_shaving else setpoints.fine_pitch
+    x = solve("BlPitch", pitch, "GenTq", torque0)
     power = setpoints.efficiency * x[states.index("GenTq")] * omega * setpoints.gearbox_ratio
     if power > setpoints.rated_power:
         x = solve("GenTq", setpoints.rated_torque, "BlPitch", max(base[states.index("BlPitch")], 0.05))
     return x
 
 
-def reference_table(prediction, setpoints: SetPoints, *, p=None, winds=None) -> ReferenceTable:
-    """Steady reference operation of the prediction model on a wind grid (default 3-30 m/s by 0.25 m/s)."""
+def reference_table(prediction, setpoints: SetPoints, *, p=None, winds=None,
+                    peak_shaving: bool = False) -> ReferenceTable:
+    """Steady reference operation of the prediction model on a wind grid (default 3-30 m/s by 0.25 m/s); with
+    ``peak_shaving`` the pitch held at or above the controller's peak-shaving minimum (:func:`reference_state`)."""
     winds = np.arange(3.0, 30.001, 0.25) if winds is None else np.asarray(winds, dtype=float)
     dyn = prediction.control
     rows, states, guess = [], [], None
     names = dyn.output_names
     for u in winds:
-        x = reference_state(prediction, setpoints, float(u), p=p, guess=guess)
+        x = reference_state(prediction, setpoints, float(u), p=p, guess=guess, peak_shaving=peak_shaving)
         guess = x
         y = dyn.output_value(x, [u, 0.0, 0.0], p)
         rows.append([y[names.index(c)] for c in REFERENCE_CHANNELS])

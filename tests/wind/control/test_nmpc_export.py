@@ -326,6 +326,13 @@ def test_simulate_and_export_tune_the_nmpc_alike():
     assert nmpc_tuning(floating, field=False) == nmpc_tuning(floating, field=True) == NMPCTuning.floating()
     assert nmpc_tuning(floating, field=False, preview=1.0).platform_pitch_rate_scale == 5e-4
     assert nmpc_tuning(land, field=True, preview=1.0) == NMPCTuning()
+    # a lidar preview on land in a full field: its own tuning (0.05 s, 80 stages: the same 4 s), nowhere else
+    lidar = NMPCTuning.full_field_lidar()
+    assert nmpc_tuning(land, field=True, lidar=True) == lidar and (lidar.dt, lidar.horizon) == (0.05, 80)
+    assert lidar.replace(dt=0.1, horizon=40, speed_scale=10.0, tower_velocity_scale=0.07,
+                         pitch_rate_scale=math.radians(0.45)) == NMPCTuning.full_field()
+    assert nmpc_tuning(land, field=False, lidar=True) == NMPCTuning.estimated_wind()
+    assert nmpc_tuning(floating, field=True, lidar=True) == NMPCTuning.floating()
     # the EKF: full-field tuning on land only (on the floating IEA 15 MW in OpenFAST: 11.5 % less energy)
     assert estimator_tuning(land, field=True) == EstimatorTuning.full_field()
     assert estimator_tuning(land, field=False) == estimator_tuning(floating, field=True) == EstimatorTuning()

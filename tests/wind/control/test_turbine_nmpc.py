@@ -72,6 +72,34 @@ def test_region_2_reference_is_the_best_tip_speed_ratio_at_fine_pitch():
     assert rot * sp.radius / 8.0 == pytest.approx(sp.optimal_tsr, rel=1e-9)
 
 
+def test_peak_shaving_reference_holds_the_controllers_minimum_pitch_near_rated():
+    # With peak_shaving the steady reference keeps the pitch at or above ROSCO's PS_BldPitchMin (PS_Mode 1 in the
+    # built-in deck's DISCON.IN), interpolated at the wind; where the fine-pitch operation already pitches more
+    # (region 3) or the minimum is fine pitch (region 2) the reference is unchanged. The reference is still an
+    # equilibrium of the model, at less power and less thrust (tower-base moment) than the fine-pitch one.
+    from mbsym.wind.mpc.setpoints import reference_table
+
+    t = turbine()
+    sp = t.setpoints
+    assert t.deck.baseline_settings().peak_shaving and len(sp.min_pitch_winds) == len(sp.min_pitch_values) > 1
+    winds = np.array([7.0, 11.0, 11.5, 16.0])
+    shaved = reference_table(t.prediction, sp, winds=winds, peak_shaving=True)
+    plain = reference_table(t.prediction, sp, winds=winds)
+    dyn = t.prediction.control
+    for i, u in enumerate(winds):
+        assert np.max(np.abs(dyn.rhs_value(shaved.states[i], [u, 0.0, 0.0]))) < 1e-7
+    minimum = np.degrees(np.interp(winds, sp.min_pitch_winds, sp.min_pitch_values))
+    assert minimum[1] > 1.0 and minimum[2] > 1.0                    # ROSCO's table pitches there
+    for name in ("BldPitch1", "GenPwr", "TwrBsMyt"):
+        assert shaved(name, 7.0) == pytest.approx(plain(name, 7.0), rel=1e-9, abs=1e-9)
+        assert shaved(name, 16.0) == pytest.approx(plain(name, 16.0), rel=1e-9)
+    for u, b in zip(winds[1:3], minimum[1:3]):
+        assert shaved("BldPitch1", u) == pytest.approx(max(b, plain("BldPitch1", u)), abs=1e-6)
+        if b > plain("BldPitch1", u) + 0.1:
+            assert shaved("GenPwr", u) < plain("GenPwr", u) and shaved("TwrBsMyt", u) < plain("TwrBsMyt", u)
+    assert sp.min_pitch(7.0) == max(sp.fine_pitch, float(np.interp(7.0, sp.min_pitch_winds, sp.min_pitch_values)))
+
+
 def _closed_loop(wind, tmax, **loop):
     from mbsym.wind.mpc.loop import TurbineLoop
     from mbsym.wind.mpc.simulation import simulate_with_loop
