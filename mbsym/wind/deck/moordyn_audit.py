@@ -18,8 +18,9 @@ WaterKin                       refused when given (waves and current on the line
                                ``SEASTATE`` or from a file); a number is a MoorDyn error
 mu_kT, mu_kA                   refused when > 0 (seabed friction on moving lines); 0 (default) accepted
 mc, cv (FricDamp)              accepted: they shape the friction of mu_kT/mu_kA, which is 0 or refused
-kBot (kb), cBot (cb)           accepted with the ModelWarning: the seabed is rigid in the catenary;
-                               ``kBot <= 0`` (no seabed in MoorDyn) refused
+kBot (kb), cBot (cb)           kBot: the resting nodes' sinking in the lumped lines at rest (the default
+                               of MoorDyn decks; the continuous catenaries lie on a rigid seabed); cBot:
+                               named in the ModelWarning; ``kBot <= 0`` (no seabed in MoorDyn) refused
 dtM, tScheme, dtIC, TmaxIC,    accepted (noted in the ModelWarning): MoorDyn's own time integration and its
 CdScaleIC, threshIC            dynamic relaxation to the initial equilibrium; quasi-static lines are in
                                equilibrium. ``tScheme`` other than RK2/RK4 is a MoorDyn error

@@ -27,6 +27,7 @@ from .bottom_fixed import BottomFixedPlatform, bottom_fixed_platform
 from .catenary import CatenaryLine, wet_weight
 from .hydrostatics import AdditionalLoads, PlatformHydrostatics
 from .line_dynamics import LineHydrodynamics
+from .lumped_line import LumpedLine
 from .modes import PlatformModes, natural_periods, periods_with_frequency_dependent_added_mass
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .operating import FloatingPlatform, deck_radiation, floating_platform
@@ -38,7 +39,8 @@ from .substructure_water import SubstructureWater, substructure_hydrodynamics
 
 __all__ = ["PlatformHydrostatics", "AdditionalLoads", "PlatformHydrodynamics", "platform_hydrodynamics",
            "natural_periods", "periods_with_frequency_dependent_added_mass", "PlatformModes",
-           "CatenaryLine", "wet_weight", "LineHydrodynamics", "MooringSystem", "mooring_from_moordyn", "mooring_from_map",
+           "CatenaryLine", "wet_weight", "LineHydrodynamics", "LumpedLine", "MooringSystem", "mooring_from_moordyn",
+           "mooring_from_map",
            "RadiationStateSpace", "radiation_reference", "fit_radiation", "fit_radiation_cached", "vector_fit",
            "FloatingPlatform", "floating_platform", "deck_radiation", "Substructure", "ReducedSubstructure",
            "BottomFixedPlatform", "bottom_fixed_platform", "SubstructureWater", "substructure_hydrodynamics"]

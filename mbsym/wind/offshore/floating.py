@@ -212,7 +212,8 @@ class FloatingStructure:
         return dt * np.arange(1, steps + 1), states
 
 
-def floating_structure(turbine, *, radiation: str | None = None, structural_controls=None) -> FloatingStructure:
+def floating_structure(turbine, *, radiation: str | None = None, structural_controls=None,
+                       mooring_statics: str | None = None) -> FloatingStructure:
     """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files), or
     of a bottom-fixed deck its ElastoDyn DOFs on the SubDyn substructure (``CompSub = 1``,
     :func:`~.bottom_fixed.bottom_fixed_platform`).
@@ -225,6 +226,8 @@ def floating_structure(turbine, *, radiation: str | None = None, structural_cont
         As :func:`~.operating.floating_platform` (None: the deck's ``RdtnMod``).
     structural_controls : StructuralControls, optional, keyword-only
         ServoDyn's nacelle and platform StCs (:func:`mbsym.wind.structure.structural_control.structural_controls`).
+    mooring_statics : {"lumped", "continuous"} or None, keyword-only
+        As :func:`~.operating.floating_platform` (None: its default).
 
     Raises
     ------
@@ -240,7 +243,7 @@ def floating_structure(turbine, *, radiation: str | None = None, structural_cont
 
         return FloatingStructure(TurbineModel(turbine), None, platform_loads=bottom_fixed_platform(turbine),
                                  structural_controls=structural_controls)
-    platform = floating_platform(turbine, radiation=radiation)
+    platform = floating_platform(turbine, radiation=radiation, mooring_statics=mooring_statics)
     if platform is None:
         raise UnsupportedFeatureError(f"{turbine.source_files.get('fst', 'the deck')}: CompHydro and CompMooring are "
                                       "0; a floating structure needs HydroDyn (and usually a mooring).")

@@ -29,10 +29,11 @@ import casadi as ca
 import numpy as np
 
 from ...exceptions import DimensionError, ModelWarning, OptionError, UnsupportedFeatureError
-from ..deck.moordyn_audit import moordyn_environment, moordyn_option_problems
+from ..deck.moordyn_audit import moordyn_environment, moordyn_option_problems, moordyn_options
 from ._casadi import _in, _symbolic, euler_zyx
 from .catenary import CatenaryLine, wet_weight
 from .line_dynamics import LineHydrodynamics, fairlead_terms
+from .lumped_line import LumpedLine
 
 __all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map"]
 
@@ -115,7 +116,9 @@ class MooringSystem:
 
     ``dynamics``: one :class:`~.line_dynamics.LineHydrodynamics` per line (mass, Morison coefficients,
     segments) for :meth:`line_loads`, or None (quasi-static lines only); ``water_density`` [kg/m³] for
-    their drag and added mass.
+    their drag and added mass. ``lumped``: one :class:`~.lumped_line.LumpedLine` per line (MoorDyn's
+    segments at rest give the fairlead forces; the continuous catenary starts them and keeps the shape of the
+    drag and inertia), or None (continuous catenaries).
     """
 
     lines: tuple[CatenaryLine, ...]
@@ -123,6 +126,7 @@ class MooringSystem:
     fairleads: np.ndarray
     dynamics: tuple[LineHydrodynamics, ...] | None = None
     water_density: float = 1025.0
+    lumped: tuple[LumpedLine, ...] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.lines)
@@ -130,6 +134,10 @@ class MooringSystem:
                                           or not all(isinstance(d, LineHydrodynamics) for d in self.dynamics)):
             raise DimensionError(f"MooringSystem.dynamics must hold one LineHydrodynamics per line ({n}); got "
                                  f"{self.dynamics!r}.")
+        if self.lumped is not None and (len(self.lumped) != n or not all(
+                isinstance(ln, LumpedLine) and ln.catenary == line for ln, line in zip(self.lumped, self.lines))):
+            raise DimensionError(f"MooringSystem.lumped must hold one LumpedLine per line ({n}), each of the same "
+                                 f"CatenaryLine as `lines`; got {self.lumped!r}.")
         for name in ("anchors", "fairleads"):
             arr = np.array(getattr(self, name), dtype=float).reshape(-1, 3)
             if arr.shape[0] != n:
@@ -147,12 +155,19 @@ class MooringSystem:
             d = ca.DM(self.anchors[k][:2]) - r[0:2]
             l, h = ca.sqrt(ca.sumsqr(d)), r[2] - self.anchors[k][2]
             H, V = solvers[k](ca.vertcat(l, h)) if solvers else _newton(line, l, h, steps)
+            H, V = self._at_rest(k, l, h, H, V)
             f = ca.vertcat(H * d / l, -V)
             force += f
             moment += ca.cross(arm, f)
             tension.append(ca.sqrt(H ** 2 + V ** 2))
             fair_h.append(ca.vertcat(H, V))
         return ca.vertcat(force, moment), ca.vertcat(*tension), ca.horzcat(*fair_h)
+
+    def _at_rest(self, k: int, l, h, H, V):
+        """The fairlead forces of line ``k``: the continuous catenary's (H, V), or its lumped line's from them."""
+        if self.lumped is None:
+            return H, V
+        return self.lumped[k].function()(l, h, H, V)
 
     def newton_steps(self) -> int:
         """The fixed Newton steps of this system's catenaries (:func:`newton_steps` over every line; computed once)."""
@@ -170,7 +185,7 @@ class MooringSystem:
     def with_dynamics(self, dynamics, water_density: float) -> "MooringSystem":
         """The same lines with drag and inertia (:meth:`line_loads`), or quasi-static again with None."""
         return MooringSystem(self.lines, self.anchors, self.fairleads,
-                             None if dynamics is None else tuple(dynamics), float(water_density))
+                             None if dynamics is None else tuple(dynamics), float(water_density), self.lumped)
 
     def line_loads(self, q, qd, *, steps: int | None = None):
         """Static load, the lines' drag and their mass on the platform DOFs (SX expressions).
@@ -200,7 +215,8 @@ class MooringSystem:
             r = q[0:3] + arm
             d = ca.DM(self.anchors[k][:2]) - r[0:2]
             l, h = ca.sqrt(ca.sumsqr(d)), r[2] - self.anchors[k][2]
-            H, V = _newton(line, l, h, steps)
+            H0, V0 = _newton(line, l, h, steps)
+            H, V = self._at_rest(k, l, h, H0, V0)
             f = ca.vertcat(H * d / l, -V)
             static += ca.vertcat(f, ca.cross(arm, f))
             tension.append(ca.sqrt(H ** 2 + V ** 2))
@@ -208,7 +224,7 @@ class MooringSystem:
                 continue
             terms = fairlead_terms(line, self.dynamics[k], self.water_density, self.anchors[k])
             rd = ca.jtimes(r, q, qd)
-            fd, mr, _, _ = terms(r, ca.vertcat(H, V), rd)
+            fd, mr, _, _ = terms(r, ca.vertcat(H0, V0), rd)   # drag and inertia on the continuous shape
             drag += ca.vertcat(fd, ca.cross(arm, fd))
             J = ca.jacobian(r, q)
             mass += ca.mtimes([J.T, mr, J])
@@ -248,7 +264,8 @@ class MooringSystem:
 
 
 def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_depth: float | None = None,
-                         line_dynamics: bool = True, line_segments: int | None = 10) -> MooringSystem:
+                         line_dynamics: bool = True, line_segments: int | None = 10,
+                         line_statics: str = "continuous") -> MooringSystem:
     """The quasi-static system of a MoorDyn deck (every line between a fixed and a vessel point).
 
     ``water_density``, ``gravity``, ``water_depth`` are what OpenFAST hands MoorDyn (SeaState's ``WtrDens``
@@ -263,6 +280,11 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
     each line (None: the deck's ``NumSegs``). The default 10 is a quadrature of a known shape, not
     MoorDyn's discretization of the line's own dynamics: on ``fl_decay_a`` it differs from 50 segments
     by 0.1 % of the surge decay at half the cost (docs/offshore.md §6).
+    ``line_statics``: ``"continuous"`` (default) gives the fairlead forces of the elastic catenaries, the
+    limit of MoorDyn's lines as their segments shrink; ``"lumped"`` those of MoorDyn's ``NumSegs`` lumped
+    masses at rest on its seabed springs ``kBot`` (:class:`~.lumped_line.LumpedLine`), what OpenFAST computes
+    for the deck as written: with few segments the stiffness ripples as nodes lift off the seabed
+    (docs/offshore.md §7).
 
     Raises
     ------
@@ -288,6 +310,8 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
     if line_segments is not None and not (isinstance(line_segments, int) and line_segments >= 1):
         raise OptionError(f"line_segments must be a positive integer or None (the deck's NumSegs); got "
                           f"{line_segments!r}.")
+    if line_statics not in ("continuous", "lumped"):
+        raise OptionError(f"line_statics must be 'continuous' or 'lumped'; got {line_statics!r}.")
     if not line_dynamics and line_segments != 10:
         raise OptionError(f"line_segments={line_segments!r} has no effect with line_dynamics=False (it sets the "
                           "segments of the lines' drag and inertia): drop it, or keep line_dynamics=True.")
@@ -300,7 +324,9 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
         raise UnsupportedFeatureError(refused[0] if len(refused) == 1 else
                                       f"{len(refused)} MoorDyn inputs are not modelled:\n  - " + "\n  - ".join(refused))
     rho, g = env.water_density, env.gravity
-    lines, anchors, fairs, dynamics = [], [], [], []
+    opts = moordyn_options(md)
+    kbot = float(opts["kBot"][2]) if "kBot" in opts else 3.0e6       # MoorDyn's default seabed stiffness [Pa/m]
+    lines, anchors, fairs, dynamics, lumped = [], [], [], [], []
     for ident, entry in sorted(md.lines.items()):
         kinds = {md.points[entry.end_a].kind, md.points[entry.end_b].kind}
         if not ({"fixed"} <= kinds and kinds & {"vessel", "coupled"}):
@@ -321,19 +347,26 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
         fairs.append(md.fairlead(ident).position)
         dynamics.append(LineHydrodynamics.from_moordyn(kind, entry.n_segments if line_segments is None
                                                        else line_segments))
+        lumped.append(LumpedLine(lines[-1], int(entry.n_segments), lines[-1].weight / (kbot * kind.diameter)))
     more = "".join(f"; {note}" for note in notes)
+    if line_statics == "lumped":
+        statics, seabed = ("at rest the lines are MoorDyn's NumSegs lumped masses on its seabed springs kBot "
+                           "(line_statics='lumped'); ", "the seabed's damping")
+    else:
+        statics, seabed = "", "the seabed's stiffness and damping"
     if line_dynamics:
         segments = "NumSegs" if line_segments is None else f"{line_segments} segments per line, not NumSegs"
-        warnings.warn(f"{md.path}: MoorDyn's line dynamics are modelled on the quasi-static shape (line mass, added "
-                      f"mass and drag of nodes that follow the catenary, {segments}); the line's own motion (waves "
-                      f"along it), internal damping and the seabed's stiffness and damping are not{more}",
+        warnings.warn(f"{md.path}: {statics}MoorDyn's line dynamics are modelled on the quasi-static shape (line "
+                      f"mass, added mass and drag of nodes that follow the catenary, {segments}); the line's own "
+                      f"motion (waves along it), internal damping and {seabed} are not{more}",
                       ModelWarning, stacklevel=2)
     else:
-        warnings.warn(f"{md.path}: MoorDyn's line dynamics (line mass and added mass, drag, internal damping, seabed "
-                      f"stiffness and damping) are not modelled; the lines are quasi-static elastic catenaries{more}",
+        warnings.warn(f"{md.path}: {statics}MoorDyn's line dynamics (line mass and added mass, drag, internal "
+                      f"damping, {seabed}) are not modelled; the lines are quasi-static{more}",
                       ModelWarning, stacklevel=2)
     return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs),
-                         tuple(dynamics) if line_dynamics else None, float(rho))
+                         tuple(dynamics) if line_dynamics else None, float(rho),
+                         tuple(lumped) if line_statics == "lumped" else None)
 
 
 def mooring_from_map(mp, *, water_density: float, gravity: float, water_depth: float) -> MooringSystem:

@@ -53,8 +53,8 @@ from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
-           "HYDRO_CHANNELS", "RADIATION_MODELS", "SEA_INPUTS", "SEA_INPUT_UNITS", "sea_input_unit", "ELEVATION_AHEAD",
-           "platform_dofs", "deck_radiation"]
+           "HYDRO_CHANNELS", "RADIATION_MODELS", "MOORING_STATICS", "DEFAULT_MOORING_STATICS", "SEA_INPUTS",
+           "SEA_INPUT_UNITS", "sea_input_unit", "ELEVATION_AHEAD", "platform_dofs", "deck_radiation"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -81,6 +81,10 @@ def sea_input_unit(name: str) -> str:
 ELEVATION_AHEAD = "WaveElevAhead"
 #: How :func:`floating_platform` models the radiation memory.
 RADIATION_MODELS = ("fit", "ss", "none")
+#: How the fairlead forces of MoorDyn's lines are found (:func:`floating_platform`).
+MOORING_STATICS = ("lumped", "continuous")
+#: The default for MoorDyn decks: the deck's ``NumSegs`` lumped masses at rest, as OpenFAST runs them.
+DEFAULT_MOORING_STATICS = "lumped"
 
 
 def platform_dofs(coordinates, turbine) -> tuple[list[int | None], list[float], np.ndarray]:
@@ -307,7 +311,8 @@ class FloatingPlatform:
                 f"buoyancy={buoyancy / 1e6:.2f} MN, {sea})")
 
 
-def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatform | None:
+def floating_platform(turbine, *, radiation: str | None = None,
+                      mooring_statics: str | None = None) -> FloatingPlatform | None:
     """The :class:`FloatingPlatform` of a deck's HydroDyn, SeaState and mooring files, or None without them.
 
     Parameters
@@ -321,6 +326,12 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
         docs/offshore.md §4), or none (a :class:`~mbsym.exceptions.ModelWarning` says so when the deck
         asks for radiation). None (default): what HydroDyn's ``RdtnMod`` asks for (:func:`deck_radiation`:
         0 none, 1 the convolution of the ``.1`` data, modelled by the fit, 2 the deck's ``.ss``).
+    mooring_statics : {"lumped", "continuous"} or None, keyword-only
+        The fairlead forces of MoorDyn's lines: ``"lumped"``, those of its ``NumSegs`` lumped masses at rest
+        (:class:`~.lumped_line.LumpedLine`: what OpenFAST computes for the deck as written; with few segments
+        the stiffness ripples as nodes lift off the seabed), or ``"continuous"``, the elastic catenaries (their
+        limit for many segments). None (default): :data:`DEFAULT_MOORING_STATICS` for MoorDyn, the catenaries
+        for MAP++ (its model); ``"lumped"`` on a MAP++ deck is refused.
 
     Raises
     ------
@@ -333,6 +344,9 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
     from ..deck.mapplusplus import read_map
     from ..deck.moordyn import read_moordyn
 
+    if mooring_statics is not None and mooring_statics not in MOORING_STATICS:
+        raise ParameterError(f"mooring_statics must be one of {list(MOORING_STATICS)} or None (the default); got "
+                             f"{mooring_statics!r}.")
     if radiation is not None and radiation not in RADIATION_MODELS:
         raise ParameterError(f"radiation must be one of {list(RADIATION_MODELS)} or None (the deck's RdtnMod); "
                              f"got {radiation!r}.")
@@ -371,8 +385,13 @@ def floating_platform(turbine, *, radiation: str | None = None) -> FloatingPlatf
 
             sea = read_seastate(Path(files["seastate"])).resolved(rho, float(sim.water_depth))
         mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=sea["water_density"],
-                                       gravity=g, water_depth=sea["water_depth"])
+                                       gravity=g, water_depth=sea["water_depth"],
+                                       line_statics=mooring_statics or DEFAULT_MOORING_STATICS)
     elif mooring_model == 1:
+        if mooring_statics == "lumped":
+            raise UnsupportedFeatureError(f"{where}: mooring_statics='lumped' is MoorDyn's segmented line; the deck's "
+                                          "MAP++ lines are continuous catenaries. Drop the option or use a MoorDyn "
+                                          "deck (CompMooring = 3).")
         mooring = mooring_from_map(read_map(Path(files["mooring"])), water_density=rho, gravity=g,
                                    water_depth=float(sim.water_depth))
     return FloatingPlatform(hydro, mooring, _radiation(hydro, radiation, files["hydrodyn"]))

@@ -85,6 +85,9 @@ class OperatingDeck:
     radiation : {"fit", "ss", "none"} or None
         The radiation memory of a floating deck (:func:`mbsym.wind.offshore.floating_platform`); None: what
         its HydroDyn ``RdtnMod`` asks for (0 none, 1 mbsym's fit of the convolution's data, 2 the ``.ss``).
+    mooring_statics : {"lumped", "continuous"} or None
+        The fairlead forces of a MoorDyn deck's lines (:func:`mbsym.wind.offshore.floating_platform`): its
+        ``NumSegs`` lumped masses at rest or the continuous catenaries; None: the default there.
     cut_out_wind_speed : float or None
         The turbine's cut-out wind speed [m/s] (:mod:`.cut_out`); None when unknown (an OpenFAST deck states none).
     cut_out_source : str
@@ -113,6 +116,7 @@ class OperatingDeck:
     path: Path | None = None
     aerodyn: object | None = None
     radiation: str | None = None
+    mooring_statics: str | None = None
     cut_out_wind_speed: float | None = None
     cut_out_source: str = ""
     exported_input: bool = False
@@ -138,7 +142,8 @@ class OperatingDeck:
             elif self.floating:
                 from ..offshore.operating import floating_platform
 
-                platform = floating_platform(self.turbine, radiation=self.radiation)
+                platform = floating_platform(self.turbine, radiation=self.radiation,
+                                             mooring_statics=self.mooring_statics)
             object.__setattr__(self, "_platform", platform)
         return self.__dict__["_platform"]
 

@@ -21,6 +21,7 @@ import pytest
 from .conftest import floating_case_copy
 
 REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_blade" / "fl_steady_13_blade_ref.json"
+RELAXED = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_surge" / "fl_steady_13_relaxed_lines.csv"
 TOWER_REF = Path(__file__).resolve().parents[2] / "data" / "openfast_floating_tower" / "fl_steady_13_tower_ref.json"
 _OFF = (("TwrPotent", "0"), ("TwrShadow", "0"), ("TwrAero", "False"), ("UA_Mod", "0"))
 
@@ -95,7 +96,14 @@ def test_the_shared_floating_deck_as_written_tracks_openfast(tmp_path):
     1.402 to 1.631 MN m in OpenFAST; mbsym has 1.628 (1.400 with ``UA_Mod`` 0: the 1 % bound catches a run
     without UA). Means over 500-600 s within 0.15 % (measured 0.00-0.04 % since the curved blade's θ and
     pitching-moment axis, docs/blade_aero.md §2; before them TTDspFA +0.35 % and platform pitch +0.22 %: the bound
-    catches either)."""
+    catches either; −0.01 to +0.11 % with the lumped MoorDyn lines, the surge oscillation's phase moved).
+
+    The series after 100 s against OpenFAST v5.0.0 run on the same deck with MoorDyn's initial relaxation taken
+    to ``threshIC`` 1e-5 (``TmaxIC`` 300 s; tests/data/openfast_floating_surge/README.md): ε ≤ 3 % on the issue's
+    PtfmSurge, PtfmPitch, RotSpeed, GenPwr (observed 0.7, 1.1, 1.4, 1.4 %; with the continuous catenaries, whose
+    surge period is 1.2 % longer than the 50-segment lines', 6.1, 2.3, 1.9, 1.9 %). The fairlead tensions carry
+    MoorDyn's line dynamics (fluctuations faster than 10 s, std 2 kN, which quasi-static lines lack):
+    FAIRTEN1-3 within 5, 9 and 13 % (observed 4.2, 7.5, 11.6 % of ranges of 63, 23 and 15 kN)."""
     from mbsym.cli import main
     from mbsym.wind.analysis.compare import read_csv
 
@@ -115,3 +123,13 @@ def test_the_shared_floating_deck_as_written_tracks_openfast(tmp_path):
     for name in ("PtfmSurge", "PtfmHeave", "PtfmPitch", "RotSpeed", "BldPitch1", "FAIRTEN1", "TTDspFA", "TwrBsMyt"):
         mine, theirs = np.asarray(ours.channel(name))[t >= 500].mean(), np.asarray(ref.channel(name))[tr >= 500].mean()
         assert abs(mine / theirs - 1.0) < 0.0015, (name, mine, theirs)
+    # The series against OpenFAST with MoorDyn's lines relaxed to threshIC 1e-5 (the shared run's start leaves them
+    # swinging, which sets the phase of the growing 107 s surge oscillation: tests/data/openfast_floating_surge)
+    relaxed = read_csv(RELAXED)
+    trr = np.asarray(relaxed.time)
+    for name, bound in (("PtfmSurge", 0.03), ("PtfmPitch", 0.03), ("RotSpeed", 0.03), ("GenPwr", 0.03),
+                        ("FAIRTEN1", 0.05), ("FAIRTEN2", 0.09), ("FAIRTEN3", 0.13)):
+        theirs = np.asarray(relaxed.channel(name))[trr >= 100]
+        mine = np.interp(trr[trr >= 100], t, np.asarray(ours.channel(name)))
+        eps = np.mean(np.abs(mine - theirs)) / np.ptp(theirs)
+        assert eps < bound, (name, eps)
