@@ -22,6 +22,7 @@ lines' drag and inertia on their quasi-static shape (:mod:`.line_dynamics`). See
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 
@@ -35,7 +36,7 @@ from .catenary import CatenaryLine, wet_weight
 from .line_dynamics import LineHydrodynamics, fairlead_terms
 from .lumped_line import LumpedLine
 
-__all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map"]
+__all__ = ["MooringSystem", "mooring_from_moordyn", "mooring_from_map", "LumpedStaticsError", "lumped_steps"]
 
 
 #: The fairlead excursions over which :func:`newton_steps` checks convergence, as fractions of the fairlead's
@@ -84,6 +85,24 @@ def newton_steps(line: CatenaryLine, span: float, height: float, *, margin: int 
     int
         The most steps any grid point (19 spans × 7 heights) needed to reach :data:`NEWTON_TOLERANCE`, plus ``margin``.
     """
+    lh, guess, exact, keep = _envelope(line, span, height, limit)
+    step = _step(line).map(lh.shape[1])
+    hv, done = guess, np.zeros(lh.shape[1], dtype=int) - 1
+    for n in range(limit + 1):
+        ok = np.all(np.abs(hv - exact) <= NEWTON_TOLERANCE * np.abs(exact).max(axis=0), axis=0)
+        done[(done < 0) & ok] = n
+        if np.all(done[keep] >= 0):
+            return int(done[keep].max()) + int(margin)
+        hv = np.array(step(hv, lh), dtype=float)
+    k = int(np.flatnonzero(keep & (done < 0))[0])
+    raise UnsupportedFeatureError(f"the catenary line (L = {line.length} m) does not converge in {limit} Newton steps "
+                                  f"at span {lh[0, k]:.1f} m, height {lh[1, k]:.1f} m; check its length, weight and "
+                                  "stiffness in the mooring file.")
+
+
+def _envelope(line: CatenaryLine, span: float, height: float, limit: int):
+    """The fairlead spans of :data:`NEWTON_ENVELOPE` (2 × 134, the undisplaced point first), MAP++'s guess and the
+    converged catenary forces there (2 × 134 each), and which points count (not near-taut)."""
     dl, dh = np.meshgrid(np.linspace(-1.0, 1.0, 19) * NEWTON_ENVELOPE[0] * height,
                          np.linspace(-1.0, 1.0, 7) * NEWTON_ENVELOPE[1] * height)
     lh = np.vstack([span + dl.ravel(), height + dh.ravel()])
@@ -96,18 +115,37 @@ def newton_steps(line: CatenaryLine, span: float, height: float, *, margin: int 
     for _ in range(limit):
         exact = np.array(step(exact, lh), dtype=float)
     size = np.hypot(*exact)
-    keep = np.all(np.isfinite(exact), axis=0) & (size <= 20 * size[0])
-    hv, done = guess, np.zeros(lh.shape[1], dtype=int) - 1
-    for n in range(limit + 1):
-        ok = np.all(np.abs(hv - exact) <= NEWTON_TOLERANCE * np.abs(exact).max(axis=0), axis=0)
-        done[(done < 0) & ok] = n
-        if np.all(done[keep] >= 0):
-            return int(done[keep].max()) + int(margin)
-        hv = np.array(step(hv, lh), dtype=float)
-    k = int(np.flatnonzero(keep & (done < 0))[0])
-    raise UnsupportedFeatureError(f"the catenary line (L = {line.length} m) does not converge in {limit} Newton steps "
-                                  f"at span {lh[0, k]:.1f} m, height {lh[1, k]:.1f} m; check its length, weight and "
-                                  "stiffness in the mooring file.")
+    return lh, guess, exact, np.all(np.isfinite(exact), axis=0) & (size <= 20 * size[0])
+
+
+class LumpedStaticsError(UnsupportedFeatureError):
+    """MoorDyn's lumped line at rest does not converge over the fairlead's envelope (too few segments for the
+    line's geometry): :func:`lumped_steps`."""
+
+
+def lumped_steps(lumped: LumpedLine, span: float, height: float, *, limit: int = 30) -> int:
+    """The Newton steps (from the catenary's forces) that converge ``lumped`` to :data:`NEWTON_TOLERANCE` over
+    :data:`NEWTON_ENVELOPE` (4 for the VolturnUS-S's 50-segment lines; no margin: each step squares the error).
+
+    Raises
+    ------
+    LumpedStaticsError
+        A point of the envelope that does not converge in ``limit`` steps (measured: NumSegs 30 and more converge
+        for the VolturnUS-S line, in 5 steps; 10 and 20 do not).
+    """
+    lh, _, smooth, keep = _envelope(lumped.catenary, span, height, 60)
+    lh, smooth = lh[:, keep], smooth[:, keep]
+    one = LumpedLine(lumped.catenary, lumped.segments, lumped.penetration, steps=1).function().map(lh.shape[1])
+    iterates = [smooth]
+    for _ in range(2 * limit):                   # the last as the converged forces: twice the steps allowed
+        iterates.append(np.vstack([np.array(v, dtype=float) for v in one(lh[0], lh[1], *iterates[-1])]))
+    exact = iterates[-1]
+    for n, hv in enumerate(iterates[:limit + 1]):
+        if np.all(np.abs(hv - exact) <= NEWTON_TOLERANCE * np.abs(exact).max(axis=0)):
+            return max(n, 1)
+    raise LumpedStaticsError(f"MoorDyn's {lumped.segments}-segment line (L = {lumped.catenary.length} m) at rest "
+                                  f"does not converge in {limit} Newton steps over the fairlead's envelope; use "
+                                  "mooring_statics='continuous' or check the line in the mooring file.")
 
 
 @dataclass(frozen=True, eq=False)
@@ -347,7 +385,12 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
         fairs.append(md.fairlead(ident).position)
         dynamics.append(LineHydrodynamics.from_moordyn(kind, entry.n_segments if line_segments is None
                                                        else line_segments))
-        lumped.append(LumpedLine(lines[-1], int(entry.n_segments), lines[-1].weight / (kbot * kind.diameter)))
+        if line_statics == "lumped":
+            at_rest = LumpedLine(lines[-1], int(entry.n_segments), lines[-1].weight / (kbot * kind.diameter))
+            fair = np.array(fairs[-1], dtype=float)
+            steps = lumped_steps(at_rest, float(np.hypot(*(np.array(anchors[-1][:2], dtype=float) - fair[:2]))),
+                                 float(fair[2] - anchors[-1][2]))
+            lumped.append(dataclasses.replace(at_rest, steps=steps))
     more = "".join(f"; {note}" for note in notes)
     if line_statics == "lumped":
         statics, seabed = ("at rest the lines are MoorDyn's NumSegs lumped masses on its seabed springs kBot "

@@ -330,8 +330,9 @@ def floating_platform(turbine, *, radiation: str | None = None,
         The fairlead forces of MoorDyn's lines: ``"lumped"``, those of its ``NumSegs`` lumped masses at rest
         (:class:`~.lumped_line.LumpedLine`: what OpenFAST computes for the deck as written; with few segments
         the stiffness ripples as nodes lift off the seabed), or ``"continuous"``, the elastic catenaries (their
-        limit for many segments). None (default): :data:`DEFAULT_MOORING_STATICS` for MoorDyn, the catenaries
-        for MAP++ (its model); ``"lumped"`` on a MAP++ deck is refused.
+        limit for many segments). None (default): :data:`DEFAULT_MOORING_STATICS` for MoorDyn (where its lumped
+        lines do not converge at rest, too few segments for the line, the catenaries with a ModelWarning), the
+        catenaries for MAP++ (its model); ``"lumped"`` on a MAP++ deck is refused.
 
     Raises
     ------
@@ -384,9 +385,7 @@ def floating_platform(turbine, *, radiation: str | None = None,
             from ..deck.seastate import read_seastate
 
             sea = read_seastate(Path(files["seastate"])).resolved(rho, float(sim.water_depth))
-        mooring = mooring_from_moordyn(read_moordyn(Path(files["mooring"])), water_density=sea["water_density"],
-                                       gravity=g, water_depth=sea["water_depth"],
-                                       line_statics=mooring_statics or DEFAULT_MOORING_STATICS)
+        mooring = _moordyn_mooring(read_moordyn(Path(files["mooring"])), sea, g, mooring_statics)
     elif mooring_model == 1:
         if mooring_statics == "lumped":
             raise UnsupportedFeatureError(f"{where}: mooring_statics='lumped' is MoorDyn's segmented line; the deck's "
@@ -395,6 +394,22 @@ def floating_platform(turbine, *, radiation: str | None = None,
         mooring = mooring_from_map(read_map(Path(files["mooring"])), water_density=rho, gravity=g,
                                    water_depth=float(sim.water_depth))
     return FloatingPlatform(hydro, mooring, _radiation(hydro, radiation, files["hydrodyn"]))
+
+
+def _moordyn_mooring(md, sea: dict, gravity: float, statics: str | None):
+    """A MoorDyn deck's lines with ``statics`` (None: :data:`DEFAULT_MOORING_STATICS`; where the default's lumped
+    lines do not converge, too few segments, the continuous catenaries with a ModelWarning saying so)."""
+    from .mooring import LumpedStaticsError
+
+    args = {"water_density": sea["water_density"], "gravity": gravity, "water_depth": sea["water_depth"]}
+    try:
+        return mooring_from_moordyn(md, line_statics=statics or DEFAULT_MOORING_STATICS, **args)
+    except LumpedStaticsError as err:
+        if statics is not None:
+            raise
+        warnings.warn(f"{err} The continuous catenaries are used (mooring_statics='continuous'): the limit of many "
+                      "segments, without the segmented line's stiffness ripple.", ModelWarning, stacklevel=3)
+        return mooring_from_moordyn(md, line_statics="continuous", **args)
 
 
 def deck_radiation(hydrodyn_file) -> str:

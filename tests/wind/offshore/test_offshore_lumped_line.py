@@ -139,6 +139,7 @@ def test_moordyn_system_with_lumped_lines():
         with pytest.raises(OptionError, match="line_statics"):
             mooring_from_moordyn(md, water_density=1025.0, gravity=9.80665, water_depth=200.0, line_statics="fine")
     assert [ln.segments for ln in lumped.lumped] == [50, 50, 50] and smooth.lumped is None
+    assert [ln.steps for ln in lumped.lumped] == [4, 4, 4]          # mooring.lumped_steps over the envelope
     q = np.array([16.5, 0.0, -0.44, 0.0, math.radians(2.87), 0.0])     # the 13 m/s operating offset
     assert np.allclose(lumped.load(q)[:3], smooth.load(q)[:3], rtol=0, atol=3e-3 * abs(smooth.load(q)[0]))
     assert np.allclose(lumped.load(q, method="rootfinder"), lumped.load(q), rtol=1e-9, atol=1e-3)
@@ -146,3 +147,34 @@ def test_moordyn_system_with_lumped_lines():
     assert 1.01 < k_lumped / k_smooth < 1.06          # a node lifting off near this offset: +2.8 % observed
     with_drag = lumped.with_dynamics(lumped.dynamics, 1025.0)
     assert with_drag.lumped == lumped.lumped
+
+
+@pytest.mark.skipif(not SEMI.is_dir(), reason="shared floating decks not found")
+def test_too_few_segments_fall_back_to_the_catenaries_with_a_warning(tmp_path):
+    """NumSegs 10 on the VolturnUS-S line: the lumped lines at rest do not converge over the fairlead's envelope
+    (30 segments and more do, in 5 steps): asked for, refused; by default, the catenaries with a ModelWarning."""
+    import shutil
+
+    from mbsym.exceptions import ModelWarning
+    from mbsym.wind import read_openfast
+    from mbsym.wind.offshore import floating_platform
+    from mbsym.wind.offshore.mooring import LumpedStaticsError
+
+    from .conftest import FLOATING
+
+    for name in ("IEA-15-240-RWT", "IEA-15-240-RWT-UMaineSemi", "cases"):
+        shutil.copytree(FLOATING / name, tmp_path / name)
+    moordyn = tmp_path / "IEA-15-240-RWT-UMaineSemi" / "IEA-15-240-RWT-UMaineSemi_MoorDyn.dat"
+    text = moordyn.read_text()
+    assert text.count("850.00      50 ") == 3
+    moordyn.write_text(text.replace("850.00      50 ", "850.00      10 "))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        turbine = read_openfast(tmp_path / "cases" / "fl_decay_a" / "fl_decay_a.fst")
+    with pytest.warns(ModelWarning, match="continuous catenaries are used"):
+        platform = floating_platform(turbine, radiation="none")
+    assert platform.mooring.lumped is None
+    with pytest.raises(LumpedStaticsError, match="10-segment line .* does not converge"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            floating_platform(turbine, radiation="none", mooring_statics="lumped")
