@@ -144,8 +144,8 @@ def lumped_steps(lumped: LumpedLine, span: float, height: float, *, limit: int =
         if np.all(np.abs(hv - exact) <= NEWTON_TOLERANCE * np.abs(exact).max(axis=0)):
             return max(n, 1)
     raise LumpedStaticsError(f"MoorDyn's {lumped.segments}-segment line (L = {lumped.catenary.length} m) at rest "
-                                  f"does not converge in {limit} Newton steps over the fairlead's envelope; use "
-                                  "mooring_statics='continuous' or check the line in the mooring file.")
+                             f"does not converge in {limit} Newton steps over the fairlead's envelope; use "
+                             "mooring_statics='continuous' or check the line in the mooring file.")
 
 
 @dataclass(frozen=True, eq=False)
@@ -328,11 +328,13 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
     ------
     OptionError
         ``line_segments`` not a positive integer or None, or given other than the default with
-        ``line_dynamics=False`` (where it would do nothing).
+        ``line_dynamics=False`` (where it would do nothing); ``line_statics`` not one of the two.
     UnsupportedFeatureError
         What :func:`~mbsym.wind.deck.moordyn_audit.moordyn_option_problems` refuses (water kinematics,
         seabed friction, a bathymetry file, anchors off the seabed, visco-elastic EA, VIV, vessel points
         with mass, volume or drag), naming file, line and key.
+    LumpedStaticsError
+        With ``line_statics="lumped"``: a line whose segments at rest do not converge (:func:`lumped_steps`).
 
     Warns
     -----
