@@ -18,10 +18,13 @@ off, docs/offshore.md §7) it also gives ε and R² of every channel after ``--s
 (``mbsym.wind.analysis.compare.error_metrics``) and the means over the last 100 s; ``--summary FILE.json``
 writes those numbers. ``--mooring-statics`` chooses MoorDyn's lines at rest: the deck's ``NumSegs`` lumped masses
 (``lumped``, the default of a MoorDyn deck, docs/offshore.md §3b), the continuous catenaries, or ``both``, built and
-timed one after the other in this run (the table of integration times gives the ratio to the continuous lines).
+timed one after the other in this run (the table of integration times gives the ratio to the first).
+``--mooring-lines`` chooses quasi-static lines (the default here) or MoorDyn's lines in motion (``dynamic``, the CLI's
+default for the deck: docs/offshore.md §3c), or ``both``.
 
     python benchmarks/floating_operation.py [--tmax 600] [--fst DECK.fst] [--openfast RUN.out]
         [--reference RUN.csv] [--settle 100] [--summary OUT.json] [--mooring-statics lumped|continuous|both]
+        [--mooring-lines quasi-static|dynamic|both]
 """
 
 from __future__ import annotations
@@ -93,9 +96,10 @@ def _series_metrics(t: np.ndarray, y: dict[str, np.ndarray], path: Path, settle:
     return rows
 
 
-def _build_and_run(args, statics: str) -> dict:
-    """Build the deck's rotor-effective floating model with MoorDyn's lines at rest as ``statics``, trim it at 13 m/s
-    and run it (first run and ``--repeat`` timed runs); the best integration wall time [s]."""
+def _build_and_run(args, statics: str, lines: str = "quasi-static") -> dict:
+    """Build the deck's rotor-effective floating model with MoorDyn's lines at rest as ``statics`` and moving as
+    ``lines``, trim it at 13 m/s and run it (first run and ``--repeat`` timed runs); the best integration wall time
+    [s]."""
     from mbsym.wind.control import BaselineController
     from mbsym.wind.operation import SteadyControl, trim
     from mbsym.wind.operation.controllers import baseline_in_loop
@@ -105,11 +109,12 @@ def _build_and_run(args, statics: str) -> dict:
     t0, c0 = time.perf_counter(), _cpu()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        deck = dataclasses.replace(operating_deck(args.fst), radiation="fit", mooring_statics=statics)
+        deck = dataclasses.replace(operating_deck(args.fst), radiation="fit", mooring_statics=statics,
+                                   mooring_lines=lines)
         model = deck.model(aero="rotor")
         dyn = model.dynamics()
     build = time.perf_counter() - t0, _cpu() - c0
-    print(f"[{statics}] model: {len(dyn.states)} states ({model.platform.n_radiation} radiation), build "
+    print(f"[{statics}, {lines}] model: {len(dyn.states)} states ({model.platform.n_radiation} radiation), build "
           f"{build[0]:.1f} s wall, {build[1]:.1f} s CPU")
 
     t0 = time.perf_counter()
@@ -150,21 +155,27 @@ def main() -> None:
     ap.add_argument("--mooring-statics", choices=("lumped", "continuous", "both"), default="lumped",
                     help="MoorDyn's lines at rest: the deck's NumSegs lumped masses (the default), the continuous "
                          "catenaries, or both timed in one run (the first for the tables; ratio to continuous)")
+    ap.add_argument("--mooring-lines", choices=("quasi-static", "dynamic", "both"), default="quasi-static",
+                    help="MoorDyn's lines quasi-static (default here), in motion (MoorDyn's lumped masses, the CLI's "
+                         "default for the deck), or both timed in one run (ratio to quasi-static)")
     args = ap.parse_args()
     if args.reference and not Path(args.reference).is_file():
         ap.error(f"--reference {args.reference}: no such file (expected an OpenFAST run as CSV)")
 
     timings = {}
+    both_lines = ("quasi-static", "dynamic") if args.mooring_lines == "both" else (args.mooring_lines,)
     for statics in (("lumped", "continuous") if args.mooring_statics == "both" else (args.mooring_statics,)):
-        run = _build_and_run(args, statics)
-        timings[statics] = run["integration_s"]
-        if len(timings) == 1:
-            point, result = run["point"], run["result"]
+        for lines in both_lines:
+            run = _build_and_run(args, statics, lines)
+            timings[statics, lines] = run["integration_s"]
+            if len(timings) == 1:
+                point, result = run["point"], run["result"]
     if len(timings) > 1:
-        print("\n| mooring statics | integration [s] (best) | real-time factor | ratio to continuous |")
-        print("|---|---|---|---|")
-        for statics, integ in timings.items():
-            print(f"| {statics} | {integ:.2f} | {args.tmax / integ:.0f}x | {integ / timings['continuous']:.2f} |")
+        base = next(iter(timings.values()))
+        print("\n| mooring statics | mooring lines | integration [s] (best) | real-time factor | ratio to the first |")
+        print("|---|---|---|---|---|")
+        for (statics, lines), integ in timings.items():
+            print(f"| {statics} | {lines} | {integ:.2f} | {args.tmax / integ:.0f}x | {integ / base:.2f} |")
 
     t = np.asarray(result.t)
     y = dict(zip(result.output_names, np.asarray(result.y).T))

@@ -83,6 +83,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="baseline (ours, compiled into the loop), discon (a DISCON library), nmpc (the turbine "
                         "NMPC), none (held commands); default: the deck's DISCON library, baseline without a deck")
     p.add_argument("--discon", metavar="LIB.so", help="DISCON library (default: the deck's ServoDyn DLL_FileName)")
+    from .mooring_lines import add_argument as add_mooring_argument
+
+    add_mooring_argument(p)             # --mooring-lines (cli/mooring_lines.py)
     p.add_argument("--discon-input", metavar="DISCON.IN",
                    help="controller input file (default: the deck's ServoDyn DLL_InFile; the baseline reads it too)")
     from .operate_mpc import add_arguments as add_mpc_arguments
@@ -273,9 +276,11 @@ _BUILTIN: dict = {}
 
 def _deck(args):
     from ..wind.operation.deck import builtin_deck, operating_deck
+    from .mooring_lines import with_mooring_lines
 
     if args.deck is not None:
-        return operating_deck(args.deck)
+        return with_mooring_lines(operating_deck(args.deck), getattr(args, "mooring_lines", None))
+    with_mooring_lines(None, getattr(args, "mooring_lines", None))       # refused without a deck
     if "deck" not in _BUILTIN:
         deck = builtin_deck()
         model = deck.model()
@@ -543,6 +548,10 @@ def _header(deck, model, kind, controller, wind_label, tmax, options) -> None:
     print(f"mbsym simulate: {deck.label} operating in {wind_label}")
     print(f"DOFs: {dofs}; rotor {rotor}, {inflow}; controller {ctrl}")
     print(f"{tmax:g} s, {how}", flush=True)
+    from .mooring_lines import header_line
+
+    if header_line(model):
+        print(header_line(model), flush=True)
     if model.aero == "blade" and controller is not None and not controller.is_function:
         print(f"note: the DISCON library is called from Python at every sample, so the blade-element aerodynamics "
               f"are evaluated every sample and held over it (the deck's InterpOrder "

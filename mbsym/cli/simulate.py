@@ -100,6 +100,12 @@ def run(args: argparse.Namespace) -> int:
 
     if wants_operation(args):       # wind, aerodynamics, actuators, controller (cli/operate.py)
         return run_operation(args)
+    if getattr(args, "mooring_lines", None) == "dynamic":
+        from ..exceptions import OptionError
+
+        raise OptionError("--mooring-lines dynamic runs MoorDyn's lines beside the operating turbine (a deck with "
+                          "AeroDyn, or --wind); this run is the structure alone, whose lines are quasi-static. Drop "
+                          "the flag, or run the operating turbine.")
     options = _integration_options(args)
     ref, outputs = check_files(args)        # fail before any expensive work
     model, label = _model(args.deck, structure_only=args.structure_only)

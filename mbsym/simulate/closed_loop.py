@@ -112,7 +112,7 @@ def run_closed_loop(bc: BoundController, plant, x0, p, signal, times, tmax, *, a
     stats.update(selection=reason, selection_wall_s=select_s, compile_choice=compile_reason,
                  controller_samples=res.samples, substeps=m, dt=res.h)
     stats["prepare_wall_s"] = stats.get("prepare_wall_s", 0.0) + select_s
-    return res.x, stats, Extra(res.u, res.xc, c.state_names, tuple(getattr(c, "state_units", ("",) * c.n_xc)), res.y)
+    return res.x, stats, Extra(res.u, res.xc, c.state_names, tuple(getattr(c, "state_units", ("",) * c.n_shown)), res.y)
 
 
 def _reset(c) -> None:
@@ -222,7 +222,7 @@ class _ClosedLoop:
             else:
                 Xs, K1, k_end = self._substeps(x, Uh, p, h, m, held_z if shared else None, self.end_derivative)
                 z_next = ca.vertcat(Xs[:, -1], xc1, ua)
-            aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1, ua)
+            aux = ca.vertcat(ca.vec(Xs), ca.vec(K1), k_end, xc1[:bc.ctrl.n_shown], ua)   # hidden states not recorded
             if outputs:   # the outputs at the sample start, from the held part already evaluated, where h[1] asks
                 aux = ca.vertcat(aux, _outputs_when(plant)(x, Uh[:, 0], p, held_z, hf[1]))
             # dense: a structural zero (a law whose command is a constant 0) is not written by a buffered call
@@ -380,7 +380,7 @@ class _ClosedLoop:
         return self.signal(t.reshape(-1)).T
 
     def _run_function(self, body: ca.Function, times, m, monitor) -> _Run:
-        n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_xc
+        n_x, n_xc = self.plant.n_x, self.bc.ctrl.n_shown
         z = self.initial_carry(m)
         collector = _Collector(self, times, m)
         K, k0, per, wall, cpu = self.samples, 0, 0.0, 0.0, 0.0
@@ -430,7 +430,7 @@ class _ClosedLoop:
                 start, length = self._sample_grid(k0, k0 + L)
                 U_all = self._exogenous(start, length, m)            # (n_u, 3 m L)
                 Xs, K1 = np.empty((n_x, m, L)), np.empty((n_x, m, L))
-                KE, XC, UA = np.empty((n_x, L)), np.empty((c.n_xc, L)), np.empty((act.size, L))
+                KE, XC, UA = np.empty((n_x, L)), np.empty((c.n_shown, L)), np.empty((act.size, L))
                 x_start = x.copy()
                 t1 = time.perf_counter()
                 for j in range(L):
@@ -443,7 +443,7 @@ class _ClosedLoop:
                     Zn, K = step(x, U, float(length[j]) / m)
                     Xs[:, :, j], K1[:, :, j] = Zn, K
                     KE[:, j] = rhs(Zn[:, -1], U[:, -1])
-                    XC[:, j], UA[:, j] = xc, ua
+                    XC[:, j], UA[:, j] = xc[:c.n_shown], ua
                     x = Zn[:, -1].copy()
                 wall += time.perf_counter() - t1
                 collector.add(k0, x_start, Xs, K1, KE, XC, UA, start, length)
@@ -517,7 +517,7 @@ class _Collector:
         n_x, c = loop.plant.n_x, loop.bc.ctrl
         self.x = np.empty((times.size, n_x))
         self.u = np.empty((times.size, loop.plant.n_u))
-        self.xc = np.empty((times.size, c.n_xc))
+        self.xc = np.empty((times.size, c.n_shown))
         self.done = 0
         self.steps = 0
         self.h = c.dt / m

@@ -70,6 +70,10 @@ class DiscreteController:
         Their units in the result (default "" each, shown as "-").
     name : str, optional, keyword-only
         Default ``"controller"``.
+    hidden_states : int, optional, keyword-only
+        How many of the last controller states are internal (default 0): carried from sample to sample but not
+        recorded in the result (a module with hundreds of states, e.g. moving mooring lines); ``state_names``
+        and ``state_units`` then name the others.
 
     Raises
     ------
@@ -97,7 +101,7 @@ class DiscreteController:
 
     def __init__(self, law: ca.Function | Callable, dt: float, x0: Sequence[float] | None = None, *,
                  measurements: Sequence[str], actuates: Sequence[str], state_names: Sequence[str] | None = None,
-                 state_units: Sequence[str] | None = None, name: str = "controller") -> None:
+                 state_units: Sequence[str] | None = None, name: str = "controller", hidden_states: int = 0) -> None:
         if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
                 or not math.isfinite(float(dt)) or float(dt) <= 0:
             raise SimulationOptionError(f"controller sample time dt must be a positive finite number [s]; got {dt!r}.")
@@ -118,17 +122,30 @@ class DiscreteController:
                             f"law(t, xc, y) -> (xc_next, u); got {type(law).__name__}.")
         self.law = law
         self.x0 = _vector(np.zeros(n_xc) if x0 is None else x0, n_xc, "x0")
-        names = [f"{self.name}.x{i}" for i in range(n_xc)] if state_names is None else list(state_names)
+        if isinstance(hidden_states, bool) or not isinstance(hidden_states, (int, np.integer)) \
+                or not 0 <= hidden_states <= n_xc:
+            raise DimensionError(f"hidden_states must be an integer from 0 to the {n_xc} controller states; got "
+                                 f"{hidden_states!r}.")
+        self.hidden_states = int(hidden_states)
+        shown = n_xc - self.hidden_states
+        names = [f"{self.name}.x{i}" for i in range(shown)] if state_names is None else list(state_names)
         self.state_names = _unique(names, "state_names")
-        if len(self.state_names) != n_xc:
-            raise DimensionError(f"state_names has {len(self.state_names)} names for {n_xc} controller states.")
-        self.state_units = tuple(str(u) for u in state_units) if state_units is not None else ("",) * n_xc
-        if len(self.state_units) != n_xc:
-            raise DimensionError(f"state_units has {len(self.state_units)} units for {n_xc} controller states.")
+        if len(self.state_names) != shown:
+            raise DimensionError(f"state_names has {len(self.state_names)} names for {shown} recorded controller "
+                                 "states.")
+        self.state_units = tuple(str(u) for u in state_units) if state_units is not None else ("",) * shown
+        if len(self.state_units) != shown:
+            raise DimensionError(f"state_units has {len(self.state_units)} units for {shown} recorded controller "
+                                 "states.")
 
     @property
     def n_xc(self) -> int:
         return self.x0.size
+
+    @property
+    def n_shown(self) -> int:
+        """The recorded controller states (all but the hidden ones)."""
+        return self.x0.size - self.hidden_states
 
     def _check_function(self, f: ca.Function, x0) -> int:
         if f.n_in() != 2 or f.n_out() != 2:

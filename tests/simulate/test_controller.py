@@ -211,3 +211,28 @@ def test_python_law_with_hidden_state_is_run_once():
                                                               actuates=["u"]))
     assert hidden.calls == 50 and "not run again" in a.statistics["check"]      # 5 s of 0.1 s samples, once
     np.testing.assert_allclose(a.x, b.x, rtol=0, atol=1e-12)
+
+
+def test_hidden_states_are_carried_but_not_recorded():
+    """A law with an extra state (here a copy of the integral, the second of two) hidden: the loop runs as with the
+    state shown (the same plant states and inputs), the result records only the first; the exact recurrence holds."""
+    I, y = ca.SX.sym("I", 2), ca.SX.sym("y")
+    e = REF - y
+    nxt = ca.vertcat(I[0] + T_S * e, I[1] + T_S * e)
+    law = ca.Function("PI2", [I, y], [nxt, KP * e + KI * nxt[1]])          # the command uses the hidden copy
+    kw = dict(measurements=["x"], actuates=["u"])
+    shown = DiscreteController(law, T_S, **kw, state_names=["I", "J"])
+    hidden = DiscreteController(law, T_S, **kw, state_names=["I"], hidden_states=1)
+    n = 30
+    grid = dict(method="rk4", dt=T_S / 50, t_out=np.arange(n + 1) * T_S)
+    r1 = simulate(first_order_plant(), n * T_S, controller=shown, **grid)
+    r2 = simulate(first_order_plant(), n * T_S, controller=hidden, **grid)
+    np.testing.assert_array_equal(r2.x, r1.x)
+    np.testing.assert_array_equal(r2.u, r1.u)
+    assert r2.output_names == ("y2", "I") and r1.output_names == ("y2", "I", "J")
+    x, _, _ = exact_pi(n)
+    np.testing.assert_allclose(r2.state("x"), x, atol=1e-9)
+    with pytest.raises(mb.DimensionError, match="hidden_states"):
+        DiscreteController(law, T_S, **kw, hidden_states=3)
+    with pytest.raises(mb.DimensionError, match="state_names has 2 names for 1"):
+        DiscreteController(law, T_S, **kw, state_names=["I", "J"], hidden_states=1)

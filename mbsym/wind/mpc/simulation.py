@@ -115,7 +115,12 @@ def simulate_with_loop(model, wind: Callable[[Any], Any], tmax: float, loop, *, 
             inputs.update(model.platform.sea_tables(tmax))
         if getattr(model, "structural_controls", None) is not None:    # ServoDyn's prescribed StC loads
             inputs.update(model.structural_controls.tables(tmax))
-        res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=loop.controller(), method="rk4", dt=loop.dt,
+        controller = loop.controller()
+        if model.platform is not None and getattr(model.platform, "moving_lines", None) is not None:
+            from ..operation.simulation import moving_lines_controller      # MoorDyn's lines beside the plant
+
+            controller = moving_lines_controller(model, dyn, controller, x0, compile)
+        res = simulate(meas, tmax, x0=x0, inputs=inputs, controller=controller, method="rk4", dt=loop.dt,
                        t_out=t_out, p=p, compile=compile, progress=progress)
         t0 = time.perf_counter()
         from ...simulate.model import evaluate_outputs

@@ -403,12 +403,14 @@ def mooring_from_moordyn(md, *, water_density: float, gravity: float, water_dept
         segments = "NumSegs" if line_segments is None else f"{line_segments} segments per line, not NumSegs"
         warnings.warn(f"{md.path}: {statics}MoorDyn's line dynamics are modelled on the quasi-static shape (line "
                       f"mass, added mass and drag of nodes that follow the catenary, {segments}); the line's own "
-                      f"motion (waves along it), internal damping and {seabed} are not{more}",
-                      ModelWarning, stacklevel=2)
+                      f"motion (waves along it), internal damping and {seabed} are not{more} "
+                      "(mooring_lines='dynamic' moves MoorDyn's lines: docs/offshore.md §3c)", ModelWarning,
+                      stacklevel=2)
     else:
         warnings.warn(f"{md.path}: {statics}MoorDyn's line dynamics (line mass and added mass, drag, internal "
-                      f"damping, {seabed}) are not modelled; the lines are quasi-static{more}",
-                      ModelWarning, stacklevel=2)
+                      f"damping, {seabed}) are not modelled; the lines are quasi-static{more} "
+                      "(mooring_lines='dynamic' moves MoorDyn's lines: docs/offshore.md §3c)", ModelWarning,
+                      stacklevel=2)
     return MooringSystem(tuple(lines), np.array(anchors), np.array(fairs),
                          tuple(dynamics) if line_dynamics else None, float(rho),
                          tuple(lumped) if line_statics == "lumped" else None)

@@ -48,13 +48,15 @@ from ._casadi import body_motion
 from .excitation import EXCITATION_CHANNELS
 from .strip_theory import WAVE_INERTIA_INPUTS, WAVE_INERTIA_UNITS
 from .wave_kinematics import flow_input_names
+from .lumped_dynamics import DynamicMooring, dynamic_mooring_from_moordyn, fairlead_node_mass
 from .mooring import MooringSystem, mooring_from_map, mooring_from_moordyn
 from .platform import PlatformHydrodynamics, platform_hydrodynamics
 from .radiation import RadiationStateSpace
 
 __all__ = ["FloatingPlatform", "floating_platform", "PLATFORM_COORDINATES", "PLATFORM_INPUTS",
            "HYDRO_CHANNELS", "RADIATION_MODELS", "MOORING_STATICS", "DEFAULT_MOORING_STATICS", "SEA_INPUTS",
-           "SEA_INPUT_UNITS", "sea_input_unit", "ELEVATION_AHEAD", "platform_dofs", "deck_radiation"]
+           "SEA_INPUT_UNITS", "sea_input_unit", "ELEVATION_AHEAD", "platform_dofs", "deck_radiation",
+           "MOORING_LINES", "MOVING_LINE_INPUTS"]
 
 #: The structure's platform coordinates, in the order of the loads (surge, sway, heave, roll, pitch, yaw).
 PLATFORM_COORDINATES = ("Sg", "Sw", "Hv", "R", "P", "Y")
@@ -72,6 +74,8 @@ def sea_input_unit(name: str) -> str:
     """The unit of a sea input (:data:`SEA_INPUT_UNITS`; ``m/s`` for the waves' velocity at a Morison point), or ""."""
     if name in SEA_INPUT_UNITS:
         return SEA_INPUT_UNITS[name]
+    if name in MOVING_LINE_INPUTS or name.startswith("MoorDTen"):
+        return "N m" if name[5] == "M" else "N"
     if name in WAVE_INERTIA_UNITS:
         return WAVE_INERTIA_UNITS[name]
     return "m/s" if re.fullmatch(r"MorisonU\d+[xyz]i", name) else ""
@@ -85,6 +89,10 @@ RADIATION_MODELS = ("fit", "ss", "none")
 MOORING_STATICS = ("lumped", "continuous")
 #: The default for MoorDyn decks: the deck's ``NumSegs`` lumped masses at rest, as OpenFAST runs them.
 DEFAULT_MOORING_STATICS = "lumped"
+#: How MoorDyn's lines move (:func:`floating_platform`): quasi-static shapes, or their nodes in motion.
+MOORING_LINES = ("quasi-static", "dynamic")
+#: The inputs that carry the moving lines' dynamic load (less the quasi-static one) [N, N m].
+MOVING_LINE_INPUTS = ("MoorDFxi", "MoorDFyi", "MoorDFzi", "MoorDMxi", "MoorDMyi", "MoorDMzi")
 
 
 def platform_dofs(coordinates, turbine) -> tuple[list[int | None], list[float], np.ndarray]:
@@ -136,6 +144,11 @@ class FloatingPlatform:
     mooring_steps : int or None
         Newton steps of the catenary solution in SX; None (default): as many as the lines need over a wide
         envelope (:meth:`~.mooring.MooringSystem.newton_steps`: 10 for the VolturnUS-S, converged to 1e-12).
+    moving_lines : DynamicMooring or None
+        MoorDyn's lines in motion (:mod:`.lumped_dynamics`), run beside the model in a simulation
+        (:mod:`.lines_in_loop`); the model then has the inputs :meth:`mooring_inputs`, the lines' dynamic part
+        (their load and tensions less the quasi-static ones of ``mooring``, which has no drag or inertia of its
+        own then), zero at rest: trims and linear models are the quasi-static lines'. None (default): quasi-static.
 
     Examples
     --------
@@ -147,6 +160,7 @@ class FloatingPlatform:
     mooring: MooringSystem | None = None
     radiation: RadiationStateSpace | None = None
     mooring_steps: int | None = None
+    moving_lines: DynamicMooring | None = None
 
     coordinates = PLATFORM_COORDINATES
     inputs = PLATFORM_INPUTS
@@ -173,7 +187,16 @@ class FloatingPlatform:
         flow = getattr(self.hydro, "flow", None)
         return SEA_INPUTS + ((ELEVATION_AHEAD,) if self.excitation_fit is not None else ()) + \
             (flow_input_names(flow.n_points) if flow is not None else ()) + \
-            (WAVE_INERTIA_INPUTS if getattr(self.hydro, "strip_waves", None) is not None else ())
+            (WAVE_INERTIA_INPUTS if getattr(self.hydro, "strip_waves", None) is not None else ()) + \
+            self.mooring_inputs
+
+    @property
+    def mooring_inputs(self) -> tuple[str, ...]:
+        """With :attr:`moving_lines`: the lines' dynamic part as inputs, :data:`MOVING_LINE_INPUTS` (load at the
+        reference point, inertial axes [N, N m]) then ``MoorDTen1 …`` (fairlead tensions [N]); else ()."""
+        if self.moving_lines is None:
+            return ()
+        return MOVING_LINE_INPUTS + tuple(f"MoorDTen{k + 1}" for k in range(self.n_lines))
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -244,6 +267,9 @@ class FloatingPlatform:
             xe_dot = ca.mtimes(ca.DM(fit.A), xe) + ca.DM(fit.B) * sea[len(SEA_INPUTS)]
         n_sea = len(SEA_INPUTS) + (1 if self.excitation_fit is not None else 0)
         n_strip = len(WAVE_INERTIA_INPUTS) if getattr(self.hydro, "strip_waves", None) is not None else 0
+        n_moving = len(self.mooring_inputs)
+        moving = sea[sea.numel() - n_moving:]
+        sea = sea[:sea.numel() - n_moving]
         n_flow = sea.numel() - n_sea - n_strip
         flow = sea[n_sea:n_sea + n_flow] if n_flow else None    # the waves' velocity at the Morison members
         strip = sea[n_sea + n_flow:] if n_strip else None        # the strip-theory members' wave inertia
@@ -260,6 +286,10 @@ class FloatingPlatform:
         if self.mooring is not None:
             static, drag, mass, tension = self.mooring.line_loads(qp, vp, steps=self.mooring_steps)
             load = load + static + drag
+            if self.moving_lines is not None:         # the lines' dynamic part, from the loop (.lines_in_loop)
+                load = load + moving[:6]
+                tension = tension + moving[6:]
+                mass = mass + fairlead_node_mass(self.moving_lines, qp)
         return ca.Function("platform_loads", [qp, vp, xr, sea_in],
                            [load, hydro, xr_dot, tension, mass, sea, jac, bias],
                            ["qp", "vp", "xr", "sea"],
@@ -301,7 +331,7 @@ class FloatingPlatform:
 
         mooring = None if self.mooring is None else self.mooring.with_dynamics(None, self.mooring.water_density)
         hydro = replace(self.hydro, waves=None, excitation_fit=None, flow=None, strip_waves=None)
-        return FloatingPlatform(hydro, mooring, None, self.mooring_steps)
+        return FloatingPlatform(hydro, mooring, None, self.mooring_steps)    # moving lines: their statics
 
     def __repr__(self) -> str:
         sea = "still water" if self.waves is None else self.waves.waves.description
@@ -311,8 +341,8 @@ class FloatingPlatform:
                 f"buoyancy={buoyancy / 1e6:.2f} MN, {sea})")
 
 
-def floating_platform(turbine, *, radiation: str | None = None,
-                      mooring_statics: str | None = None) -> FloatingPlatform | None:
+def floating_platform(turbine, *, radiation: str | None = None, mooring_statics: str | None = None,
+                      mooring_lines: str = "quasi-static") -> FloatingPlatform | None:
     """The :class:`FloatingPlatform` of a deck's HydroDyn, SeaState and mooring files, or None without them.
 
     Parameters
@@ -333,6 +363,11 @@ def floating_platform(turbine, *, radiation: str | None = None,
         limit for many segments). None (default): :data:`DEFAULT_MOORING_STATICS` for MoorDyn (where its lumped
         lines do not converge at rest, too few segments for the line, the catenaries with a ModelWarning), the
         catenaries for MAP++ (its model); ``"lumped"`` on a MAP++ deck is refused.
+    mooring_lines : {"quasi-static", "dynamic"}, keyword-only
+        ``"quasi-static"`` (default): the lines' shapes follow the fairleads at once, with MoorDyn's drag and
+        inertia on them (:mod:`.line_dynamics`). ``"dynamic"``: MoorDyn's lumped-mass lines in motion, with its
+        initial relaxation (:mod:`.lumped_dynamics`, :attr:`FloatingPlatform.moving_lines`): a simulation runs them
+        beside the model at MoorDyn's ``dtM`` (:mod:`.lines_in_loop`); MoorDyn decks only.
 
     Raises
     ------
@@ -345,6 +380,8 @@ def floating_platform(turbine, *, radiation: str | None = None,
     from ..deck.mapplusplus import read_map
     from ..deck.moordyn import read_moordyn
 
+    if mooring_lines not in MOORING_LINES:
+        raise ParameterError(f"mooring_lines must be one of {list(MOORING_LINES)}; got {mooring_lines!r}.")
     if mooring_statics is not None and mooring_statics not in MOORING_STATICS:
         raise ParameterError(f"mooring_statics must be one of {list(MOORING_STATICS)} or None (the default); got "
                              f"{mooring_statics!r}.")
@@ -385,8 +422,16 @@ def floating_platform(turbine, *, radiation: str | None = None,
             from ..deck.seastate import read_seastate
 
             sea = read_seastate(Path(files["seastate"])).resolved(rho, float(sim.water_depth))
-        mooring = _moordyn_mooring(read_moordyn(Path(files["mooring"])), sea, g, mooring_statics)
+        md = read_moordyn(Path(files["mooring"]))
+        if mooring_lines == "dynamic":
+            return _with_moving_lines(md, sea, g, mooring_statics, float(sim.time_step),
+                                      FloatingPlatform(hydro, None, _radiation(hydro, radiation, files["hydrodyn"])))
+        mooring = _moordyn_mooring(md, sea, g, mooring_statics)
     elif mooring_model == 1:
+        if mooring_lines == "dynamic":
+            raise UnsupportedFeatureError(f"{where}: mooring_lines='dynamic' moves MoorDyn's lumped-mass lines; the "
+                                          "deck's MAP++ lines are quasi-static. Drop the option or use a MoorDyn deck "
+                                          "(CompMooring = 3).")
         if mooring_statics == "lumped":
             raise UnsupportedFeatureError(f"{where}: mooring_statics='lumped' is MoorDyn's segmented line; the deck's "
                                           "MAP++ lines are continuous catenaries. Drop the option or use a MoorDyn "
@@ -410,6 +455,24 @@ def _moordyn_mooring(md, sea: dict, gravity: float, statics: str | None):
         warnings.warn(f"{err} The continuous catenaries are used (mooring_statics='continuous'): the limit of many "
                       "segments, without the segmented line's stiffness ripple.", ModelWarning, stacklevel=3)
         return mooring_from_moordyn(md, line_statics="continuous", **args)
+
+
+def _with_moving_lines(md, sea: dict, gravity: float, statics: str | None, coupling_dt: float,
+                       platform: FloatingPlatform) -> FloatingPlatform:
+    """``platform`` with MoorDyn's lines in motion: their statics (no drag, no inertia: the moving lines have
+    them) in the graph, the lines themselves as :attr:`FloatingPlatform.moving_lines`."""
+    from dataclasses import replace
+
+    from ..deck.moordyn_audit import moordyn_environment
+
+    with warnings.catch_warnings():                 # the quasi-static lines' "not modelled" note is not true here
+        warnings.filterwarnings("ignore", message=r".*MoorDyn's line dynamics", category=ModelWarning)
+        mooring = _moordyn_mooring(md, sea, gravity, statics)
+    env = moordyn_environment(md, water_density=sea["water_density"], gravity=gravity,
+                              water_depth=sea["water_depth"])
+    moving = dynamic_mooring_from_moordyn(md, mooring, gravity=env.gravity, depth=float(env.water_depth),
+                                          coupling_dt=coupling_dt)
+    return replace(platform, mooring=mooring.with_dynamics(None, mooring.water_density), moving_lines=moving)
 
 
 def deck_radiation(hydrodyn_file) -> str:

@@ -88,6 +88,9 @@ class OperatingDeck:
     mooring_statics : {"lumped", "continuous"} or None
         The fairlead forces of a MoorDyn deck's lines (:func:`mbsym.wind.offshore.floating_platform`): its
         ``NumSegs`` lumped masses at rest or the continuous catenaries; None: the default there.
+    mooring_lines : {"quasi-static", "dynamic"}
+        A MoorDyn deck's lines quasi-static (default) or in motion beside the model in a simulation
+        (:func:`mbsym.wind.offshore.floating_platform`, :mod:`mbsym.wind.offshore.lines_in_loop`).
     cut_out_wind_speed : float or None
         The turbine's cut-out wind speed [m/s] (:mod:`.cut_out`); None when unknown (an OpenFAST deck states none).
     cut_out_source : str
@@ -117,6 +120,7 @@ class OperatingDeck:
     aerodyn: object | None = None
     radiation: str | None = None
     mooring_statics: str | None = None
+    mooring_lines: str = "quasi-static"
     cut_out_wind_speed: float | None = None
     cut_out_source: str = ""
     exported_input: bool = False
@@ -143,7 +147,7 @@ class OperatingDeck:
                 from ..offshore.operating import floating_platform
 
                 platform = floating_platform(self.turbine, radiation=self.radiation,
-                                             mooring_statics=self.mooring_statics)
+                                             mooring_statics=self.mooring_statics, mooring_lines=self.mooring_lines)
             object.__setattr__(self, "_platform", platform)
         return self.__dict__["_platform"]
 

@@ -48,7 +48,7 @@ from .model import OperatingTurbine
 from .sanity import check_physical
 
 __all__ = ["simulate_turbine", "wind_at_start", "default_aero_dt", "deck_method", "AERO_ROTATION_DEG",
-           "TIP_SPEED_REF"]
+           "TIP_SPEED_REF", "moving_lines_controller"]
 
 #: ElastoDyn's Method key -> its name.
 ELASTODYN_NAMES = {1: "RK4", 2: "AB4", 3: "ABM4"}
@@ -148,6 +148,8 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
     if model.hss_brake is not None and BRAKE_INPUT not in dict(commands or {}):   # ServoDyn's brake ramp
         inputs[BRAKE_INPUT] = model.hss_brake.table(tmax)
     _yaw_command(model, controller, commands, tmax, inputs)      # ServoDyn's commanded yaw (.yaw_control)
+    if model.platform is not None and getattr(model.platform, "moving_lines", None) is not None:
+        controller = moving_lines_controller(model, dyn, controller, x0, compile)
     if model.structural_controls is not None:        # ServoDyn's prescribed StC loads (their files), unless given
         given = dict(commands or {})
         inputs.update({n: v for n, v in model.structural_controls.tables(tmax).items() if n not in given})
@@ -193,8 +195,52 @@ def simulate_turbine(model: OperatingTurbine, wind: Callable[[Any], Any] | float
         res = simulate(model.measurement_dynamics(), tmax, x0=x0, inputs=inputs, controller=controller, **options)
         res = _with_channels(res, dyn, p, compile, len(model.measurement_dynamics().output_names))
     _state_deck_method(res, model, controller, method is not None)
+    _lines_statistics(res, controller)
     check_physical(res, model)
     return res
+
+
+def moving_lines_controller(model: OperatingTurbine, dyn, controller, x0: np.ndarray,
+                            compile: bool | None = None) -> DiscreteController:
+    """``controller`` with the floating ``model``'s moving MoorDyn lines beside it
+    (:func:`mbsym.wind.offshore.lines_in_loop.with_moving_lines`), relaxed at the platform's initial position.
+
+    Parameters
+    ----------
+    model : OperatingTurbine
+        With a platform whose ``moving_lines`` are set (``floating_platform(..., mooring_lines="dynamic")``).
+    dyn : Dynamics
+        The plant the loop runs (its states name the platform DOFs).
+    controller : DiscreteController or None
+        The turbine's controller; None: the lines alone at the deck's ``DT``.
+    x0 : array
+        The plant's initial state.
+    compile : bool or None
+        False keeps the lines' relaxation in CasADi's virtual machine; else compiled.
+
+    Returns
+    -------
+    DiscreteController
+        Its ``lines_relaxation`` attribute holds the relaxation (:class:`~mbsym.wind.offshore.lumped_dynamics.Relaxed`).
+    """
+    from ..offshore.lines_in_loop import with_moving_lines
+    from ..offshore.operating import platform_dofs
+
+    coords = model.structure.eom.coordinates
+    index, fixed, _ = platform_dofs(coords, model.turbine)
+    dofs = [coords[i] if i is not None else None for i in index]
+    q0 = [x0[dyn.states.index(n)] if n is not None else fixed[k] for k, n in enumerate(dofs)]
+    combined, relaxed = with_moving_lines(model.platform, dofs, fixed, q0, controller=controller,
+                                          dt=float(model.turbine.simulation.time_step), compile=compile is not False)
+    combined.lines_relaxation = relaxed
+    return combined
+
+
+def _lines_statistics(res, controller) -> None:
+    """The moving lines' relaxation in the result's statistics (``lines_relaxed_s``, ``lines_relaxation_converged``)."""
+    relaxed = getattr(controller, "lines_relaxation", None)
+    if relaxed is not None:
+        res.statistics.update(lines_relaxed_s=float(relaxed.time), lines_relaxation_converged=bool(relaxed.converged))
 
 
 def _yaw_command(model: OperatingTurbine, controller, commands, tmax: float, inputs: dict) -> None:
