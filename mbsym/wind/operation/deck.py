@@ -132,6 +132,17 @@ class OperatingDeck:
         sim = self.turbine.simulation
         return bool(getattr(sim, "hydrodynamics_model", 0) or getattr(sim, "mooring_model", 0))
 
+    def _check_mooring_lines(self) -> None:
+        """Refuse :attr:`mooring_lines` other than quasi-static where there are no MoorDyn lines to move."""
+        if self.mooring_lines == "quasi-static":
+            return
+        from ...exceptions import OptionError
+
+        sim = self.turbine.simulation
+        if int(getattr(sim, "substructure_model", 0) or 0) or int(getattr(sim, "mooring_model", 0) or 0) != 3:
+            raise OptionError(f"mooring_lines={self.mooring_lines!r} moves a floating deck's MoorDyn lines; "
+                              f"{self.label} has none (CompMooring = 3 with HydroDyn). Leave it 'quasi-static'.")
+
     @property
     def platform(self):
         """The platform's loads, built once: a floating platform (:class:`~mbsym.wind.offshore.FloatingPlatform`),
@@ -139,6 +150,7 @@ class OperatingDeck:
         None."""
         if "_platform" not in self.__dict__:
             platform = None
+            self._check_mooring_lines()
             if int(getattr(self.turbine.simulation, "substructure_model", 0) or 0):
                 from ..offshore.bottom_fixed import bottom_fixed_platform
 

@@ -90,3 +90,10 @@ def test_the_flag_is_refused_where_it_would_do_nothing(capsys):
     if decay.is_file():            # no AeroDyn: the structure alone, whose lines are quasi-static
         assert main(["simulate", str(decay), "--mooring-lines", "dynamic", "--tmax", "1"]) == 2
         assert "structure alone" in capsys.readouterr().err
+
+
+def test_a_deck_without_moordyn_refuses_moving_lines():
+    from mbsym.wind.operation.deck import builtin_deck, replace
+
+    with pytest.raises(OptionError, match="has none"):
+        replace(builtin_deck(), mooring_lines="dynamic").platform
