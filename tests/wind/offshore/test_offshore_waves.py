@@ -256,8 +256,11 @@ def test_unmodelled_wave_settings_are_refused_or_named(tmp_path):
 #: RotSpeed 0.993, BldPitch1 0.985 (without the disk terms 0.972, 1.000, 0.971, 0.989, 0.988, 0.979); means: surge +0.1 %,
 #: heave −0.4 %, pitch −0.9 %, TTDspFA −2.3 % (the rotor-effective rung's thrust, as in still water), FAIRTEN1
 #: +0.07 %. Bounds: those figures with a margin for the library's and the machine's rounding.
+#: Since 2026-11-30 (night) the CLI moves MoorDyn's lines (docs/offshore.md §3c): R² of FAIRTEN1 0.993 (its std 0.99×
+#: OpenFAST's; with the quasi-static lines −0.54, the std 0.62×: the wave-frequency tension is the lines' own
+#: dynamics), surge 0.986 (0.965), heave 1.000, pitch 0.996, TTDspFA 1.000, RotSpeed 0.994, BldPitch1 0.982.
 R2_BOUNDS = {"Wave1Elev": 0.9999, "PtfmSurge": 0.95, "PtfmHeave": 0.995, "PtfmPitch": 0.95, "TTDspFA": 0.97,
-             "RotSpeed": 0.97, "BldPitch1": 0.96}
+             "RotSpeed": 0.97, "BldPitch1": 0.96, "FAIRTEN1": 0.98}
 MEAN_BOUNDS = {"PtfmSurge": 0.01, "PtfmHeave": 0.02, "PtfmPitch": 0.02, "TTDspFA": 0.035, "RotSpeed": 0.005,
                "FAIRTEN1": 0.01}
 
