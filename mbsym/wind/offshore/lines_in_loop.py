@@ -72,6 +72,9 @@ class LinesInLoop:
         self.extra = tuple(n for n in self.measurements if n not in inner_y)   # the lines' own beyond the inner's
         both = inner_y + self.extra
         self.y_index = np.array([both.index(n) for n in self.measurements], dtype=int)
+        if inner is None or inner.is_function or callable(getattr(inner.law, "reset", None)):
+            self.reset = self._reset       # repeatable (mbsym.simulate re-runs a loop only with reset()); a DISCON
+            #                                library keeps hidden state: then neither is this law
 
     @property
     def measurements(self) -> tuple[str, ...]:
@@ -110,15 +113,11 @@ class LinesInLoop:
             xc_next, u = self.inner.law(t, xc, y_inner)
         return np.asarray(xc_next, dtype=float).ravel(), np.concatenate([np.asarray(u, dtype=float).ravel(), u_lines])
 
-    def reset(self) -> None:
-        """Back to the relaxed lines (and the inner controller's ``reset()`` when it has one)."""
+    def _reset(self) -> None:
+        """Back to the relaxed lines and the inner controller's initial state."""
         self.x = self.relaxed.state.copy()
         if self.inner is not None and not self.inner.is_function:
-            reset = getattr(self.inner.law, "reset", None)
-            if reset is None:
-                raise SimulationOptionError("the inner controller cannot be reset (it has no reset()); the loop "
-                                            "with moving lines runs once.")
-            reset()
+            self.inner.law.reset()
 
 
 def _kinematics(mooring, compile: bool) -> ca.Function:
