@@ -100,15 +100,9 @@ def run(args: argparse.Namespace) -> int:
 
     if wants_operation(args):       # wind, aerodynamics, actuators, controller (cli/operate.py)
         return run_operation(args)
-    if getattr(args, "mooring_lines", None) == "dynamic":
-        from ..exceptions import OptionError
-
-        raise OptionError("--mooring-lines dynamic runs MoorDyn's lines beside the operating turbine (a deck with "
-                          "AeroDyn, or --wind); this run is the structure alone, whose lines are quasi-static. Drop "
-                          "the flag, or run the operating turbine.")
     options = _integration_options(args)
     ref, outputs = check_files(args)        # fail before any expensive work
-    model, label = _model(args.deck, structure_only=args.structure_only)
+    model, label = _model(args.deck, structure_only=args.structure_only, lines=getattr(args, "mooring_lines", None))
     outputs.add_inputs(_deck_inputs(model))
     tmax, t_out, step = time_grid(args, model.turbine.simulation)
     t0 = time.perf_counter()
@@ -172,11 +166,14 @@ def _deck_inputs(model) -> list[tuple[str, str]]:
     return [(f"deck's {name}", path) for name, path in files.items()]
 
 
-def _model(deck, *, structure_only: bool = False):
+def _model(deck, *, structure_only: bool = False, lines: str | None = None):
     from ..wind import read_openfast
     from ..wind.structure.turbine import NON_BLADE_DOFS, TurbineModel
 
+    from .mooring_lines import structure_lines
+
     if deck is None:
+        structure_lines(None, lines)                   # refused without a deck
         turbine = builtin_turbine()
         dofs = [f for f in NON_BLADE_DOFS if turbine.dofs.get(f)]
         model = TurbineModel(turbine, dofs=dofs, yaw_spring=NREL5MW_YAW_SPRING, yaw_damping=NREL5MW_YAW_DAMPING)
@@ -196,7 +193,11 @@ def _model(deck, *, structure_only: bool = False):
         stc = structure_servodyn(turbine, sim.total_time)   # ServoDyn: its StCs, or refused (no controller here)
         what = "bottom-fixed: SubDyn" if sim.substructure_model else "floating: HydroDyn, SeaState, mooring"
         what += "; ServoDyn's StCs" if stc is not None else ""
-        return floating_structure(turbine, structural_controls=stc), f"{deck} ({what}; rotor parked)"
+        moving = structure_lines(turbine, lines)           # MoorDyn's lines move by default (cli/mooring_lines.py)
+        what += "; MoorDyn's lines in motion" if moving == "dynamic" else ""
+        return (floating_structure(turbine, structural_controls=stc, mooring_lines=moving),
+                f"{deck} ({what}; rotor parked)")
+    structure_lines(None if structure_only else turbine, lines)
     check_modules(turbine, structure_only=structure_only)
     return TurbineModel(turbine), str(deck)
 
@@ -209,7 +210,11 @@ def _simulate(model, tmax, t_out, step, options, printer):
     if "method" in kw and METHODS[kw["method"]].kind == "fixed-step":
         kw["dt"] = step                 # an explicit fixed-step method: --dt (or the deck's DT) is its step
     if hasattr(model, "sea_tables"):    # a floating structure: its Dynamics, fed the deck's sea
-        return simulate(model.dynamics(), tmax, t_out=t_out, progress=printer, inputs=model.sea_tables(tmax), **kw)
+        from .mooring_lines import structure_controller
+
+        ctrl = structure_controller(model, kw.get("compile"))      # MoorDyn's moving lines beside it, or None
+        return simulate(model.dynamics(), tmax, t_out=t_out, progress=printer, inputs=model.sea_tables(tmax),
+                        controller=ctrl, **kw)
     return simulate(model, tmax, t_out=t_out, progress=printer, **kw)
 
 

@@ -213,7 +213,7 @@ class FloatingStructure:
 
 
 def floating_structure(turbine, *, radiation: str | None = None, structural_controls=None,
-                       mooring_statics: str | None = None) -> FloatingStructure:
+                       mooring_statics: str | None = None, mooring_lines: str = "quasi-static") -> FloatingStructure:
     """The :class:`FloatingStructure` of a deck (its ElastoDyn DOFs, HydroDyn, SeaState and MoorDyn/MAP++ files), or
     of a bottom-fixed deck its ElastoDyn DOFs on the SubDyn substructure (``CompSub = 1``,
     :func:`~.bottom_fixed.bottom_fixed_platform`).
@@ -228,6 +228,10 @@ def floating_structure(turbine, *, radiation: str | None = None, structural_cont
         ServoDyn's nacelle and platform StCs (:func:`mbsym.wind.structure.structural_control.structural_controls`).
     mooring_statics : {"lumped", "continuous"} or None, keyword-only
         As :func:`~.operating.floating_platform` (None: its default).
+    mooring_lines : {"quasi-static", "dynamic"}, keyword-only
+        As :func:`~.operating.floating_platform`: with ``"dynamic"`` the structure's platform has MoorDyn's moving
+        lines (:attr:`~.operating.FloatingPlatform.moving_lines`), which a simulation runs beside it
+        (:func:`~.lines_in_loop.with_moving_lines`).
 
     Raises
     ------
@@ -243,9 +247,11 @@ def floating_structure(turbine, *, radiation: str | None = None, structural_cont
 
         return FloatingStructure(TurbineModel(turbine), None, platform_loads=bottom_fixed_platform(turbine),
                                  structural_controls=structural_controls)
-    platform = floating_platform(turbine, radiation=radiation, mooring_statics=mooring_statics)
+    platform = floating_platform(turbine, radiation=radiation, mooring_statics=mooring_statics,
+                                 mooring_lines=mooring_lines)
     if platform is None:
         raise UnsupportedFeatureError(f"{turbine.source_files.get('fst', 'the deck')}: CompHydro and CompMooring are "
                                       "0; a floating structure needs HydroDyn (and usually a mooring).")
+    moving = platform if platform.moving_lines is not None else None
     return FloatingStructure(TurbineModel(turbine), platform.hydro, platform.mooring, platform.radiation,
-                             structural_controls=structural_controls)
+                             platform_loads=moving, structural_controls=structural_controls)
